@@ -1,0 +1,1 @@
+"""Design problems: options, bounds, starts, the objective and its CasADi NLP."""

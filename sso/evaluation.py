@@ -1,0 +1,166 @@
+"""Figures of merit of one shaft-series design at a constant input speed."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_residual_error
+from sso.kinematics.hooke import chain_kinematics
+from sso.validation import finite_float
+
+if TYPE_CHECKING:
+    from sso.series import ShaftSeries
+
+RPM_TO_RAD_S = 2.0 * np.pi / 60.0
+# The figures (extremes of speed, acceleration, angle) are read off a grid at least
+# this fine over the 180-deg period and refined by a parabola through the extremum.
+MIN_FIGURE_SAMPLES = 720
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Figures of merit of a design, all over one revolution at constant input speed.
+
+    Attributes
+    ----------
+    input_speed_rpm : float
+        Input shaft speed, rpm.
+    residual_error : float
+        ``RE``, mean square of ``w_out/w_in - 1`` (dimensionless).
+    residual_error_rpm2 : float
+        ``input_speed_rpm**2 * RE``: the paper's objective ``U``, rpm^2.
+    speed_min_rpm, speed_max_rpm : float
+        Extremes of the output speed, rpm.
+    mean_speed_ratio : float
+        Mean of ``w_out/w_in`` (1 in the exact model).
+    fluctuation : float
+        Peak-to-peak output speed over input speed (dimensionless).
+    fluctuation_rpm : float
+        Peak-to-peak output speed, rpm.
+    transmission_error_deg : float
+        Largest ``|output angle - input angle|``, deg.
+    max_output_accel_rad_s2 : float
+        Largest ``|d w_out / dt|`` at constant input speed, rad/s^2.
+    torque_ratio_min, torque_ratio_max : float
+        Extremes of ``T_out / T_in = w_in / w_out`` for lossless joints.
+    samples : int
+        Quadrature angles in ``[0, 180)`` deg used for RE.
+    quadrature_error : float
+        Estimated absolute error of RE (dimensionless).
+    quadrature_converged : bool
+        False if the quadrature hit its cap before its tolerance.
+    """
+
+    input_speed_rpm: float
+    residual_error: float
+    residual_error_rpm2: float
+    speed_min_rpm: float
+    speed_max_rpm: float
+    mean_speed_ratio: float
+    fluctuation: float
+    fluctuation_rpm: float
+    transmission_error_deg: float
+    max_output_accel_rad_s2: float
+    torque_ratio_min: float
+    torque_ratio_max: float
+    samples: int
+    quadrature_error: float
+    quadrature_converged: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return asdict(self)
+
+
+def evaluate(
+    series: "ShaftSeries",
+    input_speed_rpm: float = 25.0,
+    quadrature_rtol: float = DEFAULT_RTOL,
+    quadrature_atol: float = DEFAULT_ATOL,
+) -> Evaluation:
+    """Evaluate a design: residual error and the figures the spec lists.
+
+    Parameters
+    ----------
+    series : sso.ShaftSeries
+        The design.
+    input_speed_rpm : float
+        Constant input speed, rpm (finite, > 0).
+    quadrature_rtol, quadrature_atol : float
+        Tolerance of the adaptive residual-error quadrature (dimensionless, > 0
+        and >= 0).
+
+    Returns
+    -------
+    Evaluation
+
+    Raises
+    ------
+    ValueError
+        If the speed or a tolerance is not finite or out of range.
+    """
+    from sso.series import validate_speed
+
+    speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
+    rtol, atol = validate_quadrature_tolerance(quadrature_rtol, quadrature_atol)
+    beta_rad = list(series.beta_rad)
+    phase_rad = list(series.phase_rad)
+    residual, rule = adaptive_residual_error(beta_rad, phase_rad, series.model, rtol, atol)
+
+    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule.samples)
+    theta_rad = np.pi * np.arange(figure_samples) / figure_samples
+    chain = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta_rad, phase_rad,
+                             series.model)
+    ratio = chain.speed_ratio
+    ratio_slope = ratio * chain.log_ratio_slope
+    ratio_min = -_periodic_peak(-ratio)
+    ratio_max = _periodic_peak(ratio)
+    input_speed_rad_s = speed_rpm * RPM_TO_RAD_S
+    return Evaluation(
+        input_speed_rpm=speed_rpm,
+        residual_error=float(residual),
+        residual_error_rpm2=float(speed_rpm**2 * residual),
+        speed_min_rpm=float(speed_rpm * ratio_min),
+        speed_max_rpm=float(speed_rpm * ratio_max),
+        mean_speed_ratio=float(np.mean(ratio)),
+        fluctuation=float(ratio_max - ratio_min),
+        fluctuation_rpm=float(speed_rpm * (ratio_max - ratio_min)),
+        transmission_error_deg=float(np.degrees(_periodic_peak(np.abs(chain.angle_lag_rad)))),
+        max_output_accel_rad_s2=float(input_speed_rad_s**2 * _periodic_peak(np.abs(ratio_slope))),
+        torque_ratio_min=float(1.0 / ratio_max),
+        torque_ratio_max=float(1.0 / ratio_min),
+        samples=rule.samples,
+        quadrature_error=float(rule.error_estimate),
+        quadrature_converged=rule.converged,
+    )
+
+
+def validate_quadrature_tolerance(rtol: Any, atol: Any) -> tuple[float, float]:
+    """Return ``(rtol, atol)`` as floats, or raise naming the field and range."""
+    rtol = finite_float("quadrature_rtol", rtol)
+    atol = finite_float("quadrature_atol", atol)
+    if not 0 < rtol < 1:
+        raise ValueError(f"quadrature_rtol = {rtol:g} is outside the allowed range (0, 1)")
+    if atol < 0:
+        raise ValueError(f"quadrature_atol = {atol:g} is outside the allowed range [0, inf)")
+    return rtol, atol
+
+
+def _periodic_peak(values: np.ndarray) -> float:
+    """Maximum of a periodic sampled function, refined by a parabola through its peak.
+
+    The sampled functions are smooth at their maxima (the kinks of ``abs`` sit at
+    zeros, i.e. at minima), so the parabola's error is of fourth order in the step.
+    """
+    index = int(np.argmax(values))
+    left = values[index - 1]
+    centre = values[index]
+    right = values[(index + 1) % len(values)]
+    curvature = left - 2.0 * centre + right
+    if curvature >= 0.0:
+        return float(centre)
+    offset = 0.5 * (left - right) / curvature
+    return float(centre - 0.25 * (left - right) * offset)

@@ -1,0 +1,1 @@
+"""Optimisation back-ends (IPOPT via CasADi, SciPy SLSQP), their common result and cross-check."""

@@ -1,0 +1,76 @@
+"""Compare solvers by objective value and first-order optimality, never by design."""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+from sso.solvers.solution import CrossCheck, Solution
+
+DEFAULT_OBJECTIVE_RTOL = 1e-6
+DEFAULT_OBJECTIVE_ATOL = 1e-14
+DEFAULT_KKT_TOLERANCE = 1e-6
+
+
+def crosscheck(
+    solutions: Mapping[str, Solution],
+    objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
+    objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
+    kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+) -> CrossCheck:
+    """Verdict on two or more solvers' best answers to the same problem.
+
+    Parameters
+    ----------
+    solutions : mapping of str to Solution
+        Best answer of each solver.
+    objective_rtol, objective_atol : float
+        Objectives agree when they differ by at most
+        ``objective_atol + objective_rtol * max|fun|`` (dimensionless RE).
+    kkt_tolerance : float
+        Largest projected-gradient norm (per rad) that counts as first-order optimal.
+
+    Returns
+    -------
+    CrossCheck
+        A disagreement is reported in the verdict, never raised.
+    """
+    objective = {name: solution.fun for name, solution in solutions.items()}
+    kkt = {name: solution.kkt for name, solution in solutions.items()}
+    gap = max(objective.values()) - min(objective.values())
+    allowed_gap = objective_atol + objective_rtol * max(abs(value) for value in objective.values())
+    failed = [name for name, solution in solutions.items() if not solution.success]
+    not_stationary = [name for name, value in kkt.items() if value > kkt_tolerance]
+    objectives_agree = gap <= allowed_gap
+    better = None if objectives_agree else min(objective, key=objective.get)
+
+    problems = []
+    if failed:
+        problems.append(", ".join(f"{name} failed ({solutions[name].message})" for name in failed))
+    if not objectives_agree:
+        problems.append(
+            "objectives differ by "
+            f"{gap:.3g} (allowed {allowed_gap:.3g}): "
+            + ", ".join(f"{name} RE = {value:.6g}" for name, value in objective.items())
+            + f"; {better} is better"
+        )
+    if not_stationary:
+        problems.append(
+            ", ".join(f"{name} projected gradient {kkt[name]:.3g}" for name in not_stationary)
+            + f" exceeds {kkt_tolerance:g}"
+        )
+    if problems:
+        message = "solvers disagree: " + "; ".join(problems)
+    else:
+        message = (f"solvers agree: RE within {gap:.3g}, projected gradients "
+                   + ", ".join(f"{name} {value:.2g}" for name, value in kkt.items()))
+    return CrossCheck(
+        agree=not problems,
+        objective_gap=float(gap),
+        objective=objective,
+        kkt=kkt,
+        better=better,
+        message=message,
+        objective_atol=objective_atol,
+        objective_rtol=objective_rtol,
+        kkt_tolerance=kkt_tolerance,
+    )

@@ -1,0 +1,111 @@
+"""IPOPT through CasADi's ``nlpsol``, with the exact Hessian of the residual error."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from sso.solvers.run import RunOutcome
+
+# IPOPT's ApplicationReturnStatus codes, keyed by the names CasADi reports.
+RETURN_STATUS_CODES = {
+    "Solve_Succeeded": 0,
+    "Solved_To_Acceptable_Level": 1,
+    "Infeasible_Problem_Detected": 2,
+    "Search_Direction_Becomes_Too_Small": 3,
+    "Diverging_Iterates": 4,
+    "User_Requested_Stop": 5,
+    "Feasible_Point_Found": 6,
+    "Maximum_Iterations_Exceeded": -1,
+    "Restoration_Failed": -2,
+    "Error_In_Step_Computation": -3,
+    "Maximum_CpuTime_Exceeded": -4,
+    "Maximum_WallTime_Exceeded": -5,
+    "Not_Enough_Degrees_Of_Freedom": -10,
+    "Invalid_Problem_Definition": -11,
+    "Invalid_Option": -12,
+    "Invalid_Number_Detected": -13,
+    "Unrecoverable_Exception": -100,
+    "NonIpopt_Exception_Thrown": -101,
+    "Insufficient_Memory": -102,
+    "Internal_Error": -199,
+}
+UNKNOWN_STATUS = -999
+SNAP_DISTANCE_RAD = 1e-6
+
+
+def solve(
+    nlp: Any,
+    start_rad: np.ndarray,
+    parameters_rad: np.ndarray,
+    lower_rad: np.ndarray,
+    upper_rad: np.ndarray,
+    tolerance: float,
+    max_iterations: int,
+) -> RunOutcome:
+    """Run IPOPT once from ``start_rad``; failures come back in the outcome.
+
+    Parameters
+    ----------
+    nlp : sso.design.nlp.CompiledNLP
+        The cached problem graph.
+    start_rad, parameters_rad, lower_rad, upper_rad : numpy.ndarray
+        Start, fixed angles and bounds (rad).
+    tolerance : float
+        IPOPT's ``tol`` (scaled NLP error).
+    max_iterations : int
+        IPOPT's ``max_iter``.
+    """
+    solver = nlp.ipopt({"tol": tolerance, "max_iter": max_iterations})
+    started = time.perf_counter()
+    try:
+        answer = solver(x0=start_rad, p=parameters_rad, lbx=lower_rad, ubx=upper_rad)
+    except RuntimeError as error:
+        return RunOutcome(np.array(start_rad, dtype=float), float("nan"), 0, 0, 0,
+                          UNKNOWN_STATUS, False, f"IPOPT raised: {error}",
+                          time.perf_counter() - started)
+    stats = solver.stats()
+    return_status = str(stats.get("return_status", "unknown"))
+    x_rad, fun = _snap_to_active_bounds(
+        nlp, np.array(answer["x"], dtype=float).ravel(), float(answer["f"]),
+        np.array(answer["lam_x"], dtype=float).ravel(), parameters_rad, lower_rad, upper_rad)
+    elapsed = time.perf_counter() - started
+    return RunOutcome(
+        x_rad=x_rad,
+        fun=fun,
+        nit=int(stats.get("iter_count", 0)),
+        nfev=int(stats.get("n_call_nlp_f", 0)),
+        njev=int(stats.get("n_call_nlp_grad_f", 0)),
+        status=RETURN_STATUS_CODES.get(return_status, UNKNOWN_STATUS),
+        success=bool(stats.get("success", False)),
+        message=return_status,
+        time_s=elapsed,
+    )
+
+
+def _snap_to_active_bounds(
+    nlp: Any,
+    x_rad: np.ndarray,
+    fun: float,
+    bound_multipliers: np.ndarray,
+    parameters_rad: np.ndarray,
+    lower_rad: np.ndarray,
+    upper_rad: np.ndarray,
+) -> tuple[np.ndarray, float]:
+    """Move variables whose bound is active onto it.
+
+    An interior-point method stops a barrier-width short of an active bound, and
+    with a steep gradient there that gap shows in the objective. A bound is
+    taken as active when its multiplier pushes against it (CasADi's ``lam_x``:
+    negative at a lower bound, positive at an upper one) and the variable lies
+    within ``SNAP_DISTANCE_RAD``. The snapped point is kept only if it is no worse.
+    """
+    at_lower = (bound_multipliers < 0) & (x_rad - lower_rad < SNAP_DISTANCE_RAD)
+    at_upper = (bound_multipliers > 0) & (upper_rad - x_rad < SNAP_DISTANCE_RAD)
+    if not (at_lower.any() or at_upper.any()):
+        return x_rad, fun
+    snapped = np.where(at_lower, lower_rad, np.where(at_upper, upper_rad, x_rad))
+    snapped_fun = float(nlp.objective_and_gradient(snapped, parameters_rad)[0])
+    return (snapped, snapped_fun) if snapped_fun <= fun else (x_rad, fun)

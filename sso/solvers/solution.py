@@ -1,0 +1,131 @@
+"""What a solver returns, and how two solvers' answers compare."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from sso.series import ShaftSeries
+
+
+@dataclass(frozen=True)
+class Solution:
+    """One solver's answer, named after :class:`scipy.optimize.OptimizeResult`.
+
+    Attributes
+    ----------
+    solver : str
+        ``"ipopt"`` or ``"slsqp"``.
+    series : sso.ShaftSeries
+        The design found (all angles, deg).
+    x : tuple of float
+        The design vector, deg: free operating angles first, then free phases.
+    fun : float
+        Residual error RE at ``x`` (dimensionless).
+    nit : int
+        Iterations of the run that found ``x``.
+    nfev : int
+        Objective evaluations of that run.
+    status : int
+        The solver's own code: IPOPT's ``ApplicationReturnStatus`` (0 solved,
+        1 solved to acceptable level, negative or >1 failures), SLSQP's exit mode
+        (0 success).
+    success : bool
+        Whether the solver reports convergence.
+    message : str
+        The solver's own message.
+    kkt : float
+        First-order optimality: infinity norm of the projected gradient of RE
+        under the bounds (per rad).
+    time_s : float
+        Wall time of that run, s.
+    start_index : int
+        Which start the run began from (0 is the user's start).
+    total_nfev : int
+        Objective evaluations over every start this solver ran.
+    """
+
+    solver: str
+    series: "ShaftSeries"
+    x: tuple[float, ...]
+    fun: float
+    nit: int
+    nfev: int
+    status: int
+    success: bool
+    message: str
+    kkt: float
+    time_s: float
+    start_index: int = 0
+    total_nfev: int = 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (the design as ``beta_deg``/``phase_deg``)."""
+        return {
+            "solver": self.solver,
+            "x": list(self.x),
+            "beta_deg": list(self.series.beta_deg),
+            "phase_deg": list(self.series.phase_deg),
+            "fun": self.fun,
+            "nit": self.nit,
+            "nfev": self.nfev,
+            "status": self.status,
+            "success": self.success,
+            "message": self.message,
+            "kkt": self.kkt,
+            "time_s": self.time_s,
+            "start_index": self.start_index,
+            "total_nfev": self.total_nfev,
+        }
+
+
+@dataclass(frozen=True)
+class CrossCheck:
+    """Verdict of comparing solvers by objective value and first-order optimality.
+
+    Design vectors are never compared: optima are often not unique.
+
+    Attributes
+    ----------
+    agree : bool
+        Every solver succeeded, their objectives agree within
+        ``objective_atol + objective_rtol * max|fun|``, and each is first-order
+        optimal (``kkt <= kkt_tolerance``).
+    objective_gap : float
+        Largest difference of RE between solvers (dimensionless).
+    objective : dict
+        RE of each solver.
+    kkt : dict
+        Projected-gradient norm of each solver (per rad).
+    better : str or None
+        The solver with the lower RE when the objectives disagree, else None.
+    message : str
+        The verdict in words.
+    objective_atol, objective_rtol, kkt_tolerance : float
+        The tolerances used.
+    """
+
+    agree: bool
+    objective_gap: float
+    objective: dict[str, float]
+    kkt: dict[str, float]
+    better: str | None
+    message: str
+    objective_atol: float
+    objective_rtol: float
+    kkt_tolerance: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return {
+            "agree": self.agree,
+            "objective_gap": self.objective_gap,
+            "objective": dict(self.objective),
+            "kkt": dict(self.kkt),
+            "better": self.better,
+            "message": self.message,
+            "objective_atol": self.objective_atol,
+            "objective_rtol": self.objective_rtol,
+            "kkt_tolerance": self.kkt_tolerance,
+        }

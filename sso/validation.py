@@ -1,0 +1,143 @@
+"""Checks of user input that fail with a message naming the field, value and range."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Iterable, Sequence
+
+
+def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
+    """Convert a scalar or a sequence of numbers to a tuple of finite floats.
+
+    Raises
+    ------
+    ValueError
+        If an entry is not a number, or is NaN or infinite.
+    """
+    if isinstance(values, (str, bytes)):
+        raise ValueError(f"{field} = {values!r} must be a number or a list of numbers")
+    try:
+        items = list(values)
+    except TypeError:
+        items = [values]
+    return tuple(finite_float(f"{field}[{index}]", item) for index, item in enumerate(items))
+
+
+def finite_float(field: str, value: Any) -> float:
+    """Return ``value`` as a finite float.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a real number, or is NaN or infinite.
+    """
+    if isinstance(value, bool):
+        raise ValueError(f"{field} = {value!r} must be a number, not a boolean")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field} = {value!r} must be a number") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{field} = {value!r} must be finite (not NaN or infinite)")
+    return number
+
+
+def check_in_range(
+    field: str,
+    value: float,
+    lower: float,
+    upper: float,
+    unit: str = "",
+    upper_open: bool = False,
+    lower_open: bool = False,
+) -> float:
+    """Return ``value`` if it lies in the interval, else raise.
+
+    Raises
+    ------
+    ValueError
+        Naming the field, the value and the allowed interval.
+    """
+    too_low = value <= lower if lower_open else value < lower
+    too_high = value >= upper if upper_open else value > upper
+    if too_low or too_high:
+        left = "(" if lower_open else "["
+        right = ")" if upper_open else "]"
+        suffix = f" {unit}" if unit else ""
+        raise ValueError(
+            f"{field} = {value:g} is outside the allowed range "
+            f"{left}{lower:g}, {upper:g}{right}{suffix}"
+        )
+    return value
+
+
+def check_choice(field: str, value: Any, allowed: Iterable[Any]) -> Any:
+    """Return ``value`` if it is one of ``allowed``, else raise naming the choices."""
+    allowed = tuple(allowed)
+    if value not in allowed:
+        raise ValueError(f"{field} = {value!r} is not one of {', '.join(map(repr, allowed))}")
+    return value
+
+
+def per_item_bounds(
+    field: str,
+    bounds: Any,
+    count: int,
+    lower_limit: float,
+    upper_limit: float,
+    unit: str,
+    upper_open: bool = False,
+) -> tuple[tuple[float, float], ...]:
+    """Expand one ``(lower, upper)`` pair, or one pair per item, into per-item bounds.
+
+    Raises
+    ------
+    ValueError
+        If the shape is wrong, a bound is not finite or lies outside
+        ``[lower_limit, upper_limit]``, or an interval is inverted (an equal pair pins the item).
+    """
+    pairs: Sequence[Any]
+    if _is_pair_of_numbers(bounds):
+        pairs = [bounds] * count
+    else:
+        try:
+            pairs = list(bounds)
+        except TypeError:
+            raise ValueError(
+                f"{field} = {bounds!r} must be one (lower, upper) pair or {count} pairs"
+            ) from None
+        if len(pairs) != count or not all(_is_pair_of_numbers(pair) for pair in pairs):
+            raise ValueError(
+                f"{field} = {bounds!r} must be one (lower, upper) pair or {count} pairs"
+            )
+    result = []
+    for index, (lower, upper) in enumerate(pairs):
+        name = field if _is_pair_of_numbers(bounds) else f"{field}[{index}]"
+        lower = check_in_range(f"{name} lower", finite_float(f"{name} lower", lower),
+                               lower_limit, upper_limit, unit, upper_open=upper_open)
+        upper = check_in_range(f"{name} upper", finite_float(f"{name} upper", upper),
+                               lower_limit, upper_limit, unit, upper_open=upper_open)
+        if lower > upper:
+            raise ValueError(
+                f"{name} = ({lower:g}, {upper:g}) {unit} is inverted (empty): "
+                "the lower bound must not exceed the upper bound"
+            )
+        result.append((lower, upper))
+    return tuple(result)
+
+
+def _is_pair_of_numbers(value: Any) -> bool:
+    if isinstance(value, (str, bytes)):
+        return False
+    try:
+        items = list(value)
+    except TypeError:
+        return False
+    return len(items) == 2 and all(
+        isinstance(item, (int, float)) and not isinstance(item, bool) or _is_numpy_number(item)
+        for item in items
+    )
+
+
+def _is_numpy_number(value: Any) -> bool:
+    return type(value).__module__ == "numpy" and getattr(value, "ndim", 1) == 0
