@@ -1,0 +1,152 @@
+"""The result table of a mechanism analysis: named columns with units."""
+
+import csv
+import io
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True, eq=False)
+class MechanismTable:
+    """Columns of equal length, one row per crank angle (or per case).
+
+    Columns are read-only numpy arrays, reachable as ``table["name"]`` or
+    ``table.name``. Tables compare by identity (arrays have no single truth
+    value); compare columns with numpy.
+
+    Attributes
+    ----------
+    name : str
+        What was analysed, e.g. ``"four-bar"``.
+    columns : dict of str to ndarray
+        Column name to values, in display order.
+    units : dict of str to str
+        Column name to unit. ``"length"`` means the unit the link lengths were
+        given in; ``""`` marks a dimensionless or boolean column.
+
+    Raises
+    ------
+    ValueError
+        If the columns differ in length, are not one-dimensional, or ``units``
+        does not name exactly the columns.
+    """
+
+    name: str
+    columns: dict[str, np.ndarray]
+    units: dict[str, str]
+
+    def __post_init__(self) -> None:
+        columns = {key: np.array(values) for key, values in self.columns.items()}
+        if list(self.units) != list(columns):
+            raise ValueError(
+                f"MechanismTable.units must name the columns {list(columns)} in order, "
+                f"got {list(self.units)}"
+            )
+        lengths = {key: values.shape for key, values in columns.items()}
+        if len(set(lengths.values())) > 1 or any(len(shape) != 1 for shape in lengths.values()):
+            raise ValueError(
+                f"MechanismTable.columns must be one-dimensional and of equal length, "
+                f"got shapes {lengths}"
+            )
+        for values in columns.values():
+            values.flags.writeable = False
+        object.__setattr__(self, "columns", columns)
+        object.__setattr__(self, "units", dict(self.units))
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        try:
+            return self.columns[column]
+        except KeyError:
+            raise KeyError(f"no column {column!r}; columns are {list(self.columns)}") from None
+
+    def __getattr__(self, column: str) -> np.ndarray:
+        # Only called when normal lookup fails; "columns" may be missing while unpickling.
+        columns = self.__dict__.get("columns", {})
+        if column in columns:
+            return columns[column]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {column!r}")
+
+    def __len__(self) -> int:
+        return len(next(iter(self.columns.values()), ()))
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain, JSON-ready form: NaN becomes ``None``, arrays become lists.
+
+        Returns
+        -------
+        dict
+            ``{"name": str, "units": {column: unit}, "columns": {column: list}}``.
+        """
+        return {
+            "name": self.name,
+            "units": dict(self.units),
+            "columns": {
+                key: [_plain(value) for value in values] for key, values in self.columns.items()
+            },
+        }
+
+    def to_csv(self, path: str | os.PathLike[str]) -> Path:
+        """Write the table as CSV, atomically, with a header of column names.
+
+        Floats are written with 17 significant digits (round-trip exact); NaN
+        is written as ``nan``, booleans as ``True``/``False``. The file is
+        written to a temporary file in the same folder and renamed over
+        ``path``, so an interrupted write never leaves a partial file.
+
+        Parameters
+        ----------
+        path : str or path-like
+            Destination file; its folder must exist.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+
+        Raises
+        ------
+        OSError
+            If the folder does not exist or is not writable.
+        """
+        path = Path(path)
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(self.columns)
+        for row in zip(*self.columns.values()):
+            writer.writerow(_csv_cell(value) for value in row)
+        _write_text_atomically(path, buffer.getvalue())
+        return path
+
+
+def _plain(value: np.generic) -> bool | float | None:
+    if isinstance(value, np.bool_):
+        return bool(value)
+    number = float(value)
+    return None if math.isnan(number) else number
+
+
+def _csv_cell(value: np.generic) -> str:
+    if isinstance(value, np.bool_):
+        return str(bool(value))
+    return format(float(value), ".17g")
+
+
+def _write_text_atomically(path: Path, text: str) -> None:
+    descriptor, temporary = tempfile.mkstemp(
+        dir=path.parent, prefix=f".{path.name}.", suffix=".tmp"
+    )
+    try:
+        with os.fdopen(descriptor, "w", encoding="utf-8", newline="") as handle:
+            handle.write(text)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
