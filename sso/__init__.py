@@ -19,6 +19,9 @@ _EXPORTS = {
     "OptimisationResult": "sso.optimise",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
+    "InertPhaseWarning": "sso.series",
+    "StartMovedWarning": "sso.design.options",
+    "QuadratureWarning": "sso.design.quadrature",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

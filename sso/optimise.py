@@ -251,7 +251,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
-    start_beta, start_phase = problem.design_deg(problem.start_rad)
+    start_beta, start_phase = problem.design_deg(problem.start_deg)
     evaluation_options = {"quadrature_rtol": quadrature_rtol, "quadrature_atol": quadrature_atol}
     return OptimisationResult(
         option=problem.option,
@@ -293,11 +293,12 @@ def _to_solution(name: str, outcome: RunOutcome, start_index: int, problem: Desi
     x_rad = np.clip(np.nan_to_num(outcome.x_rad, nan=0.0), problem.lower_rad, problem.upper_rad)
     value, gradient = nlp.objective_and_gradient(x_rad, problem.parameters_rad)
     gradient = np.array(gradient, dtype=float).ravel()
-    beta_deg, phase_deg = problem.design_deg(x_rad)
+    x_deg = np.degrees(x_rad)
+    beta_deg, phase_deg = problem.design_deg(x_deg)
     return Solution(
         solver=name,
         series=ShaftSeries(beta_deg, phase_deg, model),
-        x=tuple(np.degrees(x_rad).tolist()),
+        x=tuple(x_deg.tolist()),
         fun=float(value),
         nit=outcome.nit,
         nfev=outcome.nfev,

@@ -55,10 +55,10 @@ class DesignProblem:
         Whether the operating angles / phases are design variables.
     lower_rad, upper_rad : numpy.ndarray
         Bounds of ``x``.
-    start_rad : numpy.ndarray
-        The user's start, moved onto the bounds where it lay outside.
-    parameters_rad : numpy.ndarray
-        The fixed angles.
+    start_deg : numpy.ndarray
+        The user's start (deg), moved onto the bounds where it lay outside.
+    parameters_deg : numpy.ndarray
+        The fixed angles (deg), kept in degrees so they come back exactly.
     beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
         Per-joint / per-phase bounds as given (deg).
     """
@@ -70,8 +70,8 @@ class DesignProblem:
     phase_free: bool
     lower_rad: np.ndarray
     upper_rad: np.ndarray
-    start_rad: np.ndarray
-    parameters_rad: np.ndarray
+    start_deg: np.ndarray
+    parameters_deg: np.ndarray
     beta_bounds_deg: tuple[tuple[float, float], ...]
     phase_bounds_deg: tuple[tuple[float, float], ...]
 
@@ -79,6 +79,16 @@ class DesignProblem:
     def option_name(self) -> str:
         """``"phase"``, ``"angle"`` or ``"both"``."""
         return OPTION_NAMES[self.option]
+
+    @property
+    def start_rad(self) -> np.ndarray:
+        """The start of the design vector, rad."""
+        return np.radians(self.start_deg)
+
+    @property
+    def parameters_rad(self) -> np.ndarray:
+        """The fixed angles, rad."""
+        return np.radians(self.parameters_deg)
 
     @property
     def n_free(self) -> int:
@@ -91,16 +101,16 @@ class DesignProblem:
         Works on numbers and on CasADi symbols alike.
         """
         free = iter([x[i] for i in range(self.n_free)])
-        fixed = iter([parameters[i] for i in range(len(self.parameters_rad))])
+        fixed = iter([parameters[i] for i in range(len(self.parameters_deg))])
         beta = [next(free) if self.beta_free else next(fixed) for _ in range(self.n_joints)]
         phase = [next(free) if self.phase_free else next(fixed)
                  for _ in range(self.n_joints - 1)]
         return beta, phase
 
-    def design_deg(self, x_rad: Sequence[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """Operating angles and phases (deg) of the design vector ``x_rad``."""
-        beta, phase = self.split(list(x_rad), list(self.parameters_rad))
-        return tuple(np.degrees(beta).tolist()), tuple(np.degrees(phase).tolist())
+    def design_deg(self, x_deg: Sequence[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
+        beta, phase = self.split(list(x_deg), list(self.parameters_deg))
+        return tuple(float(value) for value in beta), tuple(float(value) for value in phase)
 
     @property
     def beta_upper_rad(self) -> list[float]:
@@ -186,8 +196,8 @@ def build_problem(
         phase_free=phase_free,
         lower_rad=np.radians(lower),
         upper_rad=np.radians(upper),
-        start_rad=np.radians(start),
-        parameters_rad=np.radians(parameters),
+        start_deg=np.array(start, dtype=float),
+        parameters_deg=np.array(parameters, dtype=float),
         beta_bounds_deg=beta_bounds,
         phase_bounds_deg=phase_bounds,
     )
