@@ -401,12 +401,10 @@ def slider_crank_method_difference(
     velocity_pct, accel_pct = [], []
     for mechanism in mechanisms:
         table = mechanism.analyse(crank_angle_deg, crank_speed=crank_speed)
-        velocity_pct.append(
-            _mean_percent_difference(table.piston_velocity, table.piston_velocity_approximate)
-        )
-        accel_pct.append(
-            _mean_percent_difference(table.piston_accel, table.piston_accel_approximate)
-        )
+        velocity_scale = mechanism.crank * abs(crank_speed)
+        velocity_pct.append(_mean_percent_difference(table, "piston_velocity", velocity_scale))
+        accel_scale = velocity_scale * abs(crank_speed)
+        accel_pct.append(_mean_percent_difference(table, "piston_accel", accel_scale))
     columns: list[Column] = [
         ("crank", "length", np.array([mechanism.crank for mechanism in mechanisms])),
         ("rod", "length", np.array([mechanism.rod for mechanism in mechanisms])),
@@ -416,9 +414,12 @@ def slider_crank_method_difference(
     return _make_table("slider-crank method difference", columns)
 
 
-def _mean_percent_difference(exact: FloatArray, approximate: FloatArray) -> float:
-    # sin(pi) is 1.2e-16, not 0: "zero" has to mean zero to rounding here.
-    rounding = 64.0 * np.finfo(float).eps * np.max(np.abs(exact))
+def _mean_percent_difference(table: MechanismTable, quantity: str, scale: float) -> float:
+    exact = table[quantity]
+    approximate = table[f"{quantity}_approximate"]
+    # sin(pi) is 1.2e-16, not 0: "zero" means zero to rounding relative to the
+    # quantity's natural scale (r w for velocity, r w^2 for acceleration).
+    rounding = 64.0 * np.finfo(float).eps * scale
     difference = np.abs(approximate - exact)
     both_zero = (np.abs(exact) <= rounding) & (difference <= rounding)
     ratio = np.divide(difference, np.abs(exact), out=np.zeros_like(difference), where=~both_zero)
