@@ -19,8 +19,8 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
     crosscheck,
 )
-from sso.solvers.kkt import projected_gradient_norm
-from sso.solvers.run import RunOutcome
+from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
+from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import finite_float
 
@@ -234,20 +234,13 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
 
     nlp = compiled_nlp(problem, rule.samples)
     points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
-    runs: list[Solution] = []
-    solutions: dict[str, Solution] = {}
-    for name in solver_names:
-        backend = _backend(name)
-        solver_runs = []
-        for index, point in enumerate(points):
-            outcome = backend.solve(nlp, point, problem.parameters_rad, problem.lower_rad,
-                                    problem.upper_rad, tolerance, max_iterations)
-            solver_runs.append(_to_solution(name, outcome, index, problem, nlp, series.model))
-        total_nfev = sum(run.nfev for run in solver_runs)
-        solver_runs = [_replace(run, total_nfev=total_nfev) for run in solver_runs]
-        runs.extend(solver_runs)
-        solutions[name] = _best(solver_runs)
-    best = _best(list(solutions.values()))
+    limits = RunLimits(problem.lower_rad, problem.upper_rad)
+    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
+                          max_iterations)
+    solutions = {name: _to_solution(best_run(runs), problem, series.model, runs)
+                 for name, runs in measured.items()}
+    all_runs = [run for runs in measured.values() for run in runs]
+    best = min(solutions.values(), key=lambda solution: (not solution.success, solution.fun))
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
@@ -266,10 +259,11 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         optimum=best.series.evaluate(speed_rpm, **evaluation_options),
         best=best,
         solutions=solutions,
-        runs=tuple(runs),
+        runs=tuple(_to_solution(run, problem, series.model, measured[run.solver])
+                   for run in all_runs),
         crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
                     if len(solutions) > 1 else None),
-        local_minima=_distinct_minima(runs, objective_rtol, objective_atol),
+        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,
@@ -277,57 +271,25 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     )
 
 
-def _backend(name: str) -> Any:
-    if name == "ipopt":
-        from sso.solvers import ipopt
-
-        return ipopt
-    from sso.solvers import slsqp
-
-    return slsqp
-
-
-def _to_solution(name: str, outcome: RunOutcome, start_index: int, problem: DesignProblem,
-                 nlp: Any, model: str) -> Solution:
-    """Clip onto the bounds (IPOPT relaxes them slightly) and re-measure on our graph."""
-    x_rad = np.clip(np.nan_to_num(outcome.x_rad, nan=0.0), problem.lower_rad, problem.upper_rad)
-    value, gradient = nlp.objective_and_gradient(x_rad, problem.parameters_rad)
-    gradient = np.array(gradient, dtype=float).ravel()
-    x_deg = np.degrees(x_rad)
+def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
+                 solver_runs: list[MeasuredRun]) -> Solution:
+    x_deg = np.degrees(run.outcome.x)
     beta_deg, phase_deg = problem.design_deg(x_deg)
     return Solution(
-        solver=name,
+        solver=run.solver,
         series=ShaftSeries(beta_deg, phase_deg, model),
         x=tuple(x_deg.tolist()),
-        fun=float(value),
-        nit=outcome.nit,
-        nfev=outcome.nfev,
-        status=outcome.status,
-        success=outcome.success,
-        message=outcome.message,
-        kkt=projected_gradient_norm(x_rad, gradient, problem.lower_rad, problem.upper_rad),
-        time_s=outcome.time_s,
-        start_index=start_index,
+        fun=run.fun,
+        nit=run.outcome.nit,
+        nfev=run.outcome.nfev,
+        status=run.outcome.status,
+        success=run.outcome.success,
+        message=run.outcome.message,
+        kkt=run.kkt,
+        time_s=run.outcome.time_s,
+        start_index=run.start_index,
+        total_nfev=sum(other.outcome.nfev for other in solver_runs),
     )
-
-
-def _replace(solution: Solution, **changes: Any) -> Solution:
-    from dataclasses import replace
-
-    return replace(solution, **changes)
-
-
-def _best(candidates: list[Solution]) -> Solution:
-    successful = [candidate for candidate in candidates if candidate.success]
-    return min(successful or candidates, key=lambda candidate: candidate.fun)
-
-
-def _distinct_minima(runs: list[Solution], rtol: float, atol: float) -> tuple[float, ...]:
-    minima: list[float] = []
-    for value in sorted(run.fun for run in runs if run.success):
-        if not minima or value - minima[-1] > atol + rtol * abs(value):
-            minima.append(value)
-    return tuple(minima)
 
 
 def _validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:

@@ -30,19 +30,26 @@ class ShapeKey:
 
 @dataclass
 class CompiledNLP:
-    """CasADi functions of one shape.
+    """CasADi functions of one problem shape, shared by every solver.
 
     Attributes
     ----------
+    name : str
+        Name given to the CasADi functions.
+    symbols : dict
+        ``{"x", "p", "f"}`` and ``"g"`` when there are constraints.
     objective_and_gradient : casadi.Function
-        ``(x, p) -> (RE, dRE/dx)``, used by SLSQP and by the optimality measure.
+        ``(x, p) -> (f, df/dx)``, used by SLSQP and by the optimality measure.
+    constraints_and_jacobian : casadi.Function or None
+        ``(x, p) -> (g, dg/dx)`` when the problem has constraint functions.
     ipopt_solvers : dict
         ``nlpsol`` instances keyed by their option tuple, built on first use.
     """
 
-    key: ShapeKey
+    name: str
     symbols: dict[str, Any]
     objective_and_gradient: Any
+    constraints_and_jacobian: Any = None
     ipopt_solvers: dict[tuple, Any] = field(default_factory=dict)
 
     def ipopt(self, options: dict[str, Any]) -> Any:
@@ -53,7 +60,7 @@ class CompiledNLP:
         solver = self.ipopt_solvers.get(options_key)
         if solver is None:
             solver = casadi.nlpsol(
-                f"sso_ipopt_{self.key.n_joints}_{self.key.option}_{self.key.model}",
+                f"{self.name}_ipopt",
                 "ipopt",
                 self.symbols,
                 {
@@ -78,19 +85,46 @@ def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
     return nlp
 
 
+def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None) -> CompiledNLP:
+    """Wrap CasADi symbols of an NLP into the functions the solvers use.
+
+    Parameters
+    ----------
+    name : str
+        Name of the CasADi functions.
+    x, p : casadi.SX
+        Design variables and parameters (column vectors).
+    objective : casadi.SX
+        Scalar objective.
+    constraints : casadi.SX, optional
+        Constraint functions ``g(x, p)``, bounded per solve.
+    """
+    import casadi
+
+    symbols = {"x": x, "p": p, "f": objective}
+    objective_and_gradient = casadi.Function(f"{name}_f", [x, p],
+                                             [objective, casadi.gradient(objective, x)],
+                                             ["x", "p"], ["f", "grad"])
+    constraints_and_jacobian = None
+    if constraints is not None:
+        symbols["g"] = constraints
+        constraints_and_jacobian = casadi.Function(f"{name}_g", [x, p],
+                                                   [constraints, casadi.jacobian(constraints, x)],
+                                                   ["x", "p"], ["g", "jac"])
+    return CompiledNLP(name=name, symbols=symbols, objective_and_gradient=objective_and_gradient,
+                       constraints_and_jacobian=constraints_and_jacobian)
+
+
 def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
     import casadi
 
     x = casadi.SX.sym("x", problem.n_free)
-    p = casadi.SX.sym("p", len(problem.parameters_rad))
+    p = casadi.SX.sym("p", len(problem.parameters_deg))
     beta, phase = problem.split([x[i] for i in range(problem.n_free)],
                                 [p[i] for i in range(p.numel())])
     cos_theta, sin_theta = angle_grid(key.samples)
     terms = squared_ratio_error(casadi, casadi.DM(cos_theta), casadi.DM(sin_theta), beta,
                                 phase, key.model)
     objective = casadi.sum1(terms) / key.samples
-    gradient = casadi.gradient(objective, x)
-    objective_and_gradient = casadi.Function("re_and_gradient", [x, p], [objective, gradient],
-                                             ["x", "p"], ["f", "grad"])
-    return CompiledNLP(key=key, symbols={"x": x, "p": p, "f": objective},
-                       objective_and_gradient=objective_and_gradient)
+    return compile_nlp(f"sso_re_{key.n_joints}_{key.option}_{key.model}_{key.samples}", x, p,
+                       objective)

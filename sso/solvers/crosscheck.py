@@ -27,7 +27,8 @@ def crosscheck(
         Objectives agree when they differ by at most
         ``objective_atol + objective_rtol * max|fun|`` (dimensionless RE).
     kkt_tolerance : float
-        Largest projected-gradient norm (per rad) that counts as first-order optimal.
+        Largest stationarity error (per rad for a shaft series) that counts as
+        first-order optimal, and largest constraint violation that counts as feasible.
 
     Returns
     -------
@@ -40,6 +41,8 @@ def crosscheck(
     allowed_gap = objective_atol + objective_rtol * max(abs(value) for value in objective.values())
     failed = [name for name, solution in solutions.items() if not solution.success]
     not_stationary = [name for name, value in kkt.items() if value > kkt_tolerance]
+    infeasible = [name for name, solution in solutions.items()
+                  if solution.constraint_violation > kkt_tolerance]
     objectives_agree = gap <= allowed_gap
     better = None if objectives_agree else min(objective, key=objective.get)
 
@@ -58,6 +61,10 @@ def crosscheck(
             ", ".join(f"{name} projected gradient {kkt[name]:.3g}" for name in not_stationary)
             + f" exceeds {kkt_tolerance:g}"
         )
+    if infeasible:
+        problems.append(", ".join(f"{name} violates a constraint by "
+                                  f"{solutions[name].constraint_violation:.3g}"
+                                  for name in infeasible))
     if problems:
         message = "solvers disagree: " + "; ".join(problems)
     else:

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from sso.solvers.run import RunOutcome
+from sso.solvers.run import RunLimits, RunOutcome
 
 # IPOPT's ApplicationReturnStatus codes, keyed by the names CasADi reports.
 RETURN_STATUS_CODES = {
@@ -33,47 +33,53 @@ RETURN_STATUS_CODES = {
     "Internal_Error": -199,
 }
 UNKNOWN_STATUS = -999
-SNAP_DISTANCE_RAD = 1e-6
+SNAP_DISTANCE = 1e-6
 
 
 def solve(
     nlp: Any,
-    start_rad: np.ndarray,
-    parameters_rad: np.ndarray,
-    lower_rad: np.ndarray,
-    upper_rad: np.ndarray,
+    start: np.ndarray,
+    parameters: np.ndarray,
+    limits: RunLimits,
     tolerance: float,
     max_iterations: int,
 ) -> RunOutcome:
-    """Run IPOPT once from ``start_rad``; failures come back in the outcome.
+    """Run IPOPT once from ``start``; failures come back in the outcome.
 
     Parameters
     ----------
     nlp : sso.design.nlp.CompiledNLP
         The cached problem graph.
-    start_rad, parameters_rad, lower_rad, upper_rad : numpy.ndarray
-        Start, fixed angles and bounds (rad).
+    start, parameters : numpy.ndarray
+        Start of the design vector and the fixed parameters (NLP units).
+    limits : RunLimits
+        Bounds of the design vector and of the constraints.
     tolerance : float
         IPOPT's ``tol`` (scaled NLP error).
     max_iterations : int
         IPOPT's ``max_iter``.
     """
     solver = nlp.ipopt({"tol": tolerance, "max_iter": max_iterations})
+    arguments = {"x0": start, "p": parameters, "lbx": limits.lower, "ubx": limits.upper}
+    if limits.constrained:
+        arguments.update(lbg=limits.constraint_lower, ubg=limits.constraint_upper)
     started = time.perf_counter()
     try:
-        answer = solver(x0=start_rad, p=parameters_rad, lbx=lower_rad, ubx=upper_rad)
+        answer = solver(**arguments)
     except RuntimeError as error:
-        return RunOutcome(np.array(start_rad, dtype=float), float("nan"), 0, 0, 0,
+        return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0,
                           UNKNOWN_STATUS, False, f"IPOPT raised: {error}",
                           time.perf_counter() - started)
     stats = solver.stats()
     return_status = str(stats.get("return_status", "unknown"))
-    x_rad, fun = _snap_to_active_bounds(
-        nlp, np.array(answer["x"], dtype=float).ravel(), float(answer["f"]),
-        np.array(answer["lam_x"], dtype=float).ravel(), parameters_rad, lower_rad, upper_rad)
+    x = np.array(answer["x"], dtype=float).ravel()
+    fun = float(answer["f"])
+    if not limits.constrained:
+        x, fun = _snap_to_active_bounds(nlp, x, fun, np.array(answer["lam_x"], dtype=float).ravel(),
+                                        parameters, limits)
     elapsed = time.perf_counter() - started
     return RunOutcome(
-        x_rad=x_rad,
+        x=x,
         fun=fun,
         nit=int(stats.get("iter_count", 0)),
         nfev=int(stats.get("n_call_nlp_f", 0)),
@@ -87,25 +93,24 @@ def solve(
 
 def _snap_to_active_bounds(
     nlp: Any,
-    x_rad: np.ndarray,
+    x: np.ndarray,
     fun: float,
     bound_multipliers: np.ndarray,
-    parameters_rad: np.ndarray,
-    lower_rad: np.ndarray,
-    upper_rad: np.ndarray,
+    parameters: np.ndarray,
+    limits: RunLimits,
 ) -> tuple[np.ndarray, float]:
-    """Move variables whose bound is active onto it.
+    """Move variables whose bound is active onto it (bound-only problems).
 
     An interior-point method stops a barrier-width short of an active bound, and
     with a steep gradient there that gap shows in the objective. A bound is
     taken as active when its multiplier pushes against it (CasADi's ``lam_x``:
     negative at a lower bound, positive at an upper one) and the variable lies
-    within ``SNAP_DISTANCE_RAD``. The snapped point is kept only if it is no worse.
+    within ``SNAP_DISTANCE``. The snapped point is kept only if it is no worse.
     """
-    at_lower = (bound_multipliers < 0) & (x_rad - lower_rad < SNAP_DISTANCE_RAD)
-    at_upper = (bound_multipliers > 0) & (upper_rad - x_rad < SNAP_DISTANCE_RAD)
+    at_lower = (bound_multipliers < 0) & (x - limits.lower < SNAP_DISTANCE)
+    at_upper = (bound_multipliers > 0) & (limits.upper - x < SNAP_DISTANCE)
     if not (at_lower.any() or at_upper.any()):
-        return x_rad, fun
-    snapped = np.where(at_lower, lower_rad, np.where(at_upper, upper_rad, x_rad))
-    snapped_fun = float(nlp.objective_and_gradient(snapped, parameters_rad)[0])
-    return (snapped, snapped_fun) if snapped_fun <= fun else (x_rad, fun)
+        return x, fun
+    snapped = np.where(at_lower, limits.lower, np.where(at_upper, limits.upper, x))
+    snapped_fun = float(nlp.objective_and_gradient(snapped, parameters)[0])
+    return (snapped, snapped_fun) if snapped_fun <= fun else (x, fun)

@@ -1,8 +1,13 @@
-"""First-order optimality under bounds, from the objective's gradient."""
+"""First-order optimality, measured the same way for every solver."""
 
 from __future__ import annotations
 
 import numpy as np
+
+from sso.solvers.run import RunLimits
+
+# A constraint or bound within this distance of its limit counts as active.
+ACTIVE_TOLERANCE = 1e-7
 
 
 def projected_gradient_norm(
@@ -17,3 +22,51 @@ def projected_gradient_norm(
         return 0.0
     step = x - np.clip(x - gradient, lower, upper)
     return float(np.max(np.abs(step)))
+
+
+def kkt_residual(
+    x: np.ndarray,
+    gradient: np.ndarray,
+    limits: RunLimits,
+    constraint_values: np.ndarray | None = None,
+    constraint_jacobian: np.ndarray | None = None,
+) -> float:
+    """Stationarity error of ``x`` under bounds and constraints.
+
+    Without constraints this is :func:`projected_gradient_norm`. With them, the
+    gradient is matched by non-negative multipliers of the active bounds and
+    constraints (a non-negative least-squares fit, independent of what any
+    solver reports as multipliers), and the infinity norm of what is left is
+    returned.
+    """
+    if not limits.constrained:
+        return projected_gradient_norm(x, gradient, limits.lower, limits.upper)
+    from scipy.optimize import nnls
+
+    size = len(x)
+    identity = np.eye(size)
+    normals = []  # gradients of the active constraints written as c(x) >= 0
+    normals += [identity[i] for i in np.flatnonzero(x - limits.lower <= ACTIVE_TOLERANCE)]
+    normals += [-identity[i] for i in np.flatnonzero(limits.upper - x <= ACTIVE_TOLERANCE)]
+    values = np.asarray(constraint_values, dtype=float).ravel()
+    jacobian = np.asarray(constraint_jacobian, dtype=float).reshape(len(values), size)
+    normals += [jacobian[i] for i in np.flatnonzero(values - limits.constraint_lower
+                                                     <= ACTIVE_TOLERANCE)]
+    normals += [-jacobian[i] for i in np.flatnonzero(limits.constraint_upper - values
+                                                      <= ACTIVE_TOLERANCE)]
+    if not normals:
+        return float(np.max(np.abs(gradient))) if size else 0.0
+    matrix = np.array(normals).T
+    multipliers, _ = nnls(matrix, gradient)
+    return float(np.max(np.abs(gradient - matrix @ multipliers)))
+
+
+def constraint_violation(
+    x: np.ndarray, limits: RunLimits, constraint_values: np.ndarray | None = None
+) -> float:
+    """Largest amount by which ``x`` or ``g(x)`` leaves its bounds (0 when feasible)."""
+    excess = [np.zeros(1), limits.lower - x, x - limits.upper]
+    if limits.constrained:
+        values = np.asarray(constraint_values, dtype=float).ravel()
+        excess += [limits.constraint_lower - values, values - limits.constraint_upper]
+    return float(max(np.max(part) for part in excess if part.size))

@@ -1,20 +1,44 @@
-"""The outcome of one solver run from one start, before it becomes a Solution."""
+"""What one solver run needs and what it returns, before it becomes a Solution."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 
 @dataclass(frozen=True)
+class RunLimits:
+    """Bounds of one solve, in the NLP's own units (angles in rad).
+
+    Attributes
+    ----------
+    lower, upper : numpy.ndarray
+        Bounds of the design vector.
+    constraint_lower, constraint_upper : numpy.ndarray
+        Bounds of the constraint functions ``g(x, p)``; empty when the problem
+        has only bounds. ``-inf``/``inf`` mark a one-sided constraint.
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    constraint_lower: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    constraint_upper: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def constrained(self) -> bool:
+        """True when the problem has constraint functions besides bounds."""
+        return len(self.constraint_lower) > 0
+
+
+@dataclass(frozen=True)
 class RunOutcome:
-    """Raw result of one run, design vector in rad.
+    """Raw result of one run, design vector in the NLP's units.
 
     Attributes mirror :class:`sso.Solution`; ``njev`` counts gradient evaluations.
     """
 
-    x_rad: np.ndarray
+    x: np.ndarray
     fun: float
     nit: int
     nfev: int

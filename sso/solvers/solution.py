@@ -17,12 +17,13 @@ class Solution:
     ----------
     solver : str
         ``"ipopt"`` or ``"slsqp"``.
-    series : sso.ShaftSeries
-        The design found (all angles, deg).
+    series : sso.ShaftSeries or None
+        The shaft-series design found (all angles, deg); None for other problems.
     x : tuple of float
-        The design vector, deg: free operating angles first, then free phases.
+        The design vector. Shaft series: deg, free operating angles first, then
+        free phases. Other problems: in their own units (see their result).
     fun : float
-        Residual error RE at ``x`` (dimensionless).
+        Objective at ``x``: residual error RE (dimensionless) for a shaft series.
     nit : int
         Iterations of the run that found ``x``.
     nfev : int
@@ -36,18 +37,21 @@ class Solution:
     message : str
         The solver's own message.
     kkt : float
-        First-order optimality: infinity norm of the projected gradient of RE
-        under the bounds (per rad).
+        First-order optimality: infinity norm of the projected gradient under the
+        bounds (per rad for a shaft series); with constraints, of the gradient
+        left after the best non-negative multipliers of the active constraints.
     time_s : float
         Wall time of that run, s.
     start_index : int
         Which start the run began from (0 is the user's start).
     total_nfev : int
         Objective evaluations over every start this solver ran.
+    constraint_violation : float
+        Largest violation of a bound or constraint at ``x`` (0 when feasible).
     """
 
     solver: str
-    series: "ShaftSeries"
+    series: "ShaftSeries | None"
     x: tuple[float, ...]
     fun: float
     nit: int
@@ -59,14 +63,16 @@ class Solution:
     time_s: float
     start_index: int = 0
     total_nfev: int = 0
+    constraint_violation: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (the design as ``beta_deg``/``phase_deg``)."""
+        """JSON-ready dictionary (a shaft series' design as ``beta_deg``/``phase_deg``)."""
+        design = {} if self.series is None else {"beta_deg": list(self.series.beta_deg),
+                                                 "phase_deg": list(self.series.phase_deg)}
         return {
             "solver": self.solver,
             "x": list(self.x),
-            "beta_deg": list(self.series.beta_deg),
-            "phase_deg": list(self.series.phase_deg),
+            **design,
             "fun": self.fun,
             "nit": self.nit,
             "nfev": self.nfev,
@@ -77,6 +83,7 @@ class Solution:
             "time_s": self.time_s,
             "start_index": self.start_index,
             "total_nfev": self.total_nfev,
+            "constraint_violation": self.constraint_violation,
         }
 
 
@@ -90,8 +97,9 @@ class CrossCheck:
     ----------
     agree : bool
         Every solver succeeded, their objectives agree within
-        ``objective_atol + objective_rtol * max|fun|``, and each is first-order
-        optimal (``kkt <= kkt_tolerance``).
+        ``objective_atol + objective_rtol * max|fun|``, each is first-order
+        optimal (``kkt <= kkt_tolerance``) and feasible (constraint violation at
+        most ``kkt_tolerance``).
     objective_gap : float
         Largest difference of RE between solvers (dimensionless).
     objective : dict

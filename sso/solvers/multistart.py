@@ -1,0 +1,127 @@
+"""Run each solver from each start and measure every answer on the same graph."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+from sso.solvers.kkt import constraint_violation, kkt_residual
+from sso.solvers.run import RunLimits, RunOutcome
+
+
+@dataclass(frozen=True)
+class MeasuredRun:
+    """One run, re-measured independently of what the solver says of itself.
+
+    Attributes
+    ----------
+    solver : str
+    start_index : int
+        Which start the run began from (0 is the user's start).
+    outcome : RunOutcome
+        The solver's report, with ``x`` clipped onto the bounds (IPOPT relaxes
+        them slightly).
+    fun : float
+        Objective at ``outcome.x``, from the shared graph.
+    kkt : float
+        Stationarity error at ``outcome.x`` (see :func:`sso.solvers.kkt.kkt_residual`).
+    violation : float
+        Largest bound or constraint violation at ``outcome.x``.
+    """
+
+    solver: str
+    start_index: int
+    outcome: RunOutcome
+    fun: float
+    kkt: float
+    violation: float
+
+
+def run_starts(
+    nlp: Any,
+    points: np.ndarray,
+    parameters: np.ndarray,
+    limits: RunLimits,
+    solver_names: Sequence[str],
+    tolerance: float,
+    max_iterations: int,
+) -> dict[str, list[MeasuredRun]]:
+    """Every solver from every start, in order; failures are kept, never raised.
+
+    Parameters
+    ----------
+    nlp : sso.design.nlp.CompiledNLP
+        The problem graph.
+    points : numpy.ndarray
+        Starts, shape ``(starts, len(x))``.
+    parameters : numpy.ndarray
+        Fixed parameters of the graph.
+    limits : RunLimits
+        Bounds of ``x`` and of the constraints.
+    solver_names : sequence of {"ipopt", "slsqp"}
+    tolerance : float
+        Solver tolerance.
+    max_iterations : int
+        Iteration limit of each run.
+
+    Returns
+    -------
+    dict of str to list of MeasuredRun
+    """
+    runs: dict[str, list[MeasuredRun]] = {}
+    for name in solver_names:
+        backend = _backend(name)
+        runs[name] = [
+            _measure(name, index, backend.solve(nlp, point, parameters, limits, tolerance,
+                                                max_iterations), nlp, parameters, limits)
+            for index, point in enumerate(points)
+        ]
+    return runs
+
+
+def best_run(runs: Sequence[MeasuredRun]) -> MeasuredRun:
+    """Lowest objective among successful runs (among all, if none succeeded)."""
+    successful = [run for run in runs if run.outcome.success]
+    return min(successful or runs, key=lambda run: run.fun)
+
+
+def distinct_minima(runs: Sequence[MeasuredRun], rtol: float, atol: float) -> tuple[float, ...]:
+    """Objective values of the successful runs, merged when within tolerance."""
+    minima: list[float] = []
+    for value in sorted(run.fun for run in runs if run.outcome.success):
+        if not minima or value - minima[-1] > atol + rtol * abs(value):
+            minima.append(value)
+    return tuple(minima)
+
+
+def _backend(name: str) -> Any:
+    if name == "ipopt":
+        from sso.solvers import ipopt
+
+        return ipopt
+    from sso.solvers import slsqp
+
+    return slsqp
+
+
+def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
+             parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
+    x = np.clip(np.nan_to_num(outcome.x, nan=0.0), limits.lower, limits.upper)
+    value, gradient = nlp.objective_and_gradient(x, parameters)
+    gradient = np.array(gradient, dtype=float).ravel()
+    constraint_values = constraint_jacobian = None
+    if limits.constrained:
+        constraint_values, constraint_jacobian = nlp.constraints_and_jacobian(x, parameters)
+        constraint_values = np.array(constraint_values, dtype=float).ravel()
+        constraint_jacobian = np.array(constraint_jacobian, dtype=float)
+    return MeasuredRun(
+        solver=name,
+        start_index=start_index,
+        outcome=RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
+                           outcome.status, outcome.success, outcome.message, outcome.time_s),
+        fun=float(value),
+        kkt=kkt_residual(x, gradient, limits, constraint_values, constraint_jacobian),
+        violation=constraint_violation(x, limits, constraint_values),
+    )
