@@ -10,8 +10,9 @@ are in any consistent unit (``"length"`` in the table's units).
 
 import math
 from collections.abc import Sequence
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -35,8 +36,64 @@ Column = tuple[str, str, np.ndarray]
 """A table column as (name, unit, values)."""
 
 
+class _CrankDriven(ABC):
+    """What the mechanisms share: ``analyse`` over crank angles into a table."""
+
+    table_name: ClassVar[str]
+
+    def analyse(
+        self,
+        crank_angle_deg: ArrayLike,
+        *,
+        crank_speed: float,
+        crank_accel: float = 0.0,
+        on_unassembled: OnUnassembled = "raise",
+    ) -> MechanismTable:
+        """Kinematics over crank angles, one table row per angle.
+
+        Parameters
+        ----------
+        crank_angle_deg : array_like of float
+            Crank angles (deg), finite, one-dimensional (a scalar is one row).
+        crank_speed : float
+            Crank angular velocity (rad/s, counter-clockwise positive).
+        crank_accel : float
+            Crank angular acceleration (rad/s^2, counter-clockwise positive).
+        on_unassembled : {"raise", "mark"}
+            What to do at crank angles where the mechanism cannot be assembled:
+            raise, or return the table with a boolean ``assembled`` column and
+            NaN in the quantities of those rows.
+
+        Returns
+        -------
+        MechanismTable
+            ``crank_angle_deg`` followed by the columns listed in the class's
+            Notes, and ``assembled`` with ``on_unassembled="mark"``.
+
+        Raises
+        ------
+        ValueError
+            If an argument is invalid; if the mechanism cannot be assembled at
+            some angles (with ``on_unassembled="raise"``; the message names
+            them); or if it sits at a dead point (links in line, so that the
+            velocities are not determined by the crank's).
+        """
+        angle_deg, crank_speed, crank_accel = _validate_drive(
+            self, crank_angle_deg, crank_speed, crank_accel, on_unassembled
+        )
+        columns, assembled = self._columns(np.radians(angle_deg), crank_speed, crank_accel)
+        columns = [("crank_angle_deg", "deg", angle_deg), *columns]
+        return _table(self, self.table_name, columns, assembled, on_unassembled)
+
+    @abstractmethod
+    def _columns(
+        self, crank_angle: FloatArray, crank_speed: float, crank_accel: float
+    ) -> tuple[list[Column], BoolArray]:
+        """Columns after ``crank_angle_deg`` and the assembled mask (angle in rad)."""
+
+
 @dataclass(frozen=True)
-class FourBar:
+class FourBar(_CrankDriven):
     """Four-bar linkage O_A-A-B-O_B driven by the crank O_A-A.
 
     O_A is the origin and O_B is at ``(ground, 0)``.
@@ -54,6 +111,15 @@ class FourBar:
     ------
     ValueError
         If a length is not a finite number > 0 or the branch is unknown.
+
+    Notes
+    -----
+    Columns of :meth:`analyse`: ``coupler_angle_deg`` (A -> B) and
+    ``rocker_angle_deg`` (O_B -> B), both in [0, 360);
+    ``transmission_angle_deg`` (interior angle at B, 0..180); ``joint_a_x``,
+    ``joint_a_y``, ``joint_b_x``, ``joint_b_y`` (length);
+    ``coupler_angular_velocity_rad_s``, ``rocker_angular_velocity_rad_s``,
+    ``coupler_angular_accel_rad_s2``, ``rocker_angular_accel_rad_s2``.
     """
 
     ground: float
@@ -61,6 +127,8 @@ class FourBar:
     coupler: float
     rocker: float
     branch: str = "open"
+
+    table_name: ClassVar[str] = "four-bar"
 
     def __post_init__(self) -> None:
         _validate_lengths(self, ("ground", "crank", "coupler", "rocker"))
@@ -98,57 +166,14 @@ class FourBar:
             raise ValueError(f"swing angle needs a crank-rocker, but {self} is a {kind}")
         return math.degrees(swing_angle(self.ground, self.crank, self.coupler, self.rocker))
 
-    def analyse(
-        self,
-        crank_angle_deg: ArrayLike,
-        *,
-        crank_speed: float,
-        crank_accel: float = 0.0,
-        on_unassembled: OnUnassembled = "raise",
-    ) -> MechanismTable:
-        """Positions, angular velocities and accelerations over crank angles.
-
-        Parameters
-        ----------
-        crank_angle_deg : array_like of float
-            Crank angles (deg), finite, one-dimensional.
-        crank_speed : float
-            Crank angular velocity (rad/s, counter-clockwise positive).
-        crank_accel : float
-            Crank angular acceleration (rad/s^2, counter-clockwise positive).
-        on_unassembled : {"raise", "mark"}
-            What to do at crank angles where the linkage cannot be assembled:
-            raise, or return the table with a boolean ``assembled`` column and
-            NaN in the quantities of those rows.
-
-        Returns
-        -------
-        MechanismTable
-            Columns ``crank_angle_deg``, ``coupler_angle_deg`` (A -> B),
-            ``rocker_angle_deg`` (O_B -> B), both in [0, 360),
-            ``transmission_angle_deg`` (interior angle at B, 0..180),
-            ``joint_a_x``, ``joint_a_y``, ``joint_b_x``, ``joint_b_y`` (length),
-            ``coupler_angular_velocity_rad_s``, ``rocker_angular_velocity_rad_s``,
-            ``coupler_angular_accel_rad_s2``, ``rocker_angular_accel_rad_s2``,
-            and ``assembled`` with ``on_unassembled="mark"``.
-
-        Raises
-        ------
-        ValueError
-            If an input is invalid, if the linkage cannot be assembled at some
-            angles (with ``on_unassembled="raise"``; the message names them),
-            or if it sits at a dead point (links in line, so that the velocities
-            are not determined by the crank's).
-        """
-        angle_deg, crank_speed, crank_accel = _validate_drive(
-            self, crank_angle_deg, crank_speed, crank_accel, on_unassembled
-        )
+    def _columns(
+        self, crank_angle: FloatArray, crank_speed: float, crank_accel: float
+    ) -> tuple[list[Column], BoolArray]:
         motion = solve_fourbar(
             self.ground, self.crank, self.coupler, self.rocker, BRANCH_SIDES[self.branch],
-            np.radians(angle_deg), crank_speed, crank_accel,
+            crank_angle, crank_speed, crank_accel,
         )
         columns = [
-            ("crank_angle_deg", "deg", angle_deg),
             ("coupler_angle_deg", "deg", _direction_deg(motion.coupler_angle)),
             ("rocker_angle_deg", "deg", _direction_deg(motion.rocker_angle)),
             ("transmission_angle_deg", "deg", np.degrees(motion.transmission_angle)),
@@ -159,11 +184,11 @@ class FourBar:
             ("coupler_angular_accel_rad_s2", "rad/s^2", motion.coupler_angular_accel),
             ("rocker_angular_accel_rad_s2", "rad/s^2", motion.rocker_angular_accel),
         ]
-        return _table(self, "four-bar", columns, motion.assembled, on_unassembled)
+        return columns, motion.assembled
 
 
 @dataclass(frozen=True)
-class SliderCrank:
+class SliderCrank(_CrankDriven):
     """Slider-crank: crank O-A, connecting rod A-B, piston pin B on a line.
 
     O is the origin; B slides along ``y = offset`` on the +x side of the crank.
@@ -179,63 +204,35 @@ class SliderCrank:
     ------
     ValueError
         If a length is not a finite number > 0 or the offset is not finite.
+
+    Notes
+    -----
+    Columns of :meth:`analyse`: ``rod_angle_deg`` (A -> B, in [0, 360));
+    ``joint_a_x``, ``joint_a_y`` and ``piston_position`` (x of B) (length);
+    ``rod_angular_velocity_rad_s``, ``rod_angular_accel_rad_s2``;
+    ``piston_velocity`` (length/s) and ``piston_accel`` (length/s^2) along
+    +x, exact. For zero offset also ``piston_velocity_approximate`` and
+    ``piston_accel_approximate``: the classical two-term series (Holowenko),
+    which holds for an in-line slider-crank only.
     """
 
     crank: float
     rod: float
     offset: float = 0.0
 
+    table_name: ClassVar[str] = "slider-crank"
+
     def __post_init__(self) -> None:
         _validate_lengths(self, ("crank", "rod"))
         _validate_finite(self, "offset")
 
-    def analyse(
-        self,
-        crank_angle_deg: ArrayLike,
-        *,
-        crank_speed: float,
-        crank_accel: float = 0.0,
-        on_unassembled: OnUnassembled = "raise",
-    ) -> MechanismTable:
-        """Exact and series-approximate kinematics over crank angles.
-
-        Parameters
-        ----------
-        crank_angle_deg : array_like of float
-            Crank angles (deg), finite, one-dimensional.
-        crank_speed : float
-            Crank angular velocity (rad/s, counter-clockwise positive).
-        crank_accel : float
-            Crank angular acceleration (rad/s^2, counter-clockwise positive).
-        on_unassembled : {"raise", "mark"}
-            As in :meth:`FourBar.analyse`.
-
-        Returns
-        -------
-        MechanismTable
-            Columns ``crank_angle_deg``, ``rod_angle_deg`` (A -> B, in [0, 360)),
-            ``joint_a_x``, ``joint_a_y``, ``piston_position`` (x of B, length),
-            ``rod_angular_velocity_rad_s``, ``rod_angular_accel_rad_s2``,
-            ``piston_velocity`` (length/s) and ``piston_accel`` (length/s^2)
-            along +x, exact; for zero offset also ``piston_velocity_approximate``
-            and ``piston_accel_approximate``, the classical two-term series
-            (Holowenko), which holds for an in-line slider-crank only; and
-            ``assembled`` with ``on_unassembled="mark"``.
-
-        Raises
-        ------
-        ValueError
-            As in :meth:`FourBar.analyse`.
-        """
-        angle_deg, crank_speed, crank_accel = _validate_drive(
-            self, crank_angle_deg, crank_speed, crank_accel, on_unassembled
-        )
-        angle = np.radians(angle_deg)
+    def _columns(
+        self, crank_angle: FloatArray, crank_speed: float, crank_accel: float
+    ) -> tuple[list[Column], BoolArray]:
         motion = solve_slider_crank(
-            self.crank, self.rod, self.offset, angle, crank_speed, crank_accel
+            self.crank, self.rod, self.offset, crank_angle, crank_speed, crank_accel
         )
         columns = [
-            ("crank_angle_deg", "deg", angle_deg),
             ("rod_angle_deg", "deg", _direction_deg(motion.rod_angle)),
             *_point_columns("joint_a", motion.crank_pin),
             ("piston_position", "length", motion.piston_position),
@@ -246,17 +243,17 @@ class SliderCrank:
         ]
         if self.offset == 0.0:
             velocity, accel = series_piston_motion(
-                self.crank, self.rod, angle, crank_speed, crank_accel
+                self.crank, self.rod, crank_angle, crank_speed, crank_accel
             )
             columns += [
                 ("piston_velocity_approximate", "length/s", _mask(velocity, motion.assembled)),
                 ("piston_accel_approximate", "length/s^2", _mask(accel, motion.assembled)),
             ]
-        return _table(self, "slider-crank", columns, motion.assembled, on_unassembled)
+        return columns, motion.assembled
 
 
 @dataclass(frozen=True)
-class QuickReturn:
+class QuickReturn(_CrankDriven):
     """Quick-return mechanism: four-bar O2-A-B-O4 driving slider C through link B-C.
 
     O2 is the origin, O4 is at ``(ground, 0)`` and C slides on ``y = 0`` on the
@@ -278,6 +275,17 @@ class QuickReturn:
     ------
     ValueError
         If a length is not a finite number > 0 or the branch is unknown.
+
+    Notes
+    -----
+    Columns of :meth:`analyse`: ``coupler_angle_deg`` (A -> B),
+    ``rocker_angle_deg`` (O4 -> B), ``slider_link_angle_deg`` (B -> C), in
+    [0, 360), and ``transmission_angle_deg``; positions
+    ``joint_{a,b,c}_{x,y}`` (length); ``joint_{b,c}_velocity_{x,y}`` and
+    ``joint_{b,c}_speed`` (length/s); ``joint_{b,c}_accel_{x,y}`` and
+    ``joint_{b,c}_accel_magnitude`` (length/s^2); angular velocities
+    ``{coupler,rocker,slider_link}_angular_velocity_rad_s`` and accelerations
+    ``{coupler,rocker,slider_link}_angular_accel_rad_s2``.
     """
 
     crank: float
@@ -287,59 +295,21 @@ class QuickReturn:
     ground: float
     branch: str = "crossed"
 
+    table_name: ClassVar[str] = "quick-return"
+
     def __post_init__(self) -> None:
         _validate_lengths(self, ("crank", "coupler", "rocker", "slider_link", "ground"))
         _validate_choice(self, "branch", BRANCH_SIDES)
 
-    def analyse(
-        self,
-        crank_angle_deg: ArrayLike,
-        *,
-        crank_speed: float,
-        crank_accel: float = 0.0,
-        on_unassembled: OnUnassembled = "raise",
-    ) -> MechanismTable:
-        """Positions, velocities and accelerations over crank angles.
-
-        Parameters
-        ----------
-        crank_angle_deg : array_like of float
-            Crank angles (deg), finite, one-dimensional.
-        crank_speed : float
-            Crank angular velocity (rad/s, counter-clockwise positive).
-        crank_accel : float
-            Crank angular acceleration (rad/s^2, counter-clockwise positive).
-        on_unassembled : {"raise", "mark"}
-            As in :meth:`FourBar.analyse`.
-
-        Returns
-        -------
-        MechanismTable
-            Columns ``crank_angle_deg``; ``coupler_angle_deg`` (A -> B),
-            ``rocker_angle_deg`` (O4 -> B), ``slider_link_angle_deg`` (B -> C),
-            in [0, 360), and ``transmission_angle_deg``; positions
-            ``joint_{a,b,c}_{x,y}`` (length); ``joint_{b,c}_velocity_{x,y}`` and
-            ``joint_{b,c}_speed`` (length/s); ``joint_{b,c}_accel_{x,y}`` and
-            ``joint_{b,c}_accel_magnitude`` (length/s^2); angular velocities
-            ``{coupler,rocker,slider_link}_angular_velocity_rad_s`` and
-            accelerations ``..._angular_accel_rad_s2``; and ``assembled`` with
-            ``on_unassembled="mark"``.
-
-        Raises
-        ------
-        ValueError
-            As in :meth:`FourBar.analyse`.
-        """
-        angle_deg, crank_speed, crank_accel = _validate_drive(
-            self, crank_angle_deg, crank_speed, crank_accel, on_unassembled
-        )
+    def _columns(
+        self, crank_angle: FloatArray, crank_speed: float, crank_accel: float
+    ) -> tuple[list[Column], BoolArray]:
         motion = solve_quick_return(
             self.ground, self.crank, self.coupler, self.rocker, self.slider_link,
-            BRANCH_SIDES[self.branch], np.radians(angle_deg), crank_speed, crank_accel,
+            BRANCH_SIDES[self.branch], crank_angle, crank_speed, crank_accel,
         )
         linkage = motion.linkage
         columns = [
-            ("crank_angle_deg", "deg", angle_deg),
             ("coupler_angle_deg", "deg", _direction_deg(linkage.coupler_angle)),
             ("rocker_angle_deg", "deg", _direction_deg(linkage.rocker_angle)),
             ("slider_link_angle_deg", "deg", _direction_deg(motion.slider_link_angle)),
@@ -358,7 +328,7 @@ class QuickReturn:
             ("rocker_angular_accel_rad_s2", "rad/s^2", linkage.rocker_angular_accel),
             ("slider_link_angular_accel_rad_s2", "rad/s^2", motion.slider_link_angular_accel),
         ]
-        return _table(self, "quick-return", columns, motion.assembled, on_unassembled)
+        return columns, motion.assembled
 
 
 def slider_crank_method_difference(
@@ -462,7 +432,7 @@ def _table(
 ) -> MechanismTable:
     """Check assembly and dead points, then build the table of ``columns``.
 
-    The first column must be the crank angles; they name the failing rows.
+    The first column must be the crank angles (deg); they name the failing rows.
     """
     angle_deg = columns[0][2]
     if on_unassembled == "raise" and not assembled.all():
