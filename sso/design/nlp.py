@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable, Hashable
 
 from sso.design.objective import angle_grid, squared_ratio_error
 from sso.design.options import DesignProblem
@@ -76,12 +76,17 @@ class CompiledNLP:
 def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
     """The cached CasADi NLP for the shape of ``problem`` at ``samples`` angles."""
     key = ShapeKey(problem.n_joints, problem.option, problem.model, samples)
+    return cached_nlp(key, lambda: _build(problem, key))
+
+
+def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
+    """This thread's NLP for ``key``, built by ``build()`` the first time."""
     cache = getattr(_cache, "nlps", None)
     if cache is None:
         cache = _cache.nlps = {}
     nlp = cache.get(key)
     if nlp is None:
-        nlp = cache[key] = _build(problem, key)
+        nlp = cache[key] = build()
     return nlp
 
 

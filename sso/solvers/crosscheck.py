@@ -68,7 +68,7 @@ def crosscheck(
     if problems:
         message = "solvers disagree: " + "; ".join(problems)
     else:
-        message = (f"solvers agree: RE within {gap:.3g}, projected gradients "
+        message = (f"solvers agree: objectives within {gap:.3g}, stationarity errors "
                    + ", ".join(f"{name} {value:.2g}" for name, value in kkt.items()))
     return CrossCheck(
         agree=not problems,

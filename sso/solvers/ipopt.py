@@ -59,7 +59,11 @@ def solve(
     max_iterations : int
         IPOPT's ``max_iter``.
     """
-    solver = nlp.ipopt({"tol": tolerance, "max_iter": max_iterations})
+    options = {"tol": tolerance, "max_iter": max_iterations}
+    if limits.constrained:
+        # IPOPT's default accepts a constraint violation of 1e-4 at convergence.
+        options["constr_viol_tol"] = tolerance
+    solver = nlp.ipopt(options)
     arguments = {"x0": start, "p": parameters, "lbx": limits.lower, "ubx": limits.upper}
     if limits.constrained:
         arguments.update(lbg=limits.constraint_lower, ubg=limits.constraint_upper)
