@@ -126,6 +126,15 @@ def test_fourbar_columns_and_units():
     assert len(table) == 19
 
 
+def test_direction_angles_stay_in_the_half_open_range():
+    # At 180 deg the rod angle is -1e-15 deg by rounding; np.mod alone would give 360.0
+    # (the paper prints 360.00 there). Direction angles are kept in [0, 360).
+    table = SliderCrank(crank=0.05, rod=0.3).analyse([0.0, 180.0, 360.0], crank_speed=188.4)
+    rod_angle = table["rod_angle_deg"]
+    assert np.all((rod_angle >= 0.0) & (rod_angle < 360.0))
+    np.testing.assert_allclose(rod_angle, 0.0, rtol=0, atol=1e-9)
+
+
 def non_grashof_assembled(crank_angle_deg: np.ndarray) -> np.ndarray:
     """Independent assembly test of FourBar(11, 7, 9, 8): 9 - 8 <= |A O_B| <= 9 + 8."""
     diagonal = np.sqrt(7**2 + 11**2 - 2 * 7 * 11 * np.cos(np.radians(crank_angle_deg)))
