@@ -22,6 +22,7 @@ from sso.kinematics.quick_return import solve_quick_return
 from sso.kinematics.slider_crank import series_piston_motion, solve_slider_crank
 from sso.kinematics.vector_loop import BoolArray, ComplexArray, FloatArray
 from sso.mechanism_table import MechanismTable
+from sso.validation import check_choice, check_in_range, finite_float
 
 __all__ = [
     "FourBar",
@@ -473,60 +474,41 @@ def _validate_drive(
     crank_accel: float,
     on_unassembled: str,
 ) -> tuple[FloatArray, float, float]:
-    owner = f"{type(mechanism).__name__}.analyse"
+    owner = f"{type(mechanism).__name__}.analyse: "
     try:
         angle_deg = np.atleast_1d(np.asarray(crank_angle_deg, dtype=float))
     except (TypeError, ValueError):
         angle_deg = np.array([np.nan])
     if angle_deg.ndim != 1 or angle_deg.size == 0 or not np.all(np.isfinite(angle_deg)):
         raise ValueError(
-            f"{owner}: crank_angle_deg must be a non-empty one-dimensional sequence of finite "
-            f"numbers (deg), got {crank_angle_deg!r}"
+            f"{owner}crank_angle_deg = {crank_angle_deg!r} must be a non-empty "
+            f"one-dimensional sequence of finite numbers (deg)"
         )
-    drive = {"crank_speed": (crank_speed, "rad/s"), "crank_accel": (crank_accel, "rad/s^2")}
-    for field, (value, unit) in drive.items():
-        if not math.isfinite(_as_real(value)):
-            raise ValueError(f"{owner}: {field} must be a finite number ({unit}), got {value!r}")
-    if on_unassembled not in ("raise", "mark"):
-        raise ValueError(
-            f"{owner}: on_unassembled must be 'raise' or 'mark', got {on_unassembled!r}"
-        )
-    return angle_deg, float(crank_speed), float(crank_accel)
-
-
-def _as_real(value: object) -> float:
-    """``value`` as a float if it is a real number (not a bool), else NaN."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
-        return math.nan
-    return float(value)
+    check_choice(f"{owner}on_unassembled", on_unassembled, ("raise", "mark"))
+    return (
+        angle_deg,
+        finite_float(f"{owner}crank_speed", crank_speed),
+        finite_float(f"{owner}crank_accel", crank_accel),
+    )
 
 
 def _validate_lengths(mechanism: object, fields: tuple[str, ...]) -> None:
     for field in fields:
-        value = getattr(mechanism, field)
-        number = _as_real(value)
-        if not (math.isfinite(number) and number > 0.0):
-            raise ValueError(
-                f"{type(mechanism).__name__}: {field} must be a finite number > 0 "
-                f"(length), got {value!r}"
-            )
-        object.__setattr__(mechanism, field, number)
+        name = f"{type(mechanism).__name__}.{field}"
+        try:
+            length = finite_float(name, getattr(mechanism, field))
+        except ValueError as error:
+            raise ValueError(f"{error}; allowed range (0, inf) length units") from None
+        check_in_range(
+            name, length, 0.0, math.inf, "length units", lower_open=True, upper_open=True
+        )
+        object.__setattr__(mechanism, field, length)
 
 
 def _validate_finite(mechanism: object, field: str) -> None:
-    value = getattr(mechanism, field)
-    number = _as_real(value)
-    if not math.isfinite(number):
-        raise ValueError(
-            f"{type(mechanism).__name__}: {field} must be a finite number (length), "
-            f"got {value!r}"
-        )
-    object.__setattr__(mechanism, field, number)
+    name = f"{type(mechanism).__name__}.{field}"
+    object.__setattr__(mechanism, field, finite_float(name, getattr(mechanism, field)))
 
 
 def _validate_choice(mechanism: object, field: str, allowed: Sequence[str]) -> None:
-    value = getattr(mechanism, field)
-    if not isinstance(value, str) or value not in allowed:
-        raise ValueError(
-            f"{type(mechanism).__name__}: {field} must be one of {sorted(allowed)}, got {value!r}"
-        )
+    check_choice(f"{type(mechanism).__name__}.{field}", getattr(mechanism, field), allowed)

@@ -38,23 +38,23 @@ FOURBAR_COLUMNS = [
     "coupler_angular_accel_rad_s2",
     "rocker_angular_accel_rad_s2",
 ]
-BAD_LENGTHS = [0, -1.5, math.nan, math.inf, "3", True, None]
+BAD_LENGTHS = [0, -1.5, math.nan, math.inf, "three", True, None]
 
 
 @pytest.mark.parametrize("field", ["ground", "crank", "coupler", "rocker"])
 @pytest.mark.parametrize("value", BAD_LENGTHS)
 def test_fourbar_rejects_a_bad_length_naming_field_value_and_range(field, value):
     lengths = {"ground": 12, "crank": 2, "coupler": 15, "rocker": 9, field: value}
-    message = rf"FourBar: {field} must be a finite number > 0 \(length\), got "
-    with pytest.raises(ValueError, match=message) as error:
+    with pytest.raises(ValueError, match=rf"^FourBar\.{field} = ") as error:
         FourBar(**lengths)
     assert repr(value) in str(error.value)
+    assert "(0, inf) length units" in str(error.value)
 
 
 @pytest.mark.parametrize("field", ["crank", "coupler", "rocker", "slider_link", "ground"])
 def test_quick_return_rejects_a_bad_length(field):
     lengths = dataclasses.asdict(PAPER_QUICK_RETURN)
-    message = rf"QuickReturn: {field} must be a finite number > 0 \(length\), got -2.0"
+    message = rf"QuickReturn\.{field} = -2 is outside the allowed range \(0, inf\) length units"
     with pytest.raises(ValueError, match=message):
         QuickReturn(**lengths | {field: -2.0})
 
@@ -62,13 +62,13 @@ def test_quick_return_rejects_a_bad_length(field):
 @pytest.mark.parametrize(("field", "value"), [("crank", 0.0), ("rod", math.inf)])
 def test_slider_crank_rejects_a_bad_length(field, value):
     lengths = {"crank": 0.05, "rod": 0.3, field: value}
-    with pytest.raises(ValueError, match=rf"SliderCrank: {field} must be a finite number > 0"):
+    with pytest.raises(ValueError, match=rf"SliderCrank\.{field} = .*\(0, inf\) length units"):
         SliderCrank(**lengths)
 
 
-@pytest.mark.parametrize("offset", [math.nan, -math.inf, "0"])
+@pytest.mark.parametrize("offset", [math.nan, -math.inf, "zero"])
 def test_slider_crank_rejects_a_non_finite_offset(offset):
-    message = r"SliderCrank: offset must be a finite number \(length\), got "
+    message = rf"SliderCrank\.offset = {offset!r} must be (finite|a number)"
     with pytest.raises(ValueError, match=message):
         SliderCrank(crank=0.05, rod=0.3, offset=offset)
 
@@ -77,7 +77,7 @@ def test_slider_crank_rejects_a_non_finite_offset(offset):
 def test_unknown_branch_is_rejected_with_the_allowed_ones(mechanism):
     fields = [field.name for field in dataclasses.fields(mechanism) if field.name != "branch"]
     with pytest.raises(
-        ValueError, match=r"branch must be one of \['crossed', 'open'\], got 'diagonal'"
+        ValueError, match=r"\.branch = 'diagonal' is not one of 'open', 'crossed'"
     ):
         mechanism(**dict.fromkeys(fields, 1.0), branch="diagonal")
 
@@ -93,14 +93,14 @@ def test_mechanisms_are_frozen_and_hold_floats():
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [
-        ({"crank_angle_deg": []}, "crank_angle_deg must be a non-empty one-dimensional"),
-        ({"crank_angle_deg": [[0.0, 10.0]]}, "crank_angle_deg must be a non-empty one-dim"),
-        ({"crank_angle_deg": [0.0, math.nan]}, "crank_angle_deg must be .* finite numbers"),
-        ({"crank_angle_deg": "ten"}, "crank_angle_deg must be .* finite numbers"),
-        ({"crank_speed": math.nan}, r"crank_speed must be a finite number \(rad/s\), got nan"),
-        ({"crank_speed": "5"}, r"crank_speed must be a finite number \(rad/s\), got '5'"),
-        ({"crank_accel": math.inf}, r"crank_accel must be a finite number \(rad/s\^2\), got in"),
-        ({"on_unassembled": "ignore"}, "on_unassembled must be 'raise' or 'mark', got 'ignore'"),
+        ({"crank_angle_deg": []}, r"crank_angle_deg = \[\] must be a non-empty one-dim"),
+        ({"crank_angle_deg": [[0.0, 10.0]]}, "crank_angle_deg = .* must be a non-empty one-dim"),
+        ({"crank_angle_deg": [0.0, math.nan]}, "crank_angle_deg = .* finite numbers"),
+        ({"crank_angle_deg": "ten"}, "crank_angle_deg = 'ten' must be .* finite numbers"),
+        ({"crank_speed": math.nan}, r"crank_speed = nan must be finite"),
+        ({"crank_speed": "five"}, r"crank_speed = 'five' must be a number"),
+        ({"crank_accel": math.inf}, r"crank_accel = inf must be finite"),
+        ({"on_unassembled": "ignore"}, "on_unassembled = 'ignore' is not one of 'raise', 'mark'"),
     ],
 )
 def test_analyse_rejects_bad_drive_arguments(arguments, message):
@@ -228,7 +228,7 @@ def test_swing_angle_needs_a_crank_rocker():
 
 
 def test_method_difference_validates_through_slider_crank():
-    with pytest.raises(ValueError, match="SliderCrank: crank must be a finite number > 0"):
+    with pytest.raises(ValueError, match=r"SliderCrank\.crank = -0.1 is outside .*\(0, inf\)"):
         slider_crank_method_difference([0.05, -0.1], 0.3, 188.4, [0.0, 90.0])
 
 
