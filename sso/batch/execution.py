@@ -1,0 +1,123 @@
+"""Where batch work runs: this process, a local process pool, or a Dask cluster.
+
+The executor is chosen by the caller and injected: dask is imported only on the
+path that was given a Dask client (or a scheduler address to connect to).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Any, Callable, Iterator, Sequence
+
+
+def available_cores() -> int:
+    """Cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def validate_workers(workers: Any) -> int:
+    """Worker processes of the local pool: ``None`` means every available core.
+
+    Raises
+    ------
+    ValueError
+        If ``workers`` is not a whole number in ``[1, 1024]``.
+    """
+    if workers is None:
+        return available_cores()
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 1024:
+        raise ValueError(f"workers = {workers!r} is outside the allowed range [1, 1024] "
+                         "(a whole number of local processes)")
+    return workers
+
+
+def run_tasks(
+    function: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    client: Any = None,
+    workers: int = 1,
+) -> Iterator[tuple[int, Any, BaseException | None]]:
+    """Run ``function`` on every task, yielding ``(task index, result, error)`` as each ends.
+
+    Parameters
+    ----------
+    function : callable
+        A top-level (importable, picklable) function of one task.
+    tasks : sequence
+        Picklable task descriptions.
+    client : dask.distributed.Client, optional
+        Run on this Dask cluster instead of locally.
+    workers : int
+        Local processes; with 1, or a single task, the work runs in this process.
+
+    Yields
+    ------
+    (int, object, BaseException or None)
+        The task's index, its result (None if it raised), and the exception it
+        raised (None if it succeeded).
+    """
+    if client is not None:
+        yield from _run_on_dask(function, tasks, client)
+    elif workers == 1 or len(tasks) <= 1:
+        for index, task in enumerate(tasks):
+            try:
+                yield index, function(task), None
+            except Exception as error:  # noqa: BLE001 - reported to the caller
+                yield index, None, error
+    else:
+        yield from _run_in_pool(function, tasks, workers)
+
+
+def connect(address: str) -> Any:
+    """A ``dask.distributed.Client`` connected to the scheduler at ``address``.
+
+    Raises
+    ------
+    ValueError
+        If dask.distributed is not installed or the scheduler cannot be reached.
+    """
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("scheduler: dask.distributed is not installed; install the "
+                         "'dask' extra (pip install 'sso[dask]')") from None
+    try:
+        return Client(address, timeout="10s")
+    except (OSError, TimeoutError) as error:
+        raise ValueError(f"scheduler = {address!r} cannot be reached: {error}") from None
+
+
+def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
+                 workers: int) -> Iterator[tuple[int, Any, BaseException | None]]:
+    # spawn: a fresh interpreter per worker, the same on every platform, and safe
+    # with the threads CasADi and BLAS may have started in this process.
+    executor = ProcessPoolExecutor(max_workers=min(workers, len(tasks)),
+                                   mp_context=multiprocessing.get_context("spawn"))
+    try:
+        futures = {executor.submit(function, task): index for index, task in enumerate(tasks)}
+        for future in as_completed(futures):
+            error = future.exception()
+            yield futures[future], None if error else future.result(), error
+    finally:
+        executor.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
+                 client: Any) -> Iterator[tuple[int, Any, BaseException | None]]:
+    from distributed import as_completed as dask_as_completed
+
+    futures = [client.submit(function, task, pure=False) for task in tasks]
+    indices = {future.key: index for index, future in enumerate(futures)}
+    try:
+        for future in dask_as_completed(futures):
+            index = indices[future.key]
+            if future.status == "finished":
+                yield index, future.result(), None
+            else:
+                yield index, None, future.exception()
+    finally:
+        client.cancel([future for future in futures if not future.done()])

@@ -1,0 +1,260 @@
+"""``sso.sweep``: optimise or evaluate a base case at every point of a grid of key values."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Mapping
+
+from sso.batch.axes import Axis, base_case, case_document, expand_points, parse_axes
+from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.progress import ProgressBar, interactive
+from sso.batch.table import (
+    CSV_NAME,
+    MANIFEST_NAME,
+    columns,
+    done_rows,
+    format_row,
+    manifest,
+    typed_rows,
+    write_rows,
+)
+from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
+from sso.io.atomic import write_text_atomic
+
+MAX_CHUNK_SIZE = 10_000
+# Default chunking: about this many chunks per worker (load balance), each of at
+# most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
+CHUNKS_PER_WORKER = 4
+DEFAULT_CHUNK_CAP = 25
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """What a sweep computed, one row per point.
+
+    Attributes
+    ----------
+    axes : tuple of Axis
+        The varied keys and their values.
+    mode : {"product", "listed"}
+    action : {"optimise", "evaluate"}
+    rows : tuple of dict
+        One row per point, sorted by point index, with the columns of
+        ``sweep.csv`` (numbers, booleans and lists parsed back).
+    computed : int
+        Points computed by this run.
+    resumed : int
+        Points taken over from an earlier run (``resume=True``).
+    elapsed_s : float
+        Wall time of this run, s.
+    out_dir : pathlib.Path or None
+        Where ``sweep.csv``, ``sweep.json`` and the report were written.
+    files : tuple of pathlib.Path
+        Files written.
+    """
+
+    axes: tuple[Axis, ...]
+    mode: str
+    action: str
+    rows: tuple[dict[str, Any], ...]
+    computed: int
+    resumed: int
+    elapsed_s: float
+    out_dir: Path | None = None
+    files: tuple[Path, ...] = field(default=())
+
+    @property
+    def failed(self) -> tuple[dict[str, Any], ...]:
+        """Rows of the points that did not give a result."""
+        return tuple(row for row in self.rows if row["status"] != "ok")
+
+    @property
+    def best(self) -> dict[str, Any] | None:
+        """Row with the lowest residual error, or None if every point failed."""
+        finished = [row for row in self.rows if row["status"] == "ok"]
+        return min(finished, key=lambda row: row["residual_error"]) if finished else None
+
+    @property
+    def success(self) -> bool:
+        """Every point finished; when optimising, each converged and cross-checked."""
+        return not self.failed and all(row.get("success") is not False for row in self.rows)
+
+    def summary(self) -> str:
+        """A few lines for the end of a run."""
+        rate = self.computed / self.elapsed_s if self.elapsed_s > 0 else 0.0
+        lines = [f"sweep: {len(self.rows)} points ({self.computed} computed in "
+                 f"{self.elapsed_s:.1f} s, {rate:.1f} points/s; {self.resumed} from an "
+                 f"earlier run), {len(self.failed)} failed"]
+        if self.action == "optimise":
+            unconverged = sum(row.get("success") is False for row in self.rows)
+            lines.append(f"  not converged or solvers disagree: {unconverged}")
+        best = self.best
+        if best is not None:
+            where = ", ".join(f"{axis.path} = {best[axis.path]}" for axis in self.axes)
+            lines.append(f"  lowest RE {best['residual_error']:.6g} at point {best['point']} "
+                         f"({where})")
+        for row in self.failed[:5]:
+            lines.append(f"  point {row['point']} failed: {row['error']}")
+        if len(self.failed) > 5:
+            lines.append(f"  ... and {len(self.failed) - 5} more failures (see sweep.csv)")
+        if self.out_dir is not None:
+            lines.append(f"  results: {self.out_dir / CSV_NAME}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return {
+            "axes": [{"path": axis.path, "values": list(axis.values)} for axis in self.axes],
+            "mode": self.mode,
+            "action": self.action,
+            "rows": [dict(row) for row in self.rows],
+            "computed": self.computed,
+            "resumed": self.resumed,
+            "elapsed_s": self.elapsed_s,
+            "out_dir": None if self.out_dir is None else str(self.out_dir),
+            "files": [str(path) for path in self.files],
+            "success": self.success,
+        }
+
+
+def sweep(
+    base: Any,
+    axes: Mapping[str, Any],
+    *,
+    mode: str = "product",
+    action: str = "optimise",
+    out_dir: str | Path | None = None,
+    resume: bool = False,
+    client: Any = None,
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    progress: bool | None = None,
+    plots: bool = True,
+) -> SweepResult:
+    """Optimise or evaluate a base case at every point of a sweep.
+
+    Parameters
+    ----------
+    base : str, pathlib.Path, sso.io.case.Case or mapping
+        The base case: a case file, a case read from one, or a mapping laid out
+        like a case file (``{"design": {"beta_deg": [...]}, "option": 3, ...}``).
+    axes : mapping of str to list or range
+        Case keys to vary, as written in a case file with optional indices
+        (``"design.beta_deg[1]"``, ``"bounds.beta_deg[1]"``, ``"option"``,
+        ``"model"``, ``"input_speed_rpm"``, ``"solver.starts"``), each mapped to a
+        list of values or a range ``{"start", "stop", "num"}`` /
+        ``{"start", "stop", "step"}``.
+    mode : {"product", "listed"}
+        Every combination of the axes' values (last axis fastest), or the
+        ``i``-th values of all axes together (equal lengths).
+    action : {"optimise", "evaluate"}
+        Optimise each point's case, or evaluate its design as given.
+    out_dir : str or pathlib.Path, optional
+        Folder for ``sweep.csv`` (rewritten atomically as chunks finish),
+        ``sweep.json`` (what the sweep is), ``report.md`` and the plots. Without
+        it nothing is written.
+    resume : bool
+        Continue the sweep already in ``out_dir``: compute only its missing
+        points. The final ``sweep.csv`` equals that of an uninterrupted run
+        (apart from the wall-time columns).
+    client : dask.distributed.Client, optional
+        Run the chunks on this Dask cluster instead of local processes.
+    workers : int, optional
+        Local processes (default: every available core); 1 runs in this process.
+    chunk_size : int, optional
+        Points per task, ``1..10000`` (default: about four tasks per worker, at
+        most 25 points each).
+    progress : bool, optional
+        Draw a progress bar on stderr (default: only on an interactive terminal
+        outside CI).
+    plots : bool
+        Draw the report's plots (needs ``out_dir``; imports matplotlib).
+
+    Returns
+    -------
+    SweepResult
+        Failing points are recorded in their rows (``status = "failed"`` and the
+        error), never raised.
+
+    Raises
+    ------
+    ValueError
+        For a bad base case, axis, mode, action, count, or an ``out_dir`` that
+        holds a different sweep (or any sweep, without ``resume``).
+    """
+    started = time.perf_counter()
+    document = case_document(base_case(base))
+    parsed_axes = parse_axes(axes, document)
+    points = expand_points(parsed_axes, mode)
+    if action not in ACTIONS:
+        raise ValueError(f"action = {action!r} is not one of {', '.join(map(repr, ACTIONS))}")
+    worker_count = validate_workers(workers)
+    header = columns([axis.path for axis in parsed_axes])
+    identity = manifest(document, parsed_axes, mode, action, len(points))
+
+    rows: dict[int, dict[str, str]] = {}
+    csv_path = None
+    if out_dir is not None:
+        out_dir = Path(out_dir)
+        out_dir.mkdir(parents=True, exist_ok=True)
+        csv_path = out_dir / CSV_NAME
+        if resume:
+            rows = done_rows(out_dir, identity, header)
+        elif csv_path.exists() or (out_dir / MANIFEST_NAME).exists():
+            raise ValueError(f"out_dir = {str(out_dir)!r} already holds a sweep; pass "
+                             "resume=True (--resume) to complete it, or choose another folder")
+        write_text_atomic(out_dir / MANIFEST_NAME, json.dumps(identity, indent=2) + "\n")
+    resumed = len(rows)
+
+    pending = [(index, point) for index, point in enumerate(points) if index not in rows]
+    parallelism = _parallelism(client, worker_count)
+    size = _chunk_size(chunk_size, len(pending), parallelism)
+    chunks = [SweepChunk(document, action, tuple(pending[start:start + size]))
+              for start in range(0, len(pending), size)]
+    bar = ProgressBar(len(pending), "points", interactive() if progress is None else progress)
+    try:
+        for index, chunk_rows, error in run_tasks(run_sweep_chunk, chunks, client,
+                                                   worker_count):
+            if error is not None:
+                chunk_rows = failed_rows(chunks[index], error)
+            for row in chunk_rows:
+                rows[row["point"]] = format_row(row, header)
+            if csv_path is not None:
+                write_rows(csv_path, header, rows.values())
+            bar.advance(len(chunk_rows), sum(row["status"] != "ok" for row in chunk_rows))
+    finally:
+        bar.close()
+    if csv_path is not None:  # also when a resumed sweep had nothing left to compute
+        write_rows(csv_path, header, rows.values())
+
+    ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
+    result = SweepResult(axes=parsed_axes, mode=mode, action=action, rows=ordered,
+                         computed=len(pending), resumed=resumed,
+                         elapsed_s=time.perf_counter() - started, out_dir=out_dir)
+    if out_dir is None:
+        return result
+    from sso.batch.report import write_sweep_report
+
+    files = (csv_path, out_dir / MANIFEST_NAME, *write_sweep_report(result, out_dir, plots))
+    return replace(result, files=files)
+
+
+def _parallelism(client: Any, workers: int) -> int:
+    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
+    if client is None:
+        return workers
+    return max(1, sum(client.nthreads().values()))
+
+
+def _chunk_size(chunk_size: Any, points: int, parallelism: int) -> int:
+    if chunk_size is None:
+        return max(1, min(DEFAULT_CHUNK_CAP, math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
+    if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
+            or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
+        raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "
+                         f"[1, {MAX_CHUNK_SIZE}] (a whole number of points per task)")
+    return chunk_size

@@ -1,0 +1,359 @@
+"""``sso.tolerance``: how manufacturing tolerances on angles and phases spread the results.
+
+Every sample perturbs the operating angles and phases of one design by draws from
+a normal or uniform distribution (deg) and is evaluated like
+:meth:`sso.ShaftSeries.evaluate`: residual error, peak-to-peak fluctuation and
+peak output acceleration. The samples are evaluated as arrays (thousands of
+designs per numpy call), drawn once in the calling process from a seeded
+generator, and so are the same for any chunking, executor or worker count.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.progress import ProgressBar, interactive
+from sso.design.objective import residual_error
+from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S, Evaluation
+from sso.kinematics.hooke import chain_kinematics
+from sso.series import BETA_LIMIT_DEG, ShaftSeries, validate_speed
+from sso.validation import as_float_tuple, check_choice, check_in_range
+
+DISTRIBUTIONS = ("normal", "uniform")
+METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
+DEFAULT_PERCENTILES = (5.0, 50.0, 95.0, 99.0)
+MAX_SAMPLES = 100_000_000
+MAX_TOLERANCE_DEG = 45.0
+# A normal draw further than this many standard deviations out is treated as a
+# broken input (probability ~2e-9 per draw), not as a manufacturing deviation.
+NORMAL_REACH_SIGMAS = 6.0
+DEFAULT_CHUNK_SAMPLES = 20_000
+# Samples evaluated per numpy call inside a task: bounds memory to ~100 MB.
+BLOCK_SAMPLES = 1_000
+
+
+@dataclass(frozen=True)
+class ToleranceChunk:
+    """Samples to evaluate in one task (angles in rad, arrays of shape (m, joints))."""
+
+    beta_rad: np.ndarray
+    phase_rad: np.ndarray
+    model: str
+    quadrature_samples: int
+    input_speed_rpm: float
+
+
+@dataclass(frozen=True)
+class ToleranceResult:
+    """A Monte Carlo tolerance study of one design.
+
+    Attributes
+    ----------
+    design : sso.ShaftSeries
+        The nominal design.
+    nominal : sso.Evaluation
+        Its evaluation.
+    distribution : {"normal", "uniform"}
+    beta_tolerance_deg, phase_tolerance_deg : tuple of float
+        Per joint / per phase: the standard deviation (normal) or half-width
+        (uniform) of the deviation, deg.
+    seed : int
+    input_speed_rpm : float
+    quadrature_samples : int
+        Angles of the residual-error rule (one rule serves every sample).
+    percentiles : tuple of float
+        Which percentiles :meth:`percentile_table` reports, in percent.
+    beta_deg, phase_deg : numpy.ndarray
+        The sampled designs, shape ``(samples, joints)`` / ``(samples, joints - 1)``.
+    residual_error, fluctuation, max_output_accel_rad_s2 : numpy.ndarray
+        Each sample's RE (dimensionless), peak-to-peak output over input speed
+        (dimensionless) and peak output acceleration (rad/s^2).
+    elapsed_s : float
+        Wall time, s.
+    files : tuple of pathlib.Path
+        Files written.
+    """
+
+    design: ShaftSeries
+    nominal: Evaluation
+    distribution: str
+    beta_tolerance_deg: tuple[float, ...]
+    phase_tolerance_deg: tuple[float, ...]
+    seed: int
+    input_speed_rpm: float
+    quadrature_samples: int
+    percentiles: tuple[float, ...]
+    beta_deg: np.ndarray
+    phase_deg: np.ndarray
+    residual_error: np.ndarray
+    fluctuation: np.ndarray
+    max_output_accel_rad_s2: np.ndarray
+    elapsed_s: float
+    files: tuple[Path, ...] = field(default=())
+
+    @property
+    def samples(self) -> int:
+        """Number of samples."""
+        return len(self.residual_error)
+
+    def percentile_table(self) -> dict[str, dict[float, float]]:
+        """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
+        return {metric: dict(zip(self.percentiles,
+                                 np.percentile(getattr(self, metric), self.percentiles).tolist()))
+                for metric in METRICS}
+
+    def summary(self) -> str:
+        """A few lines for the end of a run."""
+        lines = [f"tolerance: {self.samples} samples ({self.distribution}, seed {self.seed}) "
+                 f"in {self.elapsed_s:.2f} s"]
+        for metric, values in self.percentile_table().items():
+            cells = ", ".join(f"p{q:g} {value:.4g}" for q, value in values.items())
+            lines.append(f"  {metric}: nominal {getattr(self.nominal, metric):.4g}; {cells}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: settings, nominal evaluation and percentiles.
+
+        The per-sample arrays are left out (``tolerance.csv`` holds them).
+        """
+        return {
+            "design": self.design.to_dict(),
+            "nominal": self.nominal.to_dict(),
+            "distribution": self.distribution,
+            "beta_tolerance_deg": list(self.beta_tolerance_deg),
+            "phase_tolerance_deg": list(self.phase_tolerance_deg),
+            "samples": self.samples,
+            "seed": self.seed,
+            "input_speed_rpm": self.input_speed_rpm,
+            "quadrature_samples": self.quadrature_samples,
+            "percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
+                            for metric, values in self.percentile_table().items()},
+            "mean": {metric: float(np.mean(getattr(self, metric))) for metric in METRICS},
+            "max": {metric: float(np.max(getattr(self, metric))) for metric in METRICS},
+            "elapsed_s": self.elapsed_s,
+            "files": [str(path) for path in self.files],
+        }
+
+
+def tolerance(
+    design: Any,
+    *,
+    beta_tolerance_deg: float | Sequence[float] = 0.5,
+    phase_tolerance_deg: float | Sequence[float] = 1.0,
+    distribution: str = "normal",
+    samples: int = 10_000,
+    seed: int = 0,
+    input_speed_rpm: float | None = None,
+    percentiles: Sequence[float] = DEFAULT_PERCENTILES,
+    out_dir: str | Path | None = None,
+    client: Any = None,
+    workers: int | None = None,
+    chunk_size: int = DEFAULT_CHUNK_SAMPLES,
+    progress: bool | None = None,
+    plots: bool = True,
+) -> ToleranceResult:
+    """Monte Carlo study of a design under angle and phase tolerances.
+
+    Sample ``i`` is ``beta_deg + d_beta[i]`` and ``phase_deg + d_phase[i]``, where
+    ``rng = numpy.random.default_rng(seed)`` draws ``d_beta = rng.normal(0,
+    beta_tolerance_deg, (samples, joints))`` and then ``d_phase = rng.normal(0,
+    phase_tolerance_deg, (samples, joints - 1))`` (``rng.uniform(-t, t, ...)`` for
+    the uniform distribution). A negative sampled operating angle acts as its
+    mirror image (the joint law depends on ``cos beta`` only).
+
+    Parameters
+    ----------
+    design : sso.ShaftSeries, str, pathlib.Path, sso.io.case.Case or mapping
+        The nominal design, or a case whose design (as given) is perturbed; a
+        case also gives the input speed.
+    beta_tolerance_deg, phase_tolerance_deg : float or sequence of float
+        Standard deviation (normal) or half-width (uniform) of the deviation, deg,
+        in ``[0, 45]``: one value for all, or one per joint / per phase.
+    distribution : {"normal", "uniform"}
+    samples : int
+        Number of samples, ``1..1e8``.
+    seed : int
+        Seed of the generator, >= 0; the same seed gives the same numbers.
+    input_speed_rpm : float, optional
+        Input speed, rpm (> 0); default the case's, or 25.
+    percentiles : sequence of float
+        Percentiles to report, each in ``[0, 100]``.
+    out_dir : str or pathlib.Path, optional
+        Folder for ``tolerance.csv`` (every sample), ``tolerance.json`` (summary),
+        ``tolerance.md`` and ``tolerance_histogram.png``.
+    client : dask.distributed.Client, optional
+        Evaluate the chunks on this Dask cluster.
+    workers : int, optional
+        Local processes when there is more than one chunk (default: every core).
+    chunk_size : int
+        Samples per task, ``1..1e8``; a study of one chunk runs in this process.
+    progress : bool, optional
+        Progress bar on stderr (default: only on an interactive terminal outside CI).
+    plots : bool
+        Draw the histogram (needs ``out_dir``; imports matplotlib).
+
+    Returns
+    -------
+    ToleranceResult
+
+    Raises
+    ------
+    ValueError
+        Naming the field, the value and the allowed range.
+    """
+    started = time.perf_counter()
+    series, speed_rpm, quadrature = _nominal(design, input_speed_rpm)
+    check_choice("distribution", distribution, DISTRIBUTIONS)
+    samples = _count("samples", samples)
+    chunk_size = _count("chunk_size", chunk_size)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed = {seed!r} must be a whole number >= 0")
+    quantiles = tuple(check_in_range(f"percentiles[{index}]", value, 0.0, 100.0)
+                      for index, value in enumerate(as_float_tuple("percentiles", percentiles)))
+    if not quantiles:
+        raise ValueError("percentiles is empty: give one or more values in [0, 100]")
+    beta_tolerance = _tolerances("beta_tolerance_deg", beta_tolerance_deg, series.n_joints)
+    phase_tolerance = _tolerances("phase_tolerance_deg", phase_tolerance_deg,
+                                  series.n_joints - 1)
+    worker_count = validate_workers(workers)
+
+    beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
+                                       samples, seed)
+    beta_rad = np.radians(beta_deg)
+    phase_rad = np.radians(phase_deg)
+    rule = rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model, *quadrature)
+    chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
+                             phase_rad[start:start + chunk_size], series.model, rule.samples,
+                             speed_rpm)
+              for start in range(0, samples, chunk_size)]
+    metrics = np.empty((len(METRICS), samples))
+    bar = ProgressBar(samples, "samples", interactive() if progress is None else progress)
+    try:
+        for index, values, error in run_tasks(evaluate_chunk, chunks, client, worker_count):
+            if error is not None:
+                raise RuntimeError(f"tolerance: chunk {index} failed: {error}") from error
+            metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
+            bar.advance(values.shape[1])
+    finally:
+        bar.close()
+
+    result = ToleranceResult(
+        design=series, nominal=series.evaluate(speed_rpm, quadrature_rtol=quadrature[0],
+                                               quadrature_atol=quadrature[1]),
+        distribution=distribution, beta_tolerance_deg=beta_tolerance,
+        phase_tolerance_deg=phase_tolerance, seed=int(seed), input_speed_rpm=speed_rpm,
+        quadrature_samples=rule.samples, percentiles=quantiles, beta_deg=beta_deg,
+        phase_deg=phase_deg, residual_error=metrics[0], fluctuation=metrics[1],
+        max_output_accel_rad_s2=metrics[2], elapsed_s=time.perf_counter() - started)
+    if out_dir is None:
+        return result
+    from sso.batch.report import write_tolerance_report
+
+    return replace(result, files=tuple(write_tolerance_report(result, Path(out_dir), plots)))
+
+
+def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
+                 phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
+                 seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Perturbed operating angles and phases (deg), as documented in :func:`tolerance`.
+
+    Raises
+    ------
+    ValueError
+        If a sampled operating angle reaches 90 deg (the joint locks).
+    """
+    generator = np.random.default_rng(seed)
+    joints = series.n_joints
+    if distribution == "normal":
+        beta_offsets = generator.normal(0.0, beta_tolerance_deg, (samples, joints))
+        phase_offsets = generator.normal(0.0, phase_tolerance_deg, (samples, joints - 1))
+    else:
+        beta_offsets = generator.uniform(-np.asarray(beta_tolerance_deg),
+                                         beta_tolerance_deg, (samples, joints))
+        phase_offsets = generator.uniform(-np.asarray(phase_tolerance_deg),
+                                          phase_tolerance_deg, (samples, joints - 1))
+    beta_deg = np.asarray(series.beta_deg) + beta_offsets
+    reach = NORMAL_REACH_SIGMAS if distribution == "normal" else 1.0
+    largest = np.asarray(series.beta_deg) + reach * np.asarray(beta_tolerance_deg)
+    if np.any(np.abs(beta_deg) >= BETA_LIMIT_DEG) or np.any(largest >= BETA_LIMIT_DEG):
+        joint = int(np.argmax(largest))
+        raise ValueError(
+            f"beta_tolerance_deg[{joint}] = {beta_tolerance_deg[joint]:g} deg lets joint "
+            f"{joint} (beta {series.beta_deg[joint]:g} deg) reach 90 deg, where it locks; "
+            f"the allowed range is beta + {reach:g} * tolerance < 90 deg")
+    return beta_deg, np.asarray(series.phase_deg) + phase_offsets
+
+
+def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
+    """RE, fluctuation and peak output acceleration of each sample, shape (3, m)."""
+    values = np.empty((len(METRICS), len(chunk.beta_rad)))
+    for start in range(0, len(chunk.beta_rad), BLOCK_SAMPLES):
+        block = slice(start, start + BLOCK_SAMPLES)
+        beta = [column[:, None] for column in chunk.beta_rad[block].T]
+        phase = [column[:, None] for column in chunk.phase_rad[block].T]
+        values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
+        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
+        theta_rad = np.pi * np.arange(figure_samples) / figure_samples
+        kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
+                                      chunk.model)
+        ratio = kinematics.speed_ratio
+        values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
+        ratio_slope = np.abs(ratio * kinematics.log_ratio_slope)
+        values[2, block] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * periodic_peaks(ratio_slope)
+    return values
+
+
+def periodic_peaks(values: np.ndarray) -> np.ndarray:
+    """Maximum of each row of a periodic sampled function, refined by a parabola.
+
+    The row-wise form of the refinement :meth:`sso.ShaftSeries.evaluate` uses, so
+    both give the same figures.
+    """
+    rows = np.arange(values.shape[0])
+    index = np.argmax(values, axis=1)
+    left = values[rows, index - 1]
+    centre = values[rows, index]
+    right = values[rows, (index + 1) % values.shape[1]]
+    curvature = left - 2.0 * centre + right
+    concave = curvature < 0.0
+    offset = np.divide(0.5 * (left - right), curvature, out=np.zeros_like(centre),
+                       where=concave)
+    return np.where(concave, centre - 0.25 * (left - right) * offset, centre)
+
+
+def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tuple[float, float]]:
+    """The nominal series, input speed and quadrature tolerance of ``design``."""
+    if isinstance(design, ShaftSeries):
+        speed = 25.0 if input_speed_rpm is None else input_speed_rpm
+        return design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL)
+    from sso.batch.axes import base_case
+
+    case = base_case(design)
+    speed = case.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
+    return (case.series(), validate_speed("input_speed_rpm", speed),
+            (case.quadrature_rtol, case.quadrature_atol))
+
+
+def _tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:
+    values = as_float_tuple(field_name, value)
+    if len(values) == 1:
+        values = values * count
+    elif len(values) != count:
+        raise ValueError(f"{field_name} has {len(values)} entries; give 1 or {count}")
+    return tuple(check_in_range(f"{field_name}[{index}]", item, 0.0, MAX_TOLERANCE_DEG, "deg")
+                 for index, item in enumerate(values))
+
+
+def _count(field_name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{field_name} = {value!r} must be a whole number in [1, {MAX_SAMPLES}]")
+    if not 1 <= value <= MAX_SAMPLES:
+        raise ValueError(f"{field_name} = {value} is outside the allowed range [1, {MAX_SAMPLES}]")
+    return int(value)

@@ -1,0 +1,132 @@
+"""What a worker process runs: one chunk of sweep points, one row per point.
+
+The functions here are top-level and take plain data, so a spawned process or a
+Dask worker can import and run them. Each process builds the CasADi NLP of a
+shape once (the per-thread cache of :mod:`sso.design.nlp`) and reuses it for
+every point of that shape it is given.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+from sso.batch.axes import point_document
+
+ACTIONS = ("optimise", "evaluate")
+SOLVER_NAMES = ("ipopt", "slsqp")
+
+
+@dataclass(frozen=True)
+class SweepChunk:
+    """A unit of work: some points of one sweep.
+
+    Attributes
+    ----------
+    document : dict
+        The base case as a complete case-file document.
+    action : {"optimise", "evaluate"}
+        What to do at each point.
+    points : tuple of (int, dict)
+        Point index and the point's axis values.
+    """
+
+    document: dict[str, Any]
+    action: str
+    points: tuple[tuple[int, dict[str, Any]], ...]
+
+
+def run_sweep_chunk(chunk: SweepChunk) -> list[dict[str, Any]]:
+    """Rows of the chunk's points, in order; a point that fails gives an error row."""
+    return [run_point(index, chunk.document, point, chunk.action)
+            for index, point in chunk.points]
+
+
+def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
+              action: str) -> dict[str, Any]:
+    """The result row of one point: inputs, best RE, solver statuses, times.
+
+    The point's case is checked like a case file (the same messages, naming the
+    key and the allowed range). Never raises for a bad point: the error is
+    recorded in the row's ``error`` column and its ``status`` is ``"failed"``.
+    """
+    from sso.io.case import parse_case
+
+    started = time.perf_counter()
+    row: dict[str, Any] = {"point": index, **point}
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            case = parse_case(point_document(document, point), f"point {index}")
+            row.update(_optimise_row(case) if action == "optimise" else _evaluate_row(case))
+        texts = [*case.warnings, *(str(warning.message) for warning in caught)]
+        row["status"] = "ok"
+        row["warnings"] = " | ".join(dict.fromkeys(texts))
+    except Exception as error:  # noqa: BLE001 - a failing point is data, not a crash
+        row["status"] = "failed"
+        row["error"] = f"{type(error).__name__}: {error}"
+    row["time_s"] = time.perf_counter() - started
+    return row
+
+
+def failed_rows(chunk: SweepChunk, error: BaseException) -> list[dict[str, Any]]:
+    """Rows for every point of a chunk whose task itself failed (a lost worker).
+
+    Their status is ``"lost"``: a resumed sweep computes them again.
+    """
+    message = f"{type(error).__name__}: {error}"
+    return [{"point": index, **point, "status": "lost", "error": message}
+            for index, point in chunk.points]
+
+
+def _evaluate_row(case: Any) -> dict[str, Any]:
+    series = case.series()
+    evaluation = series.evaluate(case.input_speed_rpm, quadrature_rtol=case.quadrature_rtol,
+                                 quadrature_atol=case.quadrature_atol)
+    return {**_evaluation_columns(evaluation), "design_beta_deg": list(series.beta_deg),
+            "design_phase_deg": list(series.phase_deg)}
+
+
+def _optimise_row(case: Any) -> dict[str, Any]:
+    from sso.optimisation import optimise
+
+    result = optimise(
+        case.series(), case.option, beta_bounds_deg=case.beta_bounds_deg,
+        phase_bounds_deg=case.phase_bounds_deg, solvers=case.solvers, starts=case.starts,
+        input_speed_rpm=case.input_speed_rpm, tolerance=case.tolerance,
+        max_iterations=case.max_iterations, seed=case.seed,
+        quadrature_rtol=case.quadrature_rtol, quadrature_atol=case.quadrature_atol,
+        objective_rtol=case.objective_rtol, objective_atol=case.objective_atol,
+        kkt_tolerance=case.kkt_tolerance,
+    )
+    row = {
+        **_evaluation_columns(result.optimum),
+        "design_beta_deg": list(result.best.series.beta_deg),
+        "design_phase_deg": list(result.best.series.phase_deg),
+        "success": result.success,
+        "best_solver": result.best.solver,
+    }
+    if result.crosscheck is not None:
+        row["crosscheck_agree"] = result.crosscheck.agree
+        row["crosscheck_objective_gap"] = result.crosscheck.objective_gap
+    for name, solution in result.solutions.items():
+        row.update({
+            f"{name}_residual_error": solution.fun,
+            f"{name}_status": solution.status,
+            f"{name}_success": solution.success,
+            f"{name}_message": solution.message,
+            f"{name}_kkt": solution.kkt,
+            f"{name}_time_s": sum(run.time_s for run in result.runs if run.solver == name),
+        })
+    return row
+
+
+def _evaluation_columns(evaluation: Any) -> dict[str, Any]:
+    return {
+        "residual_error": evaluation.residual_error,
+        "residual_error_rpm2": evaluation.residual_error_rpm2,
+        "fluctuation": evaluation.fluctuation,
+        "max_output_accel_rad_s2": evaluation.max_output_accel_rad_s2,
+    }
