@@ -15,8 +15,8 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "ShaftSeries": "sso.series",
     "Evaluation": "sso.evaluation",
-    "optimise": "sso.optimise",
-    "OptimisationResult": "sso.optimise",
+    "optimise": "sso.optimisation",
+    "OptimisationResult": "sso.optimisation",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
     "sweep": "sso.batch.sweep",

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import Any, Iterable, Sequence
 
+import numpy as np
+
 
 def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
     """Convert a scalar or a sequence of numbers to a tuple of finite floats.
@@ -134,10 +136,31 @@ def _is_pair_of_numbers(value: Any) -> bool:
     except TypeError:
         return False
     return len(items) == 2 and all(
-        isinstance(item, (int, float)) and not isinstance(item, bool) or _is_numpy_number(item)
+        isinstance(item, (int, float, np.integer, np.floating)) and not isinstance(item, bool)
         for item in items
     )
 
 
-def _is_numpy_number(value: Any) -> bool:
-    return type(value).__module__ == "numpy" and getattr(value, "ndim", 1) == 0
+SOLVERS = ("ipopt", "slsqp")
+
+
+def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
+    """Solver names as a tuple, or raise naming the bad entry and the choices."""
+    names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
+    if not names:
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVERS)}")
+    for index, name in enumerate(names):
+        if name not in SOLVERS:
+            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVERS)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"solvers = {list(names)} names a solver twice")
+    return names
+
+
+def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
+    """A whole number in ``[lower, upper]``, or raise naming the field and range."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{field} = {value!r} must be a whole number in [{lower}, {upper}]")
+    if not lower <= value <= upper:
+        raise ValueError(f"{field} = {value} is outside the allowed range [{lower}, {upper}]")
+    return int(value)

@@ -36,7 +36,7 @@ from sso.solvers.crosscheck import (
 from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import finite_float, per_item_bounds
+from sso.validation import finite_float, per_item_bounds, validate_count, validate_solvers
 
 if TYPE_CHECKING:
     from sso.mechanisms import FourBar
@@ -163,11 +163,11 @@ def design_fourbar(
         For bad bounds or options, naming the field, the value and the range.
     """
     from sso.mechanisms import FourBar
-    from sso.optimise import MAX_STARTS, _validate_count, _validate_solvers
+    from sso.optimisation import MAX_STARTS
 
-    solver_names = _validate_solvers(solvers)
-    starts = _validate_count("starts", starts, 1, MAX_STARTS)
-    max_iterations = _validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    solver_names = validate_solvers(solvers)
+    starts = validate_count("starts", starts, 1, MAX_STARTS)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
     tolerance = finite_float("tolerance", tolerance)
     if not 0 < tolerance < 1:
         raise ValueError(f"tolerance = {tolerance:g} is outside the allowed range (0, 1)")

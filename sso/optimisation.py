@@ -22,9 +22,8 @@ from sso.solvers.crosscheck import (
 from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import finite_float
+from sso.validation import finite_float, validate_count, validate_solvers
 
-SOLVERS = ("ipopt", "slsqp")
 MAX_STARTS = 10_000
 
 
@@ -137,7 +136,7 @@ def optimise(
     *,
     beta_bounds_deg: Any = (0.0, 40.0),
     phase_bounds_deg: Any = (0.0, 180.0),
-    solvers: Iterable[str] | str = SOLVERS,
+    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = 8,
     input_speed_rpm: float = 25.0,
     tolerance: float = 1e-12,
@@ -200,9 +199,9 @@ def optimise(
     """
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
-    solver_names = _validate_solvers(solvers)
-    starts = _validate_count("starts", starts, 1, MAX_STARTS)
-    max_iterations = _validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    solver_names = validate_solvers(solvers)
+    starts = validate_count("starts", starts, 1, MAX_STARTS)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
     tolerance = finite_float("tolerance", tolerance)
     if not 0 < tolerance < 1:
@@ -290,23 +289,3 @@ def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
         start_index=run.start_index,
         total_nfev=sum(other.outcome.nfev for other in solver_runs),
     )
-
-
-def _validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
-    names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
-    if not names:
-        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVERS)}")
-    for index, name in enumerate(names):
-        if name not in SOLVERS:
-            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVERS)}")
-    if len(set(names)) != len(names):
-        raise ValueError(f"solvers = {list(names)} names a solver twice")
-    return names
-
-
-def _validate_count(field: str, value: Any, lower: int, upper: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{field} = {value!r} must be a whole number in [{lower}, {upper}]")
-    if not lower <= value <= upper:
-        raise ValueError(f"{field} = {value} is outside the allowed range [{lower}, {upper}]")
-    return int(value)
