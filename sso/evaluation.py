@@ -9,7 +9,7 @@ import numpy as np
 
 from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_residual_error
 from sso.kinematics.hooke import chain_kinematics
-from sso.validation import finite_float
+from sso.validation import finite_float, validate_speed
 
 if TYPE_CHECKING:
     from sso.series import ShaftSeries
@@ -102,8 +102,6 @@ def evaluate(
     ValueError
         If the speed or a tolerance is not finite or out of range.
     """
-    from sso.series import validate_speed
-
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
     rtol, atol = validate_quadrature_tolerance(quadrature_rtol, quadrature_atol)
     beta_rad = list(series.beta_rad)

@@ -12,7 +12,7 @@ from sso.design.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_prob
 from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.design.starts import DEFAULT_SEED, start_points
 from sso.evaluation import Evaluation, validate_quadrature_tolerance
-from sso.series import ShaftSeries, validate_speed
+from sso.series import ShaftSeries
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -22,7 +22,7 @@ from sso.solvers.crosscheck import (
 from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import finite_float, validate_count, validate_solvers
+from sso.validation import finite_float, validate_count, validate_solvers, validate_speed
 
 MAX_STARTS = 10_000
 

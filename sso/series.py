@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from sso.kinematics.hooke import MODELS, chain_kinematics
-from sso.validation import as_float_tuple, check_choice, check_in_range, finite_float
+from sso.validation import as_float_tuple, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso.evaluation import Evaluation
@@ -175,10 +175,3 @@ def _finite_angles(theta_deg: Any) -> np.ndarray:
         raise ValueError(f"theta_deg contains non-finite angles {bad.tolist()}; angles must be finite")
     return theta
 
-
-def validate_speed(field_name: str, value: Any) -> float:
-    """Return a finite, positive speed in rpm, or raise naming the field."""
-    speed = finite_float(field_name, value)
-    if speed <= 0:
-        raise ValueError(f"{field_name} = {speed:g} is outside the allowed range (0, inf) rpm")
-    return speed

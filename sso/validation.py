@@ -44,6 +44,14 @@ def finite_float(field: str, value: Any) -> float:
     return number
 
 
+def validate_speed(field: str, value: Any) -> float:
+    """Return a finite, positive speed in rpm, or raise naming the field."""
+    speed = finite_float(field, value)
+    if speed <= 0:
+        raise ValueError(f"{field} = {speed:g} is outside the allowed range (0, inf) rpm")
+    return speed
+
+
 def check_in_range(
     field: str,
     value: float,

@@ -23,7 +23,8 @@ from sso.design.objective import residual_error
 from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S, Evaluation
 from sso.kinematics.hooke import chain_kinematics
-from sso.series import BETA_LIMIT_DEG, ShaftSeries, validate_speed
+from sso.series import BETA_LIMIT_DEG, ShaftSeries
+from sso.validation import validate_speed
 from sso.validation import as_float_tuple, check_choice, check_in_range
 
 DISTRIBUTIONS = ("normal", "uniform")
