@@ -24,8 +24,7 @@ from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S, Evaluation
 from sso.kinematics.hooke import chain_kinematics
 from sso.series import BETA_LIMIT_DEG, ShaftSeries
-from sso.validation import validate_speed
-from sso.validation import as_float_tuple, check_choice, check_in_range
+from sso.validation import as_float_tuple, check_choice, check_in_range, validate_speed
 
 DISTRIBUTIONS = ("normal", "uniform")
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
@@ -36,6 +35,15 @@ MAX_TOLERANCE_DEG = 45.0
 # broken input (probability ~2e-9 per draw), not as a manufacturing deviation.
 NORMAL_REACH_SIGMAS = 6.0
 DEFAULT_CHUNK_SAMPLES = 20_000
+# Settings of a study when neither the call nor the case's [tolerance] table gives them.
+DEFAULT_SETTINGS: dict[str, Any] = {
+    "beta_tolerance_deg": 0.5,
+    "phase_tolerance_deg": 1.0,
+    "distribution": "normal",
+    "samples": 10_000,
+    "seed": 0,
+    "percentiles": DEFAULT_PERCENTILES,
+}
 # Samples evaluated per numpy call inside a task: bounds memory to ~100 MB.
 BLOCK_SAMPLES = 1_000
 
@@ -146,13 +154,13 @@ class ToleranceResult:
 def tolerance(
     design: Any,
     *,
-    beta_tolerance_deg: float | Sequence[float] = 0.5,
-    phase_tolerance_deg: float | Sequence[float] = 1.0,
-    distribution: str = "normal",
-    samples: int = 10_000,
-    seed: int = 0,
+    beta_tolerance_deg: float | Sequence[float] | None = None,
+    phase_tolerance_deg: float | Sequence[float] | None = None,
+    distribution: str | None = None,
+    samples: int | None = None,
+    seed: int | None = None,
     input_speed_rpm: float | None = None,
-    percentiles: Sequence[float] = DEFAULT_PERCENTILES,
+    percentiles: Sequence[float] | None = None,
     out_dir: str | Path | None = None,
     client: Any = None,
     workers: int | None = None,
@@ -173,19 +181,22 @@ def tolerance(
     ----------
     design : sso.ShaftSeries, str, pathlib.Path, sso.io.case.Case or mapping
         The nominal design, or a case whose design (as given) is perturbed; a
-        case also gives the input speed.
-    beta_tolerance_deg, phase_tolerance_deg : float or sequence of float
+        case also gives the input speed and, in its ``[tolerance]`` table, the
+        defaults of the settings below.
+    beta_tolerance_deg, phase_tolerance_deg : float or sequence of float, optional
         Standard deviation (normal) or half-width (uniform) of the deviation, deg,
-        in ``[0, 45]``: one value for all, or one per joint / per phase.
-    distribution : {"normal", "uniform"}
-    samples : int
-        Number of samples, ``1..1e8``.
-    seed : int
-        Seed of the generator, >= 0; the same seed gives the same numbers.
+        in ``[0, 45]``: one value for all, or one per joint / per phase
+        (default 0.5 and 1).
+    distribution : {"normal", "uniform"}, optional
+        Default ``"normal"``.
+    samples : int, optional
+        Number of samples, ``1..1e8`` (default 10000).
+    seed : int, optional
+        Seed of the generator, >= 0 (default 0); the same seed gives the same numbers.
     input_speed_rpm : float, optional
         Input speed, rpm (> 0); default the case's, or 25.
-    percentiles : sequence of float
-        Percentiles to report, each in ``[0, 100]``.
+    percentiles : sequence of float, optional
+        Percentiles to report, each in ``[0, 100]`` (default 5, 50, 95, 99).
     out_dir : str or pathlib.Path, optional
         Folder for ``tolerance.csv`` (every sample), ``tolerance.json`` (summary),
         ``tolerance.md`` and ``tolerance_histogram.png``.
@@ -210,18 +221,27 @@ def tolerance(
         Naming the field, the value and the allowed range.
     """
     started = time.perf_counter()
-    series, speed_rpm, quadrature = _nominal(design, input_speed_rpm)
-    check_choice("distribution", distribution, DISTRIBUTIONS)
+    series, speed_rpm, quadrature, case_settings = _nominal(design, input_speed_rpm)
+    given = {"beta_tolerance_deg": beta_tolerance_deg, "phase_tolerance_deg": phase_tolerance_deg,
+             "distribution": distribution, "samples": samples, "seed": seed,
+             "percentiles": percentiles}
+    settings = {**DEFAULT_SETTINGS, **case_settings,
+                **{name: value for name, value in given.items() if value is not None}}
+    distribution = check_choice("distribution", settings["distribution"], DISTRIBUTIONS)
+    samples = settings["samples"]
+    seed = settings["seed"]
     samples = _count("samples", samples)
     chunk_size = _count("chunk_size", chunk_size)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed = {seed!r} must be a whole number >= 0")
     quantiles = tuple(check_in_range(f"percentiles[{index}]", value, 0.0, 100.0)
-                      for index, value in enumerate(as_float_tuple("percentiles", percentiles)))
+                      for index, value in enumerate(as_float_tuple("percentiles",
+                                                                   settings["percentiles"])))
     if not quantiles:
         raise ValueError("percentiles is empty: give one or more values in [0, 100]")
-    beta_tolerance = _tolerances("beta_tolerance_deg", beta_tolerance_deg, series.n_joints)
-    phase_tolerance = _tolerances("phase_tolerance_deg", phase_tolerance_deg,
+    beta_tolerance = _tolerances("beta_tolerance_deg", settings["beta_tolerance_deg"],
+                                 series.n_joints)
+    phase_tolerance = _tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
 
@@ -329,17 +349,19 @@ def periodic_peaks(values: np.ndarray) -> np.ndarray:
     return np.where(concave, centre - 0.25 * (left - right) * offset, centre)
 
 
-def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tuple[float, float]]:
-    """The nominal series, input speed and quadrature tolerance of ``design``."""
+def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float,
+                                                         tuple[float, float], dict[str, Any]]:
+    """The nominal series, input speed, quadrature tolerance and settings of ``design``."""
     if isinstance(design, ShaftSeries):
         speed = 25.0 if input_speed_rpm is None else input_speed_rpm
-        return design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL)
+        return (design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL),
+                {})
     from sso.batch.axes import base_case
 
     case = base_case(design)
     speed = case.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
     return (case.series(), validate_speed("input_speed_rpm", speed),
-            (case.quadrature_rtol, case.quadrature_atol))
+            (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {})
 
 
 def _tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:
