@@ -240,6 +240,16 @@ def bounds_list(lower: float, upper: float, unit: str,
     return parse
 
 
+def _one_or_list(lower: float, upper: float, unit: str) -> Callable[[str, Any], tuple[float, ...]]:
+    """Parser of one number or a list of numbers, each inside ``[lower, upper]``."""
+    items = number_list(lower, upper, unit)
+
+    def parse(label: str, value: Any) -> tuple[float, ...]:
+        return items(label, value if isinstance(value, list) else [value])
+
+    return parse
+
+
 def option_value(label: str, value: Any) -> int:
     """Parser of the design option: 1, 2, 3 or its name."""
     try:
@@ -328,6 +338,9 @@ class Case:
     warnings : tuple of str
         Warnings raised while checking the design (a start moved onto its bounds,
         the paper's inert phase); not part of the case data.
+    tolerance_study : dict or None
+        Keyword arguments of :func:`sso.tolerance` from the ``[tolerance]`` table
+        (only the keys given), or None without one.
     """
 
     kind: str
@@ -356,6 +369,7 @@ class Case:
     formats: tuple[str, ...]
     source: str
     warnings: tuple[str, ...] = field(default=(), compare=False)
+    tolerance_study: dict[str, Any] | None = None
 
     def series(self) -> ShaftSeries:
         """The design as given, as a :class:`sso.ShaftSeries`."""
@@ -423,6 +437,10 @@ class Case:
             document["reference"] = {"label": self.reference_label,
                                      "beta_deg": list(self.reference_beta_deg),
                                      "phase_deg": list(self.reference_phase_deg)}
+        if self.tolerance_study is not None:
+            document["tolerance"] = {name: _plain_list(self.tolerance_study[argument])
+                                     for name, argument in TOLERANCE_ARGUMENTS.items()
+                                     if argument in self.tolerance_study}
         return document
 
 
@@ -479,6 +497,20 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "deg", f"as design.beta_deg (same joint count), {_BETA_RANGE}"),
     Key("reference", "phase_deg", number_list(-360.0, 360.0, "deg"),
         _default_phases("reference"), "deg", "as design.phase_deg"),
+    # [tolerance]: a Monte Carlo study of the design (sso.tolerance, sso tolerance);
+    # None means "not given": sso.tolerance's own default applies.
+    Key("tolerance", "beta_deg", _one_or_list(0.0, 45.0, "deg"), None, "deg",
+        "standard deviation (normal) or half-width (uniform), one or one per joint, "
+        "each in [0, 45] (default 0.5)"),
+    Key("tolerance", "phase_deg", _one_or_list(0.0, 45.0, "deg"), None, "deg",
+        "as tolerance.beta_deg, one or one per phase (default 1)"),
+    Key("tolerance", "distribution", choice(("normal", "uniform")), None, "",
+        "'normal' or 'uniform' (default 'normal')"),
+    Key("tolerance", "samples", whole_number(1, 100_000_000), None, "",
+        "[1, 100000000] (default 10000)"),
+    Key("tolerance", "seed", whole_number(0, 2**63 - 1), None, "", "[0, 2^63 - 1] (default 0)"),
+    Key("tolerance", "percentiles", number_list(0.0, 100.0, "%", max_length=100), None, "%",
+        "1-100 entries, each in [0, 100] (default [5, 50, 95, 99])"),
 )
 
 
@@ -514,8 +546,25 @@ def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
         reference_phase_deg=values["reference.phase_deg"] if has_reference else None,
         formats=values["output.formats"],
         source=path,
+        tolerance_study=_tolerance_study(values),
         warnings=tuple(dict.fromkeys(str(warning.message) for warning in caught)),
     )
+
+
+# [tolerance] keys and the sso.tolerance arguments they give.
+TOLERANCE_ARGUMENTS = {"beta_deg": "beta_tolerance_deg", "phase_deg": "phase_tolerance_deg",
+                       "distribution": "distribution", "samples": "samples", "seed": "seed",
+                       "percentiles": "percentiles"}
+
+
+def _tolerance_study(values: dict[str, Any]) -> dict[str, Any] | None:
+    given = {argument: values[f"tolerance.{name}"] for name, argument in
+             TOLERANCE_ARGUMENTS.items() if values.get(f"tolerance.{name}") is not None}
+    return given or None
+
+
+def _plain_list(value: Any) -> Any:
+    return list(value) if isinstance(value, tuple) else value
 
 
 def _check_shaft_series_design(values: dict[str, Any]) -> None:
