@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import sso
+from sso.batch.command import configure_sweep, configure_tolerance, run_sweep, run_tolerance
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -166,11 +167,16 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
 def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
                started: float) -> Outcome:
     from sso.io.document import evaluate_case, optimise_case
+    from sso.io.mechanism_case import MECHANISM_KINDS
+    from sso.io.mechanism_document import mechanism_document
     from sso.io.report import write_report
 
     _say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
     try:
-        document = optimise_case(case) if optimising else evaluate_case(case)
+        if case.kind in MECHANISM_KINDS:
+            document = mechanism_document(case, optimising)
+        else:
+            document = optimise_case(case) if optimising else evaluate_case(case)
     except ValueError as error:
         _error(f"{case.source}: {error}")
         return Outcome(case.name, "bad input", EXIT_BAD_INPUT)
@@ -189,7 +195,7 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
         _error(f"{case.name}: {document['verdict']}")
     _say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
-    designs = document["designs"]
+    designs = document.get("designs", {})
     errors = tuple(f"{designs[role]['evaluation']['residual_error']:.3g}" if role in designs else "-"
                    for role in ("initial", "optimum", "reference"))
     return Outcome(case.name, status, code, errors, time.perf_counter() - started, str(folder))
@@ -198,6 +204,8 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
 def _status(document: dict[str, Any]) -> tuple[str, int]:
     if document["mode"] == "evaluate":
         return "evaluated", EXIT_OK
+    if document["mode"] == "analyse":
+        return "analysed", EXIT_OK
     if document["success"]:
         return "solved", EXIT_OK
     if document["verdict"].startswith("solver failed"):
@@ -240,8 +248,11 @@ def _validate(args: argparse.Namespace) -> int:
             exit_code = EXIT_BAD_INPUT
             continue
         _warn(case.name, case.warnings)
-        print(f"ok: {path}: {case.name}, {len(case.beta_deg)} joints, {case.model} model, "
-              f"option {case.option}", flush=True)
+        if case.kind == "shaft_series":
+            print(f"ok: {path}: {case.name}, {len(case.beta_deg)} joints, {case.model} model, "
+                  f"option {case.option}", flush=True)
+        else:
+            print(f"ok: {path}: {case.name}, {case.summary()}", flush=True)
     return exit_code
 
 
@@ -294,6 +305,18 @@ COMMANDS: tuple[Command, ...] = (
             "Render speeds.csv, report.md, report.html and the plots again from each "
             "result.json alone.",
             _configure_report, _report),
+    Command("sweep", "optimise or evaluate a base case over a grid of key values",
+            "Run a sweep file: a base case, the [axes] to vary (any case key, e.g. "
+            "design.beta_deg[1], option, model, input_speed_rpm) and the action. Writes "
+            "sweep.csv as chunks finish, report.md and a plot into DIR/<name>/; --resume "
+            "computes only the missing points. Exit 0: every point finished (and converged); "
+            "1: some did not; 2: bad input.",
+            configure_sweep, run_sweep),
+    Command("tolerance", "Monte Carlo tolerance study of a case's design",
+            "Perturb the case's angles and phases as its [tolerance] table says (normal or "
+            "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
+            "and output acceleration with a histogram into DIR/<case name>/.",
+            configure_tolerance, run_tolerance),
 )
 
 

@@ -92,15 +92,7 @@ def _evaluate_row(case: Any) -> dict[str, Any]:
 def _optimise_row(case: Any) -> dict[str, Any]:
     from sso.optimisation import optimise
 
-    result = optimise(
-        case.series(), case.option, beta_bounds_deg=case.beta_bounds_deg,
-        phase_bounds_deg=case.phase_bounds_deg, solvers=case.solvers, starts=case.starts,
-        input_speed_rpm=case.input_speed_rpm, tolerance=case.tolerance,
-        max_iterations=case.max_iterations, seed=case.seed,
-        quadrature_rtol=case.quadrature_rtol, quadrature_atol=case.quadrature_atol,
-        objective_rtol=case.objective_rtol, objective_atol=case.objective_atol,
-        kkt_tolerance=case.kkt_tolerance,
-    )
+    result = optimise(case.series(), case.option, **case.optimise_options())
     row = {
         **_evaluation_columns(result.optimum),
         "design_beta_deg": list(result.best.series.beta_deg),

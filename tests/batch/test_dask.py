@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso.batch.table import TIME_COLUMNS
+from sso.batch.table import TIME_COLUMNS, read_rows
 
 distributed = pytest.importorskip("distributed")
 
@@ -44,3 +44,16 @@ def test_a_tolerance_study_on_dask_gives_the_local_numbers_exactly(client):
     on_dask = sso.tolerance(series, samples=600, seed=3, chunk_size=150, client=client)
     for metric in ("residual_error", "fluctuation", "max_output_accel_rad_s2"):
         np.testing.assert_array_equal(getattr(on_dask, metric), getattr(local, metric))
+
+
+def test_sso_sweep_with_scheduler_runs_on_the_cluster(client, tmp_path):
+    from test_command import SWEEP, sso_command  # tests/batch is on sys.path under pytest
+
+    (tmp_path / "map.toml").write_text(SWEEP)
+    on_dask = sso_command("sweep", "map.toml", "--scheduler", client.scheduler.address,
+                          "--no-plots", "--out", "dask", cwd=tmp_path)
+    local = sso_command("sweep", "map.toml", "--workers", "1", "--no-plots", "--out", "local",
+                        cwd=tmp_path)
+    assert on_dask.returncode == 0 and local.returncode == 0, on_dask.stderr
+    rows = [read_rows(tmp_path / folder / "map" / "sweep.csv") for folder in ("dask", "local")]
+    assert _without_times(rows[0]) == _without_times(rows[1])

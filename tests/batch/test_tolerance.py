@@ -86,3 +86,17 @@ def test_one_joint_and_a_case_file_as_the_design(tmp_path):
 def test_bad_input_is_refused_naming_the_field_and_range(keywords, message):
     with pytest.raises(ValueError, match=message):
         sso.tolerance(SERIES, **{"samples": 10, **keywords})
+
+
+def test_a_case_tolerance_table_sets_the_study_and_arguments_override_it():
+    case = {"design": {"beta_deg": [20.0, 30.0], "phase_deg": [90.0]},
+            "tolerance": {"beta_deg": [0.1, 0.2], "distribution": "uniform", "samples": 30,
+                          "seed": 5, "percentiles": [50, 90]}}
+    from_table = sso.tolerance(case)
+    assert (from_table.samples, from_table.seed, from_table.distribution) == (30, 5, "uniform")
+    assert from_table.beta_tolerance_deg == (0.1, 0.2)
+    assert from_table.phase_tolerance_deg == (1.0,)  # not in the table: the default
+    assert from_table.percentiles == (50.0, 90.0)
+    assert np.all(np.max(np.abs(from_table.beta_deg - [20.0, 30.0]), axis=0) <= [0.1, 0.2])
+    overridden = sso.tolerance(case, samples=12, seed=6)
+    assert (overridden.samples, overridden.seed) == (12, 6)
