@@ -49,10 +49,14 @@ def _joint_terms(xp: Any, cos_a: Any, sin_a: Any, cos_b: Any) -> tuple[Any, Any]
     """Ratio of one joint and its squared output-vector norm.
 
     ``cos a^2 + cos b^2 sin a^2`` equals ``1 - sin b^2 sin a^2`` (paper eq. 8) but
-    does not cancel when ``b`` nears 90 deg.
+    does not cancel when ``b`` nears 90 deg. The ratio is divided by the squared
+    length of ``(cos a, sin a)`` as well, which makes it exact for the angle that
+    vector points at even when round-off leaves its length a few ulp from 1: for
+    ``b = 0`` numerator and denominator are then the same number and the ratio is
+    exactly 1 (straight shafts have RE = 0, not round-off).
     """
     norm_squared = cos_a * cos_a + cos_b * cos_b * sin_a * sin_a
-    return cos_b / norm_squared, norm_squared
+    return cos_b * (cos_a * cos_a + sin_a * sin_a) / norm_squared, norm_squared
 
 
 def speed_ratio(

@@ -9,6 +9,7 @@ import numpy as np
 
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
+from sso.solvers.saddle import solve_with_second_order_care
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,9 @@ def run_starts(
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
+    Each run skips the solver at a start that is already a minimum and restarts
+    it off saddle points (:mod:`sso.solvers.saddle`).
+
     Parameters
     ----------
     nlp : sso.design.nlp.CompiledNLP
@@ -73,9 +77,14 @@ def run_starts(
     runs: dict[str, list[MeasuredRun]] = {}
     for name in solver_names:
         backend = _backend(name)
+
+        def solve(start: np.ndarray) -> RunOutcome:
+            return backend.solve(nlp, start, parameters, limits, tolerance, max_iterations)
+
         runs[name] = [
-            _measure(name, index, backend.solve(nlp, point, parameters, limits, tolerance,
-                                                max_iterations), nlp, parameters, limits)
+            _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
+                                                               limits, tolerance),
+                     nlp, parameters, limits)
             for index, point in enumerate(points)
         ]
     return runs

@@ -1,0 +1,166 @@
+"""Second-order care around a local solver: stop at once at a minimum, leave saddle points.
+
+A gradient-based solver started on a symmetric design (phases at 0, 90 or 180 deg,
+equal angles) sees a gradient that is zero along the symmetry-breaking directions,
+so it stops on a saddle point and calls it a success. With bounds only (no
+constraint functions), the Hessian of the objective over the variables off their
+bounds tells a minimum from a saddle:
+
+* if the start is already stationary and the Hessian has no negative curvature,
+  the start is returned without running the solver (e.g. straight shafts: RE = 0);
+* if a solver stops where the Hessian has negative curvature, the design is moved
+  along that direction until the objective drops, and the solver runs again from
+  there (at most ``MAX_ESCAPES`` times); the counts of every leg are summed.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+
+from sso.solvers.kkt import projected_gradient_norm
+from sso.solvers.run import RunLimits, RunOutcome
+
+MAX_ESCAPES = 3
+# Negative curvature counts when the smallest eigenvalue is below -RELATIVE_CURVATURE
+# times the largest magnitude, and below -ABSOLUTE_CURVATURE (the difference
+# Hessian's error stays far under both).
+RELATIVE_CURVATURE = 1e-6
+ABSOLUTE_CURVATURE = 1e-14
+# Distance (NLP units) within which a variable counts as sitting on its bound.
+ON_BOUND = 1e-9
+# A start counts as stationary when its projected gradient is below both the
+# solver tolerance and this (straight shafts give exactly 0).
+STATIONARY_START = 1e-12
+HESSIAN_STEP = 1e-4
+FIRST_STEP = 0.1
+SMALLEST_STEP = 1e-7
+
+
+def solve_with_second_order_care(
+    solve: Callable[[np.ndarray], RunOutcome],
+    nlp: Any,
+    start: np.ndarray,
+    parameters: np.ndarray,
+    limits: RunLimits,
+    tolerance: float,
+) -> RunOutcome:
+    """Run ``solve(start)``, skipping it at a minimum and restarting it off saddle points.
+
+    Parameters
+    ----------
+    solve : callable
+        One solver run from a start: ``solve(start) -> RunOutcome``.
+    nlp : sso.design.nlp.CompiledNLP
+        The problem graph (its exact gradient gives the Hessian).
+    start, parameters : numpy.ndarray
+        Start and fixed parameters (NLP units).
+    limits : RunLimits
+        Bounds; with constraint functions the solver is simply run.
+    tolerance : float
+        The solver tolerance; the start counts as stationary when its projected
+        gradient is below it and below ``STATIONARY_START``.
+
+    Returns
+    -------
+    RunOutcome
+    """
+    if limits.constrained:
+        return solve(start)
+    start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
+    value, gradient = _value_and_gradient(nlp, start, parameters)
+    stationary = min(tolerance, STATIONARY_START)
+    if projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary:
+        direction = _negative_curvature(nlp, start, parameters, limits)
+        if direction is None:
+            return RunOutcome(start, value, 0, 1, 1, 0, True,
+                              "start is a minimum to tolerance (stationary, no negative "
+                              "curvature): solver not run", 0.0)
+    outcome = solve(start)
+    for _ in range(MAX_ESCAPES):
+        if not outcome.success or not np.all(np.isfinite(outcome.x)):
+            return outcome
+        x = np.clip(outcome.x, limits.lower, limits.upper)
+        direction = _negative_curvature(nlp, x, parameters, limits)
+        if direction is None:
+            return outcome
+        escaped = _descend_along(nlp, x, direction, parameters, limits)
+        if escaped is None:
+            return outcome
+        outcome = _combine(outcome, solve(escaped))
+    return outcome
+
+
+def _value_and_gradient(nlp: Any, x: np.ndarray, parameters: np.ndarray) -> tuple[float, np.ndarray]:
+    value, gradient = nlp.objective_and_gradient(x, parameters)
+    return float(value), np.array(gradient, dtype=float).ravel()
+
+
+def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray) -> np.ndarray:
+    """Hessian of the objective by central differences of its exact gradient.
+
+    ``2 n`` gradient calls and no symbolic work: a symbolic Hessian of a
+    twelve-joint graph takes seconds to build, longer than the solve it checks.
+    The truncation error (``HESSIAN_STEP^2`` times third derivatives) stays far
+    below the ``RELATIVE_CURVATURE`` that counts as negative curvature.
+    """
+    columns = []
+    for index in range(len(x)):
+        offset = np.zeros_like(x)
+        offset[index] = HESSIAN_STEP
+        _, ahead = _value_and_gradient(nlp, x + offset, parameters)
+        _, behind = _value_and_gradient(nlp, x - offset, parameters)
+        columns.append((ahead - behind) / (2.0 * HESSIAN_STEP))
+    hessian = np.array(columns).T
+    return 0.5 * (hessian + hessian.T)
+
+
+def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+                        limits: RunLimits) -> np.ndarray | None:
+    """Unit direction of most negative curvature over the variables that may move.
+
+    A variable is held when its bounds pin it, or when it sits on a bound and the
+    gradient pushes it against that bound by more than round-off (at a symmetric
+    point the gradient is zero up to a sign that means nothing).
+    """
+    _, gradient = _value_and_gradient(nlp, x, parameters)
+    held = ((limits.upper - limits.lower <= ON_BOUND)
+            | ((x - limits.lower <= ON_BOUND) & (gradient > STATIONARY_START))
+            | ((limits.upper - x <= ON_BOUND) & (gradient < -STATIONARY_START)))
+    free = np.flatnonzero(~held)
+    if free.size == 0:
+        return None
+    hessian = _hessian(nlp, x, parameters)
+    if not np.all(np.isfinite(hessian)):
+        return None
+    eigenvalues, eigenvectors = np.linalg.eigh(hessian[np.ix_(free, free)])
+    threshold = max(RELATIVE_CURVATURE * np.max(np.abs(eigenvalues)), ABSOLUTE_CURVATURE)
+    if eigenvalues[0] >= -threshold:
+        return None
+    direction = np.zeros_like(x)
+    direction[free] = eigenvectors[:, 0]
+    return direction
+
+
+def _descend_along(nlp: Any, x: np.ndarray, direction: np.ndarray, parameters: np.ndarray,
+                   limits: RunLimits) -> np.ndarray | None:
+    """A point along ``+-direction`` (clipped to the bounds) with a lower objective."""
+    value, _ = _value_and_gradient(nlp, x, parameters)
+    step = FIRST_STEP
+    while step >= SMALLEST_STEP:
+        for sign in (1.0, -1.0):
+            candidate = np.clip(x + sign * step * direction, limits.lower, limits.upper)
+            candidate_value, _ = _value_and_gradient(nlp, candidate, parameters)
+            if np.isfinite(candidate_value) and candidate_value < value:
+                return candidate
+        step /= 4.0
+    return None
+
+
+def _combine(first: RunOutcome, second: RunOutcome) -> RunOutcome:
+    """The second leg's answer with the counts and time of both legs."""
+    return RunOutcome(second.x, second.fun, first.nit + second.nit, first.nfev + second.nfev,
+                      first.njev + second.njev, second.status, second.success,
+                      f"{second.message} (after leaving a saddle point)",
+                      first.time_s + second.time_s)
