@@ -168,3 +168,9 @@ def test_every_kind_lists_unique_keys():
     for kind in CASE_KINDS:
         labels = [key.label for key in schema(kind)]
         assert len(labels) == len(set(labels))
+
+
+def test_readme_documents_every_shaft_series_key():
+    readme = (CASES.parent / "README.md").read_text(encoding="utf-8")
+    for key in schema("shaft_series"):
+        assert f"| `{key.label}` |" in readme, key.label
