@@ -115,13 +115,32 @@ class MechanismTable:
             If the folder does not exist or is not writable.
         """
         path = Path(path)
+        _write_text_atomically(path, self.csv_text())
+        return path
+
+    def csv_text(self) -> str:
+        """The table as CSV text, exactly as :meth:`to_csv` writes it."""
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
         writer.writerow(self.columns)
         for row in zip(*self.columns.values()):
             writer.writerow(_csv_cell(value) for value in row)
-        _write_text_atomically(path, buffer.getvalue())
-        return path
+        return buffer.getvalue()
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "MechanismTable":
+        """The table from its :meth:`to_dict` form (``None`` becomes NaN).
+
+        Parameters
+        ----------
+        data : dict
+            ``{"name": str, "units": {column: unit}, "columns": {column: list}}``.
+        """
+        columns = {
+            key: np.array(values, dtype=bool if values and isinstance(values[0], bool) else float)
+            for key, values in data["columns"].items()
+        }
+        return cls(name=data["name"], columns=columns, units=data["units"])
 
 
 def _plain(value: np.generic) -> bool | float | None:
