@@ -10,3 +10,6 @@ One module per job:
 
 Nothing here imports CasADi, SciPy or matplotlib at module level.
 """
+
+# The planar-mechanism case kinds register themselves with sso.io.case on import.
+from sso.io import mechanism_case as _mechanism_case  # noqa: E402,F401

@@ -282,7 +282,8 @@ def _quoted(items: tuple[str, ...]) -> str:
 
 COMMON_KEYS: tuple[Key, ...] = (
     Key("", "kind", lambda label, value: value, DEFAULT_KIND, "",
-        "a registered kind: 'shaft_series'"),
+        "a registered kind: 'shaft_series', 'fourbar', 'slider_crank', 'quick_return', "
+        "'fourbar_design'"),
     Key("", "name", case_name, lambda values, path: Path(path).stem, "",
         "1-100 of A-Z a-z 0-9 . _ - (default: the file name without .toml)"),
     Key("", "description", text(), "", "", "free text"),
