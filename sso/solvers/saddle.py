@@ -15,6 +15,8 @@ bounds tells a minimum from a saddle:
 
 from __future__ import annotations
 
+import time
+from dataclasses import replace
 from typing import Any, Callable
 
 import numpy as np
@@ -65,39 +67,67 @@ def solve_with_second_order_care(
     Returns
     -------
     RunOutcome
+        Its ``time_s`` covers every solver leg and the checks between them.
     """
     if limits.constrained:
         return solve(start)
+    started = time.perf_counter()
+    outcome = _solve_with_checks(solve, nlp, start, parameters, limits, tolerance)
+    return replace(outcome, time_s=time.perf_counter() - started)
+
+
+def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, start: np.ndarray,
+                       parameters: np.ndarray, limits: RunLimits, tolerance: float) -> RunOutcome:
+    """The checks' own calls are counted: objective values they compare as ``nfev``,
+    gradients the difference Hessian uses as ``njev``."""
+    counts = _Counts()
     start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
-    value, gradient = _value_and_gradient(nlp, start, parameters)
+    value, gradient = _value_and_gradient(nlp, start, parameters, counts)
     stationary = min(tolerance, STATIONARY_START)
     if projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary:
-        direction = _negative_curvature(nlp, start, parameters, limits)
+        direction = _negative_curvature(nlp, start, parameters, limits, counts)
         if direction is None:
-            return RunOutcome(start, value, 0, 1, 1, 0, True,
-                              "start is a minimum to tolerance (stationary, no negative "
-                              "curvature): solver not run", 0.0)
+            return counts.add_to(RunOutcome(
+                start, value, 0, 0, 0, 0, True,
+                "start is a minimum to tolerance (stationary, no negative curvature): "
+                "solver not run", 0.0))
     outcome = solve(start)
     for _ in range(MAX_ESCAPES):
         if not outcome.success or not np.all(np.isfinite(outcome.x)):
-            return outcome
+            break
         x = np.clip(outcome.x, limits.lower, limits.upper)
-        direction = _negative_curvature(nlp, x, parameters, limits)
+        direction = _negative_curvature(nlp, x, parameters, limits, counts)
         if direction is None:
-            return outcome
-        escaped = _descend_along(nlp, x, direction, parameters, limits)
+            break
+        escaped = _descend_along(nlp, x, direction, parameters, limits, counts)
         if escaped is None:
-            return outcome
+            break
         outcome = _combine(outcome, solve(escaped))
-    return outcome
+    return counts.add_to(outcome)
 
 
-def _value_and_gradient(nlp: Any, x: np.ndarray, parameters: np.ndarray) -> tuple[float, np.ndarray]:
+class _Counts:
+    """Objective values and gradients the checks evaluate (one CasADi call gives both)."""
+
+    def __init__(self) -> None:
+        self.objective = 0
+        self.gradient = 0
+
+    def add_to(self, outcome: RunOutcome) -> RunOutcome:
+        return replace(outcome, nfev=outcome.nfev + self.objective,
+                       njev=outcome.njev + self.gradient)
+
+
+def _value_and_gradient(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+                        counts: _Counts, use: str = "both") -> tuple[float, np.ndarray]:
+    """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
     value, gradient = nlp.objective_and_gradient(x, parameters)
+    counts.objective += use in ("both", "objective")
+    counts.gradient += use in ("both", "gradient")
     return float(value), np.array(gradient, dtype=float).ravel()
 
 
-def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray) -> np.ndarray:
+def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, counts: _Counts) -> np.ndarray:
     """Hessian of the objective by central differences of its exact gradient.
 
     ``2 n`` gradient calls and no symbolic work: a symbolic Hessian of a
@@ -109,29 +139,29 @@ def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray) -> np.ndarray:
     for index in range(len(x)):
         offset = np.zeros_like(x)
         offset[index] = HESSIAN_STEP
-        _, ahead = _value_and_gradient(nlp, x + offset, parameters)
-        _, behind = _value_and_gradient(nlp, x - offset, parameters)
+        _, ahead = _value_and_gradient(nlp, x + offset, parameters, counts, "gradient")
+        _, behind = _value_and_gradient(nlp, x - offset, parameters, counts, "gradient")
         columns.append((ahead - behind) / (2.0 * HESSIAN_STEP))
     hessian = np.array(columns).T
     return 0.5 * (hessian + hessian.T)
 
 
 def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
-                        limits: RunLimits) -> np.ndarray | None:
+                        limits: RunLimits, counts: _Counts) -> np.ndarray | None:
     """Unit direction of most negative curvature over the variables that may move.
 
     A variable is held when its bounds pin it, or when it sits on a bound and the
     gradient pushes it against that bound by more than round-off (at a symmetric
     point the gradient is zero up to a sign that means nothing).
     """
-    _, gradient = _value_and_gradient(nlp, x, parameters)
+    _, gradient = _value_and_gradient(nlp, x, parameters, counts, "gradient")
     held = ((limits.upper - limits.lower <= ON_BOUND)
             | ((x - limits.lower <= ON_BOUND) & (gradient > STATIONARY_START))
             | ((limits.upper - x <= ON_BOUND) & (gradient < -STATIONARY_START)))
     free = np.flatnonzero(~held)
     if free.size == 0:
         return None
-    hessian = _hessian(nlp, x, parameters)
+    hessian = _hessian(nlp, x, parameters, counts)
     if not np.all(np.isfinite(hessian)):
         return None
     eigenvalues, eigenvectors = np.linalg.eigh(hessian[np.ix_(free, free)])
@@ -144,14 +174,15 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
 
 
 def _descend_along(nlp: Any, x: np.ndarray, direction: np.ndarray, parameters: np.ndarray,
-                   limits: RunLimits) -> np.ndarray | None:
+                   limits: RunLimits, counts: _Counts) -> np.ndarray | None:
     """A point along ``+-direction`` (clipped to the bounds) with a lower objective."""
-    value, _ = _value_and_gradient(nlp, x, parameters)
+    value, _ = _value_and_gradient(nlp, x, parameters, counts, "objective")
     step = FIRST_STEP
     while step >= SMALLEST_STEP:
         for sign in (1.0, -1.0):
             candidate = np.clip(x + sign * step * direction, limits.lower, limits.upper)
-            candidate_value, _ = _value_and_gradient(nlp, candidate, parameters)
+            candidate_value, _ = _value_and_gradient(nlp, candidate, parameters, counts,
+                                                     "objective")
             if np.isfinite(candidate_value) and candidate_value < value:
                 return candidate
         step /= 4.0
