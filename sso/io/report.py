@@ -13,6 +13,7 @@ from typing import Any, Mapping, Sequence
 
 from sso.io.atomic import write_bytes_atomic
 from sso.io.document import SCHEMA_VERSION
+from sso.io.mechanism_case import MECHANISM_KINDS
 
 RESULT_FILE = "result.json"
 FILES = {"json": (RESULT_FILE,), "csv": ("speeds.csv",), "md": ("report.md",),
@@ -20,6 +21,9 @@ FILES = {"json": (RESULT_FILE,), "csv": ("speeds.csv",), "md": ("report.md",),
 REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "option_name",
                  "input_speed_rpm", "designs", "quadrature", "success", "verdict", "warnings",
                  "versions")
+MECHANISM_REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "case_file", "length_unit",
+                           "crank_speed_rad_s", "crank_accel_rad_s2", "linkages", "tables",
+                           "extremes", "success", "verdict", "warnings", "versions")
 
 
 class ResultFileError(ValueError):
@@ -38,22 +42,33 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
         reports carry no plots.
     """
     files: dict[str, bytes] = {}
+    mechanism = document.get("kind") in MECHANISM_KINDS
     if "json" in formats:
         files[RESULT_FILE] = result_json(document).encode("utf-8")
-    if "csv" in formats:
+    if "csv" in formats and mechanism:
+        from sso.io.mechanism_report import table_files
+
+        files.update({name: text.encode("utf-8") for name, text in table_files(document).items()})
+    elif "csv" in formats:
         from sso.io.speeds import render_speeds_csv
 
         files["speeds.csv"] = render_speeds_csv(document).encode("utf-8")
     images: dict[str, bytes] = {}
-    if "png" in formats:
+    if "png" in formats and mechanism:
+        from sso.io.mechanism_plots import render_mechanism_plots
+
+        images = render_mechanism_plots(document)
+        files.update(images)
+    elif "png" in formats:
         from sso.io.plots import render_plots
 
         images = render_plots(document)
         files.update(images)
     if "md" in formats or "html" in formats:
+        from sso.io.mechanism_report import mechanism_blocks
         from sso.io.summary import report_blocks
 
-        blocks = report_blocks(document, tuple(images))
+        blocks = (mechanism_blocks if mechanism else report_blocks)(document, tuple(images))
         if "md" in formats:
             from sso.io.markdown import render_markdown
 
@@ -109,7 +124,8 @@ def read_result(path: str | Path) -> dict[str, Any]:
     if version != SCHEMA_VERSION:
         raise ResultFileError(f"{path}: schema_version = {version!r}; this sso reads "
                               f"schema_version {SCHEMA_VERSION}")
-    missing = [key for key in REQUIRED_KEYS if key not in document]
+    required = MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS else REQUIRED_KEYS
+    missing = [key for key in required if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")
     return document
