@@ -9,7 +9,15 @@ from __future__ import annotations
 import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Sequence
+
+# Thread counts of the numeric libraries in a worker process. One thread each, as
+# Dask's nanny sets them: N busy processes with N BLAS threads each would fight
+# over the cores, and multi-threaded OpenBLAS kernels round differently, so a
+# pool worker and a Dask worker give the same bits only with the same setting.
+WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+                      "MKL_NUM_THREADS": "1"}
 
 
 def available_cores() -> int:
@@ -52,7 +60,9 @@ def run_tasks(
     client : dask.distributed.Client, optional
         Run on this Dask cluster instead of locally.
     workers : int
-        Local processes; with 1, or a single task, the work runs in this process.
+        Local processes; with 1, or a single task, the work runs in this process
+        (with this process's BLAS threads, so last-bit rounding may differ from
+        the pool's and Dask's single-threaded workers).
 
     Yields
     ------
@@ -98,12 +108,28 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
     executor = ProcessPoolExecutor(max_workers=min(workers, len(tasks)),
                                    mp_context=multiprocessing.get_context("spawn"))
     try:
-        futures = {executor.submit(function, task): index for index, task in enumerate(tasks)}
+        # The workers start while the first tasks are submitted, and inherit this
+        # environment from that moment.
+        with _environment(WORKER_ENVIRONMENT):
+            futures = {executor.submit(function, task): index
+                       for index, task in enumerate(tasks)}
         for future in as_completed(futures):
             error = future.exception()
             yield futures[future], None if error else future.result(), error
     finally:
         executor.shutdown(wait=True, cancel_futures=True)
+
+
+@contextmanager
+def _environment(values: dict[str, str]) -> Iterator[None]:
+    """Set environment variables the user has not set, for the duration of the block."""
+    added = {name: value for name, value in values.items() if name not in os.environ}
+    os.environ.update(added)
+    try:
+        yield
+    finally:
+        for name in added:
+            os.environ.pop(name, None)
 
 
 def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
