@@ -69,7 +69,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, return the figures."""
     from distributed import Client, LocalCluster
 
-    from sso.batch.axes import base_case, case_document
+    from sso.batch.axes import base_case
     from sso.batch.execution import available_cores
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -79,7 +79,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     parser.add_argument("--json", action="store_true", help="print the figures as JSON too")
     args = parser.parse_args(argv)
 
-    base = case_document(base_case(CASE))
+    base = base_case(CASE).to_dict()
     base["solver"]["starts"] = args.starts
     grid = {"start": 10.0, "stop": 40.0, "num": args.points_per_axis}
     axes = {f"design.beta_deg[{joint}]": grid for joint in range(3)}

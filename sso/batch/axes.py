@@ -72,19 +72,6 @@ def base_case(base: Any) -> Any:
     return case
 
 
-def case_document(case: Any) -> dict[str, Any]:
-    """The case in the case-file layout, ready to be varied and read back per point.
-
-    An empty phase list (one joint) is left out so that its default (no phases)
-    applies: the case-file schema reads a phase list as 1 or more numbers.
-    """
-    document = case.to_dict()
-    for table in ("design", "reference"):
-        if document.get(table, {}).get("phase_deg") == []:
-            del document[table]["phase_deg"]
-    return document
-
-
 def sweepable_keys(document: Mapping[str, Any]) -> list[str]:
     """Keys of a case of this kind that an axis may vary, as dotted labels."""
     from sso.io.case import schema
@@ -104,7 +91,7 @@ def parse_axes(axes: Mapping[str, Any], document: dict[str, Any]) -> tuple[Axis,
         (from ``start`` in steps up to and including ``stop`` when it falls on the
         grid).
     document : mapping
-        The complete base case document (``case_document(base_case(base))``).
+        The complete base case document (``base_case(base).to_dict()``).
 
     Returns
     -------

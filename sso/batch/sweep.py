@@ -9,7 +9,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from sso.batch.axes import Axis, base_case, case_document, expand_points, parse_axes
+from sso.batch.axes import Axis, base_case, expand_points, parse_axes
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
 from sso.batch.table import (
@@ -187,7 +187,7 @@ def sweep(
         holds a different sweep (or any sweep, without ``resume``).
     """
     started = time.perf_counter()
-    document = case_document(base_case(base))
+    document = base_case(base).to_dict()
     parsed_axes = parse_axes(axes, document)
     points = expand_points(parsed_axes, mode)
     if action not in ACTIONS:

@@ -211,13 +211,15 @@ def choice_list(allowed: tuple[str, ...]) -> Callable[[str, Any], tuple[str, ...
 
 
 def number_list(lower: float, upper: float, unit: str, upper_open: bool = False,
-                max_length: int = MAX_JOINTS) -> Callable[[str, Any], tuple[float, ...]]:
-    """Parser of a list of ``1..max_length`` numbers, each inside an interval."""
+                max_length: int = MAX_JOINTS,
+                min_length: int = 1) -> Callable[[str, Any], tuple[float, ...]]:
+    """Parser of a list of ``min_length..max_length`` numbers, each inside an interval."""
     item = number(lower, upper, unit, upper_open=upper_open)
 
     def parse(label: str, value: Any) -> tuple[float, ...]:
-        if not isinstance(value, list) or not 1 <= len(value) <= max_length:
-            raise ValueError(f"{label} = {value!r} must be a list of 1 to {max_length} numbers, "
+        if not isinstance(value, list) or not min_length <= len(value) <= max_length:
+            raise ValueError(f"{label} = {value!r} must be a list of {min_length} to "
+                             f"{max_length} numbers, "
                              f"each in {_describe_range(lower, upper, False, upper_open, unit)}")
         return tuple(item(f"{label}[{index}]", entry) for index, entry in enumerate(value))
 
@@ -285,7 +287,7 @@ COMMON_KEYS: tuple[Key, ...] = (
         "a registered kind: 'shaft_series', 'fourbar', 'slider_crank', 'quick_return', "
         "'fourbar_design'"),
     Key("", "name", case_name, lambda values, path: Path(path).stem, "",
-        "1-100 of A-Z a-z 0-9 . _ - (default: the file name without .toml)"),
+        "1-100 of A-Z a-z 0-9 . _ -, starting with a letter or digit"),
     Key("", "description", text(), "", "", "free text"),
     Key("output", "formats", choice_list(FORMATS), FORMATS, "",
         "non-empty list of 'json', 'csv', 'md', 'html', 'png'"),
@@ -468,7 +470,8 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
                                       upper_open=True), 25.0, "rpm", "(0, inf)"),
     Key("design", "beta_deg", number_list(0.0, 90.0, "deg", upper_open=True), REQUIRED,
         "deg", f"1-{MAX_JOINTS} entries (one per joint), {_BETA_RANGE}"),
-    Key("design", "phase_deg", number_list(-360.0, 360.0, "deg"), _default_phases("design"),
+    Key("design", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
+        _default_phases("design"),
         "deg", "n-1 entries (n accepted: the paper's inert last phase), each in [-360, 360]"),
     Key("bounds", "beta_deg", bounds_list(0.0, 90.0, "deg", upper_open=True), (0.0, 40.0),
         "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
@@ -496,7 +499,7 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("reference", "label", text(200), "reference", "", "free text, at most 200 characters"),
     Key("reference", "beta_deg", number_list(0.0, 90.0, "deg", upper_open=True), REQUIRED,
         "deg", f"as design.beta_deg (same joint count), {_BETA_RANGE}"),
-    Key("reference", "phase_deg", number_list(-360.0, 360.0, "deg"),
+    Key("reference", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("reference"), "deg", "as design.phase_deg"),
     # [tolerance]: a Monte Carlo study of the design (sso.tolerance, sso tolerance);
     # None means "not given": sso.tolerance's own default applies.

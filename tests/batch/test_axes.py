@@ -2,7 +2,7 @@
 
 import pytest
 
-from sso.batch.axes import base_case, case_document, expand_points, parse_axes, point_document
+from sso.batch.axes import base_case, expand_points, parse_axes, point_document
 
 BASE = {"design": {"beta_deg": [30.0, 40.0, 50.0], "phase_deg": [90.0, 90.0]},
         "bounds": {"beta_deg": [10.0, 40.0]}}
@@ -10,7 +10,7 @@ BASE = {"design": {"beta_deg": [30.0, 40.0, 50.0], "phase_deg": [90.0, 90.0]},
 
 @pytest.fixture
 def document():
-    return case_document(base_case(BASE))
+    return base_case(BASE).to_dict()
 
 
 def test_ranges_by_count_and_by_step_include_both_ends(document):
