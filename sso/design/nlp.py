@@ -12,6 +12,8 @@ import threading
 from dataclasses import dataclass, field
 from typing import Any, Callable, Hashable
 
+import numpy as np
+
 from sso.design.objective import angle_grid, squared_ratio_error
 from sso.design.options import DesignProblem
 
@@ -38,10 +40,12 @@ class CompiledNLP:
         Name given to the CasADi functions.
     symbols : dict
         ``{"x", "p", "f"}`` and ``"g"`` when there are constraints.
-    objective_and_gradient : casadi.Function
-        ``(x, p) -> (f, df/dx)``, used by SLSQP and by the optimality measure.
-    constraints_and_jacobian : casadi.Function or None
-        ``(x, p) -> (g, dg/dx)`` when the problem has constraint functions.
+    objective_and_gradient : BufferedFunction
+        ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
+        by the optimality measures.
+    constraints_and_jacobian : BufferedFunction or None
+        ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
+        constraint functions.
     ipopt_solvers : dict
         ``nlpsol`` instances keyed by their option tuple, built on first use.
     """
@@ -90,6 +94,50 @@ def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
     return nlp
 
 
+class BufferedFunction:
+    """A CasADi function called through preallocated numpy buffers.
+
+    A plain Python call of a CasADi function converts every argument and result
+    (about 60 us each time here, more than evaluating RE itself); writing into
+    buffers CasADi already points at costs a few microseconds. Not re-entrant:
+    one instance per thread, as the NLP cache already is.
+
+    Parameters
+    ----------
+    function : casadi.Function
+        Function with dense inputs and outputs (every entry has a buffer slot).
+    scalar_first : bool
+        Return the first output as a float (an objective value).
+    """
+
+    def __init__(self, function: Any, scalar_first: bool = False) -> None:
+        self._function = function
+        self._buffer, self._evaluate = self._function.buffer()
+        self._inputs = [np.zeros(self._function.nnz_in(i)) for i in range(self._function.n_in())]
+        self._outputs = [np.zeros(self._function.nnz_out(i))
+                         for i in range(self._function.n_out())]
+        self._shapes = [self._function.size_out(i) for i in range(self._function.n_out())]
+        for index, array in enumerate(self._inputs):
+            self._buffer.set_arg(index, memoryview(array))
+        for index, array in enumerate(self._outputs):
+            self._buffer.set_res(index, memoryview(array))
+        self._scalar_first = scalar_first
+
+    def __call__(self, *arguments: Any) -> tuple[Any, ...]:
+        """Evaluate at ``arguments`` (array-likes); returns fresh numpy arrays."""
+        for destination, value in zip(self._inputs, arguments):
+            destination[:] = np.ravel(value)
+        self._evaluate()
+        results: list[Any] = []
+        for array, (rows, columns) in zip(self._outputs, self._shapes):
+            # CasADi stores dense matrices column by column.
+            results.append(array.reshape((rows, columns), order="F").squeeze(axis=1).copy()
+                           if columns == 1 else array.reshape((rows, columns), order="F").copy())
+        if self._scalar_first:
+            results[0] = float(results[0][0])
+        return tuple(results)
+
+
 def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None) -> CompiledNLP:
     """Wrap CasADi symbols of an NLP into the functions the solvers use.
 
@@ -107,15 +155,21 @@ def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = No
     import casadi
 
     symbols = {"x": x, "p": p, "f": objective}
-    objective_and_gradient = casadi.Function(f"{name}_f", [x, p],
-                                             [objective, casadi.gradient(objective, x)],
-                                             ["x", "p"], ["f", "grad"])
+    objective_and_gradient = BufferedFunction(
+        casadi.Function(f"{name}_f", [x, p],
+                        [objective, casadi.densify(casadi.gradient(objective, x))],
+                        ["x", "p"], ["f", "grad"]),
+        scalar_first=True,
+    )
     constraints_and_jacobian = None
     if constraints is not None:
         symbols["g"] = constraints
-        constraints_and_jacobian = casadi.Function(f"{name}_g", [x, p],
-                                                   [constraints, casadi.jacobian(constraints, x)],
-                                                   ["x", "p"], ["g", "jac"])
+        constraints_and_jacobian = BufferedFunction(
+            casadi.Function(f"{name}_g", [x, p],
+                            [casadi.densify(constraints),
+                             casadi.densify(casadi.jacobian(constraints, x))],
+                            ["x", "p"], ["g", "jac"])
+        )
     return CompiledNLP(name=name, symbols=symbols, objective_and_gradient=objective_and_gradient,
                        constraints_and_jacobian=constraints_and_jacobian)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass
 from typing import Sequence
@@ -80,14 +81,9 @@ def adaptive_residual_error(
         if difference <= rtol * abs(fine) + atol:
             return coarse, QuadratureRule(samples, difference, True)
         if 2 * samples > max_samples:
-            warnings.warn(
-                f"the residual-error quadrature reached its cap of {samples} angles "
-                f"with an estimated error of {difference:.3g} (tolerance "
-                f"{rtol:g} relative + {atol:g}); operating angles near 90 deg need more",
-                QuadratureWarning,
-                stacklevel=2,
-            )
-            return coarse, QuadratureRule(samples, difference, False)
+            rule = QuadratureRule(samples, difference, False)
+            _warn_capped(rule, rtol, atol)
+            return coarse, rule
         samples *= 2
 
 
@@ -103,8 +99,32 @@ def rule_for_bounds(
     The integrand is least smooth when every joint sits at its largest allowed
     angle with all phases zero (the chain then acts as one joint with
     ``cos B = prod cos beta_k``), so the count chosen for that design serves the
-    whole box and the optimiser's problem keeps one shape.
+    whole box and the optimiser's problem keeps one shape. Rules are remembered
+    per box, so a batch of solves in one box pays for the choice once.
     """
-    worst_phases = [0.0] * (len(beta_upper_rad) - 1)
-    _, rule = adaptive_residual_error(beta_upper_rad, worst_phases, model, rtol, atol, max_samples)
+    rule = _rule_for_bounds(tuple(float(beta) for beta in beta_upper_rad), model, rtol, atol,
+                            max_samples)
+    if not rule.converged:
+        _warn_capped(rule, rtol, atol)
     return rule
+
+
+@functools.lru_cache(maxsize=256)
+def _rule_for_bounds(beta_upper_rad: tuple[float, ...], model: str, rtol: float, atol: float,
+                     max_samples: int) -> QuadratureRule:
+    worst_phases = [0.0] * (len(beta_upper_rad) - 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", QuadratureWarning)
+        _, rule = adaptive_residual_error(list(beta_upper_rad), worst_phases, model, rtol, atol,
+                                          max_samples)
+    return rule
+
+
+def _warn_capped(rule: QuadratureRule, rtol: float, atol: float) -> None:
+    warnings.warn(
+        f"the residual-error quadrature reached its cap of {rule.samples} angles "
+        f"with an estimated error of {rule.error_estimate:.3g} (tolerance "
+        f"{rtol:g} relative + {atol:g}); operating angles near 90 deg need more",
+        QuadratureWarning,
+        stacklevel=4,
+    )
