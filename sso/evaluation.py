@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_residual_error
+from sso.design.objective import angle_grid, squared_ratio_error
+from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_rule
 from sso.kinematics.hooke import chain_kinematics
 from sso.validation import finite_float, validate_speed
 
@@ -16,8 +17,9 @@ if TYPE_CHECKING:
 
 RPM_TO_RAD_S = 2.0 * np.pi / 60.0
 # The figures (extremes of speed, acceleration, angle) are read off a grid at least
-# this fine over the 180-deg period, then refined locally.
-MIN_FIGURE_SAMPLES = 720
+# this fine over the 180-deg period (four times the quadrature count when that is
+# more), then refined locally. A power of two, so the quadrature grids are in it.
+MIN_FIGURE_SAMPLES = 1024
 
 
 @dataclass(frozen=True)
@@ -106,11 +108,6 @@ def evaluate(
     rtol, atol = validate_quadrature_tolerance(quadrature_rtol, quadrature_atol)
     beta_rad = list(series.beta_rad)
     phase_rad = list(series.phase_rad)
-    residual, rule = adaptive_residual_error(beta_rad, phase_rad, series.model, rtol, atol)
-
-    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule.samples)
-    theta_rad = np.pi * np.arange(figure_samples) / figure_samples
-    step_rad = np.pi / figure_samples
 
     def figures(angles_rad: np.ndarray) -> dict[str, np.ndarray]:
         chain = chain_kinematics(np, np.cos(angles_rad), np.sin(angles_rad), beta_rad,
@@ -122,8 +119,25 @@ def evaluate(
             "lag": np.abs(chain.angle_lag_rad),
         }
 
+    # One pass over a power-of-two grid serves the figures and, by striding, every
+    # quadrature count that divides it.
+    figure_samples = MIN_FIGURE_SAMPLES
+    theta_rad = np.pi * np.arange(figure_samples) / figure_samples
     sampled = figures(theta_rad)
-    peaks = _peaks(figures, theta_rad, sampled, step_rad)
+    squared = (sampled["ratio"] - 1.0) ** 2
+
+    def squared_errors(count: int) -> np.ndarray:
+        if figure_samples % count == 0:
+            return squared[:: figure_samples // count]
+        cos_theta, sin_theta = angle_grid(count)
+        return squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, series.model)
+
+    residual, rule = adaptive_rule(squared_errors, rtol, atol)
+    if figure_samples < 4 * rule.samples:
+        figure_samples = 4 * rule.samples
+        theta_rad = np.pi * np.arange(figure_samples) / figure_samples
+        sampled = figures(theta_rad)
+    peaks = _peaks(figures, theta_rad, sampled, np.pi / figure_samples)
     ratio_min, ratio_max = -peaks["negative_ratio"], peaks["ratio"]
     input_speed_rad_s = speed_rpm * RPM_TO_RAD_S
     return Evaluation(

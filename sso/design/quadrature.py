@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 import warnings
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -51,9 +51,7 @@ def adaptive_residual_error(
 ) -> tuple[float, QuadratureRule]:
     """Residual error with the fewest angles whose doubling changes it within tolerance.
 
-    Starting from 8 angles, the count doubles until ``|RE(2N) - RE(N)| <=
-    rtol * |RE(2N)| + atol``; ``N`` is then used and the difference reported as its
-    error (convergence is geometric, so ``RE(2N)`` is far more accurate).
+    See :func:`adaptive_rule`; this evaluates the chain afresh at each count.
 
     Parameters
     ----------
@@ -71,10 +69,43 @@ def adaptive_residual_error(
     (float, QuadratureRule)
         RE at the chosen count, and the rule used.
     """
+    def squared_errors(count: int) -> np.ndarray:
+        cos_theta, sin_theta = angle_grid(count)
+        return squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, model)
+
+    return adaptive_rule(squared_errors, rtol, atol, max_samples)
+
+
+def adaptive_rule(
+    squared_errors: Callable[[int], np.ndarray],
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    max_samples: int = MAX_SAMPLES,
+) -> tuple[float, QuadratureRule]:
+    """Rectangle rule on the fewest angles whose doubling changes RE within tolerance.
+
+    Starting from 8 angles, the count doubles until ``|RE(2N) - RE(N)| <=
+    rtol * |RE(2N)| + atol``; ``N`` is then used and the difference reported as its
+    error (convergence is geometric, so ``RE(2N)`` is far more accurate).
+
+    Parameters
+    ----------
+    squared_errors : callable
+        ``squared_errors(count)``: ``(w_out/w_in - 1)^2`` at ``count`` equally
+        spaced input angles in ``[0, 180)`` deg, starting at 0.
+    rtol, atol : float
+        Relative tolerance and absolute floor (dimensionless).
+    max_samples : int
+        Cap on the angle count; reaching it warns with :class:`QuadratureWarning`.
+
+    Returns
+    -------
+    (float, QuadratureRule)
+        RE at the chosen count, and the rule used.
+    """
     samples = MIN_SAMPLES
     while True:
-        cos_theta, sin_theta = angle_grid(2 * samples)
-        terms = squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, model)
+        terms = squared_errors(2 * samples)
         coarse = float(np.mean(terms[::2]))
         fine = float(np.mean(terms))
         difference = abs(fine - coarse)
