@@ -270,3 +270,24 @@ def test_readme_documents_every_mechanism_key():
         assert f"`{kind}`" in section
         for key in schema(kind):
             assert f"`{key.label}`" in section, (kind, key.label)
+
+
+def test_design_from_a_start_that_cannot_assemble(tmp_path):
+    # The start linkage is tabulated too: a start that folds at some angles is refused
+    # by name unless drive.on_unassembled = "mark"; then the design runs from it.
+    text = (CASES / "fourbar_swing_design.toml").read_text()
+    text = re.sub(r"(?m)^crank = 2.0$", "crank = 6.0", text)
+    text = re.sub(r"(?m)^coupler = 15.0$", "coupler = 5.0", text)
+    text = re.sub(r"(?m)^rocker = 9.0$", "rocker = 5.0", text)
+    refused = write_case(tmp_path, text, "folding_start.toml")
+    completed = sso("validate", refused, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "cannot be assembled at crank angle(s) [60, 80" in completed.stderr
+    assert "drive.on_unassembled = 'mark'" in completed.stderr
+    marked = write_case(tmp_path, text.replace(
+        "step_deg = 20.0", "step_deg = 20.0\non_unassembled = \"mark\""), "marked_start.toml")
+    completed = sso("run", marked, "--out", tmp_path / "out", "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    result = json.loads((tmp_path / "out" / "fourbar_swing_design" / "result.json").read_text())
+    assert result["design"]["optimum_swing_deg"] == pytest.approx(80.374, abs=1e-3)
+    assert result["linkages"]["optimum"]["grashof"] == "crank-rocker"

@@ -305,13 +305,15 @@ def _build(values: dict[str, Any], path: str) -> MechanismCase:
                          formats=values["output.formats"], source=path)
     if kind == DESIGN_KIND:
         _check_design_start(values)
-    else:
-        _check_assembly(case, table)
+    _check_assembly(case, table)
     return case
 
 
 def _check_assembly(case: MechanismCase, table: str) -> None:
-    """Refuse a linkage that cannot be assembled at some tabulated angles (unless marked)."""
+    """Refuse a linkage that cannot be assembled at some tabulated angles (unless marked).
+
+    A design case's start linkage is tabulated too, so it is checked the same way.
+    """
     angles = case.crank_angles_deg()
     lengths = ", ".join(f"{table}.{name} = {case.values[f'{table}.{name}']:g}"
                         for name in _link_names(case.kind))
