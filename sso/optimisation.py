@@ -19,7 +19,13 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
     crosscheck,
 )
-from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
+from sso.solvers.multistart import (
+    MeasuredRun,
+    best_run,
+    distinct_minima,
+    run_starts,
+    solution_from_run,
+)
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import finite_float, validate_count, validate_solvers, validate_speed
@@ -274,18 +280,4 @@ def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
                  solver_runs: list[MeasuredRun]) -> Solution:
     x_deg = np.degrees(run.outcome.x)
     beta_deg, phase_deg = problem.design_deg(x_deg)
-    return Solution(
-        solver=run.solver,
-        series=ShaftSeries(beta_deg, phase_deg, model),
-        x=tuple(x_deg.tolist()),
-        fun=run.fun,
-        nit=run.outcome.nit,
-        nfev=run.outcome.nfev,
-        status=run.outcome.status,
-        success=run.outcome.success,
-        message=run.outcome.message,
-        kkt=run.kkt,
-        time_s=run.outcome.time_s,
-        start_index=run.start_index,
-        total_nfev=sum(other.outcome.nfev for other in solver_runs),
-    )
+    return solution_from_run(run, solver_runs, x_deg, ShaftSeries(beta_deg, phase_deg, model))

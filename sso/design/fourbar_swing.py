@@ -33,7 +33,7 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
     crosscheck,
 )
-from sso.solvers.multistart import MeasuredRun, best_run, distinct_minima, run_starts
+from sso.solvers.multistart import best_run, distinct_minima, run_starts, solution_from_run
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import finite_float, per_item_bounds, validate_count, validate_solvers
@@ -202,7 +202,7 @@ def design_fourbar(
     points = start_points(user_start, lower, upper, starts, seed)
     measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, tolerance,
                           max_iterations)
-    solutions = {name: _to_solution(best_run(runs), runs) for name, runs in measured.items()}
+    solutions = {name: solution_from_run(best_run(runs), runs) for name, runs in measured.items()}
     best = min(solutions.values(), key=lambda solution: (not solution.success, solution.fun))
     optimum = FourBar(**dict(zip(LINKS, best.x[:4])), branch=start.branch)
     all_runs = [run for runs in measured.values() for run in runs]
@@ -216,7 +216,7 @@ def design_fourbar(
         link_bounds=link_bounds,
         best=best,
         solutions=solutions,
-        runs=tuple(_to_solution(run, measured[run.solver]) for run in all_runs),
+        runs=tuple(solution_from_run(run, measured[run.solver]) for run in all_runs),
         crosscheck=(crosscheck(solutions, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL,
                                DEFAULT_KKT_TOLERANCE) if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL),
@@ -278,22 +278,3 @@ def _build() -> Any:
     )
     return compile_nlp("sso_fourbar_swing", x, casadi.SX.sym("p", 0),
                        angle_folded - angle_extended, constraints)
-
-
-def _to_solution(run: MeasuredRun, solver_runs: list[MeasuredRun]) -> Solution:
-    return Solution(
-        solver=run.solver,
-        series=None,
-        x=tuple(float(value) for value in run.outcome.x),
-        fun=run.fun,
-        nit=run.outcome.nit,
-        nfev=run.outcome.nfev,
-        status=run.outcome.status,
-        success=run.outcome.success,
-        message=run.outcome.message,
-        kkt=run.kkt,
-        time_s=run.outcome.time_s,
-        start_index=run.start_index,
-        total_nfev=sum(other.outcome.nfev for other in solver_runs),
-        constraint_violation=run.violation,
-    )

@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
+from sso.solvers.solution import Solution
+
+if TYPE_CHECKING:
+    from sso.series import ShaftSeries
 from sso.solvers.saddle import solve_with_second_order_care
 
 
@@ -103,6 +107,42 @@ def distinct_minima(runs: Sequence[MeasuredRun], rtol: float, atol: float) -> tu
         if not minima or value - minima[-1] > atol + rtol * abs(value):
             minima.append(value)
     return tuple(minima)
+
+
+def solution_from_run(
+    run: MeasuredRun,
+    solver_runs: Sequence[MeasuredRun],
+    x: Sequence[float] | None = None,
+    series: "ShaftSeries | None" = None,
+) -> Solution:
+    """The :class:`sso.Solution` of one measured run.
+
+    Parameters
+    ----------
+    run : MeasuredRun
+    solver_runs : sequence of MeasuredRun
+        Every run of the same solver (for ``total_nfev``).
+    x : sequence of float, optional
+        The design vector in the problem's user-facing units (default: the NLP's).
+    series : sso.ShaftSeries, optional
+        The shaft-series design, for shaft-series problems.
+    """
+    return Solution(
+        solver=run.solver,
+        series=series,
+        x=tuple(float(value) for value in (run.outcome.x if x is None else x)),
+        fun=run.fun,
+        nit=run.outcome.nit,
+        nfev=run.outcome.nfev,
+        status=run.outcome.status,
+        success=run.outcome.success,
+        message=run.outcome.message,
+        kkt=run.kkt,
+        time_s=run.outcome.time_s,
+        start_index=run.start_index,
+        total_nfev=sum(other.outcome.nfev for other in solver_runs),
+        constraint_violation=run.violation,
+    )
 
 
 def _backend(name: str) -> Any:
