@@ -10,6 +10,8 @@ import pytest
 import sso
 
 PAPER_OPTION_3 = sso.ShaftSeries([30, 40, 50], [90, 90], model="paper")
+# The same start moved inside the paper's bounds (10, 40) by hand, so no warning.
+PAPER_OPTION_3_INSIDE = sso.ShaftSeries([30, 40, 40], [90, 90], model="paper")
 PAPER_OPTION_2 = sso.ShaftSeries([10, 15, 25], [90, 90], model="paper")
 
 
@@ -65,7 +67,7 @@ def test_start_outside_bounds_is_moved_with_warning():
 
 
 def test_per_joint_bounds_and_pinned_joint_are_honoured():
-    result = sso.optimise(sso.ShaftSeries([20, 30, 25]), 3,
+    result = sso.optimise(sso.ShaftSeries([20, 30, 12]), 3,
                           beta_bounds_deg=[(20, 20), (5, 35), (10, 15)], starts=2)
     beta = result.best.series.beta_deg
     assert beta[0] == 20.0
@@ -90,7 +92,7 @@ def test_one_solver_failing_leaves_the_other_standing():
 
 
 def test_both_solvers_failing_is_reported_not_raised():
-    result = sso.optimise(PAPER_OPTION_3, 3, beta_bounds_deg=(10, 40), starts=1,
+    result = sso.optimise(PAPER_OPTION_3_INSIDE, 3, beta_bounds_deg=(10, 40), starts=1,
                           max_iterations=2)
     assert not result.solutions["ipopt"].success
     assert result.solutions["ipopt"].message == "Maximum_Iterations_Exceeded"
@@ -118,8 +120,8 @@ def test_to_dict_is_json_ready():
 
 
 def test_same_seed_same_answer():
-    first = sso.optimise(PAPER_OPTION_3, 3, beta_bounds_deg=(10, 40), starts=4)
-    second = sso.optimise(PAPER_OPTION_3, 3, beta_bounds_deg=(10, 40), starts=4)
+    first = sso.optimise(PAPER_OPTION_3_INSIDE, 3, beta_bounds_deg=(10, 40), starts=4)
+    second = sso.optimise(PAPER_OPTION_3_INSIDE, 3, beta_bounds_deg=(10, 40), starts=4)
     assert first.best.x == second.best.x
     assert first.local_minima == second.local_minima
 
