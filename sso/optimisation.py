@@ -21,14 +21,19 @@ from sso.solvers.crosscheck import (
 )
 from sso.solvers.multistart import (
     MeasuredRun,
-    best_run,
+    best_solution,
     distinct_minima,
     run_starts,
     solution_from_run,
 )
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import finite_float, validate_count, validate_solvers, validate_speed
+from sso.validation import (
+    validate_count,
+    validate_solvers,
+    validate_speed,
+    validate_tolerance,
+)
 
 MAX_STARTS = 10_000
 
@@ -209,9 +214,7 @@ def optimise(
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
-    tolerance = finite_float("tolerance", tolerance)
-    if not 0 < tolerance < 1:
-        raise ValueError(f"tolerance = {tolerance:g} is outside the allowed range (0, 1)")
+    tolerance = validate_tolerance(tolerance)
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
                                                                      quadrature_atol)
 
@@ -242,10 +245,11 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     limits = RunLimits(problem.lower_rad, problem.upper_rad)
     measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
                           max_iterations)
-    solutions = {name: _to_solution(best_run(runs), problem, series.model, runs)
-                 for name, runs in measured.items()}
-    all_runs = [run for runs in measured.values() for run in runs]
-    best = min(solutions.values(), key=lambda solution: (not solution.success, solution.fun))
+    solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
+                   for name, runs in measured.items()}
+    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
+    all_runs = [run for runs in solver_runs.values() for run in runs]
+    best = best_solution(solutions.values())
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
@@ -264,8 +268,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         optimum=best.series.evaluate(speed_rpm, **evaluation_options),
         best=best,
         solutions=solutions,
-        runs=tuple(_to_solution(run, problem, series.model, measured[run.solver])
-                   for run in all_runs),
+        runs=tuple(all_runs),
         crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
                     if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),

@@ -165,6 +165,14 @@ def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
     return names
 
 
+def validate_tolerance(value: Any) -> float:
+    """A solver tolerance in ``(0, 1)``, or raise naming the field and range."""
+    tolerance = finite_float("tolerance", value)
+    if not 0 < tolerance < 1:
+        raise ValueError(f"tolerance = {tolerance:g} is outside the allowed range (0, 1)")
+    return tolerance
+
+
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
     """A whole number in ``[lower, upper]``, or raise naming the field and range."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

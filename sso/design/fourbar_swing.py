@@ -33,10 +33,10 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
     crosscheck,
 )
-from sso.solvers.multistart import best_run, distinct_minima, run_starts, solution_from_run
+from sso.solvers.multistart import best_solution, distinct_minima, run_starts, solution_from_run
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import finite_float, per_item_bounds, validate_count, validate_solvers
+from sso.validation import per_item_bounds, validate_count, validate_solvers, validate_tolerance
 
 if TYPE_CHECKING:
     from sso.mechanisms import FourBar
@@ -168,9 +168,7 @@ def design_fourbar(
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
-    tolerance = finite_float("tolerance", tolerance)
-    if not 0 < tolerance < 1:
-        raise ValueError(f"tolerance = {tolerance:g} is outside the allowed range (0, 1)")
+    tolerance = validate_tolerance(tolerance)
     if ground_bounds is None:
         ground_bounds = (start.ground, start.ground)
     link_bounds = {
@@ -202,10 +200,12 @@ def design_fourbar(
     points = start_points(user_start, lower, upper, starts, seed)
     measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, tolerance,
                           max_iterations)
-    solutions = {name: solution_from_run(best_run(runs), runs) for name, runs in measured.items()}
-    best = min(solutions.values(), key=lambda solution: (not solution.success, solution.fun))
+    solver_runs = {name: [solution_from_run(run, runs) for run in runs]
+                   for name, runs in measured.items()}
+    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
+    all_runs = [run for runs in solver_runs.values() for run in runs]
+    best = best_solution(solutions.values())
     optimum = FourBar(**dict(zip(LINKS, best.x[:4])), branch=start.branch)
-    all_runs = [run for runs in measured.values() for run in runs]
     return FourBarDesignResult(
         initial=start,
         optimum=optimum,
@@ -216,7 +216,7 @@ def design_fourbar(
         link_bounds=link_bounds,
         best=best,
         solutions=solutions,
-        runs=tuple(solution_from_run(run, measured[run.solver]) for run in all_runs),
+        runs=tuple(all_runs),
         crosscheck=(crosscheck(solutions, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL,
                                DEFAULT_KKT_TOLERANCE) if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL),

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
 import numpy as np
 
@@ -94,16 +94,15 @@ def run_starts(
     return runs
 
 
-def best_run(runs: Sequence[MeasuredRun]) -> MeasuredRun:
-    """Lowest objective among successful runs (among all, if none succeeded)."""
-    successful = [run for run in runs if run.outcome.success]
-    return min(successful or runs, key=lambda run: run.fun)
+def best_solution(solutions: Iterable[Solution]) -> Solution:
+    """Lowest objective among successful solutions (among all, if none succeeded)."""
+    return min(solutions, key=lambda solution: (not solution.success, solution.fun))
 
 
-def distinct_minima(runs: Sequence[MeasuredRun], rtol: float, atol: float) -> tuple[float, ...]:
-    """Objective values of the successful runs, merged when within tolerance."""
+def distinct_minima(solutions: Iterable[Solution], rtol: float, atol: float) -> tuple[float, ...]:
+    """Objective values of the successful solutions, merged when within tolerance."""
     minima: list[float] = []
-    for value in sorted(run.fun for run in runs if run.outcome.success):
+    for value in sorted(solution.fun for solution in solutions if solution.success):
         if not minima or value - minima[-1] > atol + rtol * abs(value):
             minima.append(value)
     return tuple(minima)
