@@ -25,7 +25,7 @@ except SystemExit as stop:
 print("LOADED=" + json.dumps(sorted(name for name in {heavy!r} if name in sys.modules)))
 sys.exit(code)
 """.format(heavy=HEAVY)
-# shared/spec/hooke-series.md, "The paper's three cases".
+# docs/model.md, "The paper's three cases".
 PAPER_REFERENCE_BETA_DEG = {3: [15.8362, 10.0, 15.8387]}
 MINIMAL = '[design]\nbeta_deg = [20.0, 30.0]\n[solver]\nstarts = 1\n'
 
@@ -123,7 +123,7 @@ def test_speeds_csv_columns_and_values(option3_run):
     rows = [[float(cell) for cell in line.split(",")] for line in lines[1:]]
     assert rows[0][0] == 0.0 and rows[-1][0] == 360.0
     initial = [row[2] for row in rows]
-    # Trial design 30, 40, 50 (50 kept as given) at 25 rpm: 18.17 .. 34.40 rpm (spec).
+    # Trial design 30, 40, 50 (50 kept as given) at 25 rpm: 18.17 .. 34.40 rpm (docs/model.md).
     assert min(initial) == pytest.approx(18.167, abs=2e-3)
     assert max(initial) == pytest.approx(34.403, abs=2e-3)
     assert max(abs(row[3] - 25.0) for row in rows) < 1e-6
@@ -160,7 +160,7 @@ def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
     assert document["mode"] == "evaluate"
     assert set(document["designs"]) == {"initial", "reference"}
     evaluation = document["designs"]["initial"]["evaluation"]
-    # spec: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
+    # docs/model.md: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(low_rpm, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(high_rpm, abs=5e-3)
     assert "solvers" not in (tmp_path / f"paper_option3_{model}" / "report.md").read_text()
@@ -179,7 +179,7 @@ def test_every_shipped_case_solves_below_its_reference(tmp_path):
         assert document["success"] is True, path.stem
         assert errors["optimum"] <= min(errors["initial"], errors["reference"]) + 1e-20, path.stem
         if path.stem.startswith("paper_"):
-            # spec: the paper's optima are not stationary; a correct solver does better.
+            # docs/model.md: the paper's optima are not stationary; a correct solver does better.
             assert errors["optimum"] < 0.2 * errors["reference"], path.stem
 
 

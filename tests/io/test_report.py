@@ -41,7 +41,7 @@ def test_evaluation_document_round_trips_through_result_json(tmp_path):
     write_report(document, tmp_path, ["json", "csv"])
     assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
     evaluation = document["designs"]["initial"]["evaluation"]
-    # spec: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
+    # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
     assert render(document, ["csv"]) == {"speeds.csv": (tmp_path / "speeds.csv").read_bytes()}
