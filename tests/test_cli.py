@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from paper_trials import paper_trial_case
 
 from sso.io.case import load_case
 
@@ -59,7 +60,7 @@ def write_case(folder: Path, text: str, name: str = "case.toml") -> Path:
 @pytest.fixture(scope="module")
 def option3_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("run")
-    completed = sso("run", CASES / "paper_option3_exact.toml", "--out", folder / "out",
+    completed = sso("run", paper_trial_case(3, "exact", folder), "--out", folder / "out",
                     cwd=folder)
     return completed, folder / "out" / "paper_option3_exact"
 
@@ -70,7 +71,7 @@ def test_run_writes_every_file_and_exits_0(option3_run):
     assert sorted(path.name for path in report.iterdir()) == [
         "cartesian.png", "polar.png", "report.html", "report.md", "result.json", "speeds.csv"]
     assert "Traceback" not in completed.stderr
-    # The start outside its bounds is a warning, not an error.
+    # The paper's start outside its bounds is a warning, not an error.
     assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
     summary = completed.stdout.splitlines()[-2:]
     assert summary[0].startswith("--------")
@@ -83,7 +84,7 @@ def test_result_json_holds_the_whole_story(option3_run):
     assert document["schema_version"] == 1
     assert document["model"] == "exact"
     assert document["option"] == 3 and document["option_name"] == "both"
-    assert document["case"] == load_case(CASES / "paper_option3_exact.toml").to_dict()
+    assert document["case"] == load_case(report.parent.parent / "paper_option3_exact.toml").to_dict()
     designs = document["designs"]
     initial = designs["initial"]["evaluation"]["residual_error"]
     optimum = designs["optimum"]["evaluation"]["residual_error"]
@@ -152,7 +153,7 @@ def test_report_rerenders_the_same_files_from_result_json(option3_run, tmp_path)
 
 @pytest.mark.parametrize("model, low_rpm, high_rpm", [("paper", 18.17, 34.40)])
 def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
-    completed, loaded = sso_loading("evaluate", CASES / f"paper_option3_{model}.toml",
+    completed, loaded = sso_loading("evaluate", paper_trial_case(3, model, tmp_path),
                                     "--out", tmp_path, "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert loaded == []

@@ -2,16 +2,15 @@
 
 import json
 import math
-from pathlib import Path
 
 import pytest
+from paper_trials import paper_trial_case
 
 from sso.io.atomic import TEMPORARY_PREFIX, write_bytes_atomic, write_text_atomic
 from sso.io.case import load_case
 from sso.io.document import evaluate_case
 from sso.io.report import ResultFileError, read_result, render, result_json, write_report
 
-CASES = Path(__file__).resolve().parents[2] / "cases"
 
 
 def test_atomic_write_replaces_whole_files(tmp_path):
@@ -37,7 +36,7 @@ def test_result_json_is_strict_json():
 
 
 def test_evaluation_document_round_trips_through_result_json(tmp_path):
-    document = evaluate_case(load_case(CASES / "paper_option2_paper.toml"))
+    document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
     write_report(document, tmp_path, ["json", "csv"])
     assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
     evaluation = document["designs"]["initial"]["evaluation"]
