@@ -12,7 +12,6 @@ from sso.io.document import evaluate_case
 from sso.io.report import ResultFileError, read_result, render, result_json, write_report
 
 
-
 def test_atomic_write_replaces_whole_files(tmp_path):
     target = tmp_path / "result.json"
     write_text_atomic(target, "old")
