@@ -20,10 +20,11 @@ SKIPPED_FOLDERS = {".git", ".venv", "__pycache__", ".pytest_cache", ".hypothesis
 PARENT = "." * 2
 # Built from pieces so that this file does not name what it looks for.
 NEIGHBOUR = re.compile(re.escape(PARENT + "/" + "shared") + r"|(?<![\w/.-])shared/"
-                       r"(?:spec|reference|seeds)\b")
+                       r"(?:spec|reference|seeds)\b" + r"|/\s*[\"']" + "shared" + r"[\"']")
 ABSOLUTE = re.compile(r"(?<![\w.~-])/(?:" + "work" + r"|home|root)/")
 CLIMB = re.compile(r"(?<![\w.])(?:\.\./)+[\w.-]*")
 QUOTED_PARENT = re.compile("[\"']" + re.escape(PARENT) + "[\"']")
+FILE_ANCESTOR = re.compile(r"__file__\)(?:\.resolve\(\)|\.absolute\(\))?\.parents\[(\d+)\]")
 
 
 def repository_files(root: Path) -> list[Path]:
@@ -75,6 +76,9 @@ def outside_references(root: Path) -> list[str]:
                 reasons.append("a relative path climbs above the repository root")
             if path.suffix == ".py" and QUOTED_PARENT.search(line):
                 reasons.append("joins a parent-folder path component")
+            depth = len(path.relative_to(root).parts)
+            if any(int(match.group(1)) >= depth for match in FILE_ANCESTOR.finditer(line)):
+                reasons.append("an ancestor of __file__ lies above the repository root")
             found.extend(f"{name}:{number}: {reason}: {line.strip()}" for reason in reasons)
     return found
 
@@ -97,6 +101,8 @@ def test_the_scan_finds_paths_planted_in_a_copy(tmp_path):
         "docs/planted_absolute.md": "See /" + "work/shared/spec/model.md for details.\n",
         "planted_climb.toml": 'case = "' + PARENT + '/elsewhere/case.toml"\n',
         "sso/planted_join.py": "FOLDER = HERE / '" + PARENT + "' / 'data'\n",
+        "tests/planted_join.py": "TABLES = ROOT.parent / 'shar" + "ed' / 'reference'\n",
+        "tests/kinematics/planted_ancestor.py": "DATA = Path(__" + "file__).resolve().parents[3]\n",
     }
     for name, text in planted.items():
         (copy / name).parent.mkdir(parents=True, exist_ok=True)
@@ -107,6 +113,7 @@ def test_the_scan_finds_paths_planted_in_a_copy(tmp_path):
     assert any("absolute path" in line for line in found)
     assert any("climbs above" in line for line in found)
     assert any("parent-folder path component" in line for line in found)
+    assert any("ancestor of __file__" in line for line in found)
 
 
 @pytest.mark.parametrize("line", ["18.17 .. 34.40 rpm", "benchmarks/work_precision.py",
