@@ -12,7 +12,7 @@ import pytest
 from time_derivative import assert_time_derivative
 
 from sso.kinematics.fourbar import GRASHOF_CLASSES, grashof_class, solve_fourbar
-from sso.mechanisms import FourBar, MechanismTable
+from sso.linkages.mechanisms import FourBar, MechanismTable
 
 REFERENCE = Path(__file__).resolve().parents[2] / ".." / "shared" / "reference"
 CRANKS = (2, 3, 4, 5)

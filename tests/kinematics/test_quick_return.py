@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from time_derivative import assert_time_derivative
 
-from sso.mechanisms import MechanismTable, QuickReturn
+from sso.linkages.mechanisms import MechanismTable, QuickReturn
 
 REFERENCE = Path(__file__).resolve().parents[2] / ".." / "shared" / "reference"
 CRANK_SPEED = 2.0

@@ -13,7 +13,11 @@ import pytest
 from time_derivative import assert_time_derivative
 
 from sso.kinematics.slider_crank import solve_slider_crank
-from sso.mechanisms import MechanismTable, SliderCrank, slider_crank_method_difference
+from sso.linkages.mechanisms import (
+    MechanismTable,
+    SliderCrank,
+    slider_crank_method_difference,
+)
 
 REFERENCE = Path(__file__).resolve().parents[2] / ".." / "shared" / "reference"
 ROD = 0.3
