@@ -21,10 +21,11 @@ from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
 from sso.batch.results import METRICS, ToleranceResult
 from sso.kinematics.hooke import chain_kinematics
+from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
-from sso.shafts.series import BETA_LIMIT_DEG, ShaftSeries
+from sso.shafts.series import ShaftSeries
 from sso.validation import as_float_tuple, check_choice, check_in_range, validate_speed
 
 DISTRIBUTIONS = ("normal", "uniform")
@@ -261,7 +262,7 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float,
                                                          tuple[float, float], dict[str, Any]]:
     """The nominal series, input speed, quadrature tolerance and settings of ``design``."""
     if isinstance(design, ShaftSeries):
-        speed = 25.0 if input_speed_rpm is None else input_speed_rpm
+        speed = DEFAULT_INPUT_SPEED_RPM if input_speed_rpm is None else input_speed_rpm
         return (design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL),
                 {})
     from sso.batch.axes import base_case

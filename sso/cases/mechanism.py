@@ -28,6 +28,7 @@ from sso.cases.schema import (
     register_case_kind,
     text,
 )
+from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
 from sso.validation import per_item_bounds
 
@@ -128,7 +129,7 @@ COUPLER_POINT_KEY = Key("plots", "coupler_point",
                         number_list(-10.0, 10.0, "", max_length=2), (0.5, 0.0), "coupler lengths",
                         "[along A->B, to the left of A->B], each in [-10, 10] coupler lengths")
 # The shaft series' [solver] keys, with sso.design_fourbar's defaults.
-DESIGN_SOLVER_DEFAULTS = {"starts": 8, "tolerance": 1e-10}
+DESIGN_SOLVER_DEFAULTS = {"tolerance": DEFAULT_FOURBAR_SOLVER_TOL}
 SOLVER_KEYS: tuple[Key, ...] = tuple(
     replace(key, default=DESIGN_SOLVER_DEFAULTS.get(key.name, key.default))
     for key in SHAFT_SERIES_KEYS if key.table == "solver"
@@ -139,7 +140,7 @@ DESIGN_KEYS: tuple[Key, ...] = (
           f"[lower, upper], each in {POSITIVE}, lower <= upper") for name in DESIGN_LINKS[:3]],
     Key("bounds", "ground", length_pair, _default_ground_bounds, "length",
         f"[lower, upper] in {POSITIVE}; default pins it at start.ground"),
-    Key("bounds", "transmission_angle_deg", angle_pair, (40.0, 120.0), "deg",
+    Key("bounds", "transmission_angle_deg", angle_pair, TRANSMISSION_BAND_DEG, "deg",
         "[lower, upper] inside (0, 180)"),
     *SOLVER_KEYS,
     *DRIVE_KEYS,

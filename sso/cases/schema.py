@@ -28,7 +28,16 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from sso.kinematics.hooke import MODELS
-from sso.limits import MAX_STARTS
+from sso.limits import (
+    BETA_LIMIT_DEG,
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+    OUTPUT_FORMATS,
+)
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL
 from sso.shafts.series import ShaftSeries
@@ -41,12 +50,10 @@ from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import finite_float, per_item_bounds
 
 DEFAULT_KIND = "shaft_series"
-FORMATS = ("json", "csv", "md", "html", "png")
 SOLVER_NAMES = ("ipopt", "slsqp")
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 MAX_JOINTS = 64
 
-MAX_ITERATIONS = 1_000_000
 MAX_TEXT_LENGTH = 10_000
 
 
@@ -290,7 +297,7 @@ COMMON_KEYS: tuple[Key, ...] = (
     Key("", "name", case_name, lambda values, path: Path(path).stem, "",
         "1-100 of A-Z a-z 0-9 . _ -, starting with a letter or digit"),
     Key("", "description", text(), "", "", "free text"),
-    Key("output", "formats", choice_list(FORMATS), FORMATS, "",
+    Key("output", "formats", choice_list(OUTPUT_FORMATS), OUTPUT_FORMATS, "",
         "non-empty list of 'json', 'csv', 'md', 'html', 'png'"),
 )
 
@@ -468,22 +475,25 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("", "option", option_value, 3, "",
         "1 or 'phase', 2 or 'angle', 3 or 'both'"),
     Key("", "input_speed_rpm", number(0.0, float("inf"), "rpm", lower_open=True,
-                                      upper_open=True), 25.0, "rpm", "(0, inf)"),
-    Key("design", "beta_deg", number_list(0.0, 90.0, "deg", upper_open=True), REQUIRED,
+                                      upper_open=True), DEFAULT_INPUT_SPEED_RPM, "rpm",
+        "(0, inf)"),
+    Key("design", "beta_deg", number_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True), REQUIRED,
         "deg", f"1-{MAX_JOINTS} entries (one per joint), {_BETA_RANGE}"),
     Key("design", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("design"),
         "deg", "n-1 entries (n accepted: the paper's inert last phase), each in [-360, 360]"),
-    Key("bounds", "beta_deg", bounds_list(0.0, 90.0, "deg", upper_open=True), (0.0, 40.0),
+    Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True), (0.0, 40.0),
         "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
     Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), (0.0, 180.0), "deg",
         "[lower, upper] or one pair per phase, within [-360, 360]"),
     Key("solver", "solvers", choice_list(SOLVER_NAMES), SOLVER_NAMES, "",
         "non-empty list of 'ipopt', 'slsqp'"),
-    Key("solver", "starts", whole_number(1, MAX_STARTS), 4, "", f"[1, {MAX_STARTS}]"),
-    Key("solver", "tolerance", number(0.0, 1.0, lower_open=True, upper_open=True), 1e-12, "",
+    Key("solver", "starts", whole_number(1, MAX_STARTS), DEFAULT_STARTS, "",
+        f"[1, {MAX_STARTS}]"),
+    Key("solver", "tolerance", number(0.0, 1.0, lower_open=True, upper_open=True),
+        DEFAULT_SHAFT_SOLVER_TOL, "",
         "(0, 1)"),
-    Key("solver", "max_iterations", whole_number(1, MAX_ITERATIONS), 500, "",
+    Key("solver", "max_iterations", whole_number(1, MAX_ITERATIONS), DEFAULT_MAX_ITERATIONS, "",
         f"[1, {MAX_ITERATIONS}]"),
     Key("solver", "seed", whole_number(0, 2**63 - 1), DEFAULT_SEED, "", "[0, 2^63 - 1]"),
     Key("quadrature", "rtol", number(0.0, 1.0, lower_open=True, upper_open=True), DEFAULT_RTOL,

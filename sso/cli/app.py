@@ -27,13 +27,13 @@ from sso.cli.batch_commands import (
     run_tolerance,
 )
 from sso.cli.common import (
-    ALL_FORMATS,
     DEFAULT_OUT,
     EXIT_BAD_INPUT,
     EXIT_FAILED,
     EXIT_INTERRUPTED,
     EXIT_OK,
 )
+from sso.limits import OUTPUT_FORMATS
 
 
 @dataclass(frozen=True)
@@ -89,9 +89,9 @@ def _list_argument(allowed: tuple[str, ...], what: str) -> Callable[[str], tuple
 
 def _add_report_arguments(parser: argparse.ArgumentParser, out_help: str) -> None:
     parser.add_argument("--out", metavar="DIR", help=out_help)
-    parser.add_argument("--formats", type=_list_argument(ALL_FORMATS, "report files"),
+    parser.add_argument("--formats", type=_list_argument(OUTPUT_FORMATS, "report files"),
                         metavar="LIST", help="report files to write, comma-separated from "
-                        f"{','.join(ALL_FORMATS)} (default: the case's [output] formats)")
+                        f"{','.join(OUTPUT_FORMATS)} (default: the case's [output] formats)")
     parser.add_argument("--no-plots", action="store_true",
                         help="write no PNG plots (matplotlib is not even imported)")
     parser.add_argument("--quiet", action="store_true",

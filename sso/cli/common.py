@@ -5,4 +5,3 @@ EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
 DEFAULT_OUT = "results"
-ALL_FORMATS = ("json", "csv", "md", "html", "png")

@@ -26,6 +26,14 @@ from typing import TYPE_CHECKING, Any, Iterable
 
 import numpy as np
 
+from sso.limits import (
+    DEFAULT_FOURBAR_SOLVER_TOL,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+    TRANSMISSION_BAND_DEG,
+)
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -52,18 +60,6 @@ if TYPE_CHECKING:
     from sso.linkages.mechanisms import FourBar
 
 LINKS = ("crank", "coupler", "rocker", "ground")
-CONSTRAINT_NAMES = (
-    "closure at the extended limit position",
-    "closure at the folded limit position",
-    "cos transmission angle at crank 0 deg",
-    "cos transmission angle at crank 180 deg",
-    "crank - coupler",
-    "crank - rocker",
-    "crank - ground",
-    "crank + coupler - rocker - ground",
-    "crank + rocker - coupler - ground",
-    "crank + ground - coupler - rocker",
-)
 
 
 @dataclass(frozen=True)
@@ -139,11 +135,11 @@ def design_fourbar(
     coupler_bounds: tuple[float, float],
     rocker_bounds: tuple[float, float],
     ground_bounds: tuple[float, float] | None = None,
-    transmission_angle_bounds_deg: tuple[float, float] = (40.0, 120.0),
+    transmission_angle_bounds_deg: tuple[float, float] = TRANSMISSION_BAND_DEG,
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
-    starts: int = 8,
-    tolerance: float = 1e-10,
-    max_iterations: int = 500,
+    starts: int = DEFAULT_STARTS,
+    tolerance: float = DEFAULT_FOURBAR_SOLVER_TOL,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
 ) -> FourBarDesignResult:
     """Link lengths of the crank-rocker with the largest rocker swing.
@@ -172,12 +168,11 @@ def design_fourbar(
     ValueError
         For bad bounds or options, naming the field, the value and the range.
     """
-    from sso.limits import MAX_STARTS
     from sso.linkages.mechanisms import FourBar
 
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
-    max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     tolerance = validate_tolerance(tolerance)
     if ground_bounds is None:
         ground_bounds = (start.ground, start.ground)

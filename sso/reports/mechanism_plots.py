@@ -14,6 +14,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from sso.cases.mechanism import MechanismCase, angle_grid
+from sso.limits import TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
@@ -31,7 +32,6 @@ COLUMN_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#d62728")
 ROLE_LINESTYLES = {"given": "-", "initial": "--", "optimum": "-"}
 ROLE_LABELS = {"given": "", "initial": "initial", "optimum": "optimum"}
 BAND_COLOUR = "#2ca02c"
-DEFAULT_TRANSMISSION_BAND_DEG = (40.0, 120.0)
 BAND_TOLERANCE_DEG = 1e-6
 """An optimum on its bound is inside the band up to the solver's tolerance."""
 
@@ -207,7 +207,7 @@ def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
     axes = figure.subplots(1, 1)
     low, high = (case.values["bounds.transmission_angle_deg"]
                  if "bounds.transmission_angle_deg" in case.values
-                 else DEFAULT_TRANSMISSION_BAND_DEG)
+                 else TRANSMISSION_BAND_DEG)
     axes.axhspan(low, high, color=BAND_COLOUR, alpha=0.15,
                  label=f"recommended band [{low:g}, {high:g}] deg")
     for bound in (low, high):

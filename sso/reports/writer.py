@@ -16,8 +16,6 @@ from sso.files import write_bytes_atomic
 from sso.run.document import SCHEMA_VERSION
 
 RESULT_FILE = "result.json"
-FILES = {"json": (RESULT_FILE,), "csv": ("speeds.csv",), "md": ("report.md",),
-         "html": ("report.html",), "png": ("polar.png", "cartesian.png")}
 REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "option_name",
                  "input_speed_rpm", "designs", "quadrature", "success", "verdict", "warnings",
                  "versions")

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 from typing import Any, Callable, Protocol
 
 import numpy as np
 
 from sso.kinematics.hooke import chain_kinematics
+from sso.limits import DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_rule
-from sso.validation import finite_float, validate_speed
+from sso.validation import finite_in_range, validate_speed
 
 
 class JointAngles(Protocol):
@@ -93,7 +95,7 @@ class Evaluation:
 
 def evaluate(
     series: JointAngles,
-    input_speed_rpm: float = 25.0,
+    input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
     quadrature_rtol: float = DEFAULT_RTOL,
     quadrature_atol: float = DEFAULT_ATOL,
 ) -> Evaluation:
@@ -175,13 +177,8 @@ def evaluate(
 
 def validate_quadrature_tolerance(rtol: Any, atol: Any) -> tuple[float, float]:
     """Return ``(rtol, atol)`` as floats, or raise naming the field and range."""
-    rtol = finite_float("quadrature_rtol", rtol)
-    atol = finite_float("quadrature_atol", atol)
-    if not 0 < rtol < 1:
-        raise ValueError(f"quadrature_rtol = {rtol:g} is outside the allowed range (0, 1)")
-    if atol < 0:
-        raise ValueError(f"quadrature_atol = {atol:g} is outside the allowed range [0, inf)")
-    return rtol, atol
+    return (finite_in_range("quadrature_rtol", rtol, 0.0, 1.0, lower_open=True, upper_open=True),
+            finite_in_range("quadrature_atol", atol, 0.0, math.inf, upper_open=True))
 
 
 def _peaks(

@@ -8,7 +8,14 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from sso.limits import MAX_STARTS
+from sso.limits import (
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+)
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
@@ -147,10 +154,10 @@ def optimise(
     beta_bounds_deg: Any = (0.0, 40.0),
     phase_bounds_deg: Any = (0.0, 180.0),
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
-    starts: int = 8,
-    input_speed_rpm: float = 25.0,
-    tolerance: float = 1e-12,
-    max_iterations: int = 500,
+    starts: int = DEFAULT_STARTS,
+    input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+    tolerance: float = DEFAULT_SHAFT_SOLVER_TOL,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
     quadrature_rtol: float = DEFAULT_RTOL,
     quadrature_atol: float = DEFAULT_ATOL,
@@ -211,7 +218,7 @@ def optimise(
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
-    max_iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
     tolerance = validate_tolerance(tolerance)
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,

@@ -8,12 +8,12 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from sso.limits import BETA_LIMIT_DEG
 from sso.validation import per_item_bounds
 
 OPTION_NAMES = {1: "phase", 2: "angle", 3: "both"}
 OPTION_FIXED_PHASE_DEG = 90.0
 PHASE_LIMIT_DEG = 360.0
-BETA_LIMIT_DEG = 90.0
 
 
 class StartMovedWarning(UserWarning):

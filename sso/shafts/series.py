@@ -9,13 +9,13 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from sso.kinematics.hooke import MODELS, chain_kinematics
+from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.validation import as_float_tuple, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso.shafts.evaluation import Evaluation
 
 CONVENTIONAL_PHASE_DEG = 90.0
-BETA_LIMIT_DEG = 90.0
 
 
 class InertPhaseWarning(UserWarning):
@@ -132,7 +132,7 @@ class ShaftSeries:
         theta = _finite_angles(theta_deg)
         return theta + np.degrees(self._kinematics(theta).angle_lag_rad)
 
-    def evaluate(self, input_speed_rpm: float = 25.0, **quadrature: Any) -> "Evaluation":
+    def evaluate(self, input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM, **quadrature: Any) -> "Evaluation":
         """Figures of merit of this design at a constant input speed.
 
         Parameters

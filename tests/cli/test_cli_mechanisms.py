@@ -200,7 +200,7 @@ def test_design_case_solves_and_cross_checks(design_run):
     document = json.loads((folder / "result.json").read_text())
     assert document["mode"] == "optimise" and document["success"] is True
     design = document["design"]
-    # tests/design/test_fourbar_swing.py: 32.3 -> 80.4 deg, IPOPT and SLSQP agree.
+    # tests/linkages/test_fourbar_swing.py: 32.3 -> 80.4 deg, IPOPT and SLSQP agree.
     assert design["initial_swing_deg"] == pytest.approx(32.26, abs=0.01)
     assert design["optimum_swing_deg"] == pytest.approx(80.37, abs=0.01)
     assert set(design["solutions"]) == {"ipopt", "slsqp"}
