@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from sso.design.options import DesignProblem, build_problem
-from sso.design.quadrature import QuadratureWarning, adaptive_residual_error
+from sso.shafts.options import DesignProblem, build_problem
+from sso.shafts.quadrature import QuadratureWarning, adaptive_residual_error
 
 INPUT_SPEED_RPM = 25.0
 # The accurate RE that errors are measured with: the adaptive rule, far tighter

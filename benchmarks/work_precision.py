@@ -178,7 +178,7 @@ def batch_of_solves(count: int, best_known: dict[str, Any]) -> dict[str, Any]:
     warm-up solve and reused. Returns total and per-solve time, and the share of solves
     within ``TARGET_ERROR`` of the best known RE.
     """
-    from sso.design.starts import start_points
+    from sso.solvers.starts import start_points
 
     case = next(case for case in CASES if case.key == BATCH_CASE)
     problem = case.problem()

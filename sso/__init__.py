@@ -10,24 +10,33 @@ SciPy, matplotlib nor dask; each is imported by the first call that needs it.
 from importlib import import_module
 from typing import Any
 
+from sso import _moved
+
 __version__ = "0.1.0"
 
+_moved.install()
+
 _EXPORTS = {
-    "ShaftSeries": "sso.series",
-    "Evaluation": "sso.evaluation",
-    "optimise": "sso.optimisation",
-    "OptimisationResult": "sso.optimisation",
+    "ShaftSeries": "sso.shafts.series",
+    "Evaluation": "sso.shafts.evaluation",
+    "optimise": "sso.shafts.optimise",
+    "OptimisationResult": "sso.shafts.optimise",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
     "sweep": "sso.batch.sweep",
-    "SweepResult": "sso.batch.sweep",
+    "SweepResult": "sso.batch.results",
     "tolerance": "sso.batch.tolerance",
-    "ToleranceResult": "sso.batch.tolerance",
-    "design_fourbar": "sso.design.fourbar_swing",
-    "FourBarDesignResult": "sso.design.fourbar_swing",
-    "InertPhaseWarning": "sso.series",
-    "StartMovedWarning": "sso.design.options",
-    "QuadratureWarning": "sso.design.quadrature",
+    "ToleranceResult": "sso.batch.results",
+    "design_fourbar": "sso.linkages.fourbar_swing",
+    "FourBarDesignResult": "sso.linkages.fourbar_swing",
+    "FourBar": "sso.linkages.mechanisms",
+    "SliderCrank": "sso.linkages.mechanisms",
+    "QuickReturn": "sso.linkages.mechanisms",
+    "MechanismTable": "sso.linkages.mechanisms",
+    "slider_crank_method_difference": "sso.linkages.mechanisms",
+    "InertPhaseWarning": "sso.shafts.series",
+    "StartMovedWarning": "sso.shafts.options",
+    "QuadratureWarning": "sso.shafts.quadrature",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

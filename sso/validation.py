@@ -44,12 +44,31 @@ def finite_float(field: str, value: Any) -> float:
     return number
 
 
+def finite_in_range(
+    field: str,
+    value: Any,
+    lower: float,
+    upper: float,
+    unit: str = "",
+    *,
+    lower_open: bool = False,
+    upper_open: bool = False,
+) -> float:
+    """Return ``value`` as a finite float inside the interval, else raise.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a real number, is NaN or infinite, or lies outside the
+        interval; the message names the field, the value and the interval.
+    """
+    return check_in_range(field, finite_float(field, value), lower, upper, unit,
+                          upper_open=upper_open, lower_open=lower_open)
+
+
 def validate_speed(field: str, value: Any) -> float:
     """Return a finite, positive speed in rpm, or raise naming the field."""
-    speed = finite_float(field, value)
-    if speed <= 0:
-        raise ValueError(f"{field} = {speed:g} is outside the allowed range (0, inf) rpm")
-    return speed
+    return finite_in_range(field, value, 0.0, math.inf, "rpm", lower_open=True, upper_open=True)
 
 
 def check_in_range(
@@ -167,10 +186,7 @@ def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
 
 def validate_tolerance(value: Any) -> float:
     """A solver tolerance in ``(0, 1)``, or raise naming the field and range."""
-    tolerance = finite_float("tolerance", value)
-    if not 0 < tolerance < 1:
-        raise ValueError(f"tolerance = {tolerance:g} is outside the allowed range (0, 1)")
-    return tolerance
+    return finite_in_range("tolerance", value, 0.0, 1.0, lower_open=True, upper_open=True)
 
 
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:

@@ -23,8 +23,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sso
-from sso.design.nlp import compiled_nlp
-from sso.design.options import build_problem
+from sso.shafts.options import build_problem
+from sso.shafts.problem import compiled_nlp
 
 BOTH = ("ipopt", "slsqp")
 

@@ -1,6 +1,6 @@
 """Sweep axes: which case keys vary, over which values, and the points they span.
 
-A sweep starts from a base case (a case file, a :class:`sso.io.case.Case`, or a
+A sweep starts from a base case (a case file, a :class:`sso.cases.schema.Case`, or a
 mapping laid out like a case file) and names the keys to vary as a user writes
 them in a case file, optionally with indices into a list-valued key:
 ``"design.beta_deg[1]"`` is the second joint's operating angle,
@@ -46,19 +46,19 @@ class Axis:
 
 
 def base_case(base: Any) -> Any:
-    """The base case as an :class:`sso.io.case.Case` (every default filled in).
+    """The base case as an :class:`sso.cases.schema.Case` (every default filled in).
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.io.case.Case or mapping
+    base : str, pathlib.Path, sso.cases.schema.Case or mapping
         A case file, a case read from one, or a mapping laid out like a case file.
 
     Raises
     ------
     ValueError
-        (:class:`sso.io.case.CaseError`) if the case breaks the case-file schema.
+        (:class:`sso.cases.schema.CaseError`) if the case breaks the case-file schema.
     """
-    from sso.io.case import Case, load_case, parse_case
+    from sso.cases.schema import Case, load_case, parse_case
 
     if isinstance(base, (str, Path)):
         case = load_case(base)
@@ -67,14 +67,14 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {base!r} must be a case file path, an sso.io.case.Case or "
+        raise ValueError(f"base = {base!r} must be a case file path, an sso.cases.schema.Case or "
                          "a mapping laid out like a case file")
     return case
 
 
 def sweepable_keys(document: Mapping[str, Any]) -> list[str]:
     """Keys of a case of this kind that an axis may vary, as dotted labels."""
-    from sso.io.case import schema
+    from sso.cases.schema import schema
 
     return [key.label for key in schema(document.get("kind", "shaft_series"))
             if key.label not in UNSWEPT_KEYS]

@@ -13,11 +13,10 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-from sso.io.atomic import write_bytes_atomic, write_text_atomic
+from sso.files import write_bytes_atomic, write_text_atomic
 
 if TYPE_CHECKING:
-    from sso.batch.sweep import SweepResult
-    from sso.batch.tolerance import ToleranceResult
+    from sso.batch.results import SweepResult, ToleranceResult
 
 # RE of an exactly cancelling design is 0 to round-off; plots floor it here.
 RE_PLOT_FLOOR = 1e-32

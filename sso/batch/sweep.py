@@ -5,13 +5,14 @@ from __future__ import annotations
 import json
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from sso.batch.axes import Axis, base_case, expand_points, parse_axes
+from sso.batch.axes import base_case, expand_points, parse_axes
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
+from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,
     MANIFEST_NAME,
@@ -23,102 +24,13 @@ from sso.batch.table import (
     write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.io.atomic import write_text_atomic
+from sso.files import write_text_atomic
 
 MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
-
-
-@dataclass(frozen=True)
-class SweepResult:
-    """What a sweep computed, one row per point.
-
-    Attributes
-    ----------
-    axes : tuple of Axis
-        The varied keys and their values.
-    mode : {"product", "listed"}
-    action : {"optimise", "evaluate"}
-    rows : tuple of dict
-        One row per point, sorted by point index, with the columns of
-        ``sweep.csv`` (numbers, booleans and lists parsed back).
-    computed : int
-        Points computed by this run.
-    resumed : int
-        Points taken over from an earlier run (``resume=True``).
-    elapsed_s : float
-        Wall time of this run, s.
-    out_dir : pathlib.Path or None
-        Where ``sweep.csv``, ``sweep.json`` and the report were written.
-    files : tuple of pathlib.Path
-        Files written.
-    """
-
-    axes: tuple[Axis, ...]
-    mode: str
-    action: str
-    rows: tuple[dict[str, Any], ...]
-    computed: int
-    resumed: int
-    elapsed_s: float
-    out_dir: Path | None = None
-    files: tuple[Path, ...] = field(default=())
-
-    @property
-    def failed(self) -> tuple[dict[str, Any], ...]:
-        """Rows of the points that did not give a result."""
-        return tuple(row for row in self.rows if row["status"] != "ok")
-
-    @property
-    def best(self) -> dict[str, Any] | None:
-        """Row with the lowest residual error, or None if every point failed."""
-        finished = [row for row in self.rows if row["status"] == "ok"]
-        return min(finished, key=lambda row: row["residual_error"]) if finished else None
-
-    @property
-    def success(self) -> bool:
-        """Every point finished; when optimising, each converged and cross-checked."""
-        return not self.failed and all(row.get("success") is not False for row in self.rows)
-
-    def summary(self) -> str:
-        """A few lines for the end of a run."""
-        rate = self.computed / self.elapsed_s if self.elapsed_s > 0 else 0.0
-        lines = [f"sweep: {len(self.rows)} points ({self.computed} computed in "
-                 f"{self.elapsed_s:.1f} s, {rate:.1f} points/s; {self.resumed} from an "
-                 f"earlier run), {len(self.failed)} failed"]
-        if self.action == "optimise":
-            unconverged = sum(row.get("success") is False for row in self.rows)
-            lines.append(f"  not converged or solvers disagree: {unconverged}")
-        best = self.best
-        if best is not None:
-            where = ", ".join(f"{axis.path} = {best[axis.path]}" for axis in self.axes)
-            lines.append(f"  lowest RE {best['residual_error']:.6g} at point {best['point']} "
-                         f"({where})")
-        for row in self.failed[:5]:
-            lines.append(f"  point {row['point']} failed: {row['error']}")
-        if len(self.failed) > 5:
-            lines.append(f"  ... and {len(self.failed) - 5} more failures (see sweep.csv)")
-        if self.out_dir is not None:
-            lines.append(f"  results: {self.out_dir / CSV_NAME}")
-        return "\n".join(lines)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return {
-            "axes": [{"path": axis.path, "values": list(axis.values)} for axis in self.axes],
-            "mode": self.mode,
-            "action": self.action,
-            "rows": [dict(row) for row in self.rows],
-            "computed": self.computed,
-            "resumed": self.resumed,
-            "elapsed_s": self.elapsed_s,
-            "out_dir": None if self.out_dir is None else str(self.out_dir),
-            "files": [str(path) for path in self.files],
-            "success": self.success,
-        }
 
 
 def sweep(
@@ -139,7 +51,7 @@ def sweep(
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.io.case.Case or mapping
+    base : str, pathlib.Path, sso.cases.schema.Case or mapping
         The base case: a case file, a case read from one, or a mapping laid out
         like a case file (``{"design": {"beta_deg": [...]}, "option": 3, ...}``).
     axes : mapping of str to list or range

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from sso.batch.worker import ACTIONS
-from sso.io.case import NAME_PATTERN
+from sso.cases.schema import NAME_PATTERN
 
 KEYS = ("name", "case", "action", "mode", "chunk_size", "axes")
 

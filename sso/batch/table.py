@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
 from sso.batch.worker import SOLVER_NAMES
-from sso.io.atomic import write_text_atomic
+from sso.files import write_text_atomic
 
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"

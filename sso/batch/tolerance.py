@@ -11,7 +11,7 @@ generator, and so are the same for any chunking, executor or worker count.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -19,15 +19,16 @@ import numpy as np
 
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
-from sso.design.objective import residual_error
-from sso.design.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
-from sso.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S, Evaluation
+from sso.batch.results import METRICS, ToleranceResult
 from sso.kinematics.hooke import chain_kinematics
-from sso.series import BETA_LIMIT_DEG, ShaftSeries
+from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
+from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
+from sso.shafts.objective import residual_error
+from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.shafts.series import ShaftSeries
 from sso.validation import as_float_tuple, check_choice, check_in_range, validate_speed
 
 DISTRIBUTIONS = ("normal", "uniform")
-METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
 DEFAULT_PERCENTILES = (5.0, 50.0, 95.0, 99.0)
 MAX_SAMPLES = 100_000_000
 MAX_TOLERANCE_DEG = 45.0
@@ -59,98 +60,6 @@ class ToleranceChunk:
     input_speed_rpm: float
 
 
-@dataclass(frozen=True)
-class ToleranceResult:
-    """A Monte Carlo tolerance study of one design.
-
-    Attributes
-    ----------
-    design : sso.ShaftSeries
-        The nominal design.
-    nominal : sso.Evaluation
-        Its evaluation.
-    distribution : {"normal", "uniform"}
-    beta_tolerance_deg, phase_tolerance_deg : tuple of float
-        Per joint / per phase: the standard deviation (normal) or half-width
-        (uniform) of the deviation, deg.
-    seed : int
-    input_speed_rpm : float
-    quadrature_samples : int
-        Angles of the residual-error rule (one rule serves every sample).
-    percentiles : tuple of float
-        Which percentiles :meth:`percentile_table` reports, in percent.
-    beta_deg, phase_deg : numpy.ndarray
-        The sampled designs, shape ``(samples, joints)`` / ``(samples, joints - 1)``.
-    residual_error, fluctuation, max_output_accel_rad_s2 : numpy.ndarray
-        Each sample's RE (dimensionless), peak-to-peak output over input speed
-        (dimensionless) and peak output acceleration (rad/s^2).
-    elapsed_s : float
-        Wall time, s.
-    files : tuple of pathlib.Path
-        Files written.
-    """
-
-    design: ShaftSeries
-    nominal: Evaluation
-    distribution: str
-    beta_tolerance_deg: tuple[float, ...]
-    phase_tolerance_deg: tuple[float, ...]
-    seed: int
-    input_speed_rpm: float
-    quadrature_samples: int
-    percentiles: tuple[float, ...]
-    beta_deg: np.ndarray
-    phase_deg: np.ndarray
-    residual_error: np.ndarray
-    fluctuation: np.ndarray
-    max_output_accel_rad_s2: np.ndarray
-    elapsed_s: float
-    files: tuple[Path, ...] = field(default=())
-
-    @property
-    def samples(self) -> int:
-        """Number of samples."""
-        return len(self.residual_error)
-
-    def percentile_table(self) -> dict[str, dict[float, float]]:
-        """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
-        return {metric: dict(zip(self.percentiles,
-                                 np.percentile(getattr(self, metric), self.percentiles).tolist()))
-                for metric in METRICS}
-
-    def summary(self) -> str:
-        """A few lines for the end of a run."""
-        lines = [f"tolerance: {self.samples} samples ({self.distribution}, seed {self.seed}) "
-                 f"in {self.elapsed_s:.2f} s"]
-        for metric, values in self.percentile_table().items():
-            cells = ", ".join(f"p{q:g} {value:.4g}" for q, value in values.items())
-            lines.append(f"  {metric}: nominal {getattr(self.nominal, metric):.4g}; {cells}")
-        return "\n".join(lines)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary: settings, nominal evaluation and percentiles.
-
-        The per-sample arrays are left out (``tolerance.csv`` holds them).
-        """
-        return {
-            "design": self.design.to_dict(),
-            "nominal": self.nominal.to_dict(),
-            "distribution": self.distribution,
-            "beta_tolerance_deg": list(self.beta_tolerance_deg),
-            "phase_tolerance_deg": list(self.phase_tolerance_deg),
-            "samples": self.samples,
-            "seed": self.seed,
-            "input_speed_rpm": self.input_speed_rpm,
-            "quadrature_samples": self.quadrature_samples,
-            "percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
-                            for metric, values in self.percentile_table().items()},
-            "mean": {metric: float(np.mean(getattr(self, metric))) for metric in METRICS},
-            "max": {metric: float(np.max(getattr(self, metric))) for metric in METRICS},
-            "elapsed_s": self.elapsed_s,
-            "files": [str(path) for path in self.files],
-        }
-
-
 def tolerance(
     design: Any,
     *,
@@ -179,7 +88,7 @@ def tolerance(
 
     Parameters
     ----------
-    design : sso.ShaftSeries, str, pathlib.Path, sso.io.case.Case or mapping
+    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.schema.Case or mapping
         The nominal design, or a case whose design (as given) is perturbed; a
         case also gives the input speed and, in its ``[tolerance]`` table, the
         defaults of the settings below.
@@ -353,7 +262,7 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float,
                                                          tuple[float, float], dict[str, Any]]:
     """The nominal series, input speed, quadrature tolerance and settings of ``design``."""
     if isinstance(design, ShaftSeries):
-        speed = 25.0 if input_speed_rpm is None else input_speed_rpm
+        speed = DEFAULT_INPUT_SPEED_RPM if input_speed_rpm is None else input_speed_rpm
         return (design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL),
                 {})
     from sso.batch.axes import base_case

@@ -2,7 +2,7 @@
 
 The functions here are top-level and take plain data, so a spawned process or a
 Dask worker can import and run them. Each process builds the CasADi NLP of a
-shape once (the per-thread cache of :mod:`sso.design.nlp`) and reuses it for
+shape once (the per-thread cache of :mod:`sso.solvers.nlp`) and reuses it for
 every point of that shape it is given.
 """
 
@@ -52,7 +52,7 @@ def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
     key and the allowed range). Never raises for a bad point: the error is
     recorded in the row's ``error`` column and its ``status`` is ``"failed"``.
     """
-    from sso.io.case import parse_case
+    from sso.cases.schema import parse_case
 
     started = time.perf_counter()
     row: dict[str, Any] = {"point": index, **point}
@@ -90,7 +90,7 @@ def _evaluate_row(case: Any) -> dict[str, Any]:
 
 
 def _optimise_row(case: Any) -> dict[str, Any]:
-    from sso.optimisation import optimise
+    from sso.shafts.optimise import optimise
 
     result = optimise(case.series(), case.option, **case.optimise_options())
     row = {

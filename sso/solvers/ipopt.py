@@ -48,7 +48,7 @@ def solve(
 
     Parameters
     ----------
-    nlp : sso.design.nlp.CompiledNLP
+    nlp : sso.solvers.nlp.CompiledNLP
         The cached problem graph.
     start, parameters : numpy.ndarray
         Start of the design vector and the fixed parameters (NLP units).

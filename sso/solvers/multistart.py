@@ -3,17 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
-from sso.solvers.solution import Solution
-
-if TYPE_CHECKING:
-    from sso.series import ShaftSeries
 from sso.solvers.saddle import solve_with_second_order_care
+from sso.solvers.solution import SeriesDesign, Solution
 
 
 @dataclass(frozen=True)
@@ -60,7 +57,7 @@ def run_starts(
 
     Parameters
     ----------
-    nlp : sso.design.nlp.CompiledNLP
+    nlp : sso.solvers.nlp.CompiledNLP
         The problem graph.
     points : numpy.ndarray
         Starts, shape ``(starts, len(x))``.
@@ -112,7 +109,7 @@ def solution_from_run(
     run: MeasuredRun,
     solver_runs: Sequence[MeasuredRun],
     x: Sequence[float] | None = None,
-    series: "ShaftSeries | None" = None,
+    series: SeriesDesign | None = None,
 ) -> Solution:
     """The :class:`sso.Solution` of one measured run.
 

@@ -54,7 +54,7 @@ def solve_with_second_order_care(
     ----------
     solve : callable
         One solver run from a start: ``solve(start) -> RunOutcome``.
-    nlp : sso.design.nlp.CompiledNLP
+    nlp : sso.solvers.nlp.CompiledNLP
         The problem graph (its exact gradient gives the Hessian).
     start, parameters : numpy.ndarray
         Start and fixed parameters (NLP units).

@@ -27,7 +27,7 @@ def solve(
 
     Parameters
     ----------
-    nlp : sso.design.nlp.CompiledNLP
+    nlp : sso.solvers.nlp.CompiledNLP
         The cached problem graph: its objective-and-gradient function, and its
         constraint-and-Jacobian function when ``limits`` has constraints.
     start, parameters : numpy.ndarray

@@ -3,10 +3,20 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol, Sequence
 
-if TYPE_CHECKING:
-    from sso.series import ShaftSeries
+
+class SeriesDesign(Protocol):
+    """What a solution needs of a shaft-series design (:class:`sso.ShaftSeries` is one).
+
+    A protocol, so the generic solvers do not import the shaft package above them.
+    """
+
+    @property
+    def beta_deg(self) -> Sequence[float]: ...
+
+    @property
+    def phase_deg(self) -> Sequence[float]: ...
 
 
 @dataclass(frozen=True)
@@ -51,7 +61,7 @@ class Solution:
     """
 
     solver: str
-    series: "ShaftSeries | None"
+    series: "SeriesDesign | None"
     x: tuple[float, ...]
     fun: float
     nit: int

@@ -1,5 +1,8 @@
 """The same work on a real Dask cluster (loopback, two worker processes) as locally."""
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -50,7 +53,8 @@ def test_a_tolerance_study_on_dask_gives_the_local_numbers_exactly(client):
 
 
 def test_sso_sweep_with_scheduler_runs_on_the_cluster(client, tmp_path):
-    from test_command import SWEEP, sso_command  # tests/batch is on sys.path under pytest
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "cli"))
+    from test_batch_commands import SWEEP, sso_command
 
     (tmp_path / "map.toml").write_text(SWEEP)
     on_dask = sso_command("sweep", "map.toml", "--scheduler", client.scheduler.address,

@@ -12,7 +12,7 @@ from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
 from sso.kinematics.fourbar import GRASHOF_CLASSES, grashof_class, solve_fourbar
-from sso.mechanisms import FourBar, MechanismTable
+from sso.linkages.mechanisms import FourBar, MechanismTable
 
 CRANKS = (2, 3, 4, 5)
 CRANK_SPEED = 5.0

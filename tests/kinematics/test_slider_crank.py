@@ -13,7 +13,11 @@ from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
 from sso.kinematics.slider_crank import solve_slider_crank
-from sso.mechanisms import MechanismTable, SliderCrank, slider_crank_method_difference
+from sso.linkages.mechanisms import (
+    MechanismTable,
+    SliderCrank,
+    slider_crank_method_difference,
+)
 
 ROD = 0.3
 CRANK_SPEED = 188.4  # exactly; README: 1800 rpm = 188.496 rad/s does not reproduce

@@ -1,0 +1,7 @@
+"""``python -m sso.cli``: the same as the ``sso`` command."""
+
+import sys
+
+from sso.cli import main
+
+sys.exit(main())

@@ -1,0 +1,108 @@
+"""``sso sweep`` and ``sso tolerance``: arguments and handlers for :mod:`sso.cli`.
+
+Only argparse is imported here at module level, so building the ``sso`` parser
+stays light; the handlers import the batch API and, with ``--scheduler``,
+dask.distributed. Exit codes and the default output folder are those of
+:mod:`sso.cli`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any, Callable
+
+
+def configure_sweep(parser: argparse.ArgumentParser) -> None:
+    """Arguments of ``sso sweep``."""
+    from sso.cli.common import DEFAULT_OUT
+
+    parser.add_argument("sweep", metavar="SWEEP.toml",
+                        help="sweep file: a base case, the [axes] to vary, the action")
+    parser.add_argument("--resume", action="store_true",
+                        help="complete the sweep already in DIR/<name>/: compute only its "
+                        "missing points")
+    _add_execution_arguments(parser, "write sweep.csv, sweep.json, report.md and the plot "
+                             f"into DIR/<sweep name>/ (default: {DEFAULT_OUT})")
+
+
+def configure_tolerance(parser: argparse.ArgumentParser) -> None:
+    """Arguments of ``sso tolerance``."""
+    from sso.cli.common import DEFAULT_OUT
+
+    parser.add_argument("case", metavar="CASE.toml",
+                        help="case file: its design is perturbed as its [tolerance] table says")
+    parser.add_argument("--samples", type=int, metavar="N",
+                        help="number of samples (default: the case's, or 10000)")
+    parser.add_argument("--seed", type=int, metavar="N",
+                        help="seed of the draw (default: the case's, or 0)")
+    _add_execution_arguments(parser, "write tolerance.csv/.json/.md and the histogram into "
+                             f"DIR/<case name>/ (default: {DEFAULT_OUT})")
+
+
+def run_sweep(args: argparse.Namespace) -> int:
+    """Run ``sso sweep``; exit 0 if every point finished (and converged), 1 if not, 2 bad input."""
+    from sso.batch.sweep import sweep
+    from sso.batch.sweep_file import load_sweep
+    from sso.cli.common import DEFAULT_OUT, EXIT_FAILED, EXIT_OK
+
+    def work(client: Any) -> int:
+        spec = load_sweep(args.sweep)
+        result = sweep(spec.base, spec.axes, mode=spec.mode, action=spec.action,
+                       out_dir=Path(args.out or DEFAULT_OUT) / spec.name, resume=args.resume,
+                       client=client, workers=args.workers, chunk_size=spec.chunk_size,
+                       progress=False if args.quiet else None, plots=not args.no_plots)
+        print(result.summary(), flush=True)
+        return EXIT_OK if result.success else EXIT_FAILED
+
+    return _with_client(args, args.sweep, work)
+
+
+def run_tolerance(args: argparse.Namespace) -> int:
+    """Run ``sso tolerance``; exit 0 on success, 2 for bad input."""
+    from sso.batch.axes import base_case
+    from sso.batch.tolerance import tolerance
+    from sso.cli.common import DEFAULT_OUT, EXIT_OK
+
+    def work(client: Any) -> int:
+        case = base_case(args.case)
+        result = tolerance(case, samples=args.samples, seed=args.seed,
+                           out_dir=Path(args.out or DEFAULT_OUT) / case.name, client=client,
+                           workers=args.workers, progress=False if args.quiet else None,
+                           plots=not args.no_plots)
+        print(result.summary(), flush=True)
+        return EXIT_OK
+
+    return _with_client(args, args.case, work)
+
+
+def _add_execution_arguments(parser: argparse.ArgumentParser, out_help: str) -> None:
+    parser.add_argument("--out", metavar="DIR", help=out_help)
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run on the Dask cluster whose scheduler is at ADDRESS "
+                        "(e.g. tcp://10.0.0.5:8786) instead of local processes")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="local processes (default: every core; 1 runs in this process)")
+    parser.add_argument("--no-plots", action="store_true",
+                        help="write no plots (matplotlib is not even imported)")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress bar; print only errors and the closing summary")
+
+
+def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], int]) -> int:
+    """Connect to ``--scheduler`` if given, run ``work``, report bad input as exit 2."""
+    from sso.batch.execution import connect
+    from sso.cli.common import EXIT_BAD_INPUT
+
+    client = None
+    try:
+        if args.scheduler:
+            client = connect(args.scheduler)
+        return work(client)
+    except (ValueError, OSError) as error:
+        print(f"error: {source}: {error}", file=sys.stderr, flush=True)
+        return EXIT_BAD_INPUT
+    finally:
+        if client is not None:
+            client.close()

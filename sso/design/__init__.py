@@ -1,1 +1,0 @@
-"""Design problems: options, bounds, starts, the objective and its CasADi NLP."""

@@ -1,0 +1,60 @@
+"""``report.html``: the report blocks as one self-contained HTML page.
+
+Images are embedded as base64 data URIs; every string is passed through
+:func:`html.escape`.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from typing import Mapping, Sequence
+
+from sso.reports.summary import Block, Heading, Image, Paragraph, Table
+
+STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; padding: 0 1rem;
+       color: #222; }
+table { border-collapse: collapse; margin: 0.5rem 0 1rem; }
+th, td { border: 1px solid #bbb; padding: 0.25rem 0.6rem; text-align: left; vertical-align: top; }
+th { background: #eee; }
+td { font-variant-numeric: tabular-nums; }
+figure { margin: 1rem 0; }
+img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+"""
+
+
+def render_html(blocks: Sequence[Block], images: Mapping[str, bytes]) -> str:
+    """HTML text of the report.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The report content.
+    images : mapping of str to bytes
+        PNG bytes of each image block's file.
+    """
+    title = next((block.text for block in blocks if isinstance(block, Heading)), "SSO report")
+    body = []
+    for block in blocks:
+        if isinstance(block, Heading):
+            body.append(f"<h{block.level}>{_escape(block.text)}</h{block.level}>")
+        elif isinstance(block, Paragraph):
+            body.append(f"<p>{_escape(block.text)}</p>")
+        elif isinstance(block, Table):
+            header = "".join(f"<th>{_escape(cell)}</th>" for cell in block.header)
+            rows = "".join("<tr>" + "".join(f"<td>{_escape(cell)}</td>" for cell in row) + "</tr>"
+                           for row in block.rows)
+            body.append(f"<table><thead><tr>{header}</tr></thead><tbody>{rows}</tbody></table>")
+        elif isinstance(block, Image):
+            data = base64.b64encode(images[block.file_name]).decode("ascii")
+            body.append(f'<figure><img src="data:image/png;base64,{data}" '
+                        f'alt="{_escape(block.caption)}"><figcaption>{_escape(block.caption)}'
+                        "</figcaption></figure>")
+    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{_escape(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
+            + "\n".join(body) + "\n</body>\n</html>\n")
+
+
+def _escape(text: str) -> str:
+    return html.escape(text, quote=True)

@@ -1,0 +1,373 @@
+"""Plots of a mechanism result: link positions, coupler curve, motion against crank angle.
+
+Curves are recomputed from the result document alone (its case and linkages) at
+:data:`CURVE_STEP_DEG`; the tabulated crank angles are marked on them. matplotlib
+is imported inside :func:`render_mechanism_plots` only (through
+:func:`sso.reports.plots._new_figure`), so a run without plots never loads it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from sso.cases.mechanism import MechanismCase, angle_grid
+from sso.limits import TRANSMISSION_BAND_DEG
+from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.table import MechanismTable
+from sso.reports.plots import _new_figure, _png
+from sso.run.mechanism_document import (
+    analysis_table,
+    case_from_document,
+    mechanism_from_dict,
+    revolution_stop_deg,
+)
+
+CURVE_STEP_DEG = 1.0
+LINK_COLOURS = {"crank": "#d62728", "coupler": "#1f77b4", "rocker": "#2ca02c",
+                "rod": "#1f77b4", "slider_link": "#9467bd"}
+COLUMN_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#d62728")
+ROLE_LINESTYLES = {"given": "-", "initial": "--", "optimum": "-"}
+ROLE_LABELS = {"given": "", "initial": "initial", "optimum": "optimum"}
+BAND_COLOUR = "#2ca02c"
+BAND_TOLERANCE_DEG = 1e-6
+"""An optimum on its bound is inside the band up to the solver's tolerance."""
+
+
+@dataclass(frozen=True)
+class Curves:
+    """One linkage's tables: dense for lines, as tabulated for markers."""
+
+    mechanism: FourBar | SliderCrank | QuickReturn
+    dense: MechanismTable
+    tabulated: MechanismTable
+
+
+# (file name, title, panels); a panel is (y label with {length} for the unit, columns)
+# and a column is (table column, legend label).
+SERIES_PLOTS: dict[str, tuple[tuple[str, str, tuple], ...]] = {
+    "FourBar": (
+        ("angular_motion.png", "coupler and rocker angular velocity and acceleration", (
+            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler"),
+                                          ("rocker_angular_velocity_rad_s", "rocker"))),
+            ("angular acceleration (rad/s$^2$)", (("coupler_angular_accel_rad_s2", "coupler"),
+                                                  ("rocker_angular_accel_rad_s2", "rocker"))))),
+    ),
+    "SliderCrank": (
+        ("piston_motion.png", "piston velocity and acceleration, exact vs series (Holowenko)", (
+            ("piston velocity ({length}/s)", (("piston_velocity", "exact"),
+                                              ("piston_velocity_approximate",
+                                               "series approximation", "--"))),
+            ("velocity, series - exact\n({length}/s)",
+             (("piston_velocity_approximate-piston_velocity", "series - exact"),)),
+            ("piston acceleration ({length}/s$^2$)", (("piston_accel", "exact"),
+                                                      ("piston_accel_approximate",
+                                                       "series approximation", "--"))),
+            ("acceleration, series - exact\n({length}/s$^2$)",
+             (("piston_accel_approximate-piston_accel", "series - exact"),)))),
+        ("rod_motion.png", "connecting-rod angle, angular velocity and acceleration", (
+            ("rod angle (deg)", (("rod_angle_deg", "rod A->B"),)),
+            ("angular velocity (rad/s)", (("rod_angular_velocity_rad_s", "rod"),)),
+            ("angular acceleration (rad/s$^2$)", (("rod_angular_accel_rad_s2", "rod"),)))),
+    ),
+    "QuickReturn": (
+        ("angular_motion.png", "angular velocity and acceleration of the links", (
+            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler AB"),
+                                          ("rocker_angular_velocity_rad_s", "rocker O4B"),
+                                          ("slider_link_angular_velocity_rad_s",
+                                           "slider link BC"))),
+            ("angular acceleration (rad/s$^2$)", (
+                ("coupler_angular_accel_rad_s2", "coupler AB"),
+                ("rocker_angular_accel_rad_s2", "rocker O4B"),
+                ("slider_link_angular_accel_rad_s2", "slider link BC"))))),
+        ("slider_motion.png", "slider C and joint B: position, velocity, acceleration", (
+            ("slider position x$_C$ ({length})", (("joint_c_x", "slider C"),)),
+            ("velocity ({length}/s)", (("joint_c_velocity_x", "slider C, along x"),
+                                       ("joint_b_speed", "joint B, magnitude"))),
+            ("acceleration ({length}/s$^2$)", (("joint_c_accel_x", "slider C, along x"),
+                                               ("joint_b_accel_magnitude",
+                                                "joint B, magnitude"))))),
+    ),
+}
+
+
+def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
+    """PNG images of a mechanism result, keyed by file name.
+
+    Parameters
+    ----------
+    document : mapping
+        A mechanism result document (:mod:`sso.run.mechanism_document`).
+
+    Returns
+    -------
+    dict of str to bytes
+        ``linkage.png`` and, by mechanism, ``angular_motion.png`` and
+        ``transmission_angle.png`` (four-bar, quick-return), ``piston_motion.png``
+        and ``rod_motion.png`` (slider-crank), ``slider_motion.png`` (quick-return).
+    """
+    case = case_from_document(document)
+    curves = {role: _curves(document, case, role) for role in document["linkages"]}
+    kind = next(iter(curves.values())).mechanism.__class__.__name__
+    images = {"linkage.png": _linkage_plot(document, case, curves)}
+    for file_name, title, panels in SERIES_PLOTS[kind]:
+        images[file_name] = _series_plot(document, curves, title, panels)
+    if kind in ("FourBar", "QuickReturn"):
+        images["transmission_angle.png"] = _transmission_plot(document, case, curves)
+    return images
+
+
+def _curves(document: Mapping[str, Any], case: MechanismCase, role: str) -> Curves:
+    mechanism = mechanism_from_dict(document["linkages"][role])
+    dense = analysis_table(mechanism, case, angle_grid(case.values["drive.start_deg"],
+                                                       revolution_stop_deg(case), CURVE_STEP_DEG),
+                           "mark")
+    return Curves(mechanism, dense, MechanismTable.from_dict(document["tables"][role]))
+
+
+def _column(table: MechanismTable, column: str) -> np.ndarray | None:
+    """A column, or ``"left-right"``: the difference of two columns; None if absent."""
+    names = column.split("-")
+    if any(name not in table.columns for name in names):
+        return None
+    values = np.asarray(table[names[0]], dtype=float)
+    return values - np.asarray(table[names[1]], dtype=float) if len(names) == 2 else values
+
+
+def _unit(document: Mapping[str, Any]) -> str:
+    return document["length_unit"]
+
+
+def _title(document: Mapping[str, Any], what: str) -> str:
+    speed = f"crank {document['crank_speed_rad_s']:g} rad/s"
+    if document["crank_accel_rad_s2"]:
+        speed += f", {document['crank_accel_rad_s2']:g} rad/s$^2$"
+    return f"{document['case']['name']}: {what}\n{_linkage_text(document)}\n{speed}"
+
+
+def _linkage_text(document: Mapping[str, Any]) -> str:
+    parts = []
+    for role, entry in document["linkages"].items():
+        lengths = ", ".join(f"{name} {value:.4g}" for name, value in entry["parameters"].items()
+                            if not isinstance(value, str))
+        prefix = f"{ROLE_LABELS[role]}: " if ROLE_LABELS[role] else ""
+        parts.append(f"{prefix}{lengths} ({_unit(document)})")
+    return "\n".join(parts)
+
+
+def _role_label(role: str, label: str) -> str:
+    return f"{label} ({ROLE_LABELS[role]})" if ROLE_LABELS[role] else label
+
+
+def _angle_axis(axes: Any, case: MechanismCase) -> None:
+    start, stop = case.values["drive.start_deg"], revolution_stop_deg(case)
+    axes.set_xlabel("crank angle (deg, counter-clockwise from +x)")
+    axes.set_xlim(start, stop)
+    span = stop - start
+    step = 45.0 if span > 180 else 30.0 if span > 60 else max(span / 6.0, 1.0)
+    axes.set_xticks(np.arange(start, stop + 1e-9, step))
+
+
+def _series_plot(document: Mapping[str, Any], curves: Mapping[str, Curves], title: str,
+                 panels: tuple) -> bytes:
+    figure = _new_figure()
+    if len(panels) > 3:
+        figure.set_size_inches(figure.get_size_inches()[0], 9.0)
+    axes_list = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    case = case_from_document(document)
+    for axes, (y_label, columns) in zip(axes_list, panels):
+        for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns):
+            for role, curve in curves.items():
+                dense, tabulated = _column(curve.dense, column), _column(curve.tabulated, column)
+                if dense is None:
+                    continue
+                axes.plot(curve.dense["crank_angle_deg"], dense, color=colour,
+                          linestyle=linestyle[0] if linestyle else ROLE_LINESTYLES[role],
+                          linewidth=1.8, label=_role_label(role, label))
+                axes.plot(curve.tabulated["crank_angle_deg"], tabulated, "o", color=colour,
+                          markersize=3.5)
+        axes.set_ylabel(y_label.format(length=_unit(document)))
+        low, high = axes.get_ylim()
+        if low < 0.0 < high:
+            axes.axhline(0.0, color="black", linewidth=0.6)
+        axes.grid(True, alpha=0.4)
+        axes.legend(loc="best", fontsize="small", framealpha=0.9)
+    axes_list[0].set_title(_title(document, title) + "\nlines: every 1 deg; dots: the table's "
+                           "crank angles", fontsize="medium")
+    _angle_axis(axes_list[-1], case)
+    figure.tight_layout()
+    return _png(figure)
+
+
+def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
+                       curves: Mapping[str, Curves]) -> bytes:
+    figure = _new_figure()
+    axes = figure.subplots(1, 1)
+    low, high = (case.values["bounds.transmission_angle_deg"]
+                 if "bounds.transmission_angle_deg" in case.values
+                 else TRANSMISSION_BAND_DEG)
+    axes.axhspan(low, high, color=BAND_COLOUR, alpha=0.15,
+                 label=f"recommended band [{low:g}, {high:g}] deg")
+    for bound in (low, high):
+        axes.axhline(bound, color=BAND_COLOUR, linewidth=1.0)
+    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items()):
+        angle = curve.dense["crank_angle_deg"]
+        values = curve.dense["transmission_angle_deg"]
+        lowest = int(np.nanargmin(values))
+        highest = int(np.nanargmax(values))
+        label = (f"transmission angle: min {values[lowest]:.2f} deg (crank {angle[lowest]:g} "
+                 f"deg), max {values[highest]:.2f} deg (crank {angle[highest]:g} deg)")
+        axes.plot(angle, values, color=colour, linestyle=ROLE_LINESTYLES[role], linewidth=2.0,
+                  label=_role_label(role, label))
+        axes.plot(curve.tabulated["crank_angle_deg"], curve.tabulated["transmission_angle_deg"],
+                  "o", color=colour, markersize=3.5)
+        outside = (values < low - BAND_TOLERANCE_DEG) | (values > high + BAND_TOLERANCE_DEG)
+        if outside.any():
+            axes.plot(angle[outside], values[outside], ".", color="#d62728", markersize=3,
+                      label=_role_label(role, "outside the band"))
+    axes.set_ylim(0.0, 180.0)
+    axes.set_yticks(np.arange(0.0, 181.0, 20.0))
+    axes.set_ylabel("transmission angle at B (deg)")
+    axes.set_title(_title(document, "transmission angle over the crank revolution"),
+                   fontsize="medium")
+    axes.grid(True, alpha=0.4)
+    axes.legend(loc="upper right", fontsize="small", framealpha=0.9)
+    _angle_axis(axes, case)
+    figure.tight_layout()
+    return _png(figure)
+
+
+# ---------------------------------------------------------------- link positions
+
+def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
+                  curves: Mapping[str, Curves]) -> bytes:
+    figure = _new_figure()
+    axes_list = figure.subplots(1, len(curves), squeeze=False)[0]
+    plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
+    for axes, (role, curve) in zip(axes_list, curves.items()):
+        snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
+        if isinstance(curve.mechanism, SliderCrank):
+            _draw_slider_crank(axes, curve, snapshots)
+        else:
+            _draw_fourbar_like(axes, curve, snapshots)
+        for index, angle in enumerate(plotted):
+            if _assembled(snapshots, index):
+                axes.annotate(f"{angle:g}°", (snapshots["joint_a_x"][index],
+                                               snapshots["joint_a_y"][index]),
+                              textcoords="offset points", xytext=(4, 4), fontsize="x-small",
+                              color=LINK_COLOURS["crank"])
+        axes.set_aspect("equal", adjustable="datalim")
+        axes.grid(True, alpha=0.3)
+        axes.set_xlabel(f"x ({_unit(document)})")
+        axes.set_ylabel(f"y ({_unit(document)})")
+        heading = f"{ROLE_LABELS[role]} linkage" if ROLE_LABELS[role] else "linkage"
+        swing = document["linkages"][role].get("swing_deg")
+        swing_text = f"\nrocker swing {swing:.2f} deg" if swing is not None else ""
+        axes.set_title(f"{heading}: {_lengths(curve.mechanism)}{swing_text}", fontsize="small")
+    figure.legend(*axes_list[0].get_legend_handles_labels(), loc="lower center", ncol=5,
+                  fontsize="small", framealpha=0.9)
+    angles_text = ", ".join(f"{angle:g}" for angle in plotted)
+    figure.suptitle(f"{document['case']['name']}: link positions at crank angles "
+                    f"{angles_text} deg (fading with angle)", fontsize="medium")
+    figure.tight_layout(rect=(0.0, 0.09, 1.0, 1.0))
+    return _png(figure)
+
+
+def _lengths(mechanism: FourBar | SliderCrank | QuickReturn) -> str:
+    return ", ".join(f"{name} {value:.4g}" for name, value in vars(mechanism).items()
+                     if not isinstance(value, str))
+
+
+def _assembled(table: MechanismTable, index: int) -> bool:
+    return bool(np.isfinite(table["joint_a_x"][index]) and np.isfinite(
+        table["piston_position"][index] if "piston_position" in table.columns
+        else table["joint_b_x"][index]))
+
+
+def _alphas(count: int) -> np.ndarray:
+    return np.linspace(1.0, 0.35, count) if count > 1 else np.ones(1)
+
+
+def _draw_link(axes: Any, start: complex, end: complex, name: str, alpha: float,
+               label: str | None) -> None:
+    axes.plot([start.real, end.real], [start.imag, end.imag], "-o", color=LINK_COLOURS[name],
+              alpha=alpha, linewidth=2.2, markersize=4, label=label)
+
+
+def _draw_pivot(axes: Any, point: complex, label: str) -> None:
+    axes.plot(point.real, point.imag, "^", color="black", markersize=11)
+    axes.annotate(label, (point.real, point.imag), textcoords="offset points",
+                  xytext=(0, -16), ha="center", fontsize="small")
+
+
+def _point(table: MechanismTable, joint: str, index: int) -> complex:
+    return complex(table[f"{joint}_x"][index], table[f"{joint}_y"][index])
+
+
+def _draw_fourbar_like(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+    mechanism = curve.mechanism
+    quick_return = isinstance(mechanism, QuickReturn)
+    ground_pivot = complex(mechanism.ground, 0.0)
+    _draw_pivot(axes, 0j, "O$_2$" if quick_return else "O$_A$")
+    _draw_pivot(axes, ground_pivot, "O$_4$" if quick_return else "O$_B$")
+    axes.plot([0.0, mechanism.ground], [0.0, 0.0], color="black", linewidth=0.8,
+              linestyle=":", label=f"ground {mechanism.ground:.4g}")
+    dense = curve.dense
+    axes.plot(dense["joint_a_x"], dense["joint_a_y"], color="grey", linewidth=0.8,
+              linestyle="--", label="path of A")
+    axes.plot(dense["joint_b_x"], dense["joint_b_y"], color="grey", linewidth=0.8,
+              linestyle="-.", label="path of B")
+    if "coupler_point_x" in dense.columns:
+        axes.plot(dense["coupler_point_x"], dense["coupler_point_y"], color="#ff7f0e",
+                  linewidth=2.0, label="coupler curve (path of coupler point P)")
+    if quick_return:
+        axes.axhline(0.0, color="black", linewidth=0.8, label="slider line y = 0")
+    for index, alpha in enumerate(_alphas(len(snapshots))):
+        if not _assembled(snapshots, index):
+            continue
+        first = index == 0
+        joint_a, joint_b = _point(snapshots, "joint_a", index), _point(snapshots, "joint_b", index)
+        _draw_link(axes, 0j, joint_a, "crank", alpha, "crank" if first else None)
+        _draw_link(axes, joint_a, joint_b, "coupler", alpha, "coupler" if first else None)
+        _draw_link(axes, ground_pivot, joint_b, "rocker", alpha, "rocker" if first else None)
+        if "coupler_point_x" in snapshots.columns:
+            point = _point(snapshots, "coupler_point", index)
+            axes.fill([joint_a.real, point.real, joint_b.real],
+                      [joint_a.imag, point.imag, joint_b.imag], color=LINK_COLOURS["coupler"],
+                      alpha=0.12 * alpha)
+            axes.plot(point.real, point.imag, "s", color="#ff7f0e", alpha=alpha, markersize=5,
+                      label="coupler point P" if first else None)
+        if quick_return:
+            joint_c = _point(snapshots, "joint_c", index)
+            _draw_link(axes, joint_b, joint_c, "slider_link", alpha,
+                       "slider link BC" if first else None)
+            _draw_block(axes, joint_c, 0.06 * mechanism.slider_link, alpha, first)
+
+
+def _draw_block(axes: Any, centre: complex, size: float, alpha: float, first: bool) -> None:
+    from matplotlib.patches import Rectangle
+
+    axes.add_patch(Rectangle((centre.real - size, centre.imag - 0.5 * size), 2 * size, size,
+                             facecolor="#bbbbbb", edgecolor="black", alpha=alpha,
+                             label="slider" if first else None))
+
+
+def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+    mechanism = curve.mechanism
+    _draw_pivot(axes, 0j, "O")
+    axes.axhline(mechanism.offset, color="black", linewidth=0.8,
+                 label=f"slider line y = {mechanism.offset:g}")
+    dense = curve.dense
+    axes.plot(dense["joint_a_x"], dense["joint_a_y"], color="grey", linewidth=0.8,
+              linestyle="--", label="path of A")
+    for index, alpha in enumerate(_alphas(len(snapshots))):
+        if not _assembled(snapshots, index):
+            continue
+        first = index == 0
+        joint_a = _point(snapshots, "joint_a", index)
+        piston = complex(snapshots["piston_position"][index], mechanism.offset)
+        _draw_link(axes, 0j, joint_a, "crank", alpha, "crank" if first else None)
+        _draw_link(axes, joint_a, piston, "rod", alpha, "connecting rod" if first else None)
+        _draw_block(axes, piston, 0.06 * mechanism.rod, alpha, first)

@@ -1,0 +1,222 @@
+"""Report files of a mechanism result: ``table.csv``, ``report.md``/``.html`` and plots.
+
+Rendered from the result document alone (:mod:`sso.run.mechanism_document`), with
+the same Markdown and HTML writers as the shaft series, so both reports say the
+same thing and every string is escaped for its format.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping, Sequence
+
+from sso.linkages.table import MechanismTable
+from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
+
+TABLE_FILE = "table.csv"
+# Columns shown in the report's table, by mechanism type (every column is in the CSV).
+REPORT_COLUMNS = {
+    "FourBar": ("crank_angle_deg", "coupler_angle_deg", "rocker_angle_deg",
+                "transmission_angle_deg", "joint_a_x", "joint_a_y", "joint_b_x", "joint_b_y",
+                "coupler_angular_velocity_rad_s", "rocker_angular_velocity_rad_s",
+                "coupler_angular_accel_rad_s2", "rocker_angular_accel_rad_s2"),
+    "SliderCrank": ("crank_angle_deg", "rod_angle_deg", "piston_position",
+                    "rod_angular_velocity_rad_s", "rod_angular_accel_rad_s2", "piston_velocity",
+                    "piston_velocity_approximate", "piston_accel", "piston_accel_approximate"),
+    "QuickReturn": ("crank_angle_deg", "joint_a_x", "joint_a_y", "joint_b_x", "joint_b_y",
+                    "joint_c_x", "joint_b_speed", "joint_c_velocity_x", "joint_b_accel_magnitude",
+                    "joint_c_accel_x", "rocker_angular_velocity_rad_s"),
+}
+CAPTIONS = {
+    "linkage.png": "Link positions at the case's plot angles (plots.crank_angles_deg), with "
+                   "the paths of the joints and, for a four-bar, the coupler curve.",
+    "angular_motion.png": "Angular velocities and accelerations of the links against crank "
+                          "angle.",
+    "transmission_angle.png": "Transmission angle against crank angle; the shaded band is the "
+                              "recommended (or, for a design, the imposed) range.",
+    "piston_motion.png": "Piston velocity and acceleration against crank angle: exact and the "
+                         "two-term series approximation.",
+    "rod_motion.png": "Connecting-rod angle, angular velocity and angular acceleration against "
+                      "crank angle.",
+    "slider_motion.png": "Slider C position, velocity and acceleration, and the speed and "
+                         "acceleration magnitude of joint B, against crank angle.",
+}
+ROLE_NAMES = {"given": "linkage", "initial": "initial linkage", "optimum": "optimum linkage"}
+
+
+def table_files(document: Mapping[str, Any]) -> dict[str, str]:
+    """CSV text of each table: ``table.csv`` for the main linkage (the optimum of a
+    design), ``table_<role>.csv`` for the others."""
+    roles = list(document["tables"])
+    main = "optimum" if "optimum" in roles else roles[0]
+    return {(TABLE_FILE if role == main else f"table_{role}.csv"):
+            MechanismTable.from_dict(document["tables"][role]).csv_text() for role in roles}
+
+
+def unit_text(unit: str, length_unit: str) -> str:
+    """A table unit with ``length`` replaced by the case's length unit."""
+    return unit.replace("length", length_unit)
+
+
+def mechanism_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> list[Block]:
+    """Blocks of the whole report of a mechanism result.
+
+    Parameters
+    ----------
+    document : mapping
+        A mechanism result document.
+    image_files : sequence of str
+        Plot files written beside the report (empty when plots are off).
+    """
+    case = document["case"]
+    blocks: list[Block] = [Heading(1, f"SSO report: {case['name']}")]
+    if case.get("description"):
+        blocks.append(Paragraph(case["description"]))
+    status = "OK" if document["success"] else "FAILED"
+    blocks += [_case_table(document), Heading(2, "Verdict"),
+               Paragraph(f"{status}: {document['verdict']}"),
+               Heading(2, "Linkage"), _linkage_table(document)]
+    for role in document["extremes"]:
+        blocks += [Heading(2, f"Extremes over the crank revolution ({ROLE_NAMES[role]})"),
+                   Paragraph("Sampled every 0.1 deg of crank angle over a whole revolution "
+                             "from the case's start, so these are the true extremes, not the "
+                             "table's grid values."),
+                   _extremes_table(document, role)]
+    if "method_difference" in document:
+        blocks += [Heading(2, "Exact vs series piston motion (the paper's Tabel 2)"),
+                   Paragraph("Mean over the table's crank angles of |exact - series| / |exact| "
+                             "* 100, rows where both are zero counted as 0, with the correct "
+                             "formulas. The paper's Tabel 2 prints 8.25/12.76/17.78 % (velocity) "
+                             "and 0.50/2.34/19.91 % (acceleration) for r2 = 0.05/0.075/0.10 m: "
+                             "those follow from its defective trig velocity and complex alpha3."),
+                   _method_difference_table(document)]
+    if "design" in document:
+        blocks += [Heading(2, "Solvers"), _solver_table(document), Heading(2, "Cross-check"),
+                   Paragraph(_crosscheck_text(document))]
+    for role in document["tables"]:
+        blocks += [Heading(2, f"Table ({ROLE_NAMES[role]}; every column is in the CSV)"),
+                   _rows_table(document, role)]
+    if document["warnings"]:
+        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
+    blocks.append(Heading(2, "Plots"))
+    if image_files:
+        blocks += [Image(name, CAPTIONS[name]) for name in image_files]
+    else:
+        blocks.append(Paragraph("Plots were not written (png not among the formats)."))
+    blocks += [Heading(2, "Versions"),
+               Table(("package", "version"), tuple((name, str(version)) for name, version
+                                                   in document["versions"].items()))]
+    return blocks
+
+
+def _case_table(document: Mapping[str, Any]) -> Table:
+    case = document["case"]
+    drive = case["drive"]
+    rows = [("case file", str(document["case_file"])), ("kind", document["kind"]),
+            ("run", {"analyse": "analysis", "optimise": "design optimisation",
+                     "evaluate": "analysis of the start linkage only"}[document["mode"]]),
+            ("length unit", document["length_unit"]),
+            ("crank speed (rad/s)", number(document["crank_speed_rad_s"])),
+            ("crank acceleration (rad/s^2)", number(document["crank_accel_rad_s2"])),
+            ("crank angles (deg)", f"{number(drive['start_deg'])} to {number(drive['stop_deg'])} "
+                                   f"step {number(drive['step_deg'])}"),
+            ("unassembled angles", drive["on_unassembled"])]
+    if "coupler_point" in case.get("plots", {}):
+        along, across = case["plots"]["coupler_point"]
+        rows.append(("coupler point P (coupler lengths along A->B, left of it)",
+                     f"{number(along)}, {number(across)}"))
+    if "bounds" in case:
+        unit = document["length_unit"]
+        rows += [(f"{name} bounds ({unit})", f"[{number(low)}, {number(high)}]")
+                 for name, (low, high) in case["bounds"].items()
+                 if name != "transmission_angle_deg"]
+        low, high = case["bounds"]["transmission_angle_deg"]
+        rows.append(("transmission angle bounds (deg)", f"[{number(low)}, {number(high)}]"))
+        solver = case["solver"]
+        rows += [("solvers", ", ".join(solver["solvers"])),
+                 ("starts per solver", str(solver["starts"])),
+                 ("solver tolerance", number(solver["tolerance"], "g"))]
+    rows.append(("created (UTC)", document["created_utc"]))
+    return Table(("item", "value"), tuple(rows))
+
+
+def _linkage_table(document: Mapping[str, Any]) -> Table:
+    linkages = document["linkages"]
+    roles = list(linkages)
+    first = linkages[roles[0]]
+    unit = document["length_unit"]
+    rows = []
+    for name, value in first["parameters"].items():
+        suffix = "" if isinstance(value, str) else f" ({unit})"
+        rows.append((f"{name}{suffix}", *[_cell(linkages[role]["parameters"][name])
+                                          for role in roles]))
+    if "grashof" in first:
+        rows.append(("Grashof class", *[linkages[role]["grashof"] for role in roles]))
+        rows.append(("rocker swing (deg)", *[number(linkages[role]["swing_deg"], ".6g")
+                                             for role in roles]))
+    return Table(("parameter", *[ROLE_NAMES[role] for role in roles]), tuple(rows))
+
+
+def _cell(value: Any) -> str:
+    return value if isinstance(value, str) else number(value, ".8g")
+
+
+def _extremes_table(document: Mapping[str, Any], role: str) -> Table:
+    rows = tuple((f"{row['column']} ({unit_text(row['unit'], document['length_unit'])})",
+                  number(row["min"], ".6g"), number(row["min_at_deg"], ".4g"),
+                  number(row["max"], ".6g"), number(row["max_at_deg"], ".4g"))
+                 for row in document["extremes"][role])
+    return Table(("quantity", "min", "at crank angle (deg)", "max", "at crank angle (deg)"),
+                 rows)
+
+
+def _method_difference_table(document: Mapping[str, Any]) -> Table:
+    columns = document["method_difference"]["columns"]
+    unit = document["length_unit"]
+    rows = tuple((number(crank, ".6g"), number(rod, ".6g"), number(velocity, ".2f"),
+                  number(accel, ".2f"))
+                 for crank, rod, velocity, accel in zip(
+                     columns["crank"], columns["rod"], columns["velocity_difference_pct"],
+                     columns["acceleration_difference_pct"]))
+    return Table((f"crank ({unit})", f"rod ({unit})", "velocity difference (%)",
+                  "acceleration difference (%)"), rows)
+
+
+def _solver_table(document: Mapping[str, Any]) -> Table:
+    rows = tuple((name, "yes" if solution["success"] else "no", solution["message"],
+                  number(-math.degrees(solution["fun"]), ".8g"),
+                  number(solution["kkt"], ".2g"), number(solution["constraint_violation"], ".2g"),
+                  str(solution["nit"]), number(solution["time_s"], ".3f"),
+                  str(solution["start_index"]))
+                 for name, solution in document["design"]["solutions"].items())
+    return Table(("solver", "success", "message", "rocker swing (deg)", "KKT residual",
+                  "constraint violation", "iterations", "time (s)", "start"), rows)
+
+
+def _crosscheck_text(document: Mapping[str, Any]) -> str:
+    check = document["design"]["crosscheck"]
+    verdict = "one solver: no cross-check" if check is None else check["message"]
+    swings = ", ".join(number(-math.degrees(value), ".6g")
+                       for value in document["design"]["local_minima"])
+    return (f"{verdict}. Objective: minus the rocker swing (rad). Distinct swings (deg) the "
+            f"successful runs stopped at: {swings or 'none'}.")
+
+
+def _rows_table(document: Mapping[str, Any], role: str) -> Table:
+    table = document["tables"][role]
+    linkage_type = document["linkages"][role]["type"]
+    columns = [name for name in REPORT_COLUMNS[linkage_type] if name in table["columns"]]
+    if "assembled" in table["columns"]:
+        columns.append("assembled")
+    header = tuple(f"{name} ({unit_text(table['units'][name], document['length_unit'])})"
+                   if table["units"][name] in ("length", "length/s", "length/s^2") else name
+                   for name in columns)
+    rows = tuple(tuple(_table_cell(table["columns"][name][index]) for name in columns)
+                 for index in range(len(table["columns"]["crank_angle_deg"])))
+    return Table(header, rows)
+
+
+def _table_cell(value: Any) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    return number(value, ".6g")

@@ -1,0 +1,142 @@
+"""``polar.png`` and ``cartesian.png``: input and output speed over one revolution.
+
+matplotlib is imported inside :func:`render_plots` only (Agg canvas, no pyplot
+state), so a run without plots never loads it.
+"""
+
+from __future__ import annotations
+
+import io
+from typing import Any, Mapping
+
+import numpy as np
+
+from sso.reports.curves import SpeedCurves, speed_curves
+
+WIDTH_PX = 1000
+HEIGHT_PX = 700
+DPI = 100
+STYLES = {
+    "initial": {"color": "#d62728", "linestyle": "-", "linewidth": 2.0},
+    "optimum": {"color": "#1f77b4", "linestyle": "-", "linewidth": 2.4},
+    "reference": {"color": "#2ca02c", "linestyle": "-.", "linewidth": 2.0},
+}
+INPUT_STYLE = {"color": "black", "linestyle": "--", "linewidth": 1.2, "zorder": 3}
+# A peak-to-peak speed deviation below this fraction of the input speed is round-off:
+# plotting it would show noise that differs from machine to machine.
+ROUND_OFF = 1e-9
+
+
+def render_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
+    """PNG images of the speed curves, keyed by file name.
+
+    Parameters
+    ----------
+    document : mapping
+        A result document (:mod:`sso.run.document`).
+
+    Returns
+    -------
+    dict of str to bytes
+        ``"polar.png"`` and ``"cartesian.png"``, each ``WIDTH_PX`` x ``HEIGHT_PX``.
+    """
+    curves = speed_curves(document)
+    return {"polar.png": _polar(document, curves), "cartesian.png": _cartesian(document, curves)}
+
+
+def _new_figure() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(WIDTH_PX / DPI, HEIGHT_PX / DPI), dpi=DPI)
+
+
+def _png(figure: Any) -> bytes:
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=DPI)
+    return buffer.getvalue()
+
+
+def _title(document: Mapping[str, Any], what: str) -> str:
+    return (f"{document['case']['name']}: {what}\n"
+            f"{document['model']} model, option {document['option']} "
+            f"({document['option_name']}), input {document['input_speed_rpm']:g} rpm")
+
+
+def _legend_label(document: Mapping[str, Any], role: str, curves: SpeedCurves) -> str:
+    evaluation = document["designs"][role]["evaluation"]
+    return (f"{curves.labels[role]}: {evaluation['speed_min_rpm']:.4g} to "
+            f"{evaluation['speed_max_rpm']:.4g} rpm, RE {evaluation['residual_error']:.3g}")
+
+
+def _plot_speeds(axes: Any, angle: np.ndarray, document: Mapping[str, Any],
+                 curves: SpeedCurves) -> tuple[float, float]:
+    """Draw the input speed and every design's output speed; return the speed range (rpm)."""
+    axes.plot(angle, np.full_like(angle, curves.input_speed_rpm),
+              label=f"input shaft: {curves.input_speed_rpm:g} rpm", **INPUT_STYLE)
+    for role, output in curves.output_speed_rpm.items():
+        axes.plot(angle, output, label=_legend_label(document, role, curves), **STYLES[role])
+    every_speed = np.concatenate([*curves.output_speed_rpm.values(), [curves.input_speed_rpm]])
+    return float(every_speed.min()), float(every_speed.max())
+
+
+def _cartesian(document: Mapping[str, Any], curves: SpeedCurves) -> bytes:
+    figure = _new_figure()
+    has_optimum = "optimum" in curves.output_speed_rpm
+    if has_optimum:
+        speeds, zoom = figure.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    else:
+        speeds, zoom = figure.subplots(1, 1), None
+    angle = curves.input_angle_deg
+    low, high = _plot_speeds(speeds, angle, document, curves)
+    spread = max(high - low, 0.02 * curves.input_speed_rpm)
+    speeds.set_ylim(low - 0.05 * spread, high + 0.75 * spread)
+    speeds.set_ylabel("shaft speed (rpm)")
+    speeds.set_title(_title(document, "shaft speeds over one input revolution"))
+    speeds.legend(loc="upper right", fontsize="small", framealpha=0.9)
+    speeds.grid(True, alpha=0.4)
+    axis_with_angles = speeds
+    if zoom is not None:
+        deviation = curves.output_speed_rpm["optimum"] - curves.input_speed_rpm
+        if np.ptp(deviation) < ROUND_OFF * curves.input_speed_rpm:
+            title = (f"zoom on the optimum: output minus input speed is below round-off "
+                     f"({ROUND_OFF:g} of the input speed), drawn as 0")
+            deviation = np.zeros_like(deviation)
+        else:
+            title = ("zoom on the optimum: output minus input speed, peak to peak "
+                     f"{np.ptp(deviation):.3g} rpm")
+        zoom.axhline(0.0, **INPUT_STYLE)
+        zoom.plot(angle, deviation, **STYLES["optimum"])
+        zoom.set_ylabel("output - input (rpm)")
+        zoom.set_title(title, fontsize="medium")
+        zoom.grid(True, alpha=0.4)
+        zoom.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4), useOffset=False)
+        axis_with_angles = zoom
+    axis_with_angles.set_xlabel("input shaft angle (deg)")
+    axis_with_angles.set_xlim(0.0, 360.0)
+    axis_with_angles.set_xticks(np.arange(0.0, 361.0, 45.0))
+    figure.tight_layout()
+    return _png(figure)
+
+
+def _polar(document: Mapping[str, Any], curves: SpeedCurves) -> bytes:
+    figure = _new_figure()
+    axes = figure.add_axes((0.06, 0.06, 0.46, 0.74), projection="polar")
+    low, high = _plot_speeds(axes, np.radians(curves.input_angle_deg), document, curves)
+    margin = max(0.15 * (high - low), 0.02 * curves.input_speed_rpm)
+    inner = max(0.0, low - margin)
+    axes.set_rlim(inner, high + margin)
+    axes.set_rorigin(inner - 0.35 * (high + margin - inner))
+    axes.set_thetagrids(np.arange(0, 360, 45), labels=[f"{angle} deg" for angle in range(0, 360, 45)])
+    axes.set_rlabel_position(22.5)
+    axes.tick_params(axis="y", labelsize="small")
+    axes.grid(True, alpha=0.5)
+    figure.suptitle(_title(document, "speeds around one input revolution"))
+    figure.legend(*axes.get_legend_handles_labels(), loc="center left",
+                  bbox_to_anchor=(0.57, 0.55), fontsize="small", framealpha=0.9)
+    figure.text(0.575, 0.38, "angle: input shaft angle (deg), counter-clockwise from 0\n"
+                f"radius: shaft speed (rpm); the scale starts at {inner:.4g} rpm\n"
+                "on the inner circle", fontsize="small", va="top", ha="left")
+    return _png(figure)

@@ -1,0 +1,139 @@
+"""Write a report folder from a result document, and read ``result.json`` back.
+
+Everything is rendered in memory first, then each file is written atomically, so
+a failure never leaves a half-written file and never touches earlier results.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from sso.cases.mechanism import MECHANISM_KINDS
+from sso.files import write_bytes_atomic
+from sso.run.document import SCHEMA_VERSION
+
+RESULT_FILE = "result.json"
+REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "option_name",
+                 "input_speed_rpm", "designs", "quadrature", "success", "verdict", "warnings",
+                 "versions")
+MECHANISM_REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "case_file", "length_unit",
+                           "crank_speed_rad_s", "crank_accel_rad_s2", "linkages", "tables",
+                           "extremes", "success", "verdict", "warnings", "versions")
+
+
+class ResultFileError(ValueError):
+    """A result file cannot be read or is not a result document this version knows."""
+
+
+def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, bytes]:
+    """Contents of every requested file, keyed by file name (nothing is written).
+
+    Parameters
+    ----------
+    document : mapping
+        A result document (:mod:`sso.run.document`).
+    formats : sequence of {"json", "csv", "md", "html", "png"}
+        Files to render. Without ``"png"`` matplotlib is never imported and the
+        reports carry no plots.
+    """
+    files: dict[str, bytes] = {}
+    mechanism = document.get("kind") in MECHANISM_KINDS
+    if "json" in formats:
+        files[RESULT_FILE] = result_json(document).encode("utf-8")
+    if "csv" in formats and mechanism:
+        from sso.reports.mechanism_report import table_files
+
+        files.update({name: text.encode("utf-8") for name, text in table_files(document).items()})
+    elif "csv" in formats:
+        from sso.reports.speeds import render_speeds_csv
+
+        files["speeds.csv"] = render_speeds_csv(document).encode("utf-8")
+    images: dict[str, bytes] = {}
+    if "png" in formats and mechanism:
+        from sso.reports.mechanism_plots import render_mechanism_plots
+
+        images = render_mechanism_plots(document)
+        files.update(images)
+    elif "png" in formats:
+        from sso.reports.plots import render_plots
+
+        images = render_plots(document)
+        files.update(images)
+    if "md" in formats or "html" in formats:
+        from sso.reports.mechanism_report import mechanism_blocks
+        from sso.reports.summary import report_blocks
+
+        blocks = (mechanism_blocks if mechanism else report_blocks)(document, tuple(images))
+        if "md" in formats:
+            from sso.reports.markdown import render_markdown
+
+            files["report.md"] = render_markdown(blocks).encode("utf-8")
+        if "html" in formats:
+            from sso.reports.html import render_html
+
+            files["report.html"] = render_html(blocks, images).encode("utf-8")
+    return files
+
+
+def write_report(document: Mapping[str, Any], folder: str | Path,
+                 formats: Sequence[str]) -> list[Path]:
+    """Render the requested formats and write them atomically into ``folder``.
+
+    Files of other formats already in the folder are left alone.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    files = render(document, formats)
+    target = Path(folder)
+    target.mkdir(parents=True, exist_ok=True)
+    return [write_bytes_atomic(target / name, data) for name, data in files.items()]
+
+
+def result_json(document: Mapping[str, Any]) -> str:
+    """The document as strict JSON (non-finite numbers become null)."""
+    return json.dumps(_finite(document), indent=2, allow_nan=False) + "\n"
+
+
+def read_result(path: str | Path) -> dict[str, Any]:
+    """Read a ``result.json`` written by :func:`write_report`.
+
+    Raises
+    ------
+    ResultFileError
+        If the file is unreadable, not JSON, from another schema version, or
+        lacks a key the reports need.
+    """
+    try:
+        document = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as error:
+        raise ResultFileError(f"{path}: cannot read the result file: "
+                              f"{error.strerror or error}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ResultFileError(f"{path}: not a JSON result file: {error}") from None
+    if not isinstance(document, dict):
+        raise ResultFileError(f"{path}: not a result document (a JSON object is expected)")
+    version = document.get("schema_version")
+    if version != SCHEMA_VERSION:
+        raise ResultFileError(f"{path}: schema_version = {version!r}; this sso reads "
+                              f"schema_version {SCHEMA_VERSION}")
+    required = MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS else REQUIRED_KEYS
+    missing = [key for key in required if key not in document]
+    if missing:
+        raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")
+    return document
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item) for item in value]
+    return value

@@ -1,0 +1,292 @@
+"""``sso.optimise``: the one entry point for optimising a shaft series."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any, Iterable
+
+import numpy as np
+
+from sso.limits import (
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+)
+from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
+from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
+from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.shafts.series import ShaftSeries
+from sso.solvers.crosscheck import (
+    DEFAULT_KKT_TOLERANCE,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    crosscheck,
+)
+from sso.solvers.multistart import (
+    MeasuredRun,
+    best_solution,
+    distinct_minima,
+    run_starts,
+    solution_from_run,
+)
+from sso.solvers.run import RunLimits
+from sso.solvers.solution import CrossCheck, Solution
+from sso.solvers.starts import DEFAULT_SEED, start_points
+from sso.validation import (
+    validate_count,
+    validate_solvers,
+    validate_speed,
+    validate_tolerance,
+)
+
+
+@dataclass(frozen=True)
+class OptimisationResult:
+    """Everything one optimisation found; reports are rendered from it alone.
+
+    Attributes
+    ----------
+    option : int
+        1 (phases), 2 (operating angles, phases at 90 deg) or 3 (both).
+    option_name : str
+        ``"phase"``, ``"angle"`` or ``"both"``.
+    model : str
+        ``"exact"`` or ``"paper"``.
+    input_speed_rpm : float
+    beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
+        Bounds per joint / per phase, deg.
+    initial_series : sso.ShaftSeries
+        The design as given, with the option's fixed values applied (option 2
+        phases at 90 deg); not moved onto the bounds.
+    start_series : sso.ShaftSeries
+        The user's start after moving it onto the bounds.
+    initial, optimum : sso.Evaluation
+        Evaluations of ``initial_series`` and of the best design.
+    best : sso.Solution
+        Lowest RE among successful answers (among all, if none succeeded).
+    solutions : dict of str to Solution
+        Best answer of each solver.
+    runs : tuple of Solution
+        Every run, each solver from each start.
+    crosscheck : sso.CrossCheck or None
+        The solvers' verdict; None when one solver was asked for.
+    local_minima : tuple of float
+        Distinct RE values the successful runs stopped at, ascending.
+    samples : int
+        Quadrature angles of the NLP (chosen for the bounds).
+    quadrature_error : float
+        Estimated RE error of that rule at the worst design in the bounds.
+    starts : int
+        Starts per solver.
+    warnings : tuple of str
+        Warnings raised while setting up and solving.
+    """
+
+    option: int
+    option_name: str
+    model: str
+    input_speed_rpm: float
+    beta_bounds_deg: tuple[tuple[float, float], ...]
+    phase_bounds_deg: tuple[tuple[float, float], ...]
+    initial_series: ShaftSeries
+    start_series: ShaftSeries
+    initial: Evaluation
+    optimum: Evaluation
+    best: Solution
+    solutions: dict[str, Solution]
+    runs: tuple[Solution, ...]
+    crosscheck: CrossCheck | None
+    local_minima: tuple[float, ...]
+    samples: int
+    quadrature_error: float
+    starts: int
+    warnings: tuple[str, ...]
+
+    @property
+    def success(self) -> bool:
+        """True when the best answer converged and the solvers agree."""
+        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+
+    @property
+    def x(self) -> tuple[float, ...]:
+        """Design vector of the best answer, deg."""
+        return self.best.x
+
+    @property
+    def fun(self) -> float:
+        """Residual error of the best answer (dimensionless)."""
+        return self.best.fun
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return {
+            "option": self.option,
+            "option_name": self.option_name,
+            "model": self.model,
+            "input_speed_rpm": self.input_speed_rpm,
+            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
+            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
+            "initial_series": self.initial_series.to_dict(),
+            "start_series": self.start_series.to_dict(),
+            "initial": self.initial.to_dict(),
+            "optimum": self.optimum.to_dict(),
+            "best": self.best.to_dict(),
+            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
+            "runs": [run.to_dict() for run in self.runs],
+            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
+            "local_minima": list(self.local_minima),
+            "samples": self.samples,
+            "quadrature_error": self.quadrature_error,
+            "starts": self.starts,
+            "success": self.success,
+            "warnings": list(self.warnings),
+        }
+
+
+def optimise(
+    series: ShaftSeries,
+    option: int | str = 3,
+    *,
+    beta_bounds_deg: Any = (0.0, 40.0),
+    phase_bounds_deg: Any = (0.0, 180.0),
+    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
+    starts: int = DEFAULT_STARTS,
+    input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+    tolerance: float = DEFAULT_SHAFT_SOLVER_TOL,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    seed: int = DEFAULT_SEED,
+    quadrature_rtol: float = DEFAULT_RTOL,
+    quadrature_atol: float = DEFAULT_ATOL,
+    objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
+    objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
+    kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+) -> OptimisationResult:
+    """Choose operating angles and/or phases that make the output turn evenly.
+
+    Minimises the residual error ``RE`` (mean square of ``w_out/w_in - 1`` over a
+    revolution) under bounds, with IPOPT (exact Hessian) and SLSQP (exact
+    gradient) on the same CasADi graph, from several starts, and cross-checks
+    the solvers.
+
+    Parameters
+    ----------
+    series : sso.ShaftSeries
+        The start design and chain model. Option 1 keeps its operating angles;
+        option 2 fixes every phase at 90 deg.
+    option : {1, 2, 3, "phase", "angle", "both"}
+        Which angles are design variables.
+    beta_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the operating angles, deg, inside ``[0, 90)``; one pair for all
+        joints or one per joint. An equal pair pins that joint.
+    phase_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the relative phases, deg, inside ``[-360, 360]``.
+    solvers : sequence of {"ipopt", "slsqp"}
+        Solvers to run; with two, their answers are cross-checked.
+    starts : int
+        Starts per solver, ``1..10000``: the user's start plus space-filling points.
+    input_speed_rpm : float
+        Input speed, rpm (> 0); it scales the reported figures, not the optimum.
+    tolerance : float
+        Solver tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's ``ftol`` relative
+        to the starting objective.
+    max_iterations : int
+        Iteration limit of each run, >= 1.
+    seed : int
+        Seed of the space-filling starts.
+    quadrature_rtol, quadrature_atol : float
+        Tolerance of the adaptive quadrature (relative, absolute floor).
+    objective_rtol, objective_atol, kkt_tolerance : float
+        Tolerances of the cross-check.
+
+    Returns
+    -------
+    OptimisationResult
+        Solver failures and disagreements are reported in it, not raised.
+
+    Raises
+    ------
+    ValueError
+        For bad input, naming the field, the value and the allowed range.
+    TypeError
+        If ``series`` is not a :class:`sso.ShaftSeries` or a keyword is unknown.
+    """
+    if not isinstance(series, ShaftSeries):
+        raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
+    solver_names = validate_solvers(solvers)
+    starts = validate_count("starts", starts, 1, MAX_STARTS)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
+    speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
+    tolerance = validate_tolerance(tolerance)
+    quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
+                                                                     quadrature_atol)
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
+                                beta_bounds_deg, phase_bounds_deg)
+        rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
+                               quadrature_atol)
+        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
+                        max_iterations, seed, quadrature_rtol, quadrature_atol,
+                        objective_rtol, objective_atol, kkt_tolerance,
+                        tuple(str(warning.message) for warning in caught))
+    for warning in caught:
+        warnings.warn(warning.message, warning.category, stacklevel=2)
+    return result
+
+
+def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
+           starts: int, speed_rpm: float, tolerance: float, max_iterations: int, seed: int,
+           quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
+           objective_atol: float, kkt_tolerance: float,
+           setup_warnings: tuple[str, ...]) -> OptimisationResult:
+    from sso.shafts.problem import compiled_nlp
+
+    nlp = compiled_nlp(problem, rule.samples)
+    points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
+    limits = RunLimits(problem.lower_rad, problem.upper_rad)
+    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
+                          max_iterations)
+    solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
+                   for name, runs in measured.items()}
+    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
+    all_runs = [run for runs in solver_runs.values() for run in runs]
+    best = best_solution(solutions.values())
+
+    initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
+                      if problem.option == 2 else series)
+    start_beta, start_phase = problem.design_deg(problem.start_deg)
+    evaluation_options = {"quadrature_rtol": quadrature_rtol, "quadrature_atol": quadrature_atol}
+    return OptimisationResult(
+        option=problem.option,
+        option_name=problem.option_name,
+        model=series.model,
+        input_speed_rpm=speed_rpm,
+        beta_bounds_deg=problem.beta_bounds_deg,
+        phase_bounds_deg=problem.phase_bounds_deg,
+        initial_series=initial_series,
+        start_series=ShaftSeries(start_beta, start_phase, series.model),
+        initial=initial_series.evaluate(speed_rpm, **evaluation_options),
+        optimum=best.series.evaluate(speed_rpm, **evaluation_options),
+        best=best,
+        solutions=solutions,
+        runs=tuple(all_runs),
+        crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
+                    if len(solutions) > 1 else None),
+        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
+        samples=rule.samples,
+        quadrature_error=rule.error_estimate,
+        starts=starts,
+        warnings=setup_warnings,
+    )
+
+
+def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
+                 solver_runs: list[MeasuredRun]) -> Solution:
+    x_deg = np.degrees(run.outcome.x)
+    beta_deg, phase_deg = problem.design_deg(x_deg)
+    return solution_from_run(run, solver_runs, x_deg, ShaftSeries(beta_deg, phase_deg, model))

@@ -1,0 +1,203 @@
+"""The paper's three design-variable options, bounds, and the design vector layout."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+from sso.limits import BETA_LIMIT_DEG
+from sso.validation import per_item_bounds
+
+OPTION_NAMES = {1: "phase", 2: "angle", 3: "both"}
+OPTION_FIXED_PHASE_DEG = 90.0
+PHASE_LIMIT_DEG = 360.0
+
+
+class StartMovedWarning(UserWarning):
+    """A start value lay outside its bounds and was moved onto the nearer bound."""
+
+
+def parse_option(option: Any) -> int:
+    """Return the option number 1, 2 or 3 from a number or a name.
+
+    Raises
+    ------
+    ValueError
+        If ``option`` is neither 1, 2, 3 nor one of ``"phase"``, ``"angle"``, ``"both"``.
+    """
+    if isinstance(option, str) and option.strip().lower() in OPTION_NAMES.values():
+        name = option.strip().lower()
+        return next(number for number, known in OPTION_NAMES.items() if known == name)
+    if isinstance(option, (int, np.integer)) and not isinstance(option, bool) and option in OPTION_NAMES:
+        return int(option)
+    raise ValueError(
+        f"option = {option!r} is not one of 1, 2, 3, 'phase', 'angle', 'both'"
+    )
+
+
+@dataclass(frozen=True)
+class DesignProblem:
+    """One option of one series: which angles are free, their bounds and start.
+
+    The design vector ``x`` (rad) holds the free operating angles first, then the
+    free phases; ``parameters`` (rad) holds the fixed ones in the same order.
+
+    Attributes
+    ----------
+    n_joints : int
+    option : int
+        1 = phases, 2 = operating angles (phases fixed at 90 deg), 3 = both.
+    model : str
+    beta_free, phase_free : bool
+        Whether the operating angles / phases are design variables.
+    lower_rad, upper_rad : numpy.ndarray
+        Bounds of ``x``.
+    start_deg : numpy.ndarray
+        The user's start (deg), moved onto the bounds where it lay outside.
+    parameters_deg : numpy.ndarray
+        The fixed angles (deg), kept in degrees so they come back exactly.
+    beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
+        Per-joint / per-phase bounds as given (deg).
+    """
+
+    n_joints: int
+    option: int
+    model: str
+    beta_free: bool
+    phase_free: bool
+    lower_rad: np.ndarray
+    upper_rad: np.ndarray
+    start_deg: np.ndarray
+    parameters_deg: np.ndarray
+    beta_bounds_deg: tuple[tuple[float, float], ...]
+    phase_bounds_deg: tuple[tuple[float, float], ...]
+
+    @property
+    def option_name(self) -> str:
+        """``"phase"``, ``"angle"`` or ``"both"``."""
+        return OPTION_NAMES[self.option]
+
+    @property
+    def start_rad(self) -> np.ndarray:
+        """The start of the design vector, rad."""
+        return np.radians(self.start_deg)
+
+    @property
+    def parameters_rad(self) -> np.ndarray:
+        """The fixed angles, rad."""
+        return np.radians(self.parameters_deg)
+
+    @property
+    def n_free(self) -> int:
+        """Length of the design vector."""
+        return len(self.lower_rad)
+
+    def split(self, x: Sequence[Any], parameters: Sequence[Any]) -> tuple[list[Any], list[Any]]:
+        """Operating angles and phases (rad) from ``x`` and ``parameters``.
+
+        Works on numbers and on CasADi symbols alike.
+        """
+        free = iter([x[i] for i in range(self.n_free)])
+        fixed = iter([parameters[i] for i in range(len(self.parameters_deg))])
+        beta = [next(free) if self.beta_free else next(fixed) for _ in range(self.n_joints)]
+        phase = [next(free) if self.phase_free else next(fixed)
+                 for _ in range(self.n_joints - 1)]
+        return beta, phase
+
+    def design_deg(self, x_deg: Sequence[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
+        beta, phase = self.split(list(x_deg), list(self.parameters_deg))
+        return tuple(float(value) for value in beta), tuple(float(value) for value in phase)
+
+    @property
+    def beta_upper_rad(self) -> list[float]:
+        """Largest operating angle each joint can take (rad), for the quadrature."""
+        if self.beta_free:
+            return [float(upper) for upper in self.upper_rad[: self.n_joints]]
+        return [float(beta) for beta in self.parameters_rad[: self.n_joints]]
+
+
+def build_problem(
+    beta_deg: Sequence[float],
+    phase_deg: Sequence[float],
+    model: str,
+    option: Any,
+    beta_bounds_deg: Any,
+    phase_bounds_deg: Any,
+) -> DesignProblem:
+    """Lay out the design vector, bounds and start of an option.
+
+    Parameters
+    ----------
+    beta_deg, phase_deg : sequence of float
+        The user's design (deg): the start of the free angles, the value of the
+        fixed ones (option 2 fixes every phase at 90 deg whatever is given).
+    model : str
+        Chain model.
+    option : int or str
+        1/2/3 or ``"phase"``/``"angle"``/``"both"``.
+    beta_bounds_deg : (float, float) or sequence of pairs
+        Bounds of the operating angles (deg), within ``[0, 90)``.
+    phase_bounds_deg : (float, float) or sequence of pairs
+        Bounds of the phases (deg), within ``[-360, 360]``.
+
+    Returns
+    -------
+    DesignProblem
+
+    Raises
+    ------
+    ValueError
+        For an unknown option, option 1 with one joint, or bad bounds.
+    """
+    option_number = parse_option(option)
+    n_joints = len(beta_deg)
+    if option_number == 1 and n_joints < 2:
+        raise ValueError(
+            "option = 1 (phases) needs at least 2 joints: a single joint has no phase to optimise"
+        )
+    beta_bounds = per_item_bounds("beta_bounds_deg", beta_bounds_deg, n_joints, 0.0,
+                                  BETA_LIMIT_DEG, "deg", upper_open=True)
+    phase_bounds = per_item_bounds("phase_bounds_deg", phase_bounds_deg, n_joints - 1,
+                                   -PHASE_LIMIT_DEG, PHASE_LIMIT_DEG, "deg")
+    beta_free = option_number in (2, 3)
+    phase_free = option_number in (1, 3)
+    if option_number == 2:
+        phase_deg = [OPTION_FIXED_PHASE_DEG] * (n_joints - 1)
+
+    lower, upper, start, parameters = [], [], [], []
+    groups = [("beta_deg", beta_deg, beta_bounds, beta_free),
+              ("phase_deg", phase_deg, phase_bounds, phase_free)]
+    for field, values, bounds, free in groups:
+        for index, value in enumerate(values):
+            if not free:
+                parameters.append(value)
+                continue
+            low, high = bounds[index]
+            moved = min(max(value, low), high)
+            if moved != value:
+                warnings.warn(
+                    f"start {field}[{index}] = {value:g} deg lies outside its bounds "
+                    f"[{low:g}, {high:g}] deg; moved onto {moved:g} deg",
+                    StartMovedWarning,
+                    stacklevel=3,
+                )
+            lower.append(low)
+            upper.append(high)
+            start.append(moved)
+    return DesignProblem(
+        n_joints=n_joints,
+        option=option_number,
+        model=model,
+        beta_free=beta_free,
+        phase_free=phase_free,
+        lower_rad=np.radians(lower),
+        upper_rad=np.radians(upper),
+        start_deg=np.array(start, dtype=float),
+        parameters_deg=np.array(parameters, dtype=float),
+        beta_bounds_deg=beta_bounds,
+        phase_bounds_deg=phase_bounds,
+    )

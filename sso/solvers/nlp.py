@@ -1,0 +1,156 @@
+"""A CasADi NLP wrapped for every solver, built once per shape and cached per thread.
+
+A design problem builds its graph once per shape (see :mod:`sso.shafts.problem`
+and :mod:`sso.linkages.fourbar_swing`); fixed values enter as parameters ``p``
+and the bounds as ``lbx``/``ubx``, so a new design, new bounds or a new start
+reuse the same graph. Each thread gets its own cache: a CasADi function object is
+never shared between threads.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from typing import Any, Callable, Hashable
+
+import numpy as np
+
+_cache = threading.local()
+
+
+@dataclass
+class CompiledNLP:
+    """CasADi functions of one problem shape, shared by every solver.
+
+    Attributes
+    ----------
+    name : str
+        Name given to the CasADi functions.
+    symbols : dict
+        ``{"x", "p", "f"}`` and ``"g"`` when there are constraints.
+    objective_and_gradient : BufferedFunction
+        ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
+        by the optimality measures.
+    constraints_and_jacobian : BufferedFunction or None
+        ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
+        constraint functions.
+    ipopt_solvers : dict
+        ``nlpsol`` instances keyed by their option tuple, built on first use.
+    """
+
+    name: str
+    symbols: dict[str, Any]
+    objective_and_gradient: Any
+    constraints_and_jacobian: Any = None
+    ipopt_solvers: dict[tuple, Any] = field(default_factory=dict)
+
+    def ipopt(self, options: dict[str, Any]) -> Any:
+        """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""
+        import casadi
+
+        options_key = tuple(sorted(options.items()))
+        solver = self.ipopt_solvers.get(options_key)
+        if solver is None:
+            solver = casadi.nlpsol(
+                f"{self.name}_ipopt",
+                "ipopt",
+                self.symbols,
+                {
+                    "print_time": False,
+                    "error_on_fail": False,
+                    "ipopt": {"print_level": 0, "sb": "yes", **options},
+                },
+            )
+            self.ipopt_solvers[options_key] = solver
+        return solver
+
+
+def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
+    """This thread's NLP for ``key``, built by ``build()`` the first time."""
+    cache = getattr(_cache, "nlps", None)
+    if cache is None:
+        cache = _cache.nlps = {}
+    nlp = cache.get(key)
+    if nlp is None:
+        nlp = cache[key] = build()
+    return nlp
+
+
+class BufferedFunction:
+    """A CasADi function called through preallocated numpy buffers.
+
+    A plain Python call of a CasADi function converts every argument and result
+    (about 60 us each time here, more than evaluating RE itself); writing into
+    buffers CasADi already points at costs a few microseconds. Not re-entrant:
+    one instance per thread, as the NLP cache already is.
+
+    Parameters
+    ----------
+    function : casadi.Function
+        Function with dense inputs and outputs (every entry has a buffer slot).
+    scalar_first : bool
+        Return the first output as a float (an objective value).
+    """
+
+    def __init__(self, function: Any, scalar_first: bool = False) -> None:
+        self._function = function
+        self._buffer, self._evaluate = self._function.buffer()
+        self._inputs = [np.zeros(self._function.nnz_in(i)) for i in range(self._function.n_in())]
+        self._outputs = [np.zeros(self._function.nnz_out(i))
+                         for i in range(self._function.n_out())]
+        self._shapes = [self._function.size_out(i) for i in range(self._function.n_out())]
+        for index, array in enumerate(self._inputs):
+            self._buffer.set_arg(index, memoryview(array))
+        for index, array in enumerate(self._outputs):
+            self._buffer.set_res(index, memoryview(array))
+        self._scalar_first = scalar_first
+
+    def __call__(self, *arguments: Any) -> tuple[Any, ...]:
+        """Evaluate at ``arguments`` (array-likes); returns fresh numpy arrays."""
+        for destination, value in zip(self._inputs, arguments):
+            destination[:] = np.ravel(value)
+        self._evaluate()
+        results: list[Any] = []
+        for array, (rows, columns) in zip(self._outputs, self._shapes):
+            # CasADi stores dense matrices column by column.
+            results.append(array.reshape((rows, columns), order="F").squeeze(axis=1).copy()
+                           if columns == 1 else array.reshape((rows, columns), order="F").copy())
+        if self._scalar_first:
+            results[0] = float(results[0][0])
+        return tuple(results)
+
+
+def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None) -> CompiledNLP:
+    """Wrap CasADi symbols of an NLP into the functions the solvers use.
+
+    Parameters
+    ----------
+    name : str
+        Name of the CasADi functions.
+    x, p : casadi.SX
+        Design variables and parameters (column vectors).
+    objective : casadi.SX
+        Scalar objective.
+    constraints : casadi.SX, optional
+        Constraint functions ``g(x, p)``, bounded per solve.
+    """
+    import casadi
+
+    symbols = {"x": x, "p": p, "f": objective}
+    objective_and_gradient = BufferedFunction(
+        casadi.Function(f"{name}_f", [x, p],
+                        [objective, casadi.densify(casadi.gradient(objective, x))],
+                        ["x", "p"], ["f", "grad"]),
+        scalar_first=True,
+    )
+    constraints_and_jacobian = None
+    if constraints is not None:
+        symbols["g"] = constraints
+        constraints_and_jacobian = BufferedFunction(
+            casadi.Function(f"{name}_g", [x, p],
+                            [casadi.densify(constraints),
+                             casadi.densify(casadi.jacobian(constraints, x))],
+                            ["x", "p"], ["g", "jac"])
+        )
+    return CompiledNLP(name=name, symbols=symbols, objective_and_gradient=objective_and_gradient,
+                       constraints_and_jacobian=constraints_and_jacobian)

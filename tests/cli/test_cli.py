@@ -1,0 +1,337 @@
+"""The ``sso`` command, run for real in a subprocess on shipped and broken case files."""
+
+import json
+import re
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from paper_trials import paper_trial_case
+
+from sso.cases.schema import load_case
+
+ROOT = Path(__file__).resolve().parents[2]
+CASES = ROOT / "cases"
+HEAVY = ("casadi", "scipy", "matplotlib")
+# Runs the real command in-process and reports which heavy modules it loaded.
+WRAPPER = """
+import json, sys
+from sso.cli import main
+try:
+    code = main(sys.argv[1:])
+except SystemExit as stop:
+    code = stop.code
+print("LOADED=" + json.dumps(sorted(name for name in {heavy!r} if name in sys.modules)))
+sys.exit(code)
+""".format(heavy=HEAVY)
+# docs/model.md, "The paper's three cases".
+PAPER_REFERENCE_BETA_DEG = {3: [15.8362, 10.0, 15.8387]}
+MINIMAL = '[design]\nbeta_deg = [20.0, 30.0]\n[solver]\nstarts = 1\n'
+
+
+def sso(*arguments: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "sso.cli", *map(str, arguments)], cwd=cwd,
+                          capture_output=True, text=True, timeout=300)
+
+
+def sso_loading(*arguments: str, cwd: Path) -> tuple[subprocess.CompletedProcess, list[str]]:
+    completed = subprocess.run([sys.executable, "-c", WRAPPER, *map(str, arguments)], cwd=cwd,
+                               capture_output=True, text=True, timeout=300)
+    loaded = re.search(r"^LOADED=(.*)$", completed.stdout, re.MULTILINE)
+    assert loaded, completed.stdout + completed.stderr
+    return completed, json.loads(loaded.group(1))
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert data[12:16] == b"IHDR"
+    return struct.unpack(">II", data[16:24])
+
+
+def write_case(folder: Path, text: str, name: str = "case.toml") -> Path:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def option3_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("run")
+    completed = sso("run", paper_trial_case(3, "exact", folder), "--out", folder / "out",
+                    cwd=folder)
+    return completed, folder / "out" / "paper_option3_exact"
+
+
+def test_run_writes_every_file_and_exits_0(option3_run):
+    completed, report = option3_run
+    assert completed.returncode == 0, completed.stderr
+    assert sorted(path.name for path in report.iterdir()) == [
+        "cartesian.png", "polar.png", "report.html", "report.md", "result.json", "speeds.csv"]
+    assert "Traceback" not in completed.stderr
+    # The paper's start outside its bounds is a warning, not an error.
+    assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
+    summary = completed.stdout.splitlines()[-2:]
+    assert summary[0].startswith("--------")
+    assert re.match(r"paper_option3_exact\s+solved\s+0\.0514\s+\S+\s+0\.00193\s", summary[1])
+
+
+def test_result_json_holds_the_whole_story(option3_run):
+    _, report = option3_run
+    document = json.loads((report / "result.json").read_text())
+    assert document["schema_version"] == 1
+    assert document["model"] == "exact"
+    assert document["option"] == 3 and document["option_name"] == "both"
+    assert document["case"] == load_case(report.parent.parent / "paper_option3_exact.toml").to_dict()
+    designs = document["designs"]
+    initial = designs["initial"]["evaluation"]["residual_error"]
+    optimum = designs["optimum"]["evaluation"]["residual_error"]
+    reference = designs["reference"]["evaluation"]["residual_error"]
+    # The exact model cancels the fluctuation: RE reaches round-off, far below the paper's.
+    assert optimum < 1e-18
+    assert reference == pytest.approx(1.928e-3, rel=1e-3)
+    assert initial == pytest.approx(0.05140006, rel=1e-6)
+    assert designs["reference"]["beta_deg"] == PAPER_REFERENCE_BETA_DEG[3]
+    for name in ("ipopt", "slsqp"):
+        solution = document["solutions"][name]
+        assert solution["success"] is True
+        assert {"status", "message", "nit", "nfev", "time_s", "kkt"} <= set(solution)
+        assert solution["kkt"] <= 1e-6
+    assert document["crosscheck"]["agree"] is True
+    assert len(document["runs"]) == 2 * 4
+    assert document["quadrature"]["samples"] == 32
+    assert document["success"] is True
+    versions = document["versions"]
+    assert set(versions) >= {"sso", "casadi", "ipopt", "scipy", "numpy"}
+    assert versions["sso"] == "0.1.0"
+    assert re.fullmatch(r"\d+\.\d+\.\d+", versions["ipopt"])
+
+
+def test_plots_are_valid_pngs_of_the_stated_size(option3_run):
+    _, report = option3_run
+    for name in ("polar.png", "cartesian.png"):
+        assert png_size(report / name) == (1000, 700)
+
+
+def test_speeds_csv_columns_and_values(option3_run):
+    _, report = option3_run
+    lines = (report / "speeds.csv").read_text().splitlines()
+    assert lines[0] == ("input_angle_deg,input_speed_rpm,output_speed_initial_rpm,"
+                        "output_speed_optimum_rpm,output_speed_reference_rpm")
+    assert len(lines) == 1 + 361
+    rows = [[float(cell) for cell in line.split(",")] for line in lines[1:]]
+    assert rows[0][0] == 0.0 and rows[-1][0] == 360.0
+    initial = [row[2] for row in rows]
+    # Trial design 30, 40, 50 (50 kept as given) at 25 rpm: 18.17 .. 34.40 rpm (docs/model.md).
+    assert min(initial) == pytest.approx(18.167, abs=2e-3)
+    assert max(initial) == pytest.approx(34.403, abs=2e-3)
+    assert max(abs(row[3] - 25.0) for row in rows) < 1e-6
+
+
+def test_html_is_self_contained(option3_run):
+    _, report = option3_run
+    page = (report / "report.html").read_text()
+    assert page.count('src="data:image/png;base64,') == 2
+    assert 'src="polar.png"' not in page and 'src="cartesian.png"' not in page
+    assert "solvers agree" in page
+
+
+def test_report_rerenders_the_same_files_from_result_json(option3_run, tmp_path):
+    _, report = option3_run
+    completed = sso("report", report / "result.json", "--out", tmp_path, cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    for name in ("speeds.csv", "report.md"):
+        assert (tmp_path / name).read_bytes() == (report / name).read_bytes(), name
+    without_images = [re.sub(r"base64,[A-Za-z0-9+/=]+", "", (folder / "report.html").read_text())
+                      for folder in (tmp_path, report)]
+    assert without_images[0] == without_images[1]
+    assert png_size(tmp_path / "polar.png") == (1000, 700)
+    assert not (tmp_path / "result.json").exists()
+
+
+@pytest.mark.parametrize("model, low_rpm, high_rpm", [("paper", 18.17, 34.40)])
+def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
+    completed, loaded = sso_loading("evaluate", paper_trial_case(3, model, tmp_path),
+                                    "--out", tmp_path, "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert loaded == []
+    document = json.loads((tmp_path / f"paper_option3_{model}" / "result.json").read_text())
+    assert document["mode"] == "evaluate"
+    assert set(document["designs"]) == {"initial", "reference"}
+    evaluation = document["designs"]["initial"]["evaluation"]
+    # docs/model.md: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
+    assert evaluation["speed_min_rpm"] == pytest.approx(low_rpm, abs=5e-3)
+    assert evaluation["speed_max_rpm"] == pytest.approx(high_rpm, abs=5e-3)
+    assert "solvers" not in (tmp_path / f"paper_option3_{model}" / "report.md").read_text()
+
+
+def test_every_shipped_case_solves_below_its_reference(tmp_path):
+    shipped = sorted(CASES.glob("*.toml"))
+    completed = sso("run", *shipped, "--out", tmp_path, "--formats", "json", "--quiet",
+                    cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert len(completed.stdout.strip().splitlines()) == 2 + len(shipped)
+    for path in shipped:
+        document = json.loads((tmp_path / path.stem / "result.json").read_text())
+        errors = {role: design["evaluation"]["residual_error"]
+                  for role, design in document["designs"].items()}
+        assert document["success"] is True, path.stem
+        assert errors["optimum"] <= min(errors["initial"], errors["reference"]) + 1e-20, path.stem
+        if path.stem.startswith("paper_"):
+            # docs/model.md: the paper's optima are not stationary; a correct solver does better.
+            assert errors["optimum"] < 0.2 * errors["reference"], path.stem
+
+
+def test_validate_and_help_import_neither_casadi_nor_scipy(tmp_path):
+    completed, loaded = sso_loading("validate", *sorted(CASES.glob("*.toml")), cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert loaded == []
+    assert completed.stdout.count("ok: ") == 8
+    for arguments in (["--help"], ["run", "--help"], ["evaluate", "--help"],
+                      ["validate", "--help"], ["report", "--help"]):
+        completed, loaded = sso_loading(*arguments, cwd=tmp_path)
+        assert completed.returncode == 0
+        assert loaded == []
+        assert "usage: sso" in completed.stdout
+
+
+def test_no_plots_never_imports_matplotlib(tmp_path):
+    completed, loaded = sso_loading("run", CASES / "steering_column.toml", "--out", tmp_path,
+                                    "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert "matplotlib" not in loaded
+    folder = tmp_path / "steering_column"
+    assert not list(folder.glob("*.png"))
+    assert "data:image/png" not in (folder / "report.html").read_text()
+
+
+def test_case_without_png_never_imports_matplotlib(tmp_path):
+    case = write_case(tmp_path, 'name = "quiet"\n' + MINIMAL
+                      + '[output]\nformats = ["json", "md", "html"]\n')
+    completed, loaded = sso_loading("run", case, "--out", tmp_path, cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert "matplotlib" not in loaded
+    assert sorted(path.name for path in (tmp_path / "quiet").iterdir()) == [
+        "report.html", "report.md", "result.json"]
+
+
+def test_version(tmp_path):
+    completed = sso("--version", cwd=tmp_path)
+    assert completed.returncode == 0
+    assert completed.stdout.strip() == "sso 0.1.0"
+
+
+@pytest.mark.parametrize("arguments, message", [
+    ([], "the following arguments are required"),
+    (["run"], "the following arguments are required: CASE.toml"),
+    (["run", "x.toml", "--solvers", "ipopt,cobyla"], "give a comma-separated list of ipopt, slsqp"),
+    (["run", "x.toml", "--formats", "pdf"], "give a comma-separated list of json, csv"),
+    (["fly"], "invalid choice: 'fly'"),
+])
+def test_bad_arguments_exit_2(tmp_path, arguments, message):
+    completed = sso(*arguments, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert message in completed.stderr
+    assert "Traceback" not in completed.stderr
+
+
+@pytest.mark.parametrize("text, message", [
+    ('name = "x"\n[design]\nbeta_deg = [10, 20]\nmodel = exact\n', "line 4: TOML syntax error"),
+    ('name = "x"\n[design]\nbeta_deg = [10, 20\n', "line 3: TOML syntax error: Unclosed array"),
+    ('name = "x"\n' + MINIMAL.replace("starts", "strats"),
+     "line 5: unknown key solver.strats; did you mean solver.starts?"),
+    ('name = "x"\ninput_speed_rpm = "fast"\n' + MINIMAL,
+     "line 2: input_speed_rpm = 'fast' must be a number in (0, inf) rpm"),
+    ('name = "x"\n[design]\nbeta_deg = [20.0, 95.0]\n',
+     "line 3: design.beta_deg[1] = 95 is outside the allowed range [0, 90) deg"),
+])
+@pytest.mark.parametrize("command", ["run", "evaluate", "validate"])
+def test_broken_case_exits_2_without_traceback(tmp_path, text, message, command):
+    case = write_case(tmp_path, text)
+    completed = sso(command, case, "--out", tmp_path / "out", cwd=tmp_path) \
+        if command != "validate" else sso(command, case, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert f"error: {case}, {message}" in completed.stderr
+    assert "Traceback" not in completed.stderr
+    assert not (tmp_path / "out" / "x").exists()
+
+
+def test_one_broken_case_does_not_stop_the_others(tmp_path):
+    broken = write_case(tmp_path, 'name = "broken"\n[design]\nbeta_deg = "steep"\n', "broken.toml")
+    good = write_case(tmp_path, 'name = "good"\n' + MINIMAL, "good.toml")
+    missing = tmp_path / "missing.toml"
+    completed = sso("run", broken, good, missing, "--out", tmp_path / "out", "--no-plots",
+                    cwd=tmp_path)
+    assert completed.returncode == 2
+    assert (tmp_path / "out" / "good" / "result.json").is_file()
+    assert f"error: {missing}: cannot read the case file: No such file or directory" in completed.stderr
+    table = completed.stdout.splitlines()[-4:]
+    assert re.match(rf"{re.escape(str(broken))}\s+bad input", table[1])
+    assert re.match(r"good\s+solved\s", table[2])
+    assert re.match(rf"{re.escape(str(missing))}\s+bad input", table[3])
+
+
+def test_solver_failure_exits_1_and_the_report_says_so(tmp_path):
+    case = write_case(tmp_path, 'name = "starved"\noption = 3\n[design]\n'
+                      'beta_deg = [30.0, 40.0, 35.0]\n[solver]\nstarts = 1\nmax_iterations = 1\n')
+    completed = sso("run", case, "--out", tmp_path, "--formats", "json,md", cwd=tmp_path)
+    assert completed.returncode == 1, completed.stdout + completed.stderr
+    document = json.loads((tmp_path / "starved" / "result.json").read_text())
+    assert document["success"] is False
+    assert document["solutions"]["ipopt"]["success"] is False
+    assert document["solutions"]["ipopt"]["nit"] <= 1
+    assert "error: starved: " in completed.stderr
+    assert "FAILED: " in (tmp_path / "starved" / "report.md").read_text()
+    assert "Traceback" not in completed.stderr
+
+
+def test_failing_case_keeps_earlier_results_and_leaves_no_temporary_files(tmp_path):
+    out = tmp_path / "out"
+    case = write_case(tmp_path, 'name = "kept"\n' + MINIMAL)
+    assert sso("run", case, "--out", out, "--no-plots", cwd=tmp_path).returncode == 0
+    earlier = (out / "kept" / "result.json").read_bytes()
+    notes = out / "kept" / "notes.txt"
+    notes.write_text("my own notes")
+    case.write_text('name = "kept"\n' + MINIMAL.replace("starts = 1", "starts = 0"))
+    completed = sso("run", case, "--out", out, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert (out / "kept" / "result.json").read_bytes() == earlier
+    assert notes.read_text() == "my own notes"
+    assert [path.name for path in out.rglob(".sso-tmp-*")] == []
+
+
+def test_case_strings_are_escaped_in_html_and_markdown(tmp_path):
+    case = write_case(tmp_path, 'name = "escaped"\ndescription = "<script>alert(1)</script> & more"\n'
+                      + MINIMAL + '[reference]\nlabel = "<img src=x onerror=alert(2)>"\n'
+                      'beta_deg = [25.0, 25.0]\n')
+    completed = sso("run", case, "--out", tmp_path, "--formats", "html,md", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    for name in ("report.html", "report.md"):
+        page = (tmp_path / "escaped" / name).read_text()
+        assert "<script>" not in page
+        assert "<img src=x" not in page
+        assert "&lt;script&gt;alert(1)&lt;/script&gt; &amp; more" in page
+        assert "&lt;img src=x onerror=alert(2)&gt;" in page
+
+
+def test_duplicate_names_in_one_run_are_refused(tmp_path):
+    first = write_case(tmp_path, 'name = "twin"\n' + MINIMAL, "first.toml")
+    second = write_case(tmp_path, 'name = "twin"\n' + MINIMAL, "second.toml")
+    completed = sso("run", first, second, "--out", tmp_path, "--formats", "json", cwd=tmp_path)
+    assert completed.returncode == 2
+    assert f"error: {second}: name = 'twin' is already used by {first}" in completed.stderr
+
+
+def test_report_refuses_a_bad_result_file(tmp_path):
+    bad = tmp_path / "result.json"
+    bad.write_text('{"schema_version": 99}')
+    completed = sso("report", bad, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "schema_version = 99; this sso reads schema_version 1" in completed.stderr
+    bad.write_text("{not json")
+    completed = sso("report", bad, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "not a JSON result file" in completed.stderr
+    assert "Traceback" not in completed.stderr

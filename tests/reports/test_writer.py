@@ -1,0 +1,63 @@
+"""Atomic writes and the result-file round trip, without the command line."""
+
+import json
+import math
+
+import pytest
+from paper_trials import paper_trial_case
+
+from sso.cases.schema import load_case
+from sso.files import TEMPORARY_PREFIX, write_bytes_atomic, write_text_atomic
+from sso.reports.writer import (
+    ResultFileError,
+    read_result,
+    render,
+    result_json,
+    write_report,
+)
+from sso.run.document import evaluate_case
+
+
+def test_atomic_write_replaces_whole_files(tmp_path):
+    target = tmp_path / "result.json"
+    write_text_atomic(target, "old")
+    write_text_atomic(target, "new")
+    assert target.read_text() == "new"
+    assert [path.name for path in tmp_path.iterdir()] == ["result.json"]
+
+
+def test_failed_atomic_write_keeps_the_old_file_and_no_temporary(tmp_path):
+    target = tmp_path / "result.json"
+    write_text_atomic(target, "old")
+    with pytest.raises(TypeError):
+        write_bytes_atomic(target, "not bytes")  # type: ignore[arg-type]
+    assert target.read_text() == "old"
+    assert not list(tmp_path.glob(f"{TEMPORARY_PREFIX}*"))
+
+
+def test_result_json_is_strict_json():
+    text = result_json({"finite": 1.5, "nested": [math.inf, {"value": math.nan}]})
+    assert json.loads(text) == {"finite": 1.5, "nested": [None, {"value": None}]}
+
+
+def test_evaluation_document_round_trips_through_result_json(tmp_path):
+    document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
+    write_report(document, tmp_path, ["json", "csv"])
+    assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
+    evaluation = document["designs"]["initial"]["evaluation"]
+    # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
+    assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
+    assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
+    assert render(document, ["csv"]) == {"speeds.csv": (tmp_path / "speeds.csv").read_bytes()}
+
+
+@pytest.mark.parametrize("content, message", [
+    ("[1, 2]", "not a result document"),
+    ('{"schema_version": 1}', "result document lacks kind, mode, case"),
+    ("\u00ff", "not a JSON result file"),
+])
+def test_read_result_refuses_what_it_cannot_render(tmp_path, content, message):
+    path = tmp_path / "result.json"
+    path.write_text(content, encoding="latin-1")
+    with pytest.raises(ResultFileError, match=message):
+        read_result(path)

@@ -1,0 +1,128 @@
+"""The package's imports point one way: down the layer order, and never in a circle.
+
+Every module under ``sso/`` is parsed with :mod:`ast` (nothing is imported), and
+every import in it counts: at module level, inside functions, and under
+``TYPE_CHECKING``. A circle through any of them is a circle in the design.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "sso"
+
+# Lowest first. A module may import its own part (file or folder) and any part on a
+# lower layer; parts on one layer do not import each other. ``sso/__init__.py`` (the
+# lazy public facade, with ``__version__``) stands outside the order.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("limits", "distribution"),
+    ("validation", "files"),
+    ("kinematics",),
+    ("solvers",),
+    ("shafts", "linkages"),
+    ("cases",),
+    ("run",),
+    ("reports",),
+    ("batch",),
+    ("cli",),
+    ("__main__",),
+    ("_moved",),  # answers the old module paths of v0.1 for one release
+)
+LAYER_OF = {part: index for index, parts in enumerate(LAYERS) for part in parts}
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def modules() -> dict[str, Path]:
+    return {module_name(path): path for path in sorted(PACKAGE.rglob("*.py"))}
+
+
+def imported_modules(name: str, path: Path, known: set[str]) -> set[str]:
+    """Modules of sso that ``name`` imports (``from a import b`` counts ``a.b`` if a module)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join([*anchor, base] if base else anchor)
+            targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in known else base
+                       for alias in node.names]
+        else:
+            continue
+        found.update(target for target in targets if target in known and target != name)
+    return found
+
+
+def import_graph() -> dict[str, set[str]]:
+    found = modules()
+    known = set(found)
+    return {name: imported_modules(name, path, known) for name, path in found.items()}
+
+
+def part(name: str) -> str | None:
+    """``sso.shafts.series`` -> ``shafts``; ``sso.limits`` -> ``limits``; ``sso`` -> None."""
+    pieces = name.split(".")
+    return pieces[1] if len(pieces) > 1 else None
+
+
+def test_every_part_has_a_layer():
+    parts = {part(name) for name in modules()} - {None}
+    assert parts == set(LAYER_OF), "put each new module or folder on a layer in LAYERS"
+
+
+def test_imports_point_down():
+    upward = []
+    for name, targets in import_graph().items():
+        source = part(name)
+        if source is None:
+            continue
+        for target in targets:
+            destination = part(target)
+            if destination is None or destination == source:
+                continue
+            if LAYER_OF[destination] >= LAYER_OF[source]:
+                upward.append(f"{name} -> {target}")
+    assert upward == []
+
+
+def test_no_import_cycle():
+    graph = import_graph()
+    state: dict[str, int] = {}
+    stack: list[str] = []
+    cycles = []
+
+    def visit(node: str) -> None:
+        state[node] = 1
+        stack.append(node)
+        for target in sorted(graph[node]):
+            if state.get(target) == 1:
+                cycles.append(" -> ".join([*stack[stack.index(target):], target]))
+            elif target not in state:
+                visit(target)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node)
+    assert cycles == []
+
+
+def test_the_walk_sees_imports():
+    """The checks above would pass on an empty graph; this one would not."""
+    graph = import_graph()
+    assert "sso.shafts.series" in graph["sso.shafts.optimise"]
+    assert "sso.shafts.series" in graph["sso.batch.results"]  # a module-level import
+    assert "sso.shafts.evaluation" in graph["sso.shafts.series"]  # inside a method
+    assert "sso.cli.app" in graph["sso.cli"]
+    assert len(graph) > 50
