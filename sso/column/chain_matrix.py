@@ -16,14 +16,14 @@ import numpy as np
 
 
 def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
-    """``M`` for each row of phases.
+    """``M`` for each row of angles.
 
     Parameters
     ----------
-    beta_rad : array_like, shape (n,)
+    beta_rad : array_like, shape (..., n)
         Operating angles, rad.
     phase_rad : array_like, shape (..., n - 1)
-        Relative phases, rad; leading axes are batch axes.
+        Relative phases, rad. Leading axes of both are batch axes and broadcast.
 
     Returns
     -------
@@ -31,17 +31,17 @@ def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
     """
     cosines = np.cos(np.asarray(beta_rad, dtype=float))
     phases = np.asarray(phase_rad, dtype=float)
-    batch = phases.shape[:-1]
+    batch = np.broadcast_shapes(cosines.shape[:-1], phases.shape[:-1])
     matrix = np.zeros((*batch, 2, 2))
     matrix[..., 0, 0] = 1.0
-    matrix[..., 1, 1] = cosines[0]
-    for k in range(1, len(cosines)):
+    matrix[..., 1, 1] = cosines[..., 0]
+    for k in range(1, cosines.shape[-1]):
         cos_phase = np.cos(phases[..., k - 1])[..., None]
         sin_phase = np.sin(phases[..., k - 1])[..., None]
         top = cos_phase * matrix[..., 0, :] - sin_phase * matrix[..., 1, :]
         bottom = sin_phase * matrix[..., 0, :] + cos_phase * matrix[..., 1, :]
         matrix[..., 0, :] = top
-        matrix[..., 1, :] = cosines[k] * bottom
+        matrix[..., 1, :] = cosines[..., k, None] * bottom
     return matrix
 
 
