@@ -31,8 +31,9 @@ else 0 (its mirror ``-phi`` is itself mod 180).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from typing import Any, Sequence
+from typing import Any
 
 from sso.validation import as_float_tuple, check_in_range
 

@@ -49,7 +49,8 @@ def matrix_residual_error(matrix: np.ndarray) -> np.ndarray:
     """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` of each matrix."""
     m11, m12 = matrix[..., 0, 0], matrix[..., 0, 1]
     m21, m22 = matrix[..., 1, 0], matrix[..., 1, 1]
-    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    residual: np.ndarray = ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    return residual
 
 
 def residual_error(beta_rad: Any, phase_rad: Any) -> np.ndarray:
@@ -63,5 +64,5 @@ def distortion_distance(matrix: np.ndarray) -> np.ndarray:
     It is the distance the chain moves the base point of the hyperbolic plane, so
     ``RE = cosh(distance) - 1`` and joints add at most their own ``-ln cos beta``.
     """
-    residual = matrix_residual_error(matrix)
-    return np.arccosh(1.0 + np.maximum(residual, 0.0))
+    distance: np.ndarray = np.arccosh(1.0 + np.maximum(matrix_residual_error(matrix), 0.0))
+    return distance

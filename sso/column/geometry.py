@@ -25,9 +25,10 @@ the listed ``gamma`` and ``phi`` but never the motion (tested).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sso.series import BETA_LIMIT_DEG
 
@@ -127,7 +128,7 @@ class ColumnGeometry:
         points = np.asarray(self.points_mm)
         return tuple(float(length) for length in np.linalg.norm(np.diff(points, axis=0), axis=1))
 
-    def phase_deg_from_yoke(self, yoke_phase_deg: Sequence[float]) -> tuple[float, ...]:
+    def phase_deg_from_yoke(self, yoke_phase_deg: ArrayLike) -> tuple[float, ...]:
         """Model phases ``phi_k = 90 + delta_k - gamma_k``, deg, wrapped to ``[0, 180)``.
 
         Parameters
@@ -145,7 +146,7 @@ class ColumnGeometry:
         return tuple(float(value) for value in
                      np.mod(CONVENTIONAL_PHASE_DEG + delta - gamma, 180.0))
 
-    def yoke_phase_deg_from_phase(self, phase_deg: Sequence[float]) -> tuple[float, ...]:
+    def yoke_phase_deg_from_phase(self, phase_deg: ArrayLike) -> tuple[float, ...]:
         """Yoke phasings ``delta_k = phi_k - 90 + gamma_k``, deg, wrapped to ``[-90, 90)``.
 
         A yoke's pin axis is a line, so a phasing and the phasing 180 deg away are
@@ -161,8 +162,8 @@ class ColumnGeometry:
         return tuple(float(value) for value in
                      wrap_half_turn(phase - CONVENTIONAL_PHASE_DEG + gamma))
 
-    def series(self, yoke_phase_deg: Sequence[float] | None = None,
-               model: str = "exact") -> "ShaftSeries":
+    def series(self, yoke_phase_deg: ArrayLike | None = None,
+               model: str = "exact") -> ShaftSeries:
         """The model of this column with the given yoke phasing.
 
         Parameters
@@ -186,7 +187,9 @@ class ColumnGeometry:
 
         if yoke_phase_deg is None:
             yoke_phase_deg = [0.0] * (self.joint_count - 1)
-        return sso.ShaftSeries(self.beta_deg, self.phase_deg_from_yoke(yoke_phase_deg), model)
+        series: ShaftSeries = sso.ShaftSeries(self.beta_deg,
+                                              self.phase_deg_from_yoke(yoke_phase_deg), model)
+        return series
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description: the points and the derived angles."""
@@ -195,7 +198,7 @@ class ColumnGeometry:
                 "plane_angle_deg": list(self.plane_angle_deg),
                 "shaft_length_mm": list(self.shaft_length_mm)}
 
-    def _per_shaft(self, name: str, values: Sequence[float]) -> np.ndarray:
+    def _per_shaft(self, name: str, values: ArrayLike) -> np.ndarray:
         from sso.validation import as_float_tuple
 
         numbers = as_float_tuple(name, values)
@@ -208,16 +211,17 @@ class ColumnGeometry:
 
 def wrap_half_turn(angle_deg: Any) -> np.ndarray:
     """Angles (deg) modulo 180, in ``[-90, 90)``."""
-    return np.mod(np.asarray(angle_deg, dtype=float) + 90.0, 180.0) - 90.0
+    wrapped: np.ndarray = np.mod(np.asarray(angle_deg, dtype=float) + 90.0, 180.0) - 90.0
+    return wrapped
 
 
 def _validated_points(points_mm: Any) -> np.ndarray:
     if isinstance(points_mm, (str, bytes)):
-        raise ValueError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points in mm")
+        raise TypeError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points in mm")
     try:
         rows = [list(row) for row in points_mm]
     except TypeError:
-        raise ValueError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points in mm") from None
+        raise TypeError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points in mm") from None
     if len(rows) < 3:
         raise ValueError(f"points_mm has {len(rows)} points; a column needs at least 3 "
                          "(input point, one joint centre, output point: 2 shafts)")
@@ -241,7 +245,8 @@ def _validated_points(points_mm: Any) -> np.ndarray:
 
 def _shaft_directions(points: np.ndarray) -> np.ndarray:
     differences = np.diff(points, axis=0)
-    return differences / np.linalg.norm(differences, axis=1, keepdims=True)
+    directions: np.ndarray = differences / np.linalg.norm(differences, axis=1, keepdims=True)
+    return directions
 
 
 def _operating_angles(directions: np.ndarray) -> tuple[tuple[float, ...], tuple[bool, ...]]:

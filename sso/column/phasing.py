@@ -71,7 +71,7 @@ class PhasingResult:
     in_phase_re: float
     plane_corrected_re: float
     verdict: CancelVerdict
-    optimisation: "OptimisationResult"
+    optimisation: OptimisationResult
 
     @property
     def yoke_phase_deg(self) -> tuple[float, ...]:
@@ -161,14 +161,16 @@ def _local_minima_deg(beta_rad: np.ndarray, verdict: CancelVerdict, seed: int,
                       count: int = 16) -> np.ndarray:
     """Representatives of a continuum of optimal phasings (deg): least-squares polishes
     of the closed-form chain from random starts, kept where they reach the least RE."""
-    from scipy.optimize import least_squares
+    from scipy.optimize import least_squares  # type: ignore[import-untyped]
 
     from sso.column.chain_matrix import chain_matrix
 
     def residuals(phase_rad: np.ndarray) -> np.ndarray:
         matrix = chain_matrix(beta_rad, phase_rad)
         scale = np.sqrt(2.0 * np.linalg.det(matrix))
-        return np.array([matrix[0, 0] - matrix[1, 1], matrix[0, 1] + matrix[1, 0]]) / scale
+        scaled: np.ndarray = np.array([matrix[0, 0] - matrix[1, 1],
+                                       matrix[0, 1] + matrix[1, 0]]) / scale
+        return scaled
 
     rng = np.random.default_rng(seed)
     found = []
@@ -176,7 +178,8 @@ def _local_minima_deg(beta_rad: np.ndarray, verdict: CancelVerdict, seed: int,
         solution = least_squares(residuals, start, xtol=1e-15, ftol=1e-15, gtol=1e-15)
         if residual_error(beta_rad, solution.x) <= verdict.minimum_residual_error + 1e-12:
             found.append(np.mod(np.degrees(solution.x), 180.0))
-    return np.asarray(found).reshape(-1, len(beta_rad) - 1)
+    minima: np.ndarray = np.asarray(found).reshape(-1, len(beta_rad) - 1)
+    return minima
 
 
 def _distinct(phases_deg: np.ndarray) -> np.ndarray:

@@ -21,13 +21,18 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from sso.column.cancel import can_cancel
-from sso.column.chain_matrix import chain_matrix, distortion_distance, matrix_residual_error
+from sso.column.chain_matrix import (
+    chain_matrix,
+    distortion_distance,
+    matrix_residual_error,
+)
 from sso.column.geometry import CONVENTIONAL_PHASE_DEG, ColumnGeometry, wrap_half_turn
 
 ENUMERATION_LIMIT = 200_000
@@ -205,7 +210,8 @@ def _distinct_offsets(teeth: int) -> np.ndarray:
 def _enumerate(beta_rad: np.ndarray, choices: list[np.ndarray]
                ) -> tuple[float, list[tuple[int, ...]], int]:
     indices = itertools.product(*(range(len(choice)) for choice in choices))
-    best_re, best_rows, evaluated = math.inf, [], 0
+    best_re, evaluated = math.inf, 0
+    best_rows: list[tuple[int, ...]] = []
     while True:
         block = np.array(list(itertools.islice(indices, CHUNK_ROWS)), dtype=int)
         if block.size == 0:
@@ -244,7 +250,8 @@ def _branch_and_bound(beta_rad: np.ndarray, choices: list[np.ndarray]
                            for level in range(len(lengths) - 1)])
     start = np.array([[1.0, 0.0], [0.0, cosines[0]]])[None]
     stack: list[tuple[int, np.ndarray, np.ndarray]] = [(0, start, np.zeros((1, 0), dtype=int))]
-    best_re, best_rows, evaluated = math.inf, [], 0
+    best_re, evaluated = math.inf, 0
+    best_rows: list[tuple[int, ...]] = []
     shafts = len(choices)
     while stack:
         level, matrices, rows = stack.pop()

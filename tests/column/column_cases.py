@@ -30,3 +30,14 @@ def random_column(rng: np.random.Generator, joints: int, beta_range_deg=(2.0, 35
         direction = np.cos(beta) * direction + np.sin(beta) * side
         points.append(points[-1] + rng.uniform(100, 600) * direction)
     return np.asarray(points)
+
+
+def planar_points(bends_deg, shaft_mm: float = 400.0) -> np.ndarray:
+    """Points of a planar column in the xy plane: each joint turns the heading by its
+    signed bend (deg), so the operating angles are ``|bend|`` and gamma is 0 or 180."""
+    heading, point, points = 0.0, np.zeros(3), [np.zeros(3)]
+    for bend in [0.0, *bends_deg]:
+        heading += np.radians(bend)
+        point = point + shaft_mm * np.array([np.cos(heading), np.sin(heading), 0.0])
+        points.append(point)
+    return np.asarray(points)

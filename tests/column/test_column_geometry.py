@@ -180,11 +180,15 @@ def test_leading_straight_joint_borrows_the_plane_downstream():
     ([[0, 0, 0], [100, 0, 0], [200, 0, 0], [300, 0, 0]], "collinear"),
     ([[0, 0, 0], [100, 0, 0], [100, 100, 0]], r"beta at joint 1 .* = 90 deg"),
     ([[0, 0, 0], [100, 0, 0], [0, 10, 0]], r"joint 1 .*outside the allowed range \[0, 90\)"),
-    ("points", "list of"),
-    (5, "list of"),
 ])
 def test_bad_points_are_refused_naming_the_point(points, message):
     with pytest.raises(ValueError, match=message):
+        ColumnGeometry(points)
+
+
+@pytest.mark.parametrize("points", ["points", 5, None])
+def test_points_that_are_not_a_list_are_a_type_error(points):
+    with pytest.raises(TypeError, match="points_mm = .* must be a list of"):
         ColumnGeometry(points)
 
 

@@ -6,7 +6,7 @@ import itertools
 
 import numpy as np
 import pytest
-from column_cases import load, random_column
+from column_cases import load, planar_points, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 from cross_and_yoke import rotate
 
@@ -70,19 +70,10 @@ def test_positive_offset_is_clockwise_looking_from_joint_k_to_joint_k_plus_1():
     assert np.arctan2(turned @ screen_y, turned @ screen_x) < 0
 
 
-def _planar_points(bends_deg):
-    heading, point, points = 0.0, np.zeros(3), [np.zeros(3)]
-    for bend in [0.0, *bends_deg]:
-        heading += np.radians(bend)
-        point = point + 300.0 * np.array([np.cos(heading), np.sin(heading), 0.0])
-        points.append(point)
-    return np.asarray(points)
-
-
 def test_mirror_symmetric_column_reports_both_tied_assemblies():
     # Planar (gamma = 0 or 180) and able to cancel (10, 12, 14 deg): phasings +d and
     # -d are mirrors with equal RE, so on a symmetric tooth grid teeth j and -j tie.
-    geometry = ColumnGeometry(_planar_points([10.0, 12.0, -14.0]))
+    geometry = ColumnGeometry(planar_points([10.0, 12.0, -14.0]))
     assert geometry.beta_deg == pytest.approx((10.0, 12.0, 14.0))
     result = best_spline_teeth(geometry, 36)
     assert len(result.ties) == 2
