@@ -107,3 +107,14 @@ def test_bad_method_and_single_joint_are_refused():
         best_spline_teeth(geometry, 36, method="guess")
     with pytest.raises(ValueError, match="1 joint"):
         best_spline_teeth(ColumnGeometry([[0, 0, 0], [100, 0, 0], [200, 30, 0]]), 36)
+
+
+def test_auto_switches_to_branch_and_bound_above_the_enumeration_limit():
+    # 6 joints on 24-tooth splines: 12^5 = 248,832 assemblies > 200,000.
+    geometry = ColumnGeometry(random_column(np.random.default_rng(6), 6))
+    automatic = best_spline_teeth(geometry, 24)
+    assert automatic.method == "branch_and_bound"
+    enumerated = best_spline_teeth(geometry, 24, method="enumeration")
+    assert enumerated.assemblies_evaluated == 12**5
+    assert automatic.residual_error == enumerated.residual_error
+    assert automatic.tooth_offset == enumerated.tooth_offset
