@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sso.series import BETA_LIMIT_DEG
+from sso.validation import as_float_tuple, finite_float
 
 if TYPE_CHECKING:
     from sso.series import ShaftSeries
@@ -199,8 +200,6 @@ class ColumnGeometry:
                 "shaft_length_mm": list(self.shaft_length_mm)}
 
     def _per_shaft(self, name: str, values: ArrayLike) -> np.ndarray:
-        from sso.validation import as_float_tuple
-
         numbers = as_float_tuple(name, values)
         expected = self.joint_count - 1
         if len(numbers) != expected:
@@ -225,8 +224,6 @@ def _validated_points(points_mm: Any) -> np.ndarray:
     if len(rows) < 3:
         raise ValueError(f"points_mm has {len(rows)} points; a column needs at least 3 "
                          "(input point, one joint centre, output point: 2 shafts)")
-    from sso.validation import finite_float
-
     points = np.empty((len(rows), 3))
     for index, row in enumerate(rows):
         if len(row) != 3:

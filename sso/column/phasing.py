@@ -81,7 +81,8 @@ class PhasingResult:
 
 def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
                      solvers: tuple[str, ...] = ("ipopt", "slsqp"),
-                     input_speed_rpm: float = 25.0, seed: int = 0) -> PhasingResult:
+                     input_speed_rpm: float = 25.0, tolerance: float = 1e-12,
+                     max_iterations: int = 500, seed: int = 0) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every
@@ -98,6 +99,8 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
         Solvers; with two they are cross-checked.
     input_speed_rpm : float
         Input speed for the reported figures, rpm.
+    tolerance, max_iterations
+        Solver tolerance and iteration limit of each run (as :func:`sso.optimise`).
     seed : int
         Seed of the space-filling starts and of the search for representatives of
         a continuum of optima.
@@ -125,7 +128,7 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
     in_phase = geometry.series()
     run = sso.optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
                        solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
-                       seed=seed)
+                       tolerance=tolerance, max_iterations=max_iterations, seed=seed)
     best_phase = np.mod(np.asarray(run.best.series.phase_deg), 180.0)
     verdict = can_cancel(geometry.beta_deg)
     closed = minimising_phases_deg(geometry.beta_deg)

@@ -82,6 +82,31 @@ def test_four_cancelling_joints_have_a_continuum_of_optima():
         assert simulated_residual_error(points, yoke) <= 1e-12
 
 
+@pytest.mark.parametrize("seed, joints", [(0, 2), (1, 3), (2, 3), (3, 4), (4, 5)])
+def test_random_columns_reach_the_closed_form_global_minimum(seed, joints):
+    # Acceptance: the global minimum over yoke phasing within 1e-12 absolute; the
+    # least RE comes from the closed form (test_column_cancel checks it by brute force).
+    points = random_column(np.random.default_rng(500 + seed), joints)
+    result = optimise_phasing(ColumnGeometry(points))
+    assert result.success, result.message
+    assert abs(result.fun - result.minimum_residual_error) <= 1e-12
+    assert simulated_residual_error(points, result.yoke_phase_deg) == pytest.approx(
+        result.fun, rel=1e-9, abs=1e-15)
+    for yoke in result.equivalent_yoke_phase_deg:
+        assert abs(simulated_residual_error(points, yoke) - result.minimum_residual_error) <= 1e-12
+
+
+def test_solver_options_reach_sso_optimise_and_unknown_ones_fail():
+    geometry = ColumnGeometry(load("car_intermediate_shaft")["points_mm"])
+    result = optimise_phasing(geometry, solvers=("slsqp",), starts=2, max_iterations=50)
+    assert set(result.optimisation.solutions) == {"slsqp"}
+    assert result.optimisation.starts == 2
+    with pytest.raises(TypeError):
+        optimise_phasing(geometry, bounds=(0, 180))
+    with pytest.raises(ValueError, match="starts"):
+        optimise_phasing(geometry, starts=0)
+
+
 def test_bad_input_is_refused():
     with pytest.raises(TypeError, match="ColumnGeometry"):
         optimise_phasing([[0, 0, 0]])
