@@ -39,6 +39,8 @@ if TYPE_CHECKING:
 # A joint whose |u_(k-1) x u_k| is at or below this is straight (beta = 0 exactly):
 # its bend plane is not defined by the points to better than round-off.
 STRAIGHT_SINE = 1e-12
+# Sines of bend-plane angles this small are round-off (below 1e-11 deg).
+ROUND_OFF_SINE = 1e-13
 # Consecutive points closer than this fraction of the column's extent coincide.
 COINCIDENT_RELATIVE = 1e-9
 CONVENTIONAL_PHASE_DEG = 90.0
@@ -115,12 +117,19 @@ class ColumnGeometry:
 
     @property
     def plane_angle_deg(self) -> tuple[float, ...]:
-        """Bend-plane angles ``gamma_1 .. gamma_(n-1)``, deg, in ``(-180, 180]``."""
+        """Bend-plane angles ``gamma_1 .. gamma_(n-1)``, deg, in ``(-180, 180]``.
+
+        A planar Z (bends in opposite senses) gives 180, never -180, even when
+        round-off leaves the sine a few ulp below zero.
+        """
         angles = []
         for k in range(self.joint_count - 1):
             first, second, axis = self._normals[k], self._normals[k + 1], self._directions[k + 1]
-            angles.append(float(np.degrees(np.arctan2(np.dot(np.cross(first, second), axis),
-                                                      np.dot(first, second)))))
+            sine = float(np.dot(np.cross(first, second), axis))
+            cosine = float(np.dot(first, second))
+            if cosine < 0.0 and abs(sine) <= ROUND_OFF_SINE:
+                sine = 0.0
+            angles.append(float(np.degrees(np.arctan2(sine, cosine))))
         return tuple(angles)
 
     @property
@@ -162,6 +171,21 @@ class ColumnGeometry:
         gamma = np.asarray(self.plane_angle_deg)
         return tuple(float(value) for value in
                      wrap_half_turn(phase - CONVENTIONAL_PHASE_DEG + gamma))
+
+    def mirror_yoke_phase_deg(self, yoke_phase_deg: ArrayLike) -> tuple[float, ...]:
+        """The mirror assembly ``delta_k -> 2 gamma_k - delta_k``, deg, in ``[-90, 90)``.
+
+        It has every model phase negated (``phi -> -phi``), so the same RE and
+        the same speed curve run backwards in the input angle.
+
+        Raises
+        ------
+        ValueError
+            If the count is wrong or a value is not finite.
+        """
+        delta = self._per_shaft("yoke_phase_deg", yoke_phase_deg)
+        gamma = np.asarray(self.plane_angle_deg)
+        return tuple(float(value) for value in wrap_half_turn(2.0 * gamma - delta))
 
     def series(self, yoke_phase_deg: ArrayLike | None = None,
                model: str = "exact") -> ShaftSeries:

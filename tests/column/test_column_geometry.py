@@ -122,6 +122,32 @@ def test_planar_u_and_z_columns():
     assert z_column.phase_deg_from_yoke([0.0]) == pytest.approx((90.0,), abs=1e-12)
 
 
+def test_mirror_assembly_has_the_same_re_in_the_3d_simulation():
+    points = np.asarray(load("truck_three_joints")["points_mm"])
+    geometry = ColumnGeometry(points)
+    yoke = (25.0, -40.0)
+    mirror = geometry.mirror_yoke_phase_deg(yoke)
+    gamma = np.asarray(geometry.plane_angle_deg)
+    np.testing.assert_allclose(np.mod(np.subtract(mirror, 2 * gamma - yoke) + 90, 180) - 90, 0,
+                               atol=1e-12)
+    assert simulated_residual_error(points, mirror) == pytest.approx(
+        simulated_residual_error(points, yoke), rel=1e-12)
+    np.testing.assert_allclose(np.add(geometry.phase_deg_from_yoke(mirror),
+                                      geometry.phase_deg_from_yoke(yoke)) % 180.0, 0.0, atol=1e-9)
+
+
+def test_planar_z_gives_plus_180_even_with_round_off():
+    # A planar Z turned into random orientations: round-off leaves the sine of gamma
+    # a few ulp either side of zero, which atan2 would turn into +-180. The angle
+    # stays +180, the top of the documented range (-180, 180].
+    from scipy.spatial.transform import Rotation
+
+    z_points = np.array([[-300, 100, 0], [0, 0, 0], [300, 0, 0], [600, -100, 0]], dtype=float)
+    for seed in range(12):
+        turned = Rotation.random(random_state=seed).apply(z_points)
+        assert ColumnGeometry(turned).plane_angle_deg[0] == pytest.approx(180.0, abs=1e-12)
+
+
 def test_phase_and_yoke_converters_are_inverse_mod_180():
     geometry = ColumnGeometry(load("truck_three_joints")["points_mm"])
     yoke = (33.0, -71.5)
