@@ -151,10 +151,8 @@ class ColumnGeometry:
         ValueError
             If the count is wrong or a value is not finite.
         """
-        delta = self._per_shaft("yoke_phase_deg", yoke_phase_deg)
-        gamma = np.asarray(self.plane_angle_deg)
-        return tuple(float(value) for value in
-                     np.mod(CONVENTIONAL_PHASE_DEG + delta - gamma, 180.0))
+        delta, gamma = self._per_shaft("yoke_phase_deg", yoke_phase_deg)
+        return _floats(np.mod(CONVENTIONAL_PHASE_DEG + delta - gamma, 180.0))
 
     def yoke_phase_deg_from_phase(self, phase_deg: ArrayLike) -> tuple[float, ...]:
         """Yoke phasings ``delta_k = phi_k - 90 + gamma_k``, deg, wrapped to ``[-90, 90)``.
@@ -167,10 +165,8 @@ class ColumnGeometry:
         ValueError
             If the count is wrong or a value is not finite.
         """
-        phase = self._per_shaft("phase_deg", phase_deg)
-        gamma = np.asarray(self.plane_angle_deg)
-        return tuple(float(value) for value in
-                     wrap_half_turn(phase - CONVENTIONAL_PHASE_DEG + gamma))
+        phase, gamma = self._per_shaft("phase_deg", phase_deg)
+        return _floats(wrap_half_turn(phase - CONVENTIONAL_PHASE_DEG + gamma))
 
     def mirror_yoke_phase_deg(self, yoke_phase_deg: ArrayLike) -> tuple[float, ...]:
         """The mirror assembly ``delta_k -> 2 gamma_k - delta_k``, deg, in ``[-90, 90)``.
@@ -183,9 +179,8 @@ class ColumnGeometry:
         ValueError
             If the count is wrong or a value is not finite.
         """
-        delta = self._per_shaft("yoke_phase_deg", yoke_phase_deg)
-        gamma = np.asarray(self.plane_angle_deg)
-        return tuple(float(value) for value in wrap_half_turn(2.0 * gamma - delta))
+        delta, gamma = self._per_shaft("yoke_phase_deg", yoke_phase_deg)
+        return _floats(wrap_half_turn(2.0 * gamma - delta))
 
     def series(self, yoke_phase_deg: ArrayLike | None = None,
                model: str = "exact") -> ShaftSeries:
@@ -223,13 +218,18 @@ class ColumnGeometry:
                 "plane_angle_deg": list(self.plane_angle_deg),
                 "shaft_length_mm": list(self.shaft_length_mm)}
 
-    def _per_shaft(self, name: str, values: ArrayLike) -> np.ndarray:
+    def _per_shaft(self, name: str, values: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """The validated per-shaft angles (deg) and the bend-plane angles beside them."""
         numbers = as_float_tuple(name, values)
         expected = self.joint_count - 1
         if len(numbers) != expected:
             raise ValueError(f"{name} has {len(numbers)} entries; a column of "
                              f"{self.joint_count} joints has {expected} intermediate shafts")
-        return np.asarray(numbers, dtype=float)
+        return np.asarray(numbers, dtype=float), np.asarray(self.plane_angle_deg)
+
+
+def _floats(values: np.ndarray) -> tuple[float, ...]:
+    return tuple(float(value) for value in values)
 
 
 def wrap_half_turn(angle_deg: Any) -> np.ndarray:
