@@ -107,6 +107,19 @@ def test_solver_options_reach_sso_optimise_and_unknown_ones_fail():
         optimise_phasing(geometry, starts=0)
 
 
+def test_straight_middle_joint_gives_a_continuum_with_one_phasing_sum():
+    # Joint 2 straight: only delta_1 + delta_2 matters (docs/column.md, straight joints).
+    points = np.asarray([[-300, 60, 0], [0, 0, 0], [300, 0, 0], [600, 0, 0], [900, 90, 0]], float)
+    result = optimise_phasing(ColumnGeometry(points))
+    assert result.success, result.message
+    assert result.optimum_set_is_continuum
+    sums = [np.mod(sum(yoke), 180.0) for yoke in result.equivalent_yoke_phase_deg]
+    assert len(sums) >= 2
+    np.testing.assert_allclose(sums, sums[0], atol=1e-5)
+    for yoke in result.equivalent_yoke_phase_deg:
+        assert simulated_residual_error(points, yoke) == pytest.approx(result.fun, rel=1e-9)
+
+
 def test_bad_input_is_refused():
     with pytest.raises(TypeError, match="ColumnGeometry"):
         optimise_phasing([[0, 0, 0]])
