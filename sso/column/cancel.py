@@ -207,7 +207,7 @@ def _straight_joint_phases_deg(angles: tuple[float, ...]) -> tuple[float, ...]:
 
 
 def _validated(beta_deg: Sequence[float]) -> tuple[float, ...]:
-    from sso.series import BETA_LIMIT_DEG
+    from sso.limits import BETA_LIMIT_DEG
 
     angles = as_float_tuple("beta_deg", beta_deg)
     if not angles:

@@ -40,7 +40,7 @@ import numpy as np
 from sso.column.chain_matrix import chain_matrix
 
 if TYPE_CHECKING:
-    from sso.series import ShaftSeries
+    from sso.shafts.series import ShaftSeries
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}

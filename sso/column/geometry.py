@@ -30,11 +30,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sso.series import BETA_LIMIT_DEG
+from sso.limits import BETA_LIMIT_DEG
 from sso.validation import as_float_tuple, finite_float
 
 if TYPE_CHECKING:
-    from sso.series import ShaftSeries
+    from sso.shafts.series import ShaftSeries
 
 # A joint whose |u_(k-1) x u_k| is at or below this is straight (beta = 0 exactly):
 # its bend plane is not defined by the points to better than round-off.

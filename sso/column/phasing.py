@@ -12,7 +12,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 
 if TYPE_CHECKING:
-    from sso.optimisation import OptimisationResult
+    from sso.shafts.optimise import OptimisationResult
 
 # Phase bounds of the NLP: one and a half periods, so every minimum (period 180 deg)
 # lies strictly inside them at least once and no start stalls on a bound.
