@@ -51,6 +51,9 @@ _INITIAL_DAMPING = 1e-3
 _MIN_DAMPING = 1e-15
 _MAX_DAMPING = 1e16
 _SCALE_FLOOR = 1e-30
+_HESSIAN_STEP = 1e-6
+_NEGATIVE_CURVATURE = 1e-6
+_ESCAPE_LENGTHS = 0.5 ** np.arange(1, 16)
 
 
 @dataclass(frozen=True)
@@ -102,6 +105,9 @@ def batch_least_squares(
     ftol: float = 1e-15,
     xtol: float = 1e-15,
     max_iterations: int = 200,
+    escape_saddles: bool = True,
+    max_saddle_escapes: int = 3,
+    saddle_check_above: float = 1e-20,
 ) -> BatchLeastSquaresResult:
     """Minimise ``|r(x)|^2`` under ``lower <= x <= upper`` for ``m`` problems at once.
 
@@ -129,7 +135,16 @@ def batch_least_squares(
         Stop when an accepted step's infinity norm is at most
         ``xtol * (xtol + |x|_inf)``.
     max_iterations : int
-        Trial steps per problem.
+        Trial steps per problem, over all its restarts.
+    escape_saddles : bool
+        Check every converged problem whose sum of squares is above ``saddle_check_above`` for
+        negative curvature (a saddle point, or a stationary point on a bound that
+        only the true Hessian shows is not a minimum); move such a point downhill
+        and iterate again, at most ``max_saddle_escapes`` times.
+    saddle_check_above : float
+        Only problems whose sum of squares exceeds this are checked: the sum of
+        squares is never negative, so a point at or below it is a global minimum
+        to within round-off of any use.
 
     Returns
     -------
@@ -151,108 +166,209 @@ def batch_least_squares(
     if np.any(lower_bound > upper_bound):
         raise ValueError("a lower bound exceeds its upper bound")
     x = np.clip(x, lower_bound, upper_bound)
-    count, size = x.shape
+    count = x.shape[0]
+    state = _State(
+        x=x, lower=lower_bound, upper=upper_bound,
+        residual=np.zeros((count, 0)), jacobian=np.zeros((count, 0, x.shape[1])),
+        cost=np.zeros(count), gradient=np.zeros_like(x),
+        nit=np.zeros(count, dtype=int), nfev=np.zeros(count, dtype=int),
+        status=np.zeros(count, dtype=int),
+    )
+    settings = _Settings(gtol, fatol, ftol, xtol, max_iterations)
+    _levenberg_marquardt(residual_and_jacobian, state, np.arange(count), settings)
+    for _ in range(max_saddle_escapes * escape_saddles):
+        candidates = np.flatnonzero(np.isin(state.status, SUCCESS_STATUSES)
+                                    & (state.cost > max(fatol, saddle_check_above))
+                                    & (state.nit < max_iterations))
+        moved = _leave_saddles(residual_and_jacobian, state, candidates)
+        if moved.size == 0:
+            break
+        _levenberg_marquardt(residual_and_jacobian, state, moved, settings)
 
-    residual, jacobian = (np.array(value, dtype=float) for value in residual_and_jacobian(x, np.arange(len(x))))
-    cost = np.einsum("kq,kq->k", residual, residual)
-    scale = np.maximum(np.einsum("kqp,kqp->kp", jacobian, jacobian), _SCALE_FLOOR)
-    damping = np.full(count, _INITIAL_DAMPING)
-    growth = np.full(count, 2.0)
-    nit = np.zeros(count, dtype=int)
-    nfev = np.ones(count, dtype=int)
-    status = np.zeros(count, dtype=int)
-    done = np.zeros(count, dtype=bool)
-    gradient = np.einsum("kqp,kq->kp", jacobian, residual)
+    return BatchLeastSquaresResult(
+        x=state.x,
+        fun=state.cost,
+        projected_gradient=2.0 * np.max(np.abs(_free_gradient(state, slice(None))[0]), axis=1,
+                                        initial=0.0),
+        nit=state.nit,
+        nfev=state.nfev,
+        status=state.status,
+        success=np.isin(state.status, SUCCESS_STATUSES),
+    )
 
-    finite = np.isfinite(cost) & np.all(np.isfinite(jacobian), axis=(1, 2))
-    status[~finite] = -2
-    done[~finite] = True
+
+@dataclass(frozen=True)
+class _Settings:
+    gtol: float
+    fatol: float
+    ftol: float
+    xtol: float
+    max_iterations: int
+
+
+@dataclass
+class _State:
+    """Arrays of the whole batch, updated in place for the rows being iterated."""
+
+    x: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    residual: np.ndarray
+    jacobian: np.ndarray
+    cost: np.ndarray
+    gradient: np.ndarray
+    nit: np.ndarray
+    nfev: np.ndarray
+    status: np.ndarray
+
+    def store(self, rows: np.ndarray, residual: np.ndarray, jacobian: np.ndarray) -> None:
+        """Residuals, Jacobian, sum of squares and half-gradient ``J^T r`` at ``x[rows]``."""
+        if self.residual.shape[1] != residual.shape[1]:
+            self.residual = np.zeros((len(self.x), residual.shape[1]))
+            self.jacobian = np.zeros((len(self.x), *jacobian.shape[1:]))
+        self.residual[rows] = residual
+        self.jacobian[rows] = jacobian
+        self.cost[rows] = np.einsum("kq,kq->k", residual, residual)
+        self.gradient[rows] = np.einsum("kqp,kq->kp", jacobian, residual)
+
+
+def _free_gradient(state: _State, rows: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Half-gradient with the components that push through an active bound removed, and those."""
+    x, gradient = state.x[rows], state.gradient[rows]
+    held = (((x <= state.lower[rows]) & (gradient > 0))
+            | ((x >= state.upper[rows]) & (gradient < 0)))
+    return np.where(held, 0.0, gradient), held
+
+
+def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
+                         settings: _Settings) -> None:
+    """Iterate the problems ``rows`` from ``state.x`` until each stops; update ``state``."""
+    residual, jacobian = fun(state.x[rows], rows)
+    state.store(rows, residual, jacobian)
+    state.nfev[rows] += 1
+    state.status[rows] = 0
+    finite = np.isfinite(state.cost[rows]) & np.all(np.isfinite(jacobian), axis=(1, 2))
+    state.status[rows[~finite]] = -2
+    size = state.x.shape[1]
+    scale = np.full((len(state.x), size), _SCALE_FLOOR)
+    scale[rows] = np.maximum(np.einsum("kqp,kqp->kp", jacobian, jacobian), _SCALE_FLOOR)
+    damping = np.full(len(state.x), _INITIAL_DAMPING)
+    growth = np.full(len(state.x), 2.0)
+    done = np.ones(len(state.x), dtype=bool)
+    done[rows[finite]] = False
     identity = np.eye(size)
 
-    for _ in range(max_iterations + 1):
+    while True:
         live = np.flatnonzero(~done)
         if live.size == 0:
-            break
-        x_live, r_live, j_live = x[live], residual[live], jacobian[live]
-        g_live = gradient[live]
-        low, high = lower_bound[live], upper_bound[live]
-        held = ((x_live <= low) & (g_live > 0)) | ((x_live >= high) & (g_live < 0))
-        free_gradient = np.where(held, 0.0, g_live)
+            return
+        free_gradient, held = _free_gradient(state, live)
         projected = 2.0 * np.max(np.abs(free_gradient), axis=1, initial=0.0)
-
-        finished = np.zeros(live.size, dtype=int)
-        finished[projected <= gtol] = 1
-        finished[cost[live] <= fatol] = 4
-        finished[(finished == 0) & (nit[live] >= max_iterations)] = -9
-        stop = finished != 0
-        status[live[stop]] = np.where(finished[stop] == -9, 0, finished[stop])
+        finished = np.full(live.size, -9)
+        finished[state.nit[live] >= settings.max_iterations] = 0
+        finished[projected <= settings.gtol] = 1
+        finished[state.cost[live] <= settings.fatol] = 4
+        stop = finished != -9
+        state.status[live[stop]] = finished[stop]
         done[live[stop]] = True
-        keep = ~stop
-        if not np.any(keep):
-            break
-        live = live[keep]
-        x_live, r_live, j_live = x_live[keep], r_live[keep], j_live[keep]
-        free_gradient, held = free_gradient[keep], held[keep]
-        low, high = low[keep], high[keep]
+        if np.all(stop):
+            return
+        live, free_gradient, held = live[~stop], free_gradient[~stop], held[~stop]
+        x_live, r_live, j_live = state.x[live], state.residual[live], state.jacobian[live]
+        previous_cost = state.cost[live]
 
         normal = np.einsum("kqi,kqj->kij", j_live, j_live)
         normal += (damping[live][:, None] * scale[live])[:, :, None] * identity
         pinned = held[:, :, None] | held[:, None, :]
         normal = np.where(pinned, 0.0, normal) + held[:, :, None] * identity
         step = np.linalg.solve(normal, -free_gradient[:, :, None])[:, :, 0]
-        trial = np.clip(x_live + step, low, high)
+        trial = np.clip(x_live + step, state.lower[live], state.upper[live])
         taken = trial - x_live
         model_residual = r_live + np.einsum("kqp,kp->kq", j_live, taken)
-        predicted = cost[live] - np.einsum("kq,kq->k", model_residual, model_residual)
+        predicted = previous_cost - np.einsum("kq,kq->k", model_residual, model_residual)
 
-        trial_residual, trial_jacobian = residual_and_jacobian(trial, live)
-        nfev[live] += 1
-        nit[live] += 1
+        trial_residual, trial_jacobian = fun(trial, live)
+        state.nfev[live] += 1
+        state.nit[live] += 1
         trial_cost = np.einsum("kq,kq->k", trial_residual, trial_residual)
-        previous_cost = cost[live]
         usable = np.isfinite(trial_cost) & np.all(np.isfinite(trial_jacobian), axis=(1, 2))
-        ratio = np.where(predicted > 0,
-                         (cost[live] - trial_cost) / np.where(predicted > 0, predicted, 1.0),
-                         -1.0)
+        positive = np.where(predicted > 0, predicted, 1.0)
+        ratio = np.where(predicted > 0, (previous_cost - trial_cost) / positive, -1.0)
         accept = usable & (ratio > _ACCEPT_RATIO)
 
-        rows = live[accept]
-        x[rows] = trial[accept]
-        residual[rows] = trial_residual[accept]
-        jacobian[rows] = trial_jacobian[accept]
-        cost[rows] = trial_cost[accept]
-        gradient[rows] = np.einsum("kqp,kq->kp", jacobian[rows], residual[rows])
-        scale[rows] = np.maximum(scale[rows],
-                                 np.einsum("kqp,kqp->kp", jacobian[rows], jacobian[rows]))
+        rows_accepted = live[accept]
+        state.x[rows_accepted] = trial[accept]
+        state.store(rows_accepted, trial_residual[accept], trial_jacobian[accept])
+        scale[rows_accepted] = np.maximum(
+            scale[rows_accepted],
+            np.einsum("kqp,kqp->kp", trial_jacobian[accept], trial_jacobian[accept]))
         shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * ratio[accept] - 1.0) ** 3)
-        damping[rows] = np.maximum(damping[rows] * shrink, _MIN_DAMPING)
-        growth[rows] = 2.0
+        damping[rows_accepted] = np.maximum(damping[rows_accepted] * shrink, _MIN_DAMPING)
+        growth[rows_accepted] = 2.0
         small_step = (np.max(np.abs(taken[accept]), axis=1)
-                      <= xtol * (xtol + np.max(np.abs(trial[accept]), axis=1)))
-        status[rows[small_step]] = 3
-        done[rows[small_step]] = True
+                      <= settings.xtol * (settings.xtol + np.max(np.abs(trial[accept]), axis=1)))
+        state.status[rows_accepted[small_step]] = 3
+        done[rows_accepted[small_step]] = True
 
-        level = ftol * previous_cost
+        level = settings.ftol * previous_cost
         flat = (usable & (predicted <= level) & (np.abs(previous_cost - trial_cost) <= level)
-                & (ratio <= 2.0) & (status[live] == 0))
-        status[live[flat]] = 2
+                & (ratio <= 2.0) & ~done[live])
+        state.status[live[flat]] = 2
         done[live[flat]] = True
 
         rejected = live[~accept & ~flat]
         damping[rejected] *= growth[rejected]
         growth[rejected] *= 2.0
         stalled = rejected[damping[rejected] > _MAX_DAMPING]
-        status[stalled] = -1
+        state.status[stalled] = -1
         done[stalled] = True
 
-    held = (((x <= lower_bound) & (gradient > 0)) | ((x >= upper_bound) & (gradient < 0)))
-    projected = 2.0 * np.max(np.abs(np.where(held, 0.0, gradient)), axis=1, initial=0.0)
-    return BatchLeastSquaresResult(
-        x=x,
-        fun=cost,
-        projected_gradient=projected,
-        nit=nit,
-        nfev=nfev,
-        status=status,
-        success=np.isin(status, SUCCESS_STATUSES),
-    )
+
+def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np.ndarray:
+    """Move the stationary points among ``rows`` that are saddles downhill; return those moved.
+
+    The Hessian of ``|r|^2`` (not the Gauss-Newton one, which cannot be indefinite)
+    comes from differences of the gradient ``2 J^T r`` (central, one-sided at a
+    bound, so every point stays inside the bounds), over the variables not held
+    by a bound. Along its most negative eigenvector, both ways where the
+    bounds allow, the lowest of a ladder of step lengths is taken if it lowers the
+    sum of squares.
+    """
+    if rows.size == 0:
+        return rows
+    count, size = rows.size, state.x.shape[1]
+    x = state.x[rows]
+    _, held = _free_gradient(state, rows)
+    pinned = held | (state.lower[rows] == state.upper[rows])
+    offsets = _HESSIAN_STEP * np.eye(size)
+    shifted = np.clip(np.stack([x[:, None, :] + offsets, x[:, None, :] - offsets], axis=1),
+                      state.lower[rows][:, None, None, :], state.upper[rows][:, None, None, :])
+    residual, jacobian = fun(shifted.reshape(-1, size), np.repeat(rows, 2 * size))
+    state.nfev[rows] += 2 * size
+    gradient = 2.0 * np.einsum("kqp,kq->kp", jacobian, residual).reshape(count, 2, size, size)
+    spacing = np.einsum("kjj->kj", shifted[:, 0] - shifted[:, 1])
+    spacing = np.where(spacing > 0, spacing, 1.0)
+    hessian = (gradient[:, 0] - gradient[:, 1]) / spacing[:, :, None]
+    hessian = 0.5 * (hessian + hessian.transpose(0, 2, 1))
+    mask = pinned[:, :, None] | pinned[:, None, :]
+    hessian = np.where(mask, 0.0, hessian) + pinned[:, :, None] * np.eye(size)
+    values, vectors = np.linalg.eigh(hessian)
+    size_of_curvature = np.maximum(1.0, np.max(np.abs(values), axis=1))
+    saddle = np.isfinite(values[:, 0]) & (values[:, 0] < -_NEGATIVE_CURVATURE * size_of_curvature)
+    if not np.any(saddle):
+        return rows[:0]
+    rows, x, direction = rows[saddle], x[saddle], vectors[saddle, :, 0]
+    lengths = _ESCAPE_LENGTHS[None, :, None] * np.array([1.0, -1.0])[:, None, None]
+    trials = x[:, None, None, :] + lengths[None] * direction[:, None, None, :]
+    trials = np.clip(trials, state.lower[rows][:, None, None, :],
+                     state.upper[rows][:, None, None, :]).reshape(len(rows), -1, size)
+    per_row = trials.shape[1]
+    residual, _ = fun(trials.reshape(-1, size), np.repeat(rows, per_row))
+    state.nfev[rows] += per_row
+    cost = np.einsum("kq,kq->k", residual, residual).reshape(len(rows), per_row)
+    cost = np.where(np.isfinite(cost), cost, np.inf)
+    best = np.argmin(cost, axis=1)
+    lower_cost = cost[np.arange(len(rows)), best] < state.cost[rows] * (1.0 - 1e-9)
+    rows = rows[lower_cost]
+    state.x[rows] = trials[lower_cost, best[lower_cost]]
+    return rows

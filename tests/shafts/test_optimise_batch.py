@@ -74,6 +74,17 @@ def test_option_3_reaches_zero_residual_inside_the_bounds():
         assert single.fun == pytest.approx(result.fun[row], rel=1e-9)
 
 
+def test_a_start_whose_first_step_lands_on_a_saddle_corner_still_reaches_zero():
+    # Start 50 of benchmarks/batch_throughput.py: the first Gauss-Newton step is
+    # projected onto beta = 10, 10, 10 deg, phase = 0, 0 deg, a stationary point with
+    # RE = 1.05e-3 and negative curvature in the phases; SLSQP from this start
+    # reaches RE = 2.7e-15.
+    result = optimise_batch([39.000949151682875, 11.695693855183503, 39.35075069424323],
+                            [66.9027724008308, 105.9998420481538], option=3,
+                            beta_bounds_deg=(10.0, 40.0))
+    assert result.success[0] and result.fun[0] <= 1e-20
+
+
 def test_fixed_angles_stay_fixed_and_speeds_follow_the_residual():
     beta_deg, phase_deg = random_starts(21, 4)
     phase_result = optimise_batch(beta_deg, phase_deg, option=1)
