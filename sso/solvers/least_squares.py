@@ -53,6 +53,7 @@ _MAX_DAMPING = 1e16
 _SCALE_FLOOR = 1e-30
 _HESSIAN_STEP = 1e-6
 _NEGATIVE_CURVATURE = 1e-6
+_STRONGLY_ACTIVE = 1e-8
 _ESCAPE_LENGTHS = 0.5 ** np.arange(1, 16)
 
 
@@ -339,7 +340,11 @@ def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np
     count, size = rows.size, state.x.shape[1]
     x = state.x[rows]
     _, held = _free_gradient(state, rows)
-    pinned = held | (state.lower[rows] == state.upper[rows])
+    # A bound holds a variable only if it pushes outwards with a multiplier that
+    # is not round-off: a degenerate bound (zero gradient) with negative curvature
+    # inwards is no minimum.
+    strongly = held & (2.0 * np.abs(state.gradient[rows]) > _STRONGLY_ACTIVE)
+    pinned = strongly | (state.lower[rows] == state.upper[rows])
     offsets = _HESSIAN_STEP * np.eye(size)
     shifted = np.clip(np.stack([x[:, None, :] + offsets, x[:, None, :] - offsets], axis=1),
                       state.lower[rows][:, None, None, :], state.upper[rows][:, None, None, :])

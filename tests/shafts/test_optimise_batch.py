@@ -85,6 +85,15 @@ def test_a_start_whose_first_step_lands_on_a_saddle_corner_still_reaches_zero():
     assert result.success[0] and result.fun[0] <= 1e-20
 
 
+def test_a_stationary_point_on_a_bound_with_zero_multiplier_is_left():
+    # Option 1 from this start first stops at phase = 90, 0 deg (RE = 1.43e-5): the
+    # gradient of the phase on its bound is 2e-13, round-off, and the curvature
+    # inwards is negative. SLSQP from the same start reaches RE = 9.6e-19.
+    result = optimise_batch([27.707961026705515, 24.975889413228618, 13.72364195297121],
+                            [104.16981642303143, 53.81355732869628], option=1)
+    assert result.success[0] and result.fun[0] <= 1e-20
+
+
 def test_fixed_angles_stay_fixed_and_speeds_follow_the_residual():
     beta_deg, phase_deg = random_starts(21, 4)
     phase_result = optimise_batch(beta_deg, phase_deg, option=1)
