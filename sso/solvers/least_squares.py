@@ -24,6 +24,14 @@ decrease the Gauss-Newton model predicts for the projected step; the damping
 follows Nielsen's rule. The damping matrix is ``lambda * diag(s)``, with ``s`` the
 running maximum of the diagonal of ``J^T J`` (Moré's scaling), floored so the
 matrix stays positive definite.
+
+Two additions make it reliable where plain Gauss-Newton is not. A problem that
+converges slowly to a nonzero residual (Gauss-Newton is then only linear) switches
+to Newton steps with the true Hessian, from differences of the analytic gradient,
+shifted to be positive definite. And a problem that stops at a nonzero residual is
+checked for negative curvature (a saddle, or a bound whose multiplier is only
+round-off) and moved downhill and restarted if it has some: RE-like sums of squares
+are never negative, so a stop at zero needs no such check.
 """
 
 from __future__ import annotations
@@ -108,7 +116,7 @@ def batch_least_squares(
     max_iterations: int = 200,
     escape_saddles: bool = True,
     max_saddle_escapes: int = 3,
-    saddle_check_above: float = 1e-20,
+    zero_residual_level: float = 1e-20,
 ) -> BatchLeastSquaresResult:
     """Minimise ``|r(x)|^2`` under ``lower <= x <= upper`` for ``m`` problems at once.
 
@@ -138,14 +146,17 @@ def batch_least_squares(
     max_iterations : int
         Trial steps per problem, over all its restarts.
     escape_saddles : bool
-        Check every converged problem whose sum of squares is above ``saddle_check_above`` for
+        Check every converged problem whose sum of squares is above ``zero_residual_level`` for
         negative curvature (a saddle point, or a stationary point on a bound that
         only the true Hessian shows is not a minimum); move such a point downhill
         and iterate again, at most ``max_saddle_escapes`` times.
-    saddle_check_above : float
-        Only problems whose sum of squares exceeds this are checked: the sum of
-        squares is never negative, so a point at or below it is a global minimum
-        to within round-off of any use.
+    zero_residual_level : float
+        Sums of squares at or below this count as zero: such a point is a global
+        minimum (the sum is never negative), so it is not checked for a saddle,
+        and a problem above it whose Gauss-Newton steps converge slowly (the
+        projected gradient falls by less than half in an accepted step, the mark of
+        a minimum with nonzero residuals) switches to Newton steps with the true
+        Hessian (differences of the gradient, ``2 p`` evaluations per step).
 
     Returns
     -------
@@ -175,11 +186,11 @@ def batch_least_squares(
         nit=np.zeros(count, dtype=int), nfev=np.zeros(count, dtype=int),
         status=np.zeros(count, dtype=int),
     )
-    settings = _Settings(gtol, fatol, ftol, xtol, max_iterations)
+    settings = _Settings(gtol, fatol, ftol, xtol, max_iterations, zero_residual_level)
     _levenberg_marquardt(residual_and_jacobian, state, np.arange(count), settings)
     for _ in range(max_saddle_escapes * escape_saddles):
         candidates = np.flatnonzero(np.isin(state.status, SUCCESS_STATUSES)
-                                    & (state.cost > max(fatol, saddle_check_above))
+                                    & (state.cost > max(fatol, zero_residual_level))
                                     & (state.nit < max_iterations))
         moved = _leave_saddles(residual_and_jacobian, state, candidates)
         if moved.size == 0:
@@ -205,6 +216,7 @@ class _Settings:
     ftol: float
     xtol: float
     max_iterations: int
+    zero_residual_level: float
 
 
 @dataclass
@@ -257,6 +269,7 @@ def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
     growth = np.full(len(state.x), 2.0)
     done = np.ones(len(state.x), dtype=bool)
     done[rows[finite]] = False
+    newton = np.zeros(len(state.x), dtype=bool)
     identity = np.eye(size)
 
     while True:
@@ -275,18 +288,28 @@ def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
         if np.all(stop):
             return
         live, free_gradient, held = live[~stop], free_gradient[~stop], held[~stop]
-        x_live, r_live, j_live = state.x[live], state.residual[live], state.jacobian[live]
+        x_live, j_live = state.x[live], state.jacobian[live]
         previous_cost = state.cost[live]
 
-        normal = np.einsum("kqi,kqj->kij", j_live, j_live)
-        normal += (damping[live][:, None] * scale[live])[:, :, None] * identity
+        # The model's half Hessian: J^T J (Gauss-Newton), or the true one's half
+        # for the problems that switched to Newton steps, shifted to be positive
+        # definite on the free variables.
+        model = np.einsum("kqi,kqj->kij", j_live, j_live)
         pinned = held[:, :, None] | held[:, None, :]
+        in_newton = np.flatnonzero(newton[live])
+        if in_newton.size:
+            exact = 0.5 * _hessian(fun, state, live[in_newton])
+            free_part = np.where(pinned[in_newton], 0.0, exact) + held[in_newton][:, :, None] * identity
+            lowest = np.linalg.eigvalsh(free_part)[:, 0]
+            shift = np.maximum(0.0, -2.0 * lowest)
+            model[in_newton] = exact + shift[:, None, None] * identity
+        normal = model + (damping[live][:, None] * scale[live])[:, :, None] * identity
         normal = np.where(pinned, 0.0, normal) + held[:, :, None] * identity
         step = np.linalg.solve(normal, -free_gradient[:, :, None])[:, :, 0]
         trial = np.clip(x_live + step, state.lower[live], state.upper[live])
         taken = trial - x_live
-        model_residual = r_live + np.einsum("kqp,kp->kq", j_live, taken)
-        predicted = previous_cost - np.einsum("kq,kq->k", model_residual, model_residual)
+        predicted = -(2.0 * np.einsum("kp,kp->k", state.gradient[live], taken)
+                      + np.einsum("kp,kpq,kq->k", taken, model, taken))
 
         trial_residual, trial_jacobian = fun(trial, live)
         state.nfev[live] += 1
@@ -303,6 +326,13 @@ def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
         scale[rows_accepted] = np.maximum(
             scale[rows_accepted],
             np.einsum("kqp,kqp->kp", trial_jacobian[accept], trial_jacobian[accept]))
+        # Linear convergence to a nonzero residual: the sum of squares and the
+        # projected gradient both fall by less than half in a step the model predicted.
+        slow = ((2.0 * np.max(np.abs(_free_gradient(state, rows_accepted)[0]), axis=1,
+                              initial=0.0) > 0.5 * projected[~stop][accept])
+                & (trial_cost[accept] > 0.5 * previous_cost[accept])
+                & (trial_cost[accept] > settings.zero_residual_level))
+        newton[rows_accepted[slow]] = True
         shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * ratio[accept] - 1.0) ** 3)
         damping[rows_accepted] = np.maximum(damping[rows_accepted] * shrink, _MIN_DAMPING)
         growth[rows_accepted] = 2.0
@@ -325,26 +355,14 @@ def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
         done[stalled] = True
 
 
-def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np.ndarray:
-    """Move the stationary points among ``rows`` that are saddles downhill; return those moved.
+def _hessian(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np.ndarray:
+    """Hessian of ``|r|^2`` at ``x[rows]`` from differences of the gradient ``2 J^T r``.
 
-    The Hessian of ``|r|^2`` (not the Gauss-Newton one, which cannot be indefinite)
-    comes from differences of the gradient ``2 J^T r`` (central, one-sided at a
-    bound, so every point stays inside the bounds), over the variables not held
-    by a bound. Along its most negative eigenvector, both ways where the
-    bounds allow, the lowest of a ladder of step lengths is taken if it lowers the
-    sum of squares.
+    Central differences, one-sided at a bound, so every point stays inside the
+    bounds; symmetrised. Costs ``2 p`` evaluations per problem.
     """
-    if rows.size == 0:
-        return rows
     count, size = rows.size, state.x.shape[1]
     x = state.x[rows]
-    _, held = _free_gradient(state, rows)
-    # A bound holds a variable only if it pushes outwards with a multiplier that
-    # is not round-off: a degenerate bound (zero gradient) with negative curvature
-    # inwards is no minimum.
-    strongly = held & (2.0 * np.abs(state.gradient[rows]) > _STRONGLY_ACTIVE)
-    pinned = strongly | (state.lower[rows] == state.upper[rows])
     offsets = _HESSIAN_STEP * np.eye(size)
     shifted = np.clip(np.stack([x[:, None, :] + offsets, x[:, None, :] - offsets], axis=1),
                       state.lower[rows][:, None, None, :], state.upper[rows][:, None, None, :])
@@ -354,7 +372,29 @@ def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np
     spacing = np.einsum("kjj->kj", shifted[:, 0] - shifted[:, 1])
     spacing = np.where(spacing > 0, spacing, 1.0)
     hessian = (gradient[:, 0] - gradient[:, 1]) / spacing[:, :, None]
-    hessian = 0.5 * (hessian + hessian.transpose(0, 2, 1))
+    result: np.ndarray = 0.5 * (hessian + hessian.transpose(0, 2, 1))
+    return result
+
+
+def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np.ndarray:
+    """Move the stationary points among ``rows`` that are saddles downhill; return those moved.
+
+    The Hessian of ``|r|^2`` (:func:`_hessian`; not the Gauss-Newton one, which
+    cannot be indefinite) is taken over the variables not held by a bound. Along its most negative eigenvector, both ways where the
+    bounds allow, the lowest of a ladder of step lengths is taken if it lowers the
+    sum of squares.
+    """
+    if rows.size == 0:
+        return rows
+    size = state.x.shape[1]
+    x = state.x[rows]
+    _, held = _free_gradient(state, rows)
+    # A bound holds a variable only if it pushes outwards with a multiplier that
+    # is not round-off: a degenerate bound (zero gradient) with negative curvature
+    # inwards is no minimum.
+    strongly = held & (2.0 * np.abs(state.gradient[rows]) > _STRONGLY_ACTIVE)
+    pinned = strongly | (state.lower[rows] == state.upper[rows])
+    hessian = _hessian(fun, state, rows)
     mask = pinned[:, :, None] | pinned[:, None, :]
     hessian = np.where(mask, 0.0, hessian) + pinned[:, :, None] * np.eye(size)
     values, vectors = np.linalg.eigh(hessian)
