@@ -9,7 +9,12 @@ start) timed in the same process:
    second (best of ``--repeats``), against the baseline's solves per second on the
    same starts; the fraction reaching RE <= 1e-10, and that fraction among the
    starts where the baseline reaches it.
-2. **One design.** The paper's three options (``cases/paper_option*_exact.toml``):
+2. **Shapes.** ``--shape-starts`` (default 300) random starts of 3 to 6 joints for
+   each option (beta in [5, 35] deg; option 1 keeps the start's angles): designs
+   per second against the baseline's solves per second on the same starts, and how
+   many starts end with a higher or lower RE than the baseline's (by more than
+   1e-12).
+3. **One design.** The paper's three options (``cases/paper_option*_exact.toml``):
    the baseline, ``sso.optimise`` with SLSQP and one start, with IPOPT and one
    start, the default call (both solvers, its default starts) and
    ``optimise_batch`` with one row: median wall time after a warm-up (NLP built),
@@ -99,6 +104,35 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
     }
 
 
+def shape_figures(count: int) -> list[dict[str, Any]]:
+    """Batch against baseline for 3 to 6 joints and each option."""
+    rows = []
+    bounds = (5.0, 35.0)
+    for n_joints in range(3, 7):
+        for option in (1, 2, 3):
+            rng = np.random.default_rng(SEED + 10 * n_joints + option)
+            beta_deg = rng.uniform(*bounds, (count, n_joints))
+            phase_deg = rng.uniform(*PHASE_BOUNDS_DEG, (count, n_joints - 1))
+            started = time.perf_counter()
+            result = optimise_batch(beta_deg, phase_deg, option=option, beta_bounds_deg=bounds)
+            batch_time = time.perf_counter() - started
+            started = time.perf_counter()
+            baseline = np.array([baseline_solve(beta_deg[row], phase_deg[row], option, bounds,
+                                                PHASE_BOUNDS_DEG).fun for row in range(count)])
+            baseline_time = time.perf_counter() - started
+            rows.append({
+                "joints": n_joints, "option": option, "starts": count,
+                "designs_per_s": count / batch_time,
+                "baseline_solves_per_s": count / baseline_time,
+                "ratio": baseline_time / batch_time,
+                "success": float(np.mean(result.success)),
+                "nit_max": int(np.max(result.nit)),
+                "higher_re_than_baseline": int(np.sum(result.fun > baseline + 1e-12)),
+                "lower_re_than_baseline": int(np.sum(result.fun < baseline - 1e-12)),
+            })
+    return rows
+
+
 def _median_time(call: Callable[[], float]) -> tuple[float, float]:
     """Median wall time (s) of repeated calls after one warm-up, and the RE returned."""
     fun = call()
@@ -153,7 +187,7 @@ def latency_figures() -> dict[str, Any]:
     return figures
 
 
-def summary(batch: dict[str, Any], latency: dict[str, Any]) -> str:
+def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[str, Any]) -> str:
     """The measured figures and the targets met or missed, as Markdown."""
     met = {True: "met", False: "missed"}
     lines = [
@@ -173,6 +207,16 @@ def summary(batch: dict[str, Any], latency: dict[str, Any]) -> str:
         f"{batch['batch_reached_where_baseline_did']:.2%}"),
         (f"- iterations: batch median {batch['batch_nit_median']:g} (max {batch['batch_nit_max']}), "
         f"baseline median {batch['baseline_nit_median']:g}"),
+        "",
+        "## optimise_batch by shape (beta in [5, 35] deg, phase in [0, 180] deg)",
+        "",
+        ("| joints | option | designs/s | baseline solves/s | ratio | success | max nit "
+         "| RE higher / lower than baseline |"),
+        "|---|---|---|---|---|---|---|---|",
+        *[f"| {row['joints']} | {row['option']} | {row['designs_per_s']:,.0f} | "
+          f"{row['baseline_solves_per_s']:,.0f} | {row['ratio']:.1f} | {row['success']:.0%} | "
+          f"{row['nit_max']} | {row['higher_re_than_baseline']} / {row['lower_re_than_baseline']} |"
+          for row in shapes],
         "",
         ("## One design, the paper's options (median of "
         f"{LATENCY_REPEATS} after a warm-up; baseline time / method time)"),
@@ -201,16 +245,19 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--starts", type=int, default=2000, help="random starts (default 2000)")
     parser.add_argument("--repeats", type=int, default=3, help="batch repeats (default 3)")
+    parser.add_argument("--shape-starts", type=int, default=300,
+                        help="starts per shape (default 300)")
     parser.add_argument("--out", type=Path, default=Path("results/benchmarks"),
                         help="output folder (default: results/benchmarks)")
     arguments = parser.parse_args(argv)
     batch = batch_figures(arguments.starts, arguments.repeats)
+    shapes = shape_figures(arguments.shape_starts)
     latency = latency_figures()
-    text = summary(batch, latency)
+    text = summary(batch, shapes, latency)
     print(text)
     arguments.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(arguments.out / "batch_throughput.json",
-                      json.dumps({"batch": batch, "latency": latency}, indent=2) + "\n")
+                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency}, indent=2) + "\n")
     write_text_atomic(arguments.out / "batch_throughput.md", text)
 
 
