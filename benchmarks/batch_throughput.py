@@ -44,7 +44,7 @@ import numpy as np
 
 import sso
 from benchmarks.skilled_baseline import solve as baseline_solve
-from sso.io.atomic import write_text_atomic
+from sso.files import write_text_atomic
 from sso.shafts.batch import optimise_batch
 
 REACHED = 1e-10

@@ -21,6 +21,8 @@ _EXPORTS = {
     "Evaluation": "sso.shafts.evaluation",
     "optimise": "sso.shafts.optimise",
     "OptimisationResult": "sso.shafts.optimise",
+    "optimise_batch": "sso.shafts.batch",
+    "BatchResult": "sso.shafts.batch",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
     "sweep": "sso.batch.sweep",

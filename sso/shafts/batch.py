@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from sso.design.options import (
-    BETA_LIMIT_DEG,
+from sso.limits import BETA_LIMIT_DEG
+from sso.shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     OPTION_NAMES,
     StartMovedWarning,
