@@ -239,7 +239,14 @@ def _value_schema(parse: Callable[..., Any]) -> JsonSchema | None:
         return _pair(
             {"type": "number", "exclusiveMinimum": 0.0, "exclusiveMaximum": 180.0}
         )
-    factory, values = _factory(parse), _closure(parse)
+    try:
+        return _factory_schema(_factory(parse), _closure(parse))
+    except KeyError:  # a factory whose closure no longer holds the names read here
+        return None
+
+
+def _factory_schema(factory: str, values: dict[str, Any]) -> JsonSchema | None:
+    """Schema of a parser made by ``sso.cases.schema.<factory>`` closing over ``values``."""
     if factory == "number":
         return _number(
             values["lower"], values["upper"], values["lower_open"], values["upper_open"]
