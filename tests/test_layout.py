@@ -47,9 +47,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/run/document.py",
     "sso/run/mechanism_document.py",
     "sso/shafts/batch.py",
-    "sso/shafts/objective.py",
-    "sso/shafts/options.py",
-    "sso/shafts/problem.py",
     "sso/solvers/solution.py",
 }
 
