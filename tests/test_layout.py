@@ -33,7 +33,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/batch/worker.py",
     "sso/cases/mechanism.py",
     "sso/cli/app.py",
-    "sso/cli/common.py",
     "sso/column/chain_matrix.py",
     "sso/linkages/table.py",
     "sso/reports/curves.py",
