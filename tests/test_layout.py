@@ -28,7 +28,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/batch/progress.py",
     "sso/batch/report.py",
     "sso/batch/results.py",
-    "sso/batch/worker.py",
     "sso/cases/mechanism.py",
     "sso/cli/app.py",
     "sso/column/chain_matrix.py",
