@@ -79,9 +79,7 @@ def test_nonzero_residual_minimum_converges_fast():
     # Gauss-Newton alone converges linearly here (42 iterations); the switch to
     # Newton steps with the true Hessian needs 9.
     def residuals(x, rows):
-        residual = np.stack(
-            [x[:, 0] - 1.0, x[:, 0] * x[:, 1] - 10.0, x[:, 1] - 1.0], axis=1
-        )
+        residual = np.stack([x[:, 0] - 1.0, x[:, 0] * x[:, 1] - 10.0, x[:, 1] - 1.0], axis=1)
         jacobian = np.zeros((len(x), 3, 2))
         jacobian[:, 0, 0] = 1.0
         jacobian[:, 1, 0] = x[:, 1]
@@ -93,15 +91,11 @@ def test_nonzero_residual_minimum_converges_fast():
     result = batch_least_squares(residuals, [[0.0, 3.0], [3.0, 0.5]], -5.0, 5.0)
     assert np.all(result.success) and np.all(result.nit <= 15)
     np.testing.assert_allclose(result.x, root, rtol=1e-7)
-    np.testing.assert_allclose(
-        result.fun, 2 * (root - 1) ** 2 + (root**2 - 10) ** 2, rtol=1e-13
-    )
+    np.testing.assert_allclose(result.fun, 2 * (root - 1) ** 2 + (root**2 - 10) ** 2, rtol=1e-13)
 
 
 def test_iteration_limit_and_non_finite_residuals_are_reported():
-    limited = batch_least_squares(
-        rosenbrock, [[-1.2, 1.0]], -10.0, 10.0, max_iterations=2
-    )
+    limited = batch_least_squares(rosenbrock, [[-1.2, 1.0]], -10.0, 10.0, max_iterations=2)
     assert limited.status.tolist() == [0] and not limited.success[0]
     assert limited.nit.tolist() == [2]
     assert limited.message == (STATUS_MESSAGES[0],)
