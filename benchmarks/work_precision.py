@@ -105,7 +105,7 @@ def sso_solver(case: BenchmarkCase, solver: str, tolerance: float,
     def solve() -> Any:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return sso.optimise(series, solvers=solver, starts=1, tolerance=tolerance,
+            return sso.optimise(series, solvers=solver, starts=1, solver_tol=tolerance,
                                 **arguments)
 
     return solve

@@ -46,7 +46,10 @@ MOVED: dict[str, str | None] = {
     "sso.io.speeds": "sso.reports.speeds",
     "sso.io.summary": "sso.reports.summary",
     "sso.batch.command": "sso.cli.batch_commands",
+    "sso.batch.tolerance": "sso.batch.tolerance_study",
 }
+# Names that changed with their module: old path -> {old name: new name}.
+RENAMED = {"sso.batch.tolerance": {"tolerance": "tolerance_study"}}
 
 
 class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -68,9 +71,10 @@ class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         _warn(f"{spec.name} is deprecated and will be removed in the next release; "
               f"import from {new_name} (or the names exported by sso)")
         target = import_module(new_name)
+        renamed = RENAMED.get(spec.name, {})
 
         def forward(name: str) -> Any:
-            return getattr(target, name)
+            return getattr(target, renamed.get(name, name))
 
         module.__getattr__ = forward  # type: ignore[method-assign]
         module.__all__ = list(getattr(target, "__all__", [name for name in vars(target)

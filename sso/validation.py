@@ -184,9 +184,9 @@ def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
     return names
 
 
-def validate_tolerance(value: Any) -> float:
-    """A solver tolerance in ``(0, 1)``, or raise naming the field and range."""
-    return finite_in_range("tolerance", value, 0.0, 1.0, lower_open=True, upper_open=True)
+def validate_solver_tol(value: Any) -> float:
+    """The solvers' stopping tolerance in ``(0, 1)``, or raise naming the field and range."""
+    return finite_in_range("solver_tol", value, 0.0, 1.0, lower_open=True, upper_open=True)
 
 
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:

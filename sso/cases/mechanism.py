@@ -129,7 +129,7 @@ COUPLER_POINT_KEY = Key("plots", "coupler_point",
                         number_list(-10.0, 10.0, "", max_length=2), (0.5, 0.0), "coupler lengths",
                         "[along A->B, to the left of A->B], each in [-10, 10] coupler lengths")
 # The shaft series' [solver] keys, with sso.design_fourbar's defaults.
-DESIGN_SOLVER_DEFAULTS = {"tolerance": DEFAULT_FOURBAR_SOLVER_TOL}
+DESIGN_SOLVER_DEFAULTS = {"solver_tol": DEFAULT_FOURBAR_SOLVER_TOL}
 SOLVER_KEYS: tuple[Key, ...] = tuple(
     replace(key, default=DESIGN_SOLVER_DEFAULTS.get(key.name, key.default))
     for key in SHAFT_SERIES_KEYS if key.table == "solver"
@@ -225,7 +225,7 @@ class MechanismCase:
         """Keyword arguments of :func:`sso.design_fourbar` for a ``fourbar_design`` case."""
         bounds = {f"{name}_bounds": self.values[f"bounds.{name}"] for name in DESIGN_LINKS}
         solver = {name: self.values[f"solver.{name}"]
-                  for name in ("solvers", "starts", "tolerance", "max_iterations", "seed")}
+                  for name in ("solvers", "starts", "solver_tol", "max_iterations", "seed")}
         return {**bounds, "transmission_angle_bounds_deg":
                 self.values["bounds.transmission_angle_deg"], **solver}
 

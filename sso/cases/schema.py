@@ -55,6 +55,9 @@ NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 MAX_JOINTS = 64
 
 MAX_TEXT_LENGTH = 10_000
+# Keys renamed since v0.1, old label -> new label. An old one is read for one more
+# release, with a deprecation note in the case's warnings.
+RENAMED_KEYS = {"solver.tolerance": "solver.solver_tol"}
 
 
 class CaseError(ValueError):
@@ -328,8 +331,8 @@ class Case:
         Solvers to run.
     starts : int
         Starts per solver.
-    tolerance : float
-        Solver tolerance.
+    solver_tol : float
+        The solvers' stopping tolerance.
     max_iterations : int
         Iteration limit of each run.
     seed : int
@@ -366,7 +369,7 @@ class Case:
     phase_bounds_deg: tuple
     solvers: tuple[str, ...]
     starts: int
-    tolerance: float
+    solver_tol: float
     max_iterations: int
     seed: int
     quadrature_rtol: float
@@ -404,7 +407,7 @@ class Case:
             "solvers": self.solvers,
             "starts": self.starts,
             "input_speed_rpm": self.input_speed_rpm,
-            "tolerance": self.tolerance,
+            "solver_tol": self.solver_tol,
             "max_iterations": self.max_iterations,
             "seed": self.seed,
             "quadrature_rtol": self.quadrature_rtol,
@@ -436,7 +439,7 @@ class Case:
             "bounds": {"beta_deg": _bounds_to_lists(self.beta_bounds_deg),
                        "phase_deg": _bounds_to_lists(self.phase_bounds_deg)},
             "solver": {"solvers": list(self.solvers), "starts": self.starts,
-                       "tolerance": self.tolerance, "max_iterations": self.max_iterations,
+                       "solver_tol": self.solver_tol, "max_iterations": self.max_iterations,
                        "seed": self.seed},
             "quadrature": {"rtol": self.quadrature_rtol, "atol": self.quadrature_atol},
             "crosscheck": {"objective_rtol": self.objective_rtol,
@@ -490,7 +493,7 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "non-empty list of 'ipopt', 'slsqp'"),
     Key("solver", "starts", whole_number(1, MAX_STARTS), DEFAULT_STARTS, "",
         f"[1, {MAX_STARTS}]"),
-    Key("solver", "tolerance", number(0.0, 1.0, lower_open=True, upper_open=True),
+    Key("solver", "solver_tol", number(0.0, 1.0, lower_open=True, upper_open=True),
         DEFAULT_SHAFT_SOLVER_TOL, "",
         "(0, 1)"),
     Key("solver", "max_iterations", whole_number(1, MAX_ITERATIONS), DEFAULT_MAX_ITERATIONS, "",
@@ -548,7 +551,7 @@ def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
         phase_bounds_deg=values["bounds.phase_deg"],
         solvers=values["solver.solvers"],
         starts=values["solver.starts"],
-        tolerance=values["solver.tolerance"],
+        solver_tol=values["solver.solver_tol"],
         max_iterations=values["solver.max_iterations"],
         seed=values["solver.seed"],
         quadrature_rtol=values["quadrature.rtol"],
@@ -707,6 +710,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                         _line_of_key(source, "", "kind"))
     case_kind = CASE_KINDS[kind_value]
     keys = COMMON_KEYS + case_kind.keys
+    document, renamed = rename_old_keys(document, path, source)
     _refuse_unknown_keys(document, keys, path, source)
 
     values: dict[str, Any] = {}
@@ -725,9 +729,37 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
         if key.label not in values and key.default is not REQUIRED:
             values[key.label] = key.default(values, path) if callable(key.default) else key.default
     try:
-        return case_kind.build(values, path)
+        case = case_kind.build(values, path)
     except ValueError as error:
         raise CaseError(path, str(error), _line_of_first_label(source, str(error), keys)) from None
+    for note in renamed:
+        warnings.warn(note, DeprecationWarning, stacklevel=2)
+    return replace(case, warnings=(*renamed, *case.warnings)) if renamed else case
+
+
+def rename_old_keys(document: Mapping[str, Any], path: str,
+                     source: str) -> tuple[Mapping[str, Any], tuple[str, ...]]:
+    """The document with each key of :data:`RENAMED_KEYS` under its new name, and a note
+    for each one renamed."""
+    notes = []
+    for old_label, new_label in RENAMED_KEYS.items():
+        old_table, old_name = old_label.split(".")
+        new_table, new_name = new_label.split(".")
+        table = document.get(old_table)
+        if not isinstance(table, Mapping) or old_name not in table:
+            continue
+        target = document.get(new_table, {})
+        if isinstance(target, Mapping) and new_name in target:
+            raise CaseError(path, f"{old_label} and {new_label} are both given; keep only "
+                            f"{new_label} ({old_label} is its deprecated name)",
+                            _line_of_key(source, old_table, old_name))
+        value = table[old_name]
+        document = {**document,
+                    old_table: {name: item for name, item in table.items() if name != old_name}}
+        document = {**document, new_table: {**document.get(new_table, {}), new_name: value}}
+        notes.append(f"{old_label} is deprecated and will be removed in the next release; "
+                     f"name it {new_label}")
+    return document, tuple(notes)
 
 
 def _refuse_unknown_keys(document: Mapping[str, Any], keys: tuple[Key, ...], path: str,

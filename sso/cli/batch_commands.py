@@ -62,15 +62,16 @@ def run_sweep(args: argparse.Namespace) -> int:
 def run_tolerance(args: argparse.Namespace) -> int:
     """Run ``sso tolerance``; exit 0 on success, 2 for bad input."""
     from sso.batch.axes import base_case
-    from sso.batch.tolerance import tolerance
+    from sso.batch.tolerance_study import tolerance_study
     from sso.cli.common import DEFAULT_OUT, EXIT_OK
 
     def work(client: Any) -> int:
         case = base_case(args.case)
-        result = tolerance(case, samples=args.samples, seed=args.seed,
-                           out_dir=Path(args.out or DEFAULT_OUT) / case.name, client=client,
-                           workers=args.workers, progress=False if args.quiet else None,
-                           plots=not args.no_plots)
+        result = tolerance_study(case, samples=args.samples, seed=args.seed,
+                                 out_dir=Path(args.out or DEFAULT_OUT) / case.name,
+                                 client=client, workers=args.workers,
+                                 progress=False if args.quiet else None,
+                                 plots=not args.no_plots)
         print(result.summary(), flush=True)
         return EXIT_OK
 

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, Iterable
 
 import numpy as np
 
+from sso.deprecation import renamed_keywords
 from sso.limits import (
     DEFAULT_FOURBAR_SOLVER_TOL,
     DEFAULT_MAX_ITERATIONS,
@@ -52,8 +53,8 @@ from sso.solvers.starts import DEFAULT_SEED, start_points
 from sso.validation import (
     per_item_bounds,
     validate_count,
+    validate_solver_tol,
     validate_solvers,
-    validate_tolerance,
 )
 
 if TYPE_CHECKING:
@@ -128,6 +129,7 @@ class FourBarDesignResult:
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def design_fourbar(
     start: "FourBar",
     *,
@@ -138,7 +140,7 @@ def design_fourbar(
     transmission_angle_bounds_deg: tuple[float, float] = TRANSMISSION_BAND_DEG,
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = DEFAULT_STARTS,
-    tolerance: float = DEFAULT_FOURBAR_SOLVER_TOL,
+    solver_tol: float = DEFAULT_FOURBAR_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
 ) -> FourBarDesignResult:
@@ -155,7 +157,7 @@ def design_fourbar(
         and transmission angle do not change with scale, so one length must be held).
     transmission_angle_bounds_deg : (float, float)
         Allowed transmission angle over the whole revolution, deg, inside (0, 180).
-    solvers, starts, tolerance, max_iterations, seed
+    solvers, starts, solver_tol, max_iterations, seed
         As in :func:`sso.optimise`.
 
     Returns
@@ -173,7 +175,7 @@ def design_fourbar(
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
-    tolerance = validate_tolerance(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     if ground_bounds is None:
         ground_bounds = (start.ground, start.ground)
     link_bounds = {
@@ -203,7 +205,7 @@ def design_fourbar(
                       upper[:4])
     user_start = np.concatenate([lengths, _limit_angles(*lengths)])
     points = start_points(user_start, lower, upper, starts, seed)
-    measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, tolerance,
+    measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, solver_tol,
                           max_iterations)
     solver_runs = {name: [solution_from_run(run, runs) for run in runs]
                    for name, runs in measured.items()}

@@ -135,7 +135,7 @@ def _case_table(document: Mapping[str, Any]) -> Table:
         solver = case["solver"]
         rows += [("solvers", ", ".join(solver["solvers"])),
                  ("starts per solver", str(solver["starts"])),
-                 ("solver tolerance", number(solver["tolerance"], "g"))]
+                 ("solver tolerance", number(solver["solver_tol"], "g"))]
     rows.append(("created (UTC)", document["created_utc"]))
     return Table(("item", "value"), tuple(rows))
 

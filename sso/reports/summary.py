@@ -124,7 +124,7 @@ def _case_table(document: Mapping[str, Any]) -> Table:
     if document["mode"] == "optimise":
         rows += [("solvers", ", ".join(case["solver"]["solvers"])),
                  ("starts per solver", str(document["starts"])),
-                 ("solver tolerance", number(case["solver"]["tolerance"], "g"))]
+                 ("solver tolerance", number(case["solver"]["solver_tol"], "g"))]
     quadrature = document["quadrature"]
     rows += [("quadrature angles (objective)", str(quadrature["samples"])),
              ("quadrature error estimate", number(quadrature["error_estimate"], ".2g")),

@@ -8,6 +8,7 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from sso.deprecation import renamed_keywords
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -38,9 +39,9 @@ from sso.solvers.solution import CrossCheck, Solution
 from sso.solvers.starts import DEFAULT_SEED, start_points
 from sso.validation import (
     validate_count,
+    validate_solver_tol,
     validate_solvers,
     validate_speed,
-    validate_tolerance,
 )
 
 
@@ -147,6 +148,7 @@ class OptimisationResult:
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def optimise(
     series: ShaftSeries,
     option: int | str = 3,
@@ -156,7 +158,7 @@ def optimise(
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = DEFAULT_STARTS,
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
-    tolerance: float = DEFAULT_SHAFT_SOLVER_TOL,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
     quadrature_rtol: float = DEFAULT_RTOL,
@@ -190,9 +192,10 @@ def optimise(
         Starts per solver, ``1..10000``: the user's start plus space-filling points.
     input_speed_rpm : float
         Input speed, rpm (> 0); it scales the reported figures, not the optimum.
-    tolerance : float
-        Solver tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's ``ftol`` relative
-        to the starting objective.
+    solver_tol : float
+        The solvers' stopping tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's
+        ``ftol`` relative to the starting objective. (Its name until v0.1,
+        ``tolerance``, still works with a DeprecationWarning.)
     max_iterations : int
         Iteration limit of each run, >= 1.
     seed : int
@@ -220,7 +223,7 @@ def optimise(
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
-    tolerance = validate_tolerance(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
                                                                      quadrature_atol)
 
@@ -230,7 +233,7 @@ def optimise(
                                 beta_bounds_deg, phase_bounds_deg)
         rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
                                quadrature_atol)
-        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
+        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance,
                         tuple(str(warning.message) for warning in caught))
@@ -240,7 +243,7 @@ def optimise(
 
 
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
-           starts: int, speed_rpm: float, tolerance: float, max_iterations: int, seed: int,
+           starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
@@ -249,7 +252,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     nlp = compiled_nlp(problem, rule.samples)
     points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
     limits = RunLimits(problem.lower_rad, problem.upper_rad)
-    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
+    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, solver_tol,
                           max_iterations)
     solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
                    for name, runs in measured.items()}

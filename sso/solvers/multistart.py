@@ -47,7 +47,7 @@ def run_starts(
     parameters: np.ndarray,
     limits: RunLimits,
     solver_names: Sequence[str],
-    tolerance: float,
+    solver_tol: float,
     max_iterations: int,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
@@ -66,7 +66,7 @@ def run_starts(
     limits : RunLimits
         Bounds of ``x`` and of the constraints.
     solver_names : sequence of {"ipopt", "slsqp"}
-    tolerance : float
+    solver_tol : float
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
@@ -80,11 +80,11 @@ def run_starts(
         backend = _backend(name)
 
         def solve(start: np.ndarray) -> RunOutcome:
-            return backend.solve(nlp, start, parameters, limits, tolerance, max_iterations)
+            return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
 
         runs[name] = [
             _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
-                                                               limits, tolerance),
+                                                               limits, solver_tol),
                      nlp, parameters, limits)
             for index, point in enumerate(points)
         ]

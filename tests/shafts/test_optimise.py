@@ -35,7 +35,7 @@ PAPER_OPTION_2 = sso.ShaftSeries([10, 15, 25], [90, 90], model="paper")
         ({"starts": 0}, ValueError, r"starts = 0 is outside the allowed range \[1, 10000\]"),
         ({"input_speed_rpm": math.inf}, ValueError, r"input_speed_rpm = inf must be finite"),
         ({"input_speed_rpm": -25}, ValueError, r"input_speed_rpm = -25 is outside the allowed range"),
-        ({"tolerance": 0}, ValueError, r"tolerance = 0 is outside the allowed range \(0, 1\)"),
+        ({"solver_tol": 0}, ValueError, r"solver_tol = 0 is outside the allowed range \(0, 1\)"),
         ({"max_iterations": 2.5}, ValueError, r"max_iterations = 2.5 must be a whole number"),
         ({"beta_bound_deg": (0, 40)}, TypeError, r"unexpected keyword argument 'beta_bound_deg'"),
     ],
