@@ -30,24 +30,28 @@ from sso.cases.schema import (
 )
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.registry import Linkage, linkage_of_kind, linkages
 from sso.validation import per_item_bounds
 
-ANALYSIS_KINDS = ("fourbar", "slider_crank", "quick_return")
+# Analysis kinds come from the linkage registry: one per registered mechanism.
+ANALYSIS_KINDS = tuple(linkages())
 DESIGN_KIND = "fourbar_design"
 MECHANISM_KINDS = (*ANALYSIS_KINDS, DESIGN_KIND)
 MAX_ROWS = 10_000
 MAX_PLOTTED_POSITIONS = 12
 DEFAULT_PLOTTED_POSITIONS = 8
-MECHANISM_TYPES = {"fourbar": FourBar, "slider_crank": SliderCrank, "quick_return": QuickReturn,
-                   DESIGN_KIND: FourBar}
-# Link lengths of each analysis kind, in the order of the class's constructor.
-LINK_NAMES = {
-    "fourbar": ("ground", "crank", "coupler", "rocker"),
-    "slider_crank": ("crank", "rod"),
-    "quick_return": ("crank", "coupler", "rocker", "slider_link", "ground"),
-}
+# A four-bar design case describes its start linkage as a four-bar analysis case does.
+DESIGN_LINKAGE_KIND = "fourbar"
 DESIGN_LINKS = ("crank", "coupler", "rocker", "ground")
 POSITIVE = "(0, inf)"
+
+
+def _linkage(kind: str) -> Linkage:
+    return linkage_of_kind(DESIGN_LINKAGE_KIND if kind == DESIGN_KIND else kind)
+
+
+def _link_names(kind: str) -> tuple[str, ...]:
+    return DESIGN_LINKS if kind == DESIGN_KIND else _linkage(kind).links
 
 
 def _positive_length() -> Callable[[str, Any], float]:
@@ -90,16 +94,16 @@ def _default_ground_bounds(values: dict[str, Any], path: str) -> tuple[float, fl
 
 
 def _link_keys(table: str, kind: str) -> tuple[Key, ...]:
-    names = DESIGN_LINKS if kind == DESIGN_KIND else LINK_NAMES[kind]
-    keys = [Key(table, name, _positive_length(), REQUIRED, "length", POSITIVE) for name in names]
-    if kind == "slider_crank":
+    linkage = _linkage(kind)
+    keys = [Key(table, name, _positive_length(), REQUIRED, "length", POSITIVE)
+            for name in _link_names(kind)]
+    if linkage.extra == "offset":
         keys.append(Key(table, "offset", number(-math.inf, math.inf, "length units",
                                                 lower_open=True, upper_open=True),
                         0.0, "length",
                         "any finite number (slider line height above the crank pivot)"))
     else:
-        default_branch = "crossed" if kind == "quick_return" else "open"
-        keys.append(Key(table, "branch", choice(("open", "crossed")), default_branch, "",
+        keys.append(Key(table, "branch", choice(("open", "crossed")), linkage.default_branch, "",
                         "'open' or 'crossed'"))
     keys.append(Key(table, "length_unit", text(20), "", "",
                     "free text, at most 20 characters (e.g. 'mm'; labels only)"))
@@ -153,7 +157,8 @@ def kind_keys(kind: str) -> tuple[Key, ...]:
     """The keys of one mechanism kind (without the common keys)."""
     if kind == DESIGN_KIND:
         return DESIGN_KEYS
-    plot_keys = (PLOT_ANGLE_KEY, COUPLER_POINT_KEY) if kind == "fourbar" else (PLOT_ANGLE_KEY,)
+    plot_keys = ((PLOT_ANGLE_KEY, COUPLER_POINT_KEY) if _linkage(kind).coupler_point
+                 else (PLOT_ANGLE_KEY,))
     return (*_link_keys("linkage", kind), *DRIVE_KEYS, *plot_keys)
 
 
@@ -271,13 +276,9 @@ def angle_grid(start_deg: float, stop_deg: float, step_deg: float) -> np.ndarray
 def build_mechanism(kind: str, values: dict[str, Any],
                     table: str) -> FourBar | SliderCrank | QuickReturn:
     """The mechanism of ``kind`` from checked values keyed by dotted label."""
-    extra = "offset" if kind == "slider_crank" else "branch"
-    arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), extra)}
-    return MECHANISM_TYPES[kind](**arguments)
-
-
-def _link_names(kind: str) -> tuple[str, ...]:
-    return DESIGN_LINKS if kind == DESIGN_KIND else LINK_NAMES[kind]
+    linkage = _linkage(kind)
+    arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), linkage.extra)}
+    return linkage.mechanism(**arguments)  # type: ignore[no-any-return]
 
 
 def _plain(value: Any) -> Any:
@@ -295,7 +296,7 @@ def _build(values: dict[str, Any], path: str) -> MechanismCase:
         raise ValueError(f"drive.step_deg = {step:g} gives {rows} crank angles from "
                          f"drive.start_deg = {start:g} to drive.stop_deg = {stop:g}; "
                          f"at most {MAX_ROWS} are allowed")
-    if kind == "fourbar" or kind == DESIGN_KIND:
+    if _linkage(kind).coupler_point:
         if len(values["plots.coupler_point"]) != 2:
             raise ValueError(f"plots.coupler_point = {list(values['plots.coupler_point'])} must "
                              "have 2 entries: [along A->B, to the left of A->B]")

@@ -16,6 +16,7 @@ import numpy as np
 from sso.cases.mechanism import MechanismCase, angle_grid
 from sso.limits import TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
 from sso.run.mechanism_document import (
@@ -45,54 +46,6 @@ class Curves:
     tabulated: MechanismTable
 
 
-# (file name, title, panels); a panel is (y label with {length} for the unit, columns)
-# and a column is (table column, legend label).
-SERIES_PLOTS: dict[str, tuple[tuple[str, str, tuple], ...]] = {
-    "FourBar": (
-        ("angular_motion.png", "coupler and rocker angular velocity and acceleration", (
-            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler"),
-                                          ("rocker_angular_velocity_rad_s", "rocker"))),
-            ("angular acceleration (rad/s$^2$)", (("coupler_angular_accel_rad_s2", "coupler"),
-                                                  ("rocker_angular_accel_rad_s2", "rocker"))))),
-    ),
-    "SliderCrank": (
-        ("piston_motion.png", "piston velocity and acceleration, exact vs series (Holowenko)", (
-            ("piston velocity ({length}/s)", (("piston_velocity", "exact"),
-                                              ("piston_velocity_approximate",
-                                               "series approximation", "--"))),
-            ("velocity, series - exact\n({length}/s)",
-             (("piston_velocity_approximate-piston_velocity", "series - exact"),)),
-            ("piston acceleration ({length}/s$^2$)", (("piston_accel", "exact"),
-                                                      ("piston_accel_approximate",
-                                                       "series approximation", "--"))),
-            ("acceleration, series - exact\n({length}/s$^2$)",
-             (("piston_accel_approximate-piston_accel", "series - exact"),)))),
-        ("rod_motion.png", "connecting-rod angle, angular velocity and acceleration", (
-            ("rod angle (deg)", (("rod_angle_deg", "rod A->B"),)),
-            ("angular velocity (rad/s)", (("rod_angular_velocity_rad_s", "rod"),)),
-            ("angular acceleration (rad/s$^2$)", (("rod_angular_accel_rad_s2", "rod"),)))),
-    ),
-    "QuickReturn": (
-        ("angular_motion.png", "angular velocity and acceleration of the links", (
-            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler AB"),
-                                          ("rocker_angular_velocity_rad_s", "rocker O4B"),
-                                          ("slider_link_angular_velocity_rad_s",
-                                           "slider link BC"))),
-            ("angular acceleration (rad/s$^2$)", (
-                ("coupler_angular_accel_rad_s2", "coupler AB"),
-                ("rocker_angular_accel_rad_s2", "rocker O4B"),
-                ("slider_link_angular_accel_rad_s2", "slider link BC"))))),
-        ("slider_motion.png", "slider C and joint B: position, velocity, acceleration", (
-            ("slider position x$_C$ ({length})", (("joint_c_x", "slider C"),)),
-            ("velocity ({length}/s)", (("joint_c_velocity_x", "slider C, along x"),
-                                       ("joint_b_speed", "joint B, magnitude"))),
-            ("acceleration ({length}/s$^2$)", (("joint_c_accel_x", "slider C, along x"),
-                                               ("joint_b_accel_magnitude",
-                                                "joint B, magnitude"))))),
-    ),
-}
-
-
 def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     """PNG images of a mechanism result, keyed by file name.
 
@@ -110,11 +63,11 @@ def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     """
     case = case_from_document(document)
     curves = {role: _curves(document, case, role) for role in document["linkages"]}
-    kind = next(iter(curves.values())).mechanism.__class__.__name__
+    linkage = linkage_of(next(iter(curves.values())).mechanism)
     images = {"linkage.png": _linkage_plot(document, case, curves)}
-    for file_name, title, panels in SERIES_PLOTS[kind]:
+    for file_name, title, panels in linkage.series_plots:
         images[file_name] = _series_plot(document, curves, title, panels)
-    if kind in ("FourBar", "QuickReturn"):
+    if linkage.transmission_plot:
         images["transmission_angle.png"] = _transmission_plot(document, case, curves)
     return images
 
@@ -248,7 +201,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
     for axes, (role, curve) in zip(axes_list, curves.items()):
         snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
-        if isinstance(curve.mechanism, SliderCrank):
+        if linkage_of(curve.mechanism).drawing == "slider_crank":
             _draw_slider_crank(axes, curve, snapshots)
         else:
             _draw_fourbar_like(axes, curve, snapshots)

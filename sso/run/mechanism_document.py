@@ -31,24 +31,12 @@ from sso.linkages.mechanisms import (
     SliderCrank,
     slider_crank_method_difference,
 )
+from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.run.document import SCHEMA_VERSION, _verdict, package_versions
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""
-MECHANISM_CLASSES = {"FourBar": FourBar, "SliderCrank": SliderCrank, "QuickReturn": QuickReturn}
-EXTREME_COLUMNS = {
-    "FourBar": ("transmission_angle_deg", "rocker_angle_deg", "coupler_angular_velocity_rad_s",
-                "rocker_angular_velocity_rad_s", "coupler_angular_accel_rad_s2",
-                "rocker_angular_accel_rad_s2"),
-    "SliderCrank": ("piston_position", "piston_velocity", "piston_velocity_approximate",
-                    "piston_accel", "piston_accel_approximate", "rod_angular_velocity_rad_s",
-                    "rod_angular_accel_rad_s2"),
-    "QuickReturn": ("rocker_angle_deg", "transmission_angle_deg", "joint_c_x",
-                    "joint_c_velocity_x", "joint_c_accel_x", "joint_b_speed",
-                    "joint_b_accel_magnitude", "rocker_angular_velocity_rad_s",
-                    "slider_link_angular_velocity_rad_s"),
-}
 
 
 def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
@@ -127,7 +115,7 @@ def linkage_dict(mechanism: FourBar | SliderCrank | QuickReturn) -> dict[str, An
 
 def mechanism_from_dict(entry: Mapping[str, Any]) -> FourBar | SliderCrank | QuickReturn:
     """The linkage described by :func:`linkage_dict` (e.g. read from ``result.json``)."""
-    return MECHANISM_CLASSES[entry["type"]](**entry["parameters"])
+    return linkage_of(entry["type"]).mechanism(**entry["parameters"])
 
 
 def analysis_table(mechanism: FourBar | SliderCrank | QuickReturn, case: MechanismCase,
@@ -143,7 +131,7 @@ def analysis_table(mechanism: FourBar | SliderCrank | QuickReturn, case: Mechani
     table = mechanism.analyse(angles, crank_speed=case.crank_speed_rad_s,
                               crank_accel=case.crank_accel_rad_s2,
                               on_unassembled=on_unassembled or case.on_unassembled)
-    if not isinstance(mechanism, FourBar):
+    if not linkage_of(mechanism).coupler_point:
         return table
     point = coupler_point(mechanism, table, case.values["plots.coupler_point"])
     columns = {**table.columns, "coupler_point_x": point.real, "coupler_point_y": point.imag}
@@ -198,7 +186,7 @@ def extremes(mechanism: FourBar | SliderCrank | QuickReturn,
     angles = fine_crank_angles_deg(case)
     table = analysis_table(mechanism, case, angles, on_unassembled="mark")
     rows = []
-    for column in EXTREME_COLUMNS[type(mechanism).__name__]:
+    for column in linkage_of(mechanism).extreme_columns:
         if column not in table.columns:
             continue
         values = np.asarray(table[column], dtype=float)
