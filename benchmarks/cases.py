@@ -1,6 +1,6 @@
 """Benchmark cases, the accurate residual error, and the baseline a MATLAB porter would write.
 
-The paper's three cases follow ``shared/spec/hooke-series.md`` (section "The paper's
+The paper's three cases follow ``docs/model.md`` (section "The paper's
 three cases"): input 25 rpm, three joints, the starts and bounds the paper's results
 imply, and fmincon's objective-evaluation counts 120 / 135 / 297. The two-, four- and
 six-joint cases come in pairs: bounds that let the joints cancel (the exact model

@@ -9,7 +9,7 @@
   minus the best RE known for the case (``best_known.json``);
 * ``work_precision.png``: log-log error against time, one panel per case;
 * ``summary.md`` / ``summary.json``: ratios measured in this run, the batch of solves,
-  the cold start of ``sso run``, and the issue's targets met or missed.
+  the cold start of ``sso run``, and the performance targets met or missed.
 
 Methods: ``sso-ipopt`` and ``sso-slsqp`` call :func:`sso.optimise` with one start
 (the case's start) and one solver; its NLP is built by the warm-up and reused, as
@@ -56,7 +56,7 @@ BATCH_TOLERANCE = 1e-10
 BATCH_CASE = "paper-option3/exact"
 COLD_START_REPEATS = 3
 COLD_START_CASE_FILE = Path("cases/paper_option3_exact.toml")
-# Targets of issue 4.
+# Performance targets (README.md, "Performance").
 TARGET_ERROR = 1e-10
 TARGET_SPEEDUP = 3.0
 TARGET_NFEV_FRACTION = 0.25
@@ -230,7 +230,7 @@ def cold_start() -> dict[str, Any]:
     if not (has_cli and case_file.exists()):
         return {"measured": False,
                 "note": ("not measured: the `sso run` command or cases/paper_option3_exact.toml "
-                         "does not exist yet in this checkout (issue 3 builds them); rerun "
+                         "does not exist in this checkout; rerun "
                          "this benchmark when they do")}
     baseline_script = ("from benchmarks.cases import CASES, baseline_solve; "
                        f"baseline_solve(next(c for c in CASES if c.key == {BATCH_CASE!r}), 1e-10)")
@@ -258,7 +258,7 @@ def _timed(command: list[str], working_directory: str) -> float:
 
 
 def targets(rows: list[Measurement], ratios: dict[str, Any]) -> dict[str, Any]:
-    """The issue's three targets, each case and method, met or missed."""
+    """The three performance targets, each case and method, met or missed."""
     paper_fmincon = {case.key: case.fmincon_nfev for case in CASES if case.fmincon_nfev}
     error_misses, speed_misses, nfev_misses = [], [], []
     for key, summary in ratios.items():

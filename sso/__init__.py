@@ -1,7 +1,7 @@
 """sso: Shaft Series Optimisation.
 
 Constrained design of shafts joined in series by Hooke (Cardan) joints, and
-kinematic analysis of the planar linkages of the other seed papers.
+kinematic analysis of the planar linkages of three mechanism papers.
 
 The public API is re-exported here lazily: ``import sso`` loads neither CasADi,
 SciPy, matplotlib nor dask; each is imported by the first call that needs it.

@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lower layer; parts on one layer do not import each other. ``sso/__init__.py`` (the
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("limits",),
+    ("limits", "distribution"),
     ("validation", "files", "deprecation"),
     ("kinematics",),
     ("solvers",),
@@ -26,6 +26,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("reports",),
     ("batch",),
     ("cli",),
+    ("__main__",),
     ("_moved",),  # answers the old module paths of v0.1 for one release
 )
 LAYER_OF = {part: index for index, parts in enumerate(LAYERS) for part in parts}

@@ -1,9 +1,9 @@
-"""Numerical stress: inputs that break naive code (issue 4, "Stress suite").
+"""Numerical stress: inputs that break naive code (the large versions are in benchmarks/stress.py).
 
 Reference values:
 
 * one joint, RE closed form: with ``c = cos beta`` and ``k = sin^2 beta`` the ratio is
-  ``r = c / (1 - k sin^2 theta)`` (spec eq. 8); over a half turn
+  ``r = c / (1 - k sin^2 theta)`` (the paper's eq. 8); over a half turn
   ``mean(r) = 1`` and ``mean(r^2) = c^2 (2 - k) / (2 (1 - k)^(3/2)) = (1 + c^2) / (2 c)``
   (the standard integral ``(1/pi) int_0^pi (1 - k sin^2)^-2 = (2 - k) / (2 (1 - k)^(3/2))``),
   so ``RE = mean(r^2) - 2 mean(r) + 1 = (1 - c)^2 / (2 c)``;

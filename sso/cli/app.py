@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-import sso
 from sso.cli.batch_commands import (
     configure_sweep,
     configure_tolerance,
@@ -33,6 +32,7 @@ from sso.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_OK,
 )
+from sso.distribution import installed_version
 from sso.limits import OUTPUT_FORMATS
 
 
@@ -334,7 +334,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "phases so the output shaft turns evenly.",
         epilog="Exit codes: 0 all cases solved and cross-checks agree; 1 a solver failed or "
                "the solvers disagreed; 2 bad input. 'sso COMMAND --help' describes a command.")
-    parser.add_argument("--version", action="version", version=f"sso {sso.__version__}")
+    parser.add_argument("--version", action="version", version=f"sso {installed_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for command in COMMANDS:
         subparser = subparsers.add_parser(command.name, help=command.summary,

@@ -25,7 +25,7 @@ BRANCH_SIDES = {"open": 1, "crossed": -1}
 """Side of the directed line A -> O_B on which B lies: 1 left, -1 right.
 
 With the crank at 0 deg (A between O_A and O_B) "open" puts B above the ground
-line, which is the configuration of the four-bar seed paper.
+line, which is the configuration of the four-bar paper.
 """
 
 

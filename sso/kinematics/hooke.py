@@ -3,7 +3,7 @@
 The chain is written once against a tiny array namespace ``xp`` that provides
 ``sin``, ``cos`` and ``sqrt`` (the ``numpy`` module or the ``casadi`` module), so the
 numbers in reports and the graph the optimisers differentiate come from the same
-code. Conventions follow ``shared/spec/hooke-series.md``:
+code. Conventions follow ``docs/model.md``:
 
 * joint ``k`` has operating angle ``beta_k``; ``phi_k`` is the phase of joint
   ``k + 1`` relative to joint ``k``; phases accumulate, ``Phi_1 = 0`` and

@@ -1,6 +1,6 @@
 """Quick-return mechanism: a crank-rocker four-bar driving a slider through a link.
 
-Geometry of the quick-return seed paper: crank pivot O2 at the origin, rocker
+Geometry of the quick-return paper: crank pivot O2 at the origin, rocker
 pivot O4 at ``(ground, 0)``, four-bar O2-A-B-O4, and a slider link B-C whose end
 C slides on the line ``y = 0`` on the far (+x) side of B. Angles in radians,
 counter-clockwise from +x; lengths in any consistent unit.

@@ -1,4 +1,4 @@
-"""Planar mechanisms of the seed papers: four-bar, slider-crank, quick-return.
+"""Planar mechanisms of the mechanism papers: four-bar, slider-crank, quick-return.
 
 Each mechanism is a frozen dataclass of link lengths, validated on
 construction; ``analyse`` evaluates the closed-form kinematics of
@@ -112,7 +112,7 @@ class FourBar(_CrankDriven):
     branch : {"open", "crossed"}
         Assembly branch. "open" puts B to the left of the directed line
         A -> O_B (above the ground line when the crank is at 0 deg), as in the
-        four-bar seed paper; "crossed" is its mirror image about that line.
+        four-bar paper; "crossed" is its mirror image about that line.
 
     Raises
     ------
@@ -264,7 +264,7 @@ class QuickReturn(_CrankDriven):
     """Quick-return mechanism: four-bar O2-A-B-O4 driving slider C through link B-C.
 
     O2 is the origin, O4 is at ``(ground, 0)`` and C slides on ``y = 0`` on the
-    far (+x) side of B, as in the quick-return seed paper.
+    far (+x) side of B, as in the quick-return paper.
 
     Parameters
     ----------
@@ -346,7 +346,7 @@ def slider_crank_method_difference(
 ) -> MechanismTable:
     """Mean percentage difference between exact and series piston motion.
 
-    Regenerates Tabel 2 of the slider-crank seed paper with correct formulas:
+    Regenerates Tabel 2 of the slider-crank paper with correct formulas:
     for each crank length, the mean over the crank angles of
     ``|exact - series| / |exact| * 100``, with rows where both are zero (to
     rounding) counted as 0, for the piston velocity and the piston

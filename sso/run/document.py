@@ -27,11 +27,12 @@ from pathlib import Path
 from typing import Any
 
 from sso.cases.schema import Case
+from sso.distribution import installed_version
 from sso.shafts.options import OPTION_NAMES
 
 SCHEMA_VERSION = 1
 DESIGN_ROLES = ("initial", "optimum", "reference")
-VERSIONED_PACKAGES = ("sso", "casadi", "scipy", "numpy", "matplotlib")
+VERSIONED_PACKAGES = ("casadi", "scipy", "numpy", "matplotlib")
 
 
 def optimise_case(case: Case) -> dict[str, Any]:
@@ -107,7 +108,7 @@ def package_versions() -> dict[str, str]:
 
     Read from the installed distributions' metadata, so nothing is imported.
     """
-    versions = {"python": platform.python_version()}
+    versions = {"python": platform.python_version(), "sso": installed_version()}
     for package in VERSIONED_PACKAGES:
         try:
             versions[package] = importlib.metadata.version(package)

@@ -99,7 +99,7 @@ def evaluate(
     quadrature_rtol: float = DEFAULT_RTOL,
     quadrature_atol: float = DEFAULT_ATOL,
 ) -> Evaluation:
-    """Evaluate a design: residual error and the figures the spec lists.
+    """Evaluate a design: residual error and the figures docs/model.md lists.
 
     Parameters
     ----------

@@ -32,8 +32,11 @@ class ShaftSeries:
         Operating (bend) angle of each joint, deg, each in ``[0, 90)``.
     phase_deg : sequence of float, optional
         Phase of joint ``k + 1`` relative to joint ``k``, deg, ``n - 1`` entries
-        (default 90 deg each: the conventional assembly). ``n`` entries are
-        accepted for the paper's inert extra phase, which is dropped with an
+        (default 90 deg each: the conventional assembly of a planar column; for a
+        non-planar column ``phi_k = 90 + delta_k - gamma_k (mod 180)``, with the
+        yoke phasing ``delta_k`` and the bend-plane angle ``gamma_k``; see
+        docs/model.md). ``n`` entries are accepted for the paper's inert extra
+        phase, which is dropped with an
         :class:`InertPhaseWarning`.
     model : {"exact", "paper"}
         ``"exact"`` drives each joint by its own shaft's angle; ``"paper"`` uses

@@ -18,7 +18,7 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
 def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
-    # One joint: the ratio swings between cos(beta) and 1/cos(beta) (spec, checks).
+    # One joint: the ratio swings between cos(beta) and 1/cos(beta) (docs/model.md, checks).
     result = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0, 35.0]},
                        action="evaluate", out_dir=tmp_path, workers=1, plots=False)
     assert [row["status"] for row in result.rows] == ["ok", "ok", "ok"]

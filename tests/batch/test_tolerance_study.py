@@ -7,7 +7,7 @@ import pytest
 
 import sso
 
-# The paper's reported option-3 optimum (shared/spec/hooke-series.md).
+# The paper's reported option-3 optimum (docs/model.md).
 SERIES = sso.ShaftSeries([15.8362, 10.0, 15.8387], [90.0053, 89.9695])
 PERCENTILES = (5.0, 50.0, 95.0)
 

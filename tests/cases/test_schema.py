@@ -10,7 +10,7 @@ CASES = Path(__file__).resolve().parents[2] / "cases"
 SHIPPED = sorted(CASES.glob("*.toml"))
 MINIMAL = '[design]\nbeta_deg = [10.0, 20.0]\n'
 
-# shared/spec/hooke-series.md, "The paper's three cases": reported optima.
+# docs/model.md, "The paper's three cases": reported optima.
 PAPER_REFERENCES = {
     1: ((15.0, 20.0, 9.0), (57.4233, 73.2749)),
     2: ((7.0, 18.4473, 25.0), (90.0, 90.0)),

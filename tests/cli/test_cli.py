@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
 
@@ -25,7 +26,7 @@ except SystemExit as stop:
 print("LOADED=" + json.dumps(sorted(name for name in {heavy!r} if name in sys.modules)))
 sys.exit(code)
 """.format(heavy=HEAVY)
-# shared/spec/hooke-series.md, "The paper's three cases".
+# docs/model.md, "The paper's three cases".
 PAPER_REFERENCE_BETA_DEG = {3: [15.8362, 10.0, 15.8387]}
 MINIMAL = '[design]\nbeta_deg = [20.0, 30.0]\n[solver]\nstarts = 1\n'
 
@@ -59,7 +60,7 @@ def write_case(folder: Path, text: str, name: str = "case.toml") -> Path:
 @pytest.fixture(scope="module")
 def option3_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("run")
-    completed = sso("run", CASES / "paper_option3_exact.toml", "--out", folder / "out",
+    completed = sso("run", paper_trial_case(3, "exact", folder), "--out", folder / "out",
                     cwd=folder)
     return completed, folder / "out" / "paper_option3_exact"
 
@@ -70,7 +71,7 @@ def test_run_writes_every_file_and_exits_0(option3_run):
     assert sorted(path.name for path in report.iterdir()) == [
         "cartesian.png", "polar.png", "report.html", "report.md", "result.json", "speeds.csv"]
     assert "Traceback" not in completed.stderr
-    # The start outside its bounds is a warning, not an error.
+    # The paper's start outside its bounds is a warning, not an error.
     assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
     summary = completed.stdout.splitlines()[-2:]
     assert summary[0].startswith("--------")
@@ -83,7 +84,7 @@ def test_result_json_holds_the_whole_story(option3_run):
     assert document["schema_version"] == 1
     assert document["model"] == "exact"
     assert document["option"] == 3 and document["option_name"] == "both"
-    assert document["case"] == load_case(CASES / "paper_option3_exact.toml").to_dict()
+    assert document["case"] == load_case(report.parent.parent / "paper_option3_exact.toml").to_dict()
     designs = document["designs"]
     initial = designs["initial"]["evaluation"]["residual_error"]
     optimum = designs["optimum"]["evaluation"]["residual_error"]
@@ -123,7 +124,7 @@ def test_speeds_csv_columns_and_values(option3_run):
     rows = [[float(cell) for cell in line.split(",")] for line in lines[1:]]
     assert rows[0][0] == 0.0 and rows[-1][0] == 360.0
     initial = [row[2] for row in rows]
-    # Trial design 30, 40, 50 (50 kept as given) at 25 rpm: 18.17 .. 34.40 rpm (spec).
+    # Trial design 30, 40, 50 (50 kept as given) at 25 rpm: 18.17 .. 34.40 rpm (docs/model.md).
     assert min(initial) == pytest.approx(18.167, abs=2e-3)
     assert max(initial) == pytest.approx(34.403, abs=2e-3)
     assert max(abs(row[3] - 25.0) for row in rows) < 1e-6
@@ -152,7 +153,7 @@ def test_report_rerenders_the_same_files_from_result_json(option3_run, tmp_path)
 
 @pytest.mark.parametrize("model, low_rpm, high_rpm", [("paper", 18.17, 34.40)])
 def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
-    completed, loaded = sso_loading("evaluate", CASES / f"paper_option3_{model}.toml",
+    completed, loaded = sso_loading("evaluate", paper_trial_case(3, model, tmp_path),
                                     "--out", tmp_path, "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert loaded == []
@@ -160,7 +161,7 @@ def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
     assert document["mode"] == "evaluate"
     assert set(document["designs"]) == {"initial", "reference"}
     evaluation = document["designs"]["initial"]["evaluation"]
-    # spec: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
+    # docs/model.md: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(low_rpm, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(high_rpm, abs=5e-3)
     assert "solvers" not in (tmp_path / f"paper_option3_{model}" / "report.md").read_text()
@@ -179,7 +180,7 @@ def test_every_shipped_case_solves_below_its_reference(tmp_path):
         assert document["success"] is True, path.stem
         assert errors["optimum"] <= min(errors["initial"], errors["reference"]) + 1e-20, path.stem
         if path.stem.startswith("paper_"):
-            # spec: the paper's optima are not stationary; a correct solver does better.
+            # docs/model.md: the paper's optima are not stationary; a correct solver does better.
             assert errors["optimum"] < 0.2 * errors["reference"], path.stem
 
 

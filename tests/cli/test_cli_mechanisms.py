@@ -1,6 +1,6 @@
 """The ``sso`` command on the planar-mechanism cases, run for real in a subprocess.
 
-Reference values: ../shared/reference/*.csv and the README beside them (cited per test).
+Reference values: tests/data/reference/*.csv and the README beside them (cited per test).
 """
 
 import csv
@@ -9,6 +9,7 @@ import re
 from pathlib import Path
 
 import pytest
+from reference_tables import REFERENCE
 from test_cli import png_size, sso, sso_loading, write_case
 
 from sso.cases.mechanism import MECHANISM_KINDS
@@ -16,7 +17,6 @@ from sso.cases.schema import load_case, schema
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases" / "mechanisms"
-REFERENCE = ROOT.parent / "shared" / "reference"
 ANALYSIS_CASES = ("fourbar_crank2", "fourbar_crank3", "fourbar_crank4", "fourbar_crank5",
                   "slidercrank_r2_0p050m", "slidercrank_r2_0p075m", "slidercrank_r2_0p100m",
                   "quickreturn")

@@ -1,4 +1,4 @@
-"""Checks with known answers from shared/spec/hooke-series.md ("Checks with known answers")."""
+"""Checks with known answers from docs/model.md ("Checks with known answers")."""
 
 import numpy as np
 import pytest
@@ -14,7 +14,7 @@ THETA_DEG = np.linspace(0.0, 360.0, 721)
 @pytest.mark.parametrize("model", ["exact", "paper"])
 @pytest.mark.parametrize("beta_deg", [5.0, 30.0, 60.0, 85.0])
 def test_single_joint_extremes(model, beta_deg):
-    # spec "One joint": min cos(beta) at theta = 0, max 1/cos(beta) at theta = 90 deg.
+    # docs/model.md, "One joint": min cos(beta) at theta = 0, max 1/cos(beta) at theta = 90 deg.
     series = sso.ShaftSeries([beta_deg], model=model)
     ratio = series.speed_ratio([0.0, 90.0, 180.0, 270.0])
     cosine = np.cos(np.radians(beta_deg))
@@ -45,7 +45,7 @@ def test_output_angle_is_unwrapped_and_advances_one_turn():
     data=st.data(),
 )
 def test_exact_mean_ratio_is_one(beta, data):
-    # spec: exact model, any n, beta, phi: the mean ratio over a revolution is 1.
+    # docs/model.md: exact model, any n, beta, phi: the mean ratio over a revolution is 1.
     phases = data.draw(st.lists(st.floats(-180.0, 180.0), min_size=len(beta) - 1,
                                 max_size=len(beta) - 1))
     series = sso.ShaftSeries(beta, phases)
@@ -54,14 +54,14 @@ def test_exact_mean_ratio_is_one(beta, data):
 
 
 def test_paper_model_mean_ratio_is_not_one():
-    # spec: the paper model fails the mean-ratio check (option-3 trial design).
+    # docs/model.md: the paper model fails the mean-ratio check (option-3 trial design).
     evaluation = sso.ShaftSeries([30, 40, 50], [90, 90], model="paper").evaluate()
     assert abs(evaluation.mean_speed_ratio - 1.0) > 0.04
 
 
 @pytest.mark.parametrize("beta_deg", [10.0, 30.0, 60.0])
 def test_two_equal_joints_cancel_in_exact_model_only(beta_deg):
-    # spec: exact, two equal joints, phi = 90: ratio = 1 for every theta (round-off);
+    # docs/model.md: exact, two equal joints, phi = 90: ratio = 1 for every theta (round-off);
     # the paper model leaves a fluctuation (about 2 % at 30 deg).
     exact = sso.ShaftSeries([beta_deg, beta_deg], [90.0]).speed_ratio(THETA_DEG)
     np.testing.assert_allclose(exact, 1.0, atol=1e-14)
@@ -71,13 +71,13 @@ def test_two_equal_joints_cancel_in_exact_model_only(beta_deg):
 
 def test_paper_model_two_joint_fluctuation_near_two_percent_at_30():
     paper = sso.ShaftSeries([30.0, 30.0], [90.0], model="paper").speed_ratio(THETA_DEG)
-    # peak deviation from 1 at 30 deg; the spec quotes "about 2 %"
+    # peak deviation from 1 at 30 deg; docs/model.md quotes "about 2 %"
     assert 0.015 < np.max(np.abs(paper - 1.0)) < 0.025
 
 
 @pytest.mark.parametrize("beta_pair", [(10.0, 25.0), (30.0, 5.0), (45.0, 60.0)])
 def test_two_joint_closed_form(beta_pair):
-    # spec: exact, two joints, phi = 90: ratio = c1 c2 / (c2^2 cos^2 t + c1^2 sin^2 t)
+    # docs/model.md: exact, two joints, phi = 90: ratio = c1 c2 / (c2^2 cos^2 t + c1^2 sin^2 t)
     c1, c2 = np.cos(np.radians(beta_pair))
     theta = np.radians(THETA_DEG)
     expected = c1 * c2 / (c2**2 * np.cos(theta) ** 2 + c1**2 * np.sin(theta) ** 2)
@@ -88,7 +88,7 @@ def test_two_joint_closed_form(beta_pair):
 @pytest.mark.parametrize(
     "beta_deg, phase_deg, low_rpm, high_rpm",
     [
-        # spec "Paper model ... trial designs": option 3, option 2, option 1
+        # docs/model.md, "Checks with known answers", trial designs: option 3, option 2, option 1
         ([30, 40, 50], [90, 90], 18.17, 34.40),
         ([10, 15, 30], [90, 90], 22.07, 28.31),
         ([15, 20, 9], [30, 40], 22.98, 27.17),

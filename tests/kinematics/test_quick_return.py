@@ -1,21 +1,20 @@
-"""Quick-return kinematics against the quick-return seed paper (Nazaruddin & Fatra).
+"""Quick-return kinematics against the quick-return paper (Nazaruddin & Fatra).
 
-Reference: ../shared/reference/quickreturn_table{2,3,4}_*.csv and the README
+Reference: tests/data/reference/quickreturn_table{2,3,4}_*.csv and the README
 beside them. O2A = 50, AB = 237.5, O4B = 100, BC = 250 mm, ground O2O4 = 230.51 mm
 (the README's reconstruction), crank at 2 rad/s counter-clockwise, no crank
 acceleration.
 """
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
 from sso.linkages.mechanisms import MechanismTable, QuickReturn
 
-REFERENCE = Path(__file__).resolve().parents[2] / ".." / "shared" / "reference"
 CRANK_SPEED = 2.0
 PAPER = QuickReturn(crank=50, coupler=237.5, rocker=100, slider_link=250, ground=230.51)
 ONE_UNIT = 0.001 + 1e-9

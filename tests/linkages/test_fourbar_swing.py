@@ -1,4 +1,4 @@
-"""Four-bar design with real constraints (issue 5): largest rocker swing of a
+"""Four-bar design with real constraints: largest rocker swing of a
 crank-rocker whose transmission angle stays in [40, 120] deg."""
 
 import math
@@ -9,7 +9,7 @@ import pytest
 from sso.linkages.fourbar_swing import design_fourbar, transmission_angle_range_deg
 from sso.linkages.mechanisms import FourBar
 
-# The four-bar seed paper's linkage (reference/README.md: ground 12, coupler 15,
+# The four-bar paper's linkage (tests/data/reference/README.md: ground 12, coupler 15,
 # rocker 9, crank 2) as the start; bounds chosen so the limits bind.
 START = FourBar(ground=12, crank=2, coupler=15, rocker=9)
 BOUNDS = {"crank_bounds": (1, 6), "coupler_bounds": (5, 20), "rocker_bounds": (5, 15)}

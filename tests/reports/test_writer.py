@@ -2,9 +2,9 @@
 
 import json
 import math
-from pathlib import Path
 
 import pytest
+from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
 from sso.files import TEMPORARY_PREFIX, write_bytes_atomic, write_text_atomic
@@ -16,8 +16,6 @@ from sso.reports.writer import (
     write_report,
 )
 from sso.run.document import evaluate_case
-
-CASES = Path(__file__).resolve().parents[2] / "cases"
 
 
 def test_atomic_write_replaces_whole_files(tmp_path):
@@ -43,11 +41,11 @@ def test_result_json_is_strict_json():
 
 
 def test_evaluation_document_round_trips_through_result_json(tmp_path):
-    document = evaluate_case(load_case(CASES / "paper_option2_paper.toml"))
+    document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
     write_report(document, tmp_path, ["json", "csv"])
     assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
     evaluation = document["designs"]["initial"]["evaluation"]
-    # spec: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
+    # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
     assert render(document, ["csv"]) == {"speeds.csv": (tmp_path / "speeds.csv").read_bytes()}

@@ -1,6 +1,6 @@
-"""The paper's three cases (shared/spec/hooke-series.md, "The paper's three cases").
+"""The paper's three cases (docs/model.md, "The paper's three cases").
 
-Reference designs and fmincon counts are the paper's (seeds/001_..., results of
+Reference designs and fmincon counts are the paper's (M. Fajar's SSO paper, results of
 "pilihan" 1, 2 and 3): reported optima and 120 / 135 / 297 objective evaluations.
 """
 
@@ -55,7 +55,7 @@ def test_beats_the_papers_optimum_and_solvers_agree(option, model):
 
 @pytest.mark.parametrize("option", [2, 3])
 def test_exact_model_cancels_to_round_off(option):
-    # spec: where the joints can cancel (exact model, options 2 and 3), RE = 0 is reachable.
+    # docs/model.md: where the joints can cancel (exact model, options 2 and 3), RE = 0 is reachable.
     result = solve(option, "exact")
     assert result.best.fun <= 1e-20
     assert result.optimum.fluctuation <= 1e-9
@@ -83,7 +83,7 @@ def test_option_two_fixes_phases_at_ninety():
     # the start beta_3 = 30 lies outside [7, 25] and is moved onto 25 with a warning
     assert result.start_series.beta_deg == (10.0, 15.0, 25.0)
     assert any("beta_deg[2] = 30" in text for text in result.warnings)
-    # the initial evaluation is of the trial design as given (spec: 22.07 .. 28.31 rpm)
+    # the initial evaluation is of the trial design as given (docs/model.md: 22.07 .. 28.31 rpm)
     assert result.initial.speed_min_rpm == pytest.approx(22.07, abs=0.005)
 
 

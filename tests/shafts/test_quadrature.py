@@ -1,4 +1,4 @@
-"""Adaptive quadrature of the residual error (spec, "The objective")."""
+"""Adaptive quadrature of the residual error (docs/model.md, "The objective")."""
 
 import warnings
 
@@ -12,7 +12,7 @@ from sso.shafts.quadrature import adaptive_residual_error, rule_for_bounds
 
 @pytest.mark.parametrize("model", ["exact", "paper"])
 def test_bounds_up_to_forty_degrees_need_at_most_64_angles(model):
-    # spec: for beta <= 40 deg, N = 32 is already at round-off (the paper's 3 joints)
+    # docs/model.md: for beta <= 40 deg, N = 32 is already at round-off (the paper's 3 joints)
     for joints in (1, 2, 3):
         rule = rule_for_bounds(list(np.radians([40.0] * joints)), model)
         assert rule.samples <= 64

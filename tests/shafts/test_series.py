@@ -1,4 +1,4 @@
-"""ShaftSeries construction and its input checks (issue 2, "Bad input")."""
+"""ShaftSeries construction and its input checks (docs/model.md, "Bounds")."""
 
 import math
 import warnings

@@ -1,0 +1,8 @@
+"""``python -m sso``: the ``sso`` command, for environments without its script."""
+
+import sys
+
+from sso.cli import main
+
+if __name__ == "__main__":
+    sys.exit(main())

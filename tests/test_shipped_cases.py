@@ -1,0 +1,48 @@
+"""Every shipped case runs clean: no warning on stderr, none raised, exit code 0.
+
+A warning that fires on the shipped examples teaches users to ignore warnings, so
+each one must fire only when the input deserves it; the paper's own starts, which do
+deserve one, are checked in tests/test_cli.py (``paper_trials.paper_trial_case``).
+"""
+
+import warnings
+from pathlib import Path
+
+import pytest
+from paper_trials import PAPER_BETA_BOUNDS_DEG, PAPER_TRIAL_BETA_DEG
+
+from sso.cases.schema import load_case
+from sso.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+SHIPPED = sorted([*ROOT.glob("cases/*.toml"), *ROOT.glob("cases/mechanisms/*.toml")])
+
+
+def test_every_case_folder_is_covered():
+    assert len(SHIPPED) == 17
+
+
+@pytest.mark.parametrize("command", ["run", "evaluate", "validate"])
+@pytest.mark.parametrize("case", SHIPPED, ids=[path.stem for path in SHIPPED])
+def test_shipped_case_emits_no_warning(case, command, tmp_path, capsys):
+    arguments = [command, str(case)]
+    if command != "validate":
+        arguments += ["--out", str(tmp_path), "--no-plots", "--quiet"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        code = main(arguments)
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert captured.err == ""
+    assert [str(warning.message) for warning in caught] == []
+
+
+@pytest.mark.parametrize("option", [2, 3])
+@pytest.mark.parametrize("model", ["exact", "paper"])
+def test_shipped_paper_start_is_the_papers_start_clipped_onto_its_bounds(option, model):
+    case = load_case(ROOT / "cases" / f"paper_option{option}_{model}.toml")
+    low, high = PAPER_BETA_BOUNDS_DEG[option]
+    assert case.beta_deg == tuple(min(max(beta, low), high)
+                                  for beta in PAPER_TRIAL_BETA_DEG[option])
+    assert case.beta_deg != PAPER_TRIAL_BETA_DEG[option]
+    assert case.beta_bounds_deg == (low, high)
