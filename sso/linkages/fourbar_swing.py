@@ -39,17 +39,11 @@ from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
 )
-from sso.solvers.multistart import (
-    best_solution,
-    distinct_minima,
-    run_starts,
-    solution_from_run,
-)
+from sso.solvers.multistart import solution_from_run, solve_from_starts
+from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.solution import CrossCheck, Solution
-from sso.solvers.starts import DEFAULT_SEED, start_points
+from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     per_item_bounds,
     validate_count,
@@ -63,8 +57,8 @@ if TYPE_CHECKING:
 LINKS = ("crank", "coupler", "rocker", "ground")
 
 
-@dataclass(frozen=True)
-class FourBarDesignResult:
+@dataclass(frozen=True, kw_only=True)
+class FourBarDesignResult(DesignResult):
     """Outcome of :func:`design_fourbar`.
 
     Attributes
@@ -79,14 +73,10 @@ class FourBarDesignResult:
         The limits imposed, deg.
     link_bounds : dict of str to (float, float)
         Bounds of each link length (length units).
-    best : sso.Solution
-        ``x`` = (crank, coupler, rocker, ground, extended and folded rocker
-        angles at the pivot in rad); ``fun`` = minus the swing, rad.
-    solutions : dict of str to Solution
-    runs : tuple of Solution
-    crosscheck : sso.CrossCheck or None
-    local_minima : tuple of float
-        Distinct objective values (minus swing, rad) the successful runs stopped at.
+    best, solutions, runs, crosscheck, local_minima
+        As in :class:`sso.solvers.result.DesignResult`: ``x`` = (crank, coupler,
+        rocker, ground, extended and folded rocker angles at the pivot in rad);
+        ``fun`` = minus the swing, rad.
     """
 
     initial: "FourBar"
@@ -96,16 +86,6 @@ class FourBarDesignResult:
     optimum_transmission_angle_deg: tuple[float, float]
     transmission_angle_bounds_deg: tuple[float, float]
     link_bounds: dict[str, tuple[float, float]]
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-    local_minima: tuple[float, ...]
-
-    @property
-    def success(self) -> bool:
-        """True when the best answer converged, is feasible and the solvers agree."""
-        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -120,12 +100,7 @@ class FourBarDesignResult:
             "optimum_transmission_angle_deg": list(self.optimum_transmission_angle_deg),
             "transmission_angle_bounds_deg": list(self.transmission_angle_bounds_deg),
             "link_bounds": {name: list(pair) for name, pair in self.link_bounds.items()},
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
-            "success": self.success,
+            **self.solver_dict(),
         }
 
 
@@ -200,18 +175,15 @@ def design_fourbar(
         constraint_lower=np.array([0.0, 0.0, -inf, math.cos(math.radians(mu_high))] + [-inf] * 6),
         constraint_upper=np.array([0.0, 0.0, math.cos(math.radians(mu_low)), inf] + [0.0] * 6),
     )
-    nlp = _compiled()
     lengths = np.clip([start.crank, start.coupler, start.rocker, start.ground], lower[:4],
                       upper[:4])
     user_start = np.concatenate([lengths, _limit_angles(*lengths)])
-    points = start_points(user_start, lower, upper, starts, seed)
-    measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, solver_tol,
-                          max_iterations)
-    solver_runs = {name: [solution_from_run(run, runs) for run in runs]
-                   for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
-    best = best_solution(solutions.values())
+    solved = solve_from_starts(
+        _compiled(), user_start, limits, np.zeros(0), solver_names=solver_names,
+        starts=starts, seed=seed, solver_tol=solver_tol, max_iterations=max_iterations,
+        to_solution=solution_from_run, objective_rtol=DEFAULT_OBJECTIVE_RTOL,
+        objective_atol=DEFAULT_OBJECTIVE_ATOL, kkt_tolerance=DEFAULT_KKT_TOLERANCE)
+    best = solved["best"]
     optimum = FourBar(**dict(zip(LINKS, best.x[:4])), branch=start.branch)
     return FourBarDesignResult(
         initial=start,
@@ -221,12 +193,7 @@ def design_fourbar(
         optimum_transmission_angle_deg=transmission_angle_range_deg(optimum),
         transmission_angle_bounds_deg=(mu_low, mu_high),
         link_bounds=link_bounds,
-        best=best,
-        solutions=solutions,
-        runs=tuple(all_runs),
-        crosscheck=(crosscheck(solutions, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL,
-                               DEFAULT_KKT_TOLERANCE) if len(solutions) > 1 else None),
-        local_minima=distinct_minima(all_runs, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL),
+        **solved,
     )
 
 
