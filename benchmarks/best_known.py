@@ -57,7 +57,8 @@ def compute_best_known() -> dict[str, Any]:
         "how": (f"sso.optimise with solvers ipopt and slsqp, starts = {STARTS} (the case's "
                 f"start plus scrambled Halton points, seed {DEFAULT_SEED}), "
                 f"tolerance = {TOLERANCE:g}, max_iterations = {MAX_ITERATIONS}; every run's "
-                "design re-evaluated by the adaptive quadrature (rtol 1e-13, absolute floor at the round-off of RE); "
+                "design re-evaluated by the adaptive quadrature (rtol 1e-13, absolute floor "
+                "at the round-off of RE); "
                 "the lowest RE kept"),
         "computed_with": {"sso": sso.__version__, "python": platform.python_version()},
         "cases": cases,

@@ -13,8 +13,9 @@ import importlib.machinery
 import sys
 import types
 import warnings
+from collections.abc import Sequence
 from importlib import import_module
-from typing import Any, Sequence
+from typing import Any
 
 # Old module path -> new module path; None marks a former package (its modules moved).
 MOVED: dict[str, str | None] = {

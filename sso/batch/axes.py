@@ -16,9 +16,10 @@ import difflib
 import itertools
 import math
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from sso.validation import finite_float
 
@@ -139,14 +140,14 @@ def expand_points(axes: Sequence[Axis], mode: str = "product") -> list[dict[str,
         lengths = {axis.path: len(axis.values) for axis in axes}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"mode 'listed' needs axes of equal length; got {lengths}")
-        combinations: Any = zip(*(axis.values for axis in axes))
+        combinations: Any = zip(*(axis.values for axis in axes), strict=True)
     else:
         count = math.prod(len(axis.values) for axis in axes)
         if count > MAX_POINTS:
             raise ValueError(f"the sweep has {count} points, outside the allowed range "
                              f"[1, {MAX_POINTS}]")
         combinations = itertools.product(*(axis.values for axis in axes))
-    return [dict(zip(paths, values)) for values in combinations]
+    return [dict(zip(paths, values, strict=True)) for values in combinations]
 
 
 def point_document(document: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:

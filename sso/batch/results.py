@@ -165,7 +165,8 @@ class ToleranceResult:
     def percentile_table(self) -> dict[str, dict[float, float]]:
         """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
         return {metric: dict(zip(self.percentiles,
-                                 np.percentile(getattr(self, metric), self.percentiles).tolist()))
+                                 np.percentile(getattr(self, metric), self.percentiles).tolist(),
+                                 strict=True))
                 for metric in METRICS}
 
     def summary(self) -> str:

@@ -5,9 +5,10 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from sso.batch.axes import base_case, expand_points, parse_axes
 from sso.batch.execution import run_tasks, validate_workers

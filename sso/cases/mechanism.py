@@ -13,8 +13,9 @@ message names the angles where it does not).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -214,7 +215,7 @@ class MechanismCase:
 
     @property
     def on_unassembled(self) -> str:
-        """``"raise"`` or ``"mark"``, as :meth:`sso.linkages.mechanisms.FourBar.analyse` takes it."""
+        """``"raise"`` or ``"mark"``, as :meth:`sso.FourBar.analyse` takes it."""
         return self.values["drive.on_unassembled"]
 
     def crank_angles_deg(self) -> np.ndarray:
@@ -242,7 +243,7 @@ class MechanismCase:
         return f"{self.kind}: {lengths} {self.length_unit}; {rows} crank angles"
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
-                       formats: tuple[str, ...] | None = None) -> "MechanismCase":
+                       formats: tuple[str, ...] | None = None) -> MechanismCase:
         """A copy with the solvers (design cases only) and/or report formats replaced."""
         values = dict(self.values)
         if solvers is not None and self.kind == DESIGN_KIND:

@@ -23,9 +23,10 @@ import difflib
 import re
 import tomllib
 import warnings
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any
 
 from sso.kinematics.hooke import MODELS
 from sso.limits import (
@@ -197,9 +198,11 @@ def text(max_length: int = MAX_TEXT_LENGTH) -> Callable[[str, Any], str]:
 
     def parse(label: str, value: Any) -> str:
         if not isinstance(value, str):
-            raise ValueError(f"{label} = {value!r} must be a string of at most {max_length} characters")
+            raise ValueError(f"{label} = {value!r} must be a string of at most {max_length} "
+                             "characters")
         if len(value) > max_length:
-            raise ValueError(f"{label} has {len(value)} characters; at most {max_length} are allowed")
+            raise ValueError(f"{label} has {len(value)} characters; at most {max_length} are "
+                             "allowed")
         return value
 
     return parse
@@ -284,7 +287,8 @@ def case_name(label: str, value: Any) -> str:
 
 def _is_pair(value: Any) -> bool:
     return (isinstance(value, list) and len(value) == 2
-            and all(isinstance(item, (int, float)) and not isinstance(item, bool) for item in value))
+            and all(isinstance(item, (int, float)) and not isinstance(item, bool)
+                    for item in value))
 
 
 def _quoted(items: tuple[str, ...]) -> str:
@@ -418,7 +422,7 @@ class Case:
         }
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
-                       formats: tuple[str, ...] | None = None) -> "Case":
+                       formats: tuple[str, ...] | None = None) -> Case:
         """A copy with the solvers and/or report formats replaced (command-line options)."""
         return replace(self, solvers=self.solvers if solvers is None else tuple(solvers),
                        formats=self.formats if formats is None else tuple(formats))
@@ -672,7 +676,8 @@ def load_case(path: str | Path) -> Case:
     try:
         source = Path(path).read_bytes().decode("utf-8")
     except OSError as error:
-        raise CaseError(path_text, f"cannot read the case file: {error.strerror or error}") from None
+        raise CaseError(path_text,
+                        f"cannot read the case file: {error.strerror or error}") from None
     except UnicodeDecodeError as error:
         raise CaseError(path_text, f"not a UTF-8 text file (byte {error.start})") from None
     try:
@@ -720,7 +725,8 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
             try:
                 values[key.label] = key.parse(key.label, table[key.name])
             except ValueError as error:
-                raise CaseError(path, str(error), _line_of_key(source, key.table, key.name)) from None
+                raise CaseError(path, str(error),
+                                _line_of_key(source, key.table, key.name)) from None
         elif key.default is REQUIRED:
             if key.table in case_kind.optional_tables and key.table not in document:
                 continue

@@ -1,4 +1,5 @@
-"""The ``sso`` command: parse arguments, call the API and the case, run and report modules, set the exit code.
+"""The ``sso`` command: parse arguments, call the case, run and report modules, set the
+exit code.
 
 Exit codes: 0 every case solved and its solvers agree; 1 a solver failed or the
 solvers disagreed (the report says so); 2 bad input (an unreadable or invalid
@@ -15,9 +16,10 @@ import argparse
 import sys
 import time
 import traceback
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 from sso.cli.batch_commands import (
     configure_sweep,
@@ -34,6 +36,8 @@ from sso.cli.common import (
 )
 from sso.distribution import installed_version
 from sso.limits import OUTPUT_FORMATS
+
+REPORT_FOLDER_HELP = f"write each report into DIR/<case name>/ (default: {DEFAULT_OUT})"
 
 
 @dataclass(frozen=True)
@@ -103,12 +107,12 @@ def _configure_run(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--solvers", type=_list_argument(("ipopt", "slsqp"), "solvers"),
                         metavar="LIST", help="solvers to run, comma-separated from ipopt,slsqp "
                         "(default: the case's [solver] solvers)")
-    _add_report_arguments(parser, f"write each report into DIR/<case name>/ (default: {DEFAULT_OUT})")
+    _add_report_arguments(parser, REPORT_FOLDER_HELP)
 
 
 def _configure_evaluate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("cases", nargs="+", metavar="CASE.toml", help="case files to evaluate")
-    _add_report_arguments(parser, f"write each report into DIR/<case name>/ (default: {DEFAULT_OUT})")
+    _add_report_arguments(parser, REPORT_FOLDER_HELP)
 
 
 def _configure_validate(parser: argparse.ArgumentParser) -> None:
@@ -202,8 +206,8 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     _say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
     designs = document.get("designs", {})
-    errors = tuple(f"{designs[role]['evaluation']['residual_error']:.3g}" if role in designs else "-"
-                   for role in ("initial", "optimum", "reference"))
+    errors = tuple(f"{designs[role]['evaluation']['residual_error']:.3g}"
+                   if role in designs else "-" for role in ("initial", "optimum", "reference"))
     return Outcome(case.name, status, code, errors, time.perf_counter() - started, str(folder))
 
 
@@ -228,7 +232,7 @@ def _print_summary(outcomes: list[Outcome], optimising: bool) -> None:
     if not optimising:
         rows = [row[:3] + row[4:] for row in rows]
     widths = [max(len(row[column]) for row in rows) for column in range(len(rows[0]))]
-    lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
+    lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip()
              for row in rows]
     lines.insert(1, "  ".join("-" * width for width in widths))
     print("\n" + "\n".join(lines), flush=True)

@@ -21,8 +21,9 @@ real equality and inequality constraints:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -79,8 +80,8 @@ class FourBarDesignResult(DesignResult):
         ``fun`` = minus the swing, rad.
     """
 
-    initial: "FourBar"
-    optimum: "FourBar"
+    initial: FourBar
+    optimum: FourBar
     initial_swing_deg: float | None
     optimum_swing_deg: float
     optimum_transmission_angle_deg: tuple[float, float]
@@ -89,7 +90,7 @@ class FourBarDesignResult(DesignResult):
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
-        def linkage(fourbar: "FourBar") -> dict[str, float]:
+        def linkage(fourbar: FourBar) -> dict[str, float]:
             return {name: getattr(fourbar, name) for name in LINKS}
 
         return {
@@ -106,7 +107,7 @@ class FourBarDesignResult(DesignResult):
 
 @renamed_keywords(tolerance="solver_tol")
 def design_fourbar(
-    start: "FourBar",
+    start: FourBar,
     *,
     crank_bounds: tuple[float, float],
     coupler_bounds: tuple[float, float],
@@ -155,7 +156,8 @@ def design_fourbar(
         ground_bounds = (start.ground, start.ground)
     link_bounds = {
         name: per_item_bounds(f"{name}_bounds", pair, 1, 0.0, math.inf, "length units")[0]
-        for name, pair in zip(LINKS, (crank_bounds, coupler_bounds, rocker_bounds, ground_bounds))
+        for name, pair in zip(LINKS, (crank_bounds, coupler_bounds, rocker_bounds, ground_bounds),
+                               strict=True)
     }
     for name, (lower, _) in link_bounds.items():
         if lower <= 0:
@@ -184,7 +186,7 @@ def design_fourbar(
         to_solution=solution_from_run, objective_rtol=DEFAULT_OBJECTIVE_RTOL,
         objective_atol=DEFAULT_OBJECTIVE_ATOL, kkt_tolerance=DEFAULT_KKT_TOLERANCE)
     best = solved["best"]
-    optimum = FourBar(**dict(zip(LINKS, best.x[:4])), branch=start.branch)
+    optimum = FourBar(**dict(zip(LINKS, best.x[:4], strict=True)), branch=start.branch)
     return FourBarDesignResult(
         initial=start,
         optimum=optimum,
@@ -197,7 +199,7 @@ def design_fourbar(
     )
 
 
-def transmission_angle_range_deg(fourbar: "FourBar") -> tuple[float, float]:
+def transmission_angle_range_deg(fourbar: FourBar) -> tuple[float, float]:
     """Smallest and largest transmission angle over a crank revolution, deg.
 
     They occur with the crank along the ground line (0 and 180 deg).
@@ -218,7 +220,8 @@ def _limit_angles(crank: float, coupler: float, rocker: float, ground: float) ->
     return np.array([angle(coupler + crank), angle(coupler - crank)])
 
 
-def _transmission_cosines(xp: Any, crank: Any, coupler: Any, rocker: Any, ground: Any) -> tuple[Any, Any]:
+def _transmission_cosines(xp: Any, crank: Any, coupler: Any, rocker: Any,
+                          ground: Any) -> tuple[Any, Any]:
     common = coupler * coupler + rocker * rocker
     return ((common - (ground - crank) ** 2) / (2 * coupler * rocker),
             (common - (ground + crank) ** 2) / (2 * coupler * rocker))

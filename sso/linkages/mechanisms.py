@@ -522,82 +522,204 @@ def _validate_choice(mechanism: object, field: str, allowed: Sequence[str]) -> N
 
 # ---------------------------------------------------------------- registry entries
 
-register(Linkage(
-    kind="fourbar",
-    mechanism=FourBar,
-    links=('ground', 'crank', 'coupler', 'rocker'),
-    extra="branch",
-    report_columns=('crank_angle_deg', 'coupler_angle_deg', 'rocker_angle_deg', 'transmission_angle_deg',
-     'joint_a_x', 'joint_a_y', 'joint_b_x', 'joint_b_y', 'coupler_angular_velocity_rad_s',
-     'rocker_angular_velocity_rad_s', 'coupler_angular_accel_rad_s2',
-     'rocker_angular_accel_rad_s2'),
-    extreme_columns=('transmission_angle_deg', 'rocker_angle_deg', 'coupler_angular_velocity_rad_s',
-     'rocker_angular_velocity_rad_s', 'coupler_angular_accel_rad_s2',
-     'rocker_angular_accel_rad_s2'),
-    series_plots=(('angular_motion.png', 'coupler and rocker angular velocity and acceleration',
-      (('angular velocity (rad/s)',
-        (('coupler_angular_velocity_rad_s', 'coupler'),
-         ('rocker_angular_velocity_rad_s', 'rocker'))),
-       ('angular acceleration (rad/s$^2$)',
-        (('coupler_angular_accel_rad_s2', 'coupler'),
-         ('rocker_angular_accel_rad_s2', 'rocker'))))),),
-    coupler_point=True,
-    transmission_plot=True,
-))
-register(Linkage(
-    kind="slider_crank",
-    mechanism=SliderCrank,
-    links=('crank', 'rod'),
-    extra="offset",
-    report_columns=('crank_angle_deg', 'rod_angle_deg', 'piston_position', 'rod_angular_velocity_rad_s',
-     'rod_angular_accel_rad_s2', 'piston_velocity', 'piston_velocity_approximate',
-     'piston_accel', 'piston_accel_approximate'),
-    extreme_columns=('piston_position', 'piston_velocity', 'piston_velocity_approximate', 'piston_accel',
-     'piston_accel_approximate', 'rod_angular_velocity_rad_s', 'rod_angular_accel_rad_s2'),
-    series_plots=(('piston_motion.png', 'piston velocity and acceleration, exact vs series (Holowenko)',
-      (('piston velocity ({length}/s)',
-        (('piston_velocity', 'exact'),
-         ('piston_velocity_approximate', 'series approximation', '--'))),
-       ('velocity, series - exact\n({length}/s)',
-        (('piston_velocity_approximate-piston_velocity', 'series - exact'),)),
-       ('piston acceleration ({length}/s$^2$)',
-        (('piston_accel', 'exact'),
-         ('piston_accel_approximate', 'series approximation', '--'))),
-       ('acceleration, series - exact\n({length}/s$^2$)',
-        (('piston_accel_approximate-piston_accel', 'series - exact'),)))),
-     ('rod_motion.png', 'connecting-rod angle, angular velocity and acceleration',
-      (('rod angle (deg)', (('rod_angle_deg', 'rod A->B'),)),
-       ('angular velocity (rad/s)', (('rod_angular_velocity_rad_s', 'rod'),)),
-       ('angular acceleration (rad/s$^2$)', (('rod_angular_accel_rad_s2', 'rod'),))))),
-    drawing="slider_crank",
-))
-register(Linkage(
-    kind="quick_return",
-    mechanism=QuickReturn,
-    links=('crank', 'coupler', 'rocker', 'slider_link', 'ground'),
-    extra="branch",
-    report_columns=('crank_angle_deg', 'joint_a_x', 'joint_a_y', 'joint_b_x', 'joint_b_y', 'joint_c_x',
-     'joint_b_speed', 'joint_c_velocity_x', 'joint_b_accel_magnitude', 'joint_c_accel_x',
-     'rocker_angular_velocity_rad_s'),
-    extreme_columns=('rocker_angle_deg', 'transmission_angle_deg', 'joint_c_x', 'joint_c_velocity_x',
-     'joint_c_accel_x', 'joint_b_speed', 'joint_b_accel_magnitude',
-     'rocker_angular_velocity_rad_s', 'slider_link_angular_velocity_rad_s'),
-    series_plots=(('angular_motion.png', 'angular velocity and acceleration of the links',
-      (('angular velocity (rad/s)',
-        (('coupler_angular_velocity_rad_s', 'coupler AB'),
-         ('rocker_angular_velocity_rad_s', 'rocker O4B'),
-         ('slider_link_angular_velocity_rad_s', 'slider link BC'))),
-       ('angular acceleration (rad/s$^2$)',
-        (('coupler_angular_accel_rad_s2', 'coupler AB'),
-         ('rocker_angular_accel_rad_s2', 'rocker O4B'),
-         ('slider_link_angular_accel_rad_s2', 'slider link BC'))))),
-     ('slider_motion.png', 'slider C and joint B: position, velocity, acceleration',
-      (('slider position x$_C$ ({length})', (('joint_c_x', 'slider C'),)),
-       ('velocity ({length}/s)',
-        (('joint_c_velocity_x', 'slider C, along x'), ('joint_b_speed', 'joint B, magnitude'))),
-       ('acceleration ({length}/s$^2$)',
-        (('joint_c_accel_x', 'slider C, along x'),
-         ('joint_b_accel_magnitude', 'joint B, magnitude')))))),
-    default_branch="crossed",
-    transmission_plot=True,
-))
+register(
+    Linkage(
+        kind="fourbar",
+        mechanism=FourBar,
+        links=("ground", "crank", "coupler", "rocker"),
+        extra="branch",
+        report_columns=(
+            "crank_angle_deg",
+            "coupler_angle_deg",
+            "rocker_angle_deg",
+            "transmission_angle_deg",
+            "joint_a_x",
+            "joint_a_y",
+            "joint_b_x",
+            "joint_b_y",
+            "coupler_angular_velocity_rad_s",
+            "rocker_angular_velocity_rad_s",
+            "coupler_angular_accel_rad_s2",
+            "rocker_angular_accel_rad_s2",
+        ),
+        extreme_columns=(
+            "transmission_angle_deg",
+            "rocker_angle_deg",
+            "coupler_angular_velocity_rad_s",
+            "rocker_angular_velocity_rad_s",
+            "coupler_angular_accel_rad_s2",
+            "rocker_angular_accel_rad_s2",
+        ),
+        series_plots=(
+            (
+                "angular_motion.png",
+                "coupler and rocker angular velocity and acceleration",
+                (
+                    (
+                        "angular velocity (rad/s)",
+                        (
+                            ("coupler_angular_velocity_rad_s", "coupler"),
+                            ("rocker_angular_velocity_rad_s", "rocker"),
+                        ),
+                    ),
+                    (
+                        "angular acceleration (rad/s$^2$)",
+                        (
+                            ("coupler_angular_accel_rad_s2", "coupler"),
+                            ("rocker_angular_accel_rad_s2", "rocker"),
+                        ),
+                    ),
+                ),
+            ),
+        ),
+        coupler_point=True,
+        transmission_plot=True,
+    )
+)
+register(
+    Linkage(
+        kind="slider_crank",
+        mechanism=SliderCrank,
+        links=("crank", "rod"),
+        extra="offset",
+        report_columns=(
+            "crank_angle_deg",
+            "rod_angle_deg",
+            "piston_position",
+            "rod_angular_velocity_rad_s",
+            "rod_angular_accel_rad_s2",
+            "piston_velocity",
+            "piston_velocity_approximate",
+            "piston_accel",
+            "piston_accel_approximate",
+        ),
+        extreme_columns=(
+            "piston_position",
+            "piston_velocity",
+            "piston_velocity_approximate",
+            "piston_accel",
+            "piston_accel_approximate",
+            "rod_angular_velocity_rad_s",
+            "rod_angular_accel_rad_s2",
+        ),
+        series_plots=(
+            (
+                "piston_motion.png",
+                "piston velocity and acceleration, exact vs series (Holowenko)",
+                (
+                    (
+                        "piston velocity ({length}/s)",
+                        (
+                            ("piston_velocity", "exact"),
+                            ("piston_velocity_approximate", "series approximation", "--"),
+                        ),
+                    ),
+                    (
+                        "velocity, series - exact\n({length}/s)",
+                        (("piston_velocity_approximate-piston_velocity", "series - exact"),),
+                    ),
+                    (
+                        "piston acceleration ({length}/s$^2$)",
+                        (
+                            ("piston_accel", "exact"),
+                            ("piston_accel_approximate", "series approximation", "--"),
+                        ),
+                    ),
+                    (
+                        "acceleration, series - exact\n({length}/s$^2$)",
+                        (("piston_accel_approximate-piston_accel", "series - exact"),),
+                    ),
+                ),
+            ),
+            (
+                "rod_motion.png",
+                "connecting-rod angle, angular velocity and acceleration",
+                (
+                    ("rod angle (deg)", (("rod_angle_deg", "rod A->B"),)),
+                    ("angular velocity (rad/s)", (("rod_angular_velocity_rad_s", "rod"),)),
+                    ("angular acceleration (rad/s$^2$)", (("rod_angular_accel_rad_s2", "rod"),)),
+                ),
+            ),
+        ),
+        drawing="slider_crank",
+    )
+)
+register(
+    Linkage(
+        kind="quick_return",
+        mechanism=QuickReturn,
+        links=("crank", "coupler", "rocker", "slider_link", "ground"),
+        extra="branch",
+        report_columns=(
+            "crank_angle_deg",
+            "joint_a_x",
+            "joint_a_y",
+            "joint_b_x",
+            "joint_b_y",
+            "joint_c_x",
+            "joint_b_speed",
+            "joint_c_velocity_x",
+            "joint_b_accel_magnitude",
+            "joint_c_accel_x",
+            "rocker_angular_velocity_rad_s",
+        ),
+        extreme_columns=(
+            "rocker_angle_deg",
+            "transmission_angle_deg",
+            "joint_c_x",
+            "joint_c_velocity_x",
+            "joint_c_accel_x",
+            "joint_b_speed",
+            "joint_b_accel_magnitude",
+            "rocker_angular_velocity_rad_s",
+            "slider_link_angular_velocity_rad_s",
+        ),
+        series_plots=(
+            (
+                "angular_motion.png",
+                "angular velocity and acceleration of the links",
+                (
+                    (
+                        "angular velocity (rad/s)",
+                        (
+                            ("coupler_angular_velocity_rad_s", "coupler AB"),
+                            ("rocker_angular_velocity_rad_s", "rocker O4B"),
+                            ("slider_link_angular_velocity_rad_s", "slider link BC"),
+                        ),
+                    ),
+                    (
+                        "angular acceleration (rad/s$^2$)",
+                        (
+                            ("coupler_angular_accel_rad_s2", "coupler AB"),
+                            ("rocker_angular_accel_rad_s2", "rocker O4B"),
+                            ("slider_link_angular_accel_rad_s2", "slider link BC"),
+                        ),
+                    ),
+                ),
+            ),
+            (
+                "slider_motion.png",
+                "slider C and joint B: position, velocity, acceleration",
+                (
+                    ("slider position x$_C$ ({length})", (("joint_c_x", "slider C"),)),
+                    (
+                        "velocity ({length}/s)",
+                        (
+                            ("joint_c_velocity_x", "slider C, along x"),
+                            ("joint_b_speed", "joint B, magnitude"),
+                        ),
+                    ),
+                    (
+                        "acceleration ({length}/s$^2$)",
+                        (
+                            ("joint_c_accel_x", "slider C, along x"),
+                            ("joint_b_accel_magnitude", "joint B, magnitude"),
+                        ),
+                    ),
+                ),
+            ),
+        ),
+        default_branch="crossed",
+        transmission_plot=True,
+    )
+)

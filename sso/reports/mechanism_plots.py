@@ -8,8 +8,9 @@ is imported inside :func:`render_mechanism_plots` only (through
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -130,8 +131,8 @@ def _series_plot(document: Mapping[str, Any], curves: Mapping[str, Curves], titl
         figure.set_size_inches(figure.get_size_inches()[0], 9.0)
     axes_list = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     case = case_from_document(document)
-    for axes, (y_label, columns) in zip(axes_list, panels):
-        for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns):
+    for axes, (y_label, columns) in zip(axes_list, panels, strict=True):
+        for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns, strict=False):
             for role, curve in curves.items():
                 dense, tabulated = _column(curve.dense, column), _column(curve.tabulated, column)
                 if dense is None:
@@ -165,7 +166,7 @@ def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
                  label=f"recommended band [{low:g}, {high:g}] deg")
     for bound in (low, high):
         axes.axhline(bound, color=BAND_COLOUR, linewidth=1.0)
-    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items()):
+    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items(), strict=False):
         angle = curve.dense["crank_angle_deg"]
         values = curve.dense["transmission_angle_deg"]
         lowest = int(np.nanargmin(values))
@@ -199,7 +200,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     figure = _new_figure()
     axes_list = figure.subplots(1, len(curves), squeeze=False)[0]
     plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
-    for axes, (role, curve) in zip(axes_list, curves.items()):
+    for axes, (role, curve) in zip(axes_list, curves.items(), strict=True):
         snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
         if linkage_of(curve.mechanism).drawing == "slider_crank":
             _draw_slider_crank(axes, curve, snapshots)

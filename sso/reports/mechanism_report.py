@@ -8,7 +8,8 @@ same thing and every string is escaped for its format.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping, Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
@@ -165,7 +166,7 @@ def _method_difference_table(document: Mapping[str, Any]) -> Table:
                   number(accel, ".2f"))
                  for crank, rod, velocity, accel in zip(
                      columns["crank"], columns["rod"], columns["velocity_difference_pct"],
-                     columns["acceleration_difference_pct"]))
+                     columns["acceleration_difference_pct"], strict=True))
     return Table((f"crank ({unit})", f"rod ({unit})", "velocity difference (%)",
                   "acceleration difference (%)"), rows)
 

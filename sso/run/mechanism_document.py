@@ -18,9 +18,10 @@ so :mod:`sso.reports.mechanism_report` needs nothing but this document.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import asdict
-from datetime import datetime, timezone
-from typing import Any, Mapping
+from datetime import UTC, datetime
+from typing import Any
 
 import numpy as np
 
@@ -65,7 +66,7 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
         "schema_version": SCHEMA_VERSION,
         "kind": case.kind,
         "mode": "analyse",
-        "created_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
         "case": case.to_dict(),
         "case_file": case.source,
         "length_unit": case.length_unit,

@@ -7,8 +7,8 @@ draws them, spreads the chunks over processes and gathers the figures.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 

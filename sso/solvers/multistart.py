@@ -3,8 +3,9 @@ the same graph, the best kept and the solvers cross-checked."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Sequence, TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -149,7 +150,7 @@ def run_starts(
     for name in solver_names:
         backend = _backend(name)
 
-        def solve(start: np.ndarray) -> RunOutcome:
+        def solve(start: np.ndarray, backend: Any = backend) -> RunOutcome:
             return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
 
         runs[name] = [

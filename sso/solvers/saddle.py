@@ -16,8 +16,9 @@ bounds tells a minimum from a saddle:
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 

@@ -34,8 +34,8 @@ def test_each_entry_names_real_fields_and_columns():
     for kind, entry in linkages().items():
         fields = [field.name for field in dataclasses.fields(entry.mechanism)]
         assert list(entry.links) + [entry.extra] == fields[:len(entry.links) + 1]
-        table = entry.mechanism(**samples[kind]).analyse(np.arange(0.0, 360.0, 30.0), crank_speed=1.0,
-                                                          on_unassembled="mark")
+        table = entry.mechanism(**samples[kind]).analyse(
+            np.arange(0.0, 360.0, 30.0), crank_speed=1.0, on_unassembled="mark")
         plotted = {column for _, _, panels in entry.series_plots for _, curves in panels
                    for column, *_ in curves for column in column.split("-")}
         for column in {*entry.report_columns, *entry.extreme_columns, *plotted} - {
