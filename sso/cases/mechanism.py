@@ -30,7 +30,7 @@ from sso.cases.schema import (
     text,
 )
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.mechanisms import CrankDriven
 from sso.linkages.registry import Linkage, linkage_of_kind, linkages
 from sso.validation import per_item_bounds
 
@@ -223,7 +223,7 @@ class MechanismCase:
         return angle_grid(self.values["drive.start_deg"], self.values["drive.stop_deg"],
                           self.values["drive.step_deg"])
 
-    def mechanism(self) -> FourBar | SliderCrank | QuickReturn:
+    def mechanism(self) -> CrankDriven:
         """The linkage as given (the start linkage of a design case)."""
         return build_mechanism(self.kind, self.values, self.link_table)
 
@@ -275,7 +275,7 @@ def angle_grid(start_deg: float, stop_deg: float, step_deg: float) -> np.ndarray
 
 
 def build_mechanism(kind: str, values: dict[str, Any],
-                    table: str) -> FourBar | SliderCrank | QuickReturn:
+                    table: str) -> CrankDriven:
     """The mechanism of ``kind`` from checked values keyed by dotted label."""
     linkage = _linkage(kind)
     arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), linkage.extra)}

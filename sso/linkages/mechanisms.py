@@ -43,7 +43,7 @@ Column = tuple[str, str, np.ndarray]
 """A table column as (name, unit, values)."""
 
 
-class _CrankDriven(ABC):
+class CrankDriven(ABC):
     """What the mechanisms share: ``analyse`` over crank angles into a table."""
 
     table_name: ClassVar[str]
@@ -100,7 +100,7 @@ class _CrankDriven(ABC):
 
 
 @dataclass(frozen=True)
-class FourBar(_CrankDriven):
+class FourBar(CrankDriven):
     """Four-bar linkage O_A-A-B-O_B driven by the crank O_A-A.
 
     O_A is the origin and O_B is at ``(ground, 0)``.
@@ -195,7 +195,7 @@ class FourBar(_CrankDriven):
 
 
 @dataclass(frozen=True)
-class SliderCrank(_CrankDriven):
+class SliderCrank(CrankDriven):
     """Slider-crank: crank O-A, connecting rod A-B, piston pin B on a line.
 
     O is the origin; B slides along ``y = offset`` on the +x side of the crank.
@@ -260,7 +260,7 @@ class SliderCrank(_CrankDriven):
 
 
 @dataclass(frozen=True)
-class QuickReturn(_CrankDriven):
+class QuickReturn(CrankDriven):
     """Quick-return mechanism: four-bar O2-A-B-O4 driving slider C through link B-C.
 
     O2 is the origin, O4 is at ``(ground, 0)`` and C slides on ``y = 0`` on the
@@ -574,6 +574,7 @@ register(
         ),
         coupler_point=True,
         transmission_plot=True,
+        drawing="fourbar_like",
     )
 )
 register(
@@ -721,5 +722,6 @@ register(
         ),
         default_branch="crossed",
         transmission_plot=True,
+        drawing="fourbar_like",
     )
 )

@@ -49,8 +49,10 @@ class Linkage:
         Plots against crank angle: (file name, title, panels).
     transmission_plot : bool
         Draw ``transmission_angle.png`` (the table has ``transmission_angle_deg``).
-    drawing : {"fourbar_like", "slider_crank"}
-        How ``linkage.png`` draws its positions.
+    drawing : {"joints", "fourbar_like", "slider_crank"}
+        How ``linkage.png`` draws its positions: ``"joints"`` (the default, for any
+        mechanism) draws the crank and the path and positions of every joint its
+        table has (``joint_<name>_x``/``_y``); the others draw those linkages' parts.
     """
 
     kind: str
@@ -63,7 +65,7 @@ class Linkage:
     default_branch: Literal["open", "crossed"] = "open"
     coupler_point: bool = False
     transmission_plot: bool = False
-    drawing: Literal["fourbar_like", "slider_crank"] = "fourbar_like"
+    drawing: Literal["joints", "fourbar_like", "slider_crank"] = "joints"
 
     @property
     def type_name(self) -> str:

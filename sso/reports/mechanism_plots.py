@@ -8,7 +8,7 @@ is imported inside :func:`render_mechanism_plots` only (through
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,7 +16,7 @@ import numpy as np
 
 from sso.cases.mechanism import MechanismCase, angle_grid
 from sso.limits import TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.mechanisms import CrankDriven, QuickReturn
 from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
@@ -42,7 +42,7 @@ BAND_TOLERANCE_DEG = 1e-6
 class Curves:
     """One linkage's tables: dense for lines, as tabulated for markers."""
 
-    mechanism: FourBar | SliderCrank | QuickReturn
+    mechanism: CrankDriven
     dense: MechanismTable
     tabulated: MechanismTable
 
@@ -202,10 +202,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
     for axes, (role, curve) in zip(axes_list, curves.items(), strict=True):
         snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
-        if linkage_of(curve.mechanism).drawing == "slider_crank":
-            _draw_slider_crank(axes, curve, snapshots)
-        else:
-            _draw_fourbar_like(axes, curve, snapshots)
+        DRAWINGS[linkage_of(curve.mechanism).drawing](axes, curve, snapshots)
         for index, angle in enumerate(plotted):
             if _assembled(snapshots, index):
                 axes.annotate(f"{angle:g}°", (snapshots["joint_a_x"][index],
@@ -229,7 +226,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     return _png(figure)
 
 
-def _lengths(mechanism: FourBar | SliderCrank | QuickReturn) -> str:
+def _lengths(mechanism: CrankDriven) -> str:
     return ", ".join(f"{name} {value:.4g}" for name, value in vars(mechanism).items()
                      if not isinstance(value, str))
 
@@ -308,6 +305,26 @@ def _draw_block(axes: Any, centre: complex, size: float, alpha: float, first: bo
                              label="slider" if first else None))
 
 
+def _draw_joints(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+    """Any mechanism: the crank, and the path and positions of every tabulated joint."""
+    columns = curve.dense.columns
+    joints = sorted(name[:-2] for name in columns
+                    if name.startswith("joint_") and name.endswith("_x")
+                    and f"{name[:-2]}_y" in columns)
+    _draw_pivot(axes, 0j, "O")
+    for joint in joints:
+        axes.plot(curve.dense[f"{joint}_x"], curve.dense[f"{joint}_y"], color="grey",
+                  linewidth=0.8, linestyle="--", label=f"path of {joint[6:].upper()}")
+    for index, alpha in enumerate(_alphas(len(snapshots))):
+        if not _assembled(snapshots, index):
+            continue
+        _draw_link(axes, 0j, _point(snapshots, "joint_a", index), "crank", alpha,
+                   "crank" if index == 0 else None)
+        for joint in joints:
+            point = _point(snapshots, joint, index)
+            axes.plot(point.real, point.imag, "o", color="black", alpha=alpha, markersize=4)
+
+
 def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
     _draw_pivot(axes, 0j, "O")
@@ -325,3 +342,11 @@ def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> N
         _draw_link(axes, 0j, joint_a, "crank", alpha, "crank" if first else None)
         _draw_link(axes, joint_a, piston, "rod", alpha, "connecting rod" if first else None)
         _draw_block(axes, piston, 0.06 * mechanism.rod, alpha, first)
+
+
+# How linkage.png draws each registry entry's ``drawing``.
+DRAWINGS: dict[str, Callable[[Any, Curves, MechanismTable], None]] = {
+    "joints": _draw_joints,
+    "fourbar_like": _draw_fourbar_like,
+    "slider_crank": _draw_slider_crank,
+}

@@ -27,8 +27,8 @@ import numpy as np
 
 from sso.cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
 from sso.linkages.mechanisms import (
+    CrankDriven,
     FourBar,
-    QuickReturn,
     SliderCrank,
     slider_crank_method_difference,
 )
@@ -104,7 +104,7 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     return document
 
 
-def linkage_dict(mechanism: FourBar | SliderCrank | QuickReturn) -> dict[str, Any]:
+def linkage_dict(mechanism: CrankDriven) -> dict[str, Any]:
     """JSON-ready description of a linkage; :func:`mechanism_from_dict` reads it back."""
     entry: dict[str, Any] = {"type": type(mechanism).__name__, "parameters": asdict(mechanism)}
     if isinstance(mechanism, FourBar):
@@ -114,12 +114,12 @@ def linkage_dict(mechanism: FourBar | SliderCrank | QuickReturn) -> dict[str, An
     return entry
 
 
-def mechanism_from_dict(entry: Mapping[str, Any]) -> FourBar | SliderCrank | QuickReturn:
+def mechanism_from_dict(entry: Mapping[str, Any]) -> CrankDriven:
     """The linkage described by :func:`linkage_dict` (e.g. read from ``result.json``)."""
     return linkage_of(entry["type"]).mechanism(**entry["parameters"])
 
 
-def analysis_table(mechanism: FourBar | SliderCrank | QuickReturn, case: MechanismCase,
+def analysis_table(mechanism: CrankDriven, case: MechanismCase,
                    crank_angles_deg: np.ndarray | None = None,
                    on_unassembled: str | None = None) -> MechanismTable:
     """The mechanism's table over the case's crank angles (or ``crank_angles_deg``).
@@ -176,7 +176,7 @@ def fine_crank_angles_deg(case: MechanismCase) -> np.ndarray:
     return angle_grid(case.values["drive.start_deg"], revolution_stop_deg(case), FINE_STEP_DEG)
 
 
-def extremes(mechanism: FourBar | SliderCrank | QuickReturn,
+def extremes(mechanism: CrankDriven,
              case: MechanismCase) -> list[dict[str, Any]]:
     """Smallest and largest value of the main columns over a whole crank revolution.
 
