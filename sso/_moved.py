@@ -51,6 +51,9 @@ MOVED: dict[str, str | None] = {
 }
 # Names that changed with their module: old path -> {old name: new name}.
 RENAMED = {"sso.batch.tolerance": {"tolerance": "tolerance_study"}}
+# Names that left the module the old path now points to: old path -> {name: module}.
+SPLIT = {"sso.io.case": {name: "sso.cases.shaft_series" for name in (
+    "Case", "SHAFT_SERIES_KEYS", "TOLERANCE_ARGUMENTS", "option_value")}}
 
 
 class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -73,8 +76,11 @@ class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
               f"import from {new_name} (or the names exported by sso)")
         target = import_module(new_name)
         renamed = RENAMED.get(spec.name, {})
+        split = SPLIT.get(spec.name, {})
 
         def forward(name: str) -> Any:
+            if name in split:
+                return getattr(import_module(split[name]), name)
             return getattr(target, renamed.get(name, name))
 
         module.__getattr__ = forward  # type: ignore[method-assign]

@@ -38,3 +38,9 @@ designer's usual band; the four-bar design's default constraint)."""
 
 OUTPUT_FORMATS = ("json", "csv", "md", "html", "png")
 """Report files a run can write, by format name."""
+
+SOLVER_NAMES = ("ipopt", "slsqp")
+"""The solvers every design problem can run (and cross-check when both run)."""
+
+MAX_JOINTS = 64
+"""Most Hooke joints of one shaft series in a case file."""

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from sso.limits import SOLVER_NAMES
+
 
 def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
     """Convert a scalar or a sequence of numbers to a tuple of finite floats.
@@ -169,17 +171,16 @@ def _is_pair_of_numbers(value: Any) -> bool:
     )
 
 
-SOLVERS = ("ipopt", "slsqp")
 
 
 def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
-        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVERS)}")
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVER_NAMES)}")
     for index, name in enumerate(names):
-        if name not in SOLVERS:
-            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVERS)}")
+        if name not in SOLVER_NAMES:
+            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVER_NAMES)}")
     if len(set(names)) != len(names):
         raise ValueError(f"solvers = {list(names)} names a solver twice")
     return names

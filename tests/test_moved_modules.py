@@ -45,3 +45,12 @@ def test_the_old_tolerance_module_hands_on_the_renamed_study():
         module = _fresh_import("sso.batch.tolerance")
     assert module.tolerance is sso.tolerance_study
     assert sso.tolerance is sso.tolerance_study
+
+
+def test_the_old_case_module_still_hands_on_the_shaft_series_case():
+    from sso.cases.shaft_series import Case
+
+    with pytest.warns(DeprecationWarning, match="sso.io.case is deprecated"):
+        module = _fresh_import("sso.io.case")
+    assert module.Case is Case
+    assert module.load_case is importlib.import_module("sso.cases.schema").load_case

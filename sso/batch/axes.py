@@ -1,6 +1,6 @@
 """Sweep axes: which case keys vary, over which values, and the points they span.
 
-A sweep starts from a base case (a case file, a :class:`sso.cases.schema.Case`, or a
+A sweep starts from a base case (a case file, a :class:`sso.cases.shaft_series.Case`, or a
 mapping laid out like a case file) and names the keys to vary as a user writes
 them in a case file, optionally with indices into a list-valued key:
 ``"design.beta_deg[1]"`` is the second joint's operating angle,
@@ -47,11 +47,11 @@ class Axis:
 
 
 def base_case(base: Any) -> Any:
-    """The base case as an :class:`sso.cases.schema.Case` (every default filled in).
+    """The base case as an :class:`sso.cases.shaft_series.Case` (every default filled in).
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.cases.schema.Case or mapping
+    base : str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         A case file, a case read from one, or a mapping laid out like a case file.
 
     Raises
@@ -59,7 +59,8 @@ def base_case(base: Any) -> Any:
     ValueError
         (:class:`sso.cases.schema.CaseError`) if the case breaks the case-file schema.
     """
-    from sso.cases.schema import Case, load_case, parse_case
+    from sso.cases.schema import load_case, parse_case
+    from sso.cases.shaft_series import Case
 
     if isinstance(base, (str, Path)):
         case = load_case(base)
@@ -68,8 +69,8 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {base!r} must be a case file path, an sso.cases.schema.Case or "
-                         "a mapping laid out like a case file")
+        raise ValueError(f"base = {base!r} must be a case file path, an "
+                         "sso.cases.shaft_series.Case or a mapping laid out like a case file")
     return case
 
 

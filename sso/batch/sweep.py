@@ -52,7 +52,7 @@ def sweep(
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.cases.schema.Case or mapping
+    base : str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         The base case: a case file, a case read from one, or a mapping laid out
         like a case file (``{"design": {"beta_deg": [...]}, "option": 3, ...}``).
     axes : mapping of str to list or range

@@ -16,8 +16,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from sso.batch.worker import SOLVER_NAMES
 from sso.files import write_text_atomic
+from sso.limits import SOLVER_NAMES
 
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"

@@ -79,7 +79,7 @@ def tolerance_study(
 
     Parameters
     ----------
-    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.schema.Case or mapping
+    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         The nominal design, or a case whose design (as given) is perturbed; a
         case also gives the input speed and, in its ``[tolerance]`` table, the
         defaults of the settings below.

@@ -21,7 +21,6 @@ import numpy as np
 
 from sso.cases.schema import (
     REQUIRED,
-    SHAFT_SERIES_KEYS,
     Key,
     choice,
     number,
@@ -29,6 +28,7 @@ from sso.cases.schema import (
     register_case_kind,
     text,
 )
+from sso.cases.shaft_series import SHAFT_SERIES_KEYS
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import CrankDriven
 from sso.linkages.registry import Linkage, linkage_of_kind, linkages

@@ -26,7 +26,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from sso.cases.schema import Case
+from sso.cases.shaft_series import Case
 from sso.distribution import installed_version
 from sso.shafts.options import OPTION_NAMES
 

@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from sso.cases.schema import CASE_KINDS, Case, CaseError, load_case, parse_case, schema
+from sso.cases.schema import CASE_KINDS, CaseError, load_case, parse_case, schema
+from sso.cases.shaft_series import Case
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 SHIPPED = sorted(CASES.glob("*.toml"))
