@@ -14,6 +14,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from sso.cli.common import Command
+
 
 def configure_sweep(parser: argparse.ArgumentParser) -> None:
     """Arguments of ``sso sweep``."""
@@ -108,3 +110,19 @@ def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], in
     finally:
         if client is not None:
             client.close()
+
+
+COMMANDS = (
+    Command("sweep", "optimise or evaluate a base case over a grid of key values",
+            "Run a sweep file: a base case, the [axes] to vary (any case key, e.g. "
+            "design.beta_deg[1], option, model, input_speed_rpm) and the action. Writes "
+            "sweep.csv as chunks finish, report.md and a plot into DIR/<name>/; --resume "
+            "computes only the missing points. Exit 0: every point finished (and converged); "
+            "1: some did not; 2: bad input.",
+            configure_sweep, run_sweep),
+    Command("tolerance", "Monte Carlo tolerance study of a case's design",
+            "Perturb the case's angles and phases as its [tolerance] table says (normal or "
+            "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
+            "and output acceleration with a histogram into DIR/<case name>/.",
+            configure_tolerance, run_tolerance),
+)
