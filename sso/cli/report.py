@@ -35,7 +35,7 @@ def _report(args: argparse.Namespace) -> int:
             exit_code = EXIT_BAD_INPUT
             continue
         formats = report_formats(args, [name for name in document["case"]["output"]["formats"]
-                                  if name != "json"])
+                                        if name != "json"])
         if args.out is None:
             folder = Path(path).parent
         elif len(args.results) > 1:
@@ -49,7 +49,7 @@ def _report(args: argparse.Namespace) -> int:
             exit_code = EXIT_BAD_INPUT
             continue
         say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
-             f"in {folder}")
+            f"in {folder}")
     return exit_code
 
 

@@ -65,8 +65,8 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
             outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
             continue
         if case.name in folders:
-            print_error(f"{path}: name = {case.name!r} is already used by {folders[case.name]} in "
-                   "this run; its report would overwrite that one")
+            print_error(f"{path}: name = {case.name!r} is already used by {folders[case.name]} "
+                        "in this run; its report would overwrite that one")
             outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
             continue
         folders[case.name] = path
@@ -96,7 +96,7 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
         return Outcome(case.name, "bad input", EXIT_BAD_INPUT)
     except Exception:
         print_error(f"{case.source}: internal error while solving; please report it:\n"
-               + traceback.format_exc())
+                    + traceback.format_exc())
         return Outcome(case.name, "internal error", EXIT_FAILED)
     print_warnings(case.name, document["warnings"])
     try:

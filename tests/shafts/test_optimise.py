@@ -142,3 +142,13 @@ def test_import_is_light():
     output = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
                             text=True).stdout.splitlines()
     assert output == ["[]", "[]"]
+
+
+def test_the_module_named_optimise_does_not_shadow_the_function():
+    # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function.
+    import importlib
+
+    module = importlib.import_module("sso.shafts.optimise")
+    assert callable(sso.optimise) and sso.optimise is module.optimise
+    result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
+    assert result.success
