@@ -10,13 +10,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from sso.kinematics.hooke import MODELS, chain_kinematics
-from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
+from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.validation import as_float_tuple, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso.shafts.evaluation import Evaluation
 
-CONVENTIONAL_PHASE_DEG = 90.0
 
 
 class InertPhaseWarning(UserWarning):
