@@ -19,7 +19,7 @@ _moved.install()
 _EXPORTS = {
     "ShaftSeries": "sso.shafts.series",
     "Evaluation": "sso.shafts.evaluation",
-    "optimise": "sso.shafts.optimise",
+    "optimise": "sso.column.dispatch",
     "OptimisationResult": "sso.shafts.optimise",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
@@ -38,6 +38,8 @@ _EXPORTS = {
     "can_cancel": "sso.column.cancel",
     "CancelVerdict": "sso.column.cancel",
     "optimise_phasing": "sso.column.phasing",
+    "optimise_joint_positions": "sso.column.joint_positions",
+    "JointPositionResult": "sso.column.joint_positions",
     "PhasingResult": "sso.column.phasing",
     "best_spline_teeth": "sso.column.splines",
     "SplineResult": "sso.column.splines",
