@@ -11,5 +11,7 @@ One module per job:
 Nothing here imports CasADi, SciPy or matplotlib at module level.
 """
 
-# The planar-mechanism case kinds register themselves with sso.cases.schema on import.
+# The planar-mechanism and 3D-column case kinds register themselves with
+# sso.cases.schema on import.
+from sso.cases import column as _column  # noqa: E402,F401
 from sso.cases import mechanism as _mechanism  # noqa: E402,F401
