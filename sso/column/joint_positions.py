@@ -206,7 +206,7 @@ def optimise_joint_positions(
     Parameters
     ----------
     geometry : ColumnGeometry
-        The start column, at least 2 joints, no straight joint.
+        The start column, at least 2 joints, none of them straight.
     joint_boxes_mm : sequence of ((x, y, z), (x, y, z))
         Lower and upper corner of the box of each joint centre ``P1 .. Pn``, mm;
         the start point must lie inside. Equal corners pin a coordinate.
@@ -233,7 +233,8 @@ def optimise_joint_positions(
     TypeError
         If ``geometry`` is not a :class:`ColumnGeometry`.
     ValueError
-        For a bad box, bound or option, naming the field, the value and the range.
+        For a straight joint at the given points, or a bad box, bound or option,
+        naming the field, the value and the range.
     """
     if not isinstance(geometry, ColumnGeometry):
         raise TypeError(f"geometry must be a ColumnGeometry, not {type(geometry).__name__}")
@@ -241,6 +242,12 @@ def optimise_joint_positions(
     if joints < 2:
         raise ValueError("geometry has 1 joint: joint positions need at least 2 joints "
                          "(an intermediate shaft)")
+    straight = [joint for joint, flag in enumerate(geometry.straight_joints, start=1) if flag]
+    if straight:
+        raise ValueError(f"joint {straight[0]} (points_mm[{straight[0]}]) is straight at the "
+                         "given points (beta = 0): its bend plane is undefined there, so the "
+                         "joint-position design needs every joint bent; move that point off "
+                         "the line through its neighbours")
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)

@@ -128,3 +128,13 @@ def test_bad_input_is_refused_naming_the_field(options, message):
     arguments = {"joint_boxes_mm": boxes(TRUCK, 5.0), **options}
     with pytest.raises(ValueError, match=message):
         optimise_joint_positions(ColumnGeometry(TRUCK), **arguments)
+
+
+def test_a_straight_joint_at_the_start_is_refused():
+    # P2 on the line P1-P3 (joint 2 straight): its bend plane is undefined there.
+    points = [[0.0, 0.0, 0.0], [300.0, 0.0, 0.0], [500.0, 60.0, 0.0], [700.0, 120.0, 0.0],
+              [900.0, 120.0, 80.0]]
+    geometry = ColumnGeometry(points)
+    assert geometry.straight_joints == (False, True, False)
+    with pytest.raises(ValueError, match=r"joint 2 \(points_mm\[2\]\) is straight"):
+        optimise_joint_positions(geometry, joint_boxes_mm=boxes(np.asarray(points), 5.0))
