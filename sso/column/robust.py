@@ -11,7 +11,11 @@ Objectives, sampling, smoothing and the band's definition: ``docs/robust.md``.
 """
 
 from sso.column.band import Interval, ToleranceBand, tolerance_band
-from sso.column.positions import PositionsResult, SinglePositionOptimum, optimise_positions
+from sso.column.positions import (
+           PositionsResult,
+           SinglePositionOptimum,
+           optimise_positions,
+)
 from sso.column.robust_phasing import RobustResult, optimise_robust
 from sso.column.tolerances import SampleStudy, Tolerances, ToleranceSample
 
