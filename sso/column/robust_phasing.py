@@ -2,9 +2,9 @@
 
 The nominal optimum can sit in a narrow valley. Here the objective is RE over a
 fixed, seeded sample of built columns (:class:`sso.column.tolerances.Tolerances`):
-its mean, a percentile of the sample smoothed by a Student-t kernel (2 degrees of freedom), or the
-conditional value at risk (CVaR, the mean of the worst ``100 - q`` % of the
-sample) in Rockafellar and Uryasev's epigraph form; all smooth, with exact
+its mean, or for a percentile ``q`` the conditional value at risk (CVaR, the mean
+of the worst ``100 - q`` % of the sample) in Rockafellar and Uryasev's epigraph
+form, the least convex upper bound of the percentile; both smooth, with exact
 derivatives (:mod:`sso.column.scenarios`). The result reports the empirical
 percentiles of the robust design and of the nominal optimum on the same sample.
 """
@@ -19,25 +19,13 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
-from sso.column.scenarios import (
-    DEFAULT_TOLERANCE,
-    cvar,
-    scenario_re,
-    smoothed_quantile,
-    solve_scenarios,
-)
+from sso.column.scenarios import DEFAULT_TOLERANCE, cvar, scenario_re, solve_scenarios
 from sso.column.tolerances import SampleStudy, Tolerances
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
 from sso.solvers.solution import CrossCheck, Solution
-from sso.validation import (
-    finite_in_range,
-    validate_count,
-    validate_solvers,
-    validate_tolerance,
-)
+from sso.validation import validate_count, validate_solvers, validate_tolerance
 
-PERCENTILE_PATTERN = re.compile(r"(p|cvar)(\d+(?:\.\d+)?)")
-DEFAULT_PERCENTILE_BANDWIDTH = 0.02
+PERCENTILE_PATTERN = re.compile(r"p(\d+(?:\.\d+)?)")
 LOWEST_PERCENTILE = 50.0
 DEFAULT_ROBUST_STARTS = 4
 
@@ -52,8 +40,7 @@ class RobustResult:
         Robust yoke phasing per intermediate shaft, deg, in ``[-90, 90)``
         (fitter's convention; same as ``yoke_phase_deg``).
     fun : float
-        The objective at ``x`` over the sample: mean RE, the smoothed percentile,
-        or the CVaR.
+        The objective at ``x`` over the sample: mean RE or CVaR.
     nit, nfev, status : int
         Of the best run.
     success : bool
@@ -136,8 +123,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                     starts: int = DEFAULT_ROBUST_STARTS,
                     tolerance: float = DEFAULT_TOLERANCE,
                     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                    seed: int = 0,
-                    percentile_bandwidth: float = DEFAULT_PERCENTILE_BANDWIDTH) -> RobustResult:
+                    seed: int = 0) -> RobustResult:
     """Yoke phasing that minimises RE over a sample of built columns.
 
     Parameters
@@ -147,12 +133,10 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     tolerances : Tolerances
         Tolerances and the sample (size, seed, distribution).
     robust_objective : str
-        ``"mean"`` (mean RE over the sample); ``"pNN"`` with ``50 <= NN < 100``
-        (e.g. ``"p95"``): the NN-th percentile of the sample smoothed by a
-        Student-t kernel (2 degrees of freedom) (see ``percentile_bandwidth``); ``"cvarNN"``: the mean of
-        the worst ``100 - NN`` % of the sample (conditional value at risk, a
-        convex upper bound of the NN-th percentile). Percentile objectives need at
-        least one sample in the tail.
+        ``"mean"`` (mean RE over the sample) or ``"pNN"`` with ``50 <= NN < 100``
+        (e.g. ``"p95"``): the CVaR at level ``NN / 100``, the mean of the worst
+        ``100 - NN`` % of the sample, a smooth convex upper bound of the NN-th
+        percentile. The sample must leave at least one column in that tail.
     solvers : tuple of {"ipopt", "slsqp"}
         With two they are cross-checked.
     starts : int
@@ -163,9 +147,6 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
         optimum's objective over the sample).
     max_iterations, seed
         As :func:`sso.optimise` (``seed`` for the starts; the sample has its own).
-    percentile_bandwidth : float
-        Bandwidth of the Student-t kernel (2 degrees of freedom) of ``"pNN"``, as a fraction of the nominal
-        optimum's NN-th percentile, in ``(0, 1]``.
 
     Returns
     -------
@@ -184,8 +165,6 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     if not isinstance(tolerances, Tolerances):
         raise TypeError(f"tolerances must be a Tolerances, not {type(tolerances).__name__}")
     objective, level = _objective(robust_objective, tolerances.samples)
-    bandwidth = finite_in_range("percentile_bandwidth", percentile_bandwidth, 0.0, 1.0,
-                                lower_open=True)
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 0, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
@@ -195,19 +174,16 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     sample = tolerances.sample(geometry)
     weights = np.full(tolerances.samples, 1.0 / tolerances.samples)
     nominal_values = sample.residual_error(nominal.yoke_phase_deg)
-    reference = (float(np.percentile(nominal_values, 100.0 * level)) if objective == "quantile"
-                 else float(np.mean(nominal_values)) if objective == "mean"
-                 else cvar(nominal_values, weights, level))
-    scale = 1.0 / reference if reference > 0 else 1.0
 
     def objective_value(values: np.ndarray) -> float:
-        if objective == "quantile":
-            return smoothed_quantile(scale * values, weights, level, bandwidth) / scale
         return float(np.mean(values)) if objective == "mean" else cvar(values, weights, level)
+
+    reference = objective_value(nominal_values)
+    scale = 1.0 / reference if reference > 0 else 1.0
 
     solved = solve_scenarios(
         sample.beta_rad, sample.gamma_rad, objective=objective, weights=weights,
-        scale=scale, level=level, bandwidth=bandwidth,
+        scale=scale, level=level,
         user_starts_deg=[nominal.yoke_phase_deg, *nominal.equivalent_yoke_phase_deg],
         starts=starts, solvers=solver_names, tolerance=tolerance,
         max_iterations=max_iterations, seed=seed)
@@ -241,15 +217,15 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
 
 
 def _objective(robust_objective: Any, samples: int) -> tuple[str, float]:
-    """NLP objective (``"mean"``, ``"quantile"``, ``"cvar"``) and level, or raise naming the field."""
+    """NLP objective (``"mean"`` or ``"cvar"``) and level, or raise naming the field."""
     if robust_objective == "mean":
         return "mean", 0.0
     match = PERCENTILE_PATTERN.fullmatch(robust_objective) if isinstance(robust_objective,
                                                                           str) else None
     if match is None:
-        raise ValueError(f"robust_objective = {robust_objective!r} is not 'mean', a percentile "
-                         "'pNN' or a tail mean 'cvarNN' with 50 <= NN < 100 (e.g. 'p95')")
-    percentile = float(match.group(2))
+        raise ValueError(f"robust_objective = {robust_objective!r} is not 'mean' or a percentile "
+                         "'pNN' with 50 <= NN < 100 (e.g. 'p95')")
+    percentile = float(match.group(1))
     if not LOWEST_PERCENTILE <= percentile < 100.0:
         raise ValueError(f"robust_objective = {robust_objective!r}: the percentile {percentile:g} "
                          "is outside the allowed range [50, 100)")
@@ -258,4 +234,4 @@ def _objective(robust_objective: Any, samples: int) -> tuple[str, float]:
         raise ValueError(f"robust_objective = {robust_objective!r} needs at least "
                          f"{int(np.ceil(1.0 / (1.0 - level)))} samples to have one in its tail; "
                          f"tolerances.samples = {samples}")
-    return ("quantile" if match.group(1) == "p" else "cvar"), level
+    return "cvar", level

@@ -6,15 +6,10 @@ The design variables are the yoke phasings ``delta`` (one per intermediate shaft
 shared by every scenario); scenario ``s`` runs at the model phases
 ``phi_s = 90 + delta - gamma_s`` and its RE is the closed form of the chain matrix
 (:mod:`sso.column.chain_matrix`) written as CasADi expressions, so IPOPT gets the
-exact Hessian and SLSQP the exact gradient. Four objectives, all smooth:
+exact Hessian and SLSQP the exact gradient. Three objectives, all smooth:
 
 * ``"mean"``: ``sum_s w_s RE_s`` (bounds only);
 * ``"worst"``: the epigraph ``min t`` s.t. ``RE_s <= t`` for every ``s``;
-* ``"quantile"``: the ``alpha``-quantile of the sample's distribution smoothed by
-  a kernel of bandwidth ``h``: ``min q`` s.t. ``sum_s w_s K((q - RE_s) / h) >= alpha``
-  with ``K(z) = (1 + z / sqrt(2 + z^2)) / 2`` (Student-t, 2 degrees of freedom:
-  heavy tails, so the constraint never goes flat); it tends to the empirical
-  quantile as ``h -> 0``;
 * ``"cvar"``: the conditional value at risk at level ``alpha`` (the mean of the
   worst ``1 - alpha`` of the weighted sample) in Rockafellar and Uryasev's form
   ``min t + sum_s w_s z_s / (1 - alpha)`` s.t. ``z_s >= RE_s - t``, ``z_s >= 0``.
@@ -45,11 +40,11 @@ from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.solvers.starts import start_points
 
-OBJECTIVES = ("mean", "worst", "quantile", "cvar")
+OBJECTIVES = ("mean", "worst", "cvar")
 # Yoke phasing bounds of the NLP, deg: two periods (RE has period 180 deg in each
 # phasing), so every minimum lies strictly inside them and no start stalls on a bound.
 YOKE_BOUNDS_DEG = (-180.0, 180.0)
-DEFAULT_TOLERANCE = 1e-12
+DEFAULT_TOLERANCE = 1e-13
 
 
 @dataclass(frozen=True)
@@ -104,7 +99,6 @@ def scenario_re(beta_rad: np.ndarray, gamma_rad: np.ndarray, yoke_phase_deg: Any
 
 def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: str,
                     weights: np.ndarray, scale: float, level: float = 0.0,
-                    bandwidth: float = 1.0,
                     user_starts_deg: Sequence[Sequence[float]], starts: int,
                     solvers: tuple[str, ...], tolerance: float, max_iterations: int,
                     seed: int) -> ScenarioRun:
@@ -114,15 +108,13 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     ----------
     beta_rad, gamma_rad : numpy.ndarray
         As :func:`scenario_re`.
-    objective : {"mean", "worst", "quantile", "cvar"}
+    objective : {"mean", "worst", "cvar"}
     weights : numpy.ndarray, shape (S,)
         Non-negative weights summing to 1 (``"mean"`` and ``"cvar"``).
     scale : float
         RE is multiplied by this inside the NLP (> 0).
     level : float
-        ``alpha`` of ``"quantile"`` and ``"cvar"``, in ``(0, 1)``.
-    bandwidth : float
-        Bandwidth ``h`` of ``"quantile"``, in scaled RE units (> 0).
+        ``alpha`` of ``"cvar"``, in ``[0, 1)``.
     user_starts_deg : sequence of sequence of float
         Starts given by the caller (yoke phasing, deg), tried first.
     starts : int
@@ -136,7 +128,7 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     nlp = cached_nlp(("column_scenarios", objective, count, joints),
                      lambda: _build(objective, count, joints))
     parameters = np.concatenate([np.cos(beta_rad).ravel(), gamma_rad.ravel(), weights,
-                                 [scale, level, bandwidth]])
+                                 [scale, level]])
     shafts = joints - 1
     lower_delta = np.full(shafts, np.radians(YOKE_BOUNDS_DEG[0]))
     upper_delta = np.full(shafts, np.radians(YOKE_BOUNDS_DEG[1]))
@@ -144,7 +136,7 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     spread = start_points(given[0], lower_delta, upper_delta, starts + 1, seed)[1:]
     delta_starts = np.vstack([given, spread])
     points, limits = _epigraph_starts(objective, delta_starts, beta_rad, gamma_rad, weights,
-                                      scale, level, bandwidth, lower_delta, upper_delta)
+                                      scale, level, lower_delta, upper_delta)
     measured = run_starts(nlp, points, parameters, limits, solvers, tolerance, max_iterations)
 
     def yoke(x: np.ndarray) -> tuple[float, ...]:
@@ -175,7 +167,7 @@ def cvar(values: np.ndarray, weights: np.ndarray, level: float) -> float:
 
 def _epigraph_starts(objective: str, delta_starts: np.ndarray, beta_rad: np.ndarray,
                      gamma_rad: np.ndarray, weights: np.ndarray, scale: float, level: float,
-                     bandwidth: float, lower_delta: np.ndarray, upper_delta: np.ndarray
+                     lower_delta: np.ndarray, upper_delta: np.ndarray
                      ) -> tuple[np.ndarray, RunLimits]:
     """Full NLP starts (phasing plus feasible epigraph variables) and the bounds."""
     count = len(beta_rad)
@@ -183,15 +175,10 @@ def _epigraph_starts(objective: str, delta_starts: np.ndarray, beta_rad: np.ndar
         return delta_starts, RunLimits(lower_delta, upper_delta)
     values = scale * scenario_re(beta_rad, gamma_rad,
                                  np.degrees(delta_starts)[:, None, :])  # (starts, S)
-    if objective in ("worst", "quantile"):
-        epigraph = (values.max(axis=1) if objective == "worst" else
-                    np.array([smoothed_quantile(row, weights, level, bandwidth)
-                              for row in values]))[:, None]
+    if objective == "worst":
+        epigraph = values.max(axis=1)[:, None]
         lower = np.concatenate([lower_delta, [0.0]])
         upper = np.concatenate([upper_delta, [np.inf]])
-        if objective == "quantile":
-            return np.hstack([delta_starts, epigraph]), RunLimits(
-                lower, upper, constraint_lower=np.full(1, -np.inf), constraint_upper=np.zeros(1))
     else:
         thresholds = np.array([_weighted_quantile(row, weights, level) for row in values])
         epigraph = np.hstack([thresholds[:, None],
@@ -201,35 +188,6 @@ def _epigraph_starts(objective: str, delta_starts: np.ndarray, beta_rad: np.ndar
     limits = RunLimits(lower, upper, constraint_lower=np.full(count, -np.inf),
                        constraint_upper=np.zeros(count))
     return np.hstack([delta_starts, epigraph]), limits
-
-
-def smoothed_quantile(values: np.ndarray, weights: np.ndarray, level: float,
-                      bandwidth: float) -> float:
-    """Quantile of the kernel-smoothed distribution of a weighted sample.
-
-    The ``q`` with ``sum_s w_s K((q - v_s) / h) = level`` (``K`` the Student-t
-    distribution function of 2 degrees of freedom, ``h`` the bandwidth, same units
-    as ``values``): the value the ``"quantile"`` NLP minimises. Smooth in the
-    values; the empirical quantile as ``h -> 0``.
-    """
-    from scipy.optimize import brentq  # type: ignore[import-untyped]
-
-    def excess(q: float) -> float:
-        return float(np.dot(weights, _kernel_cdf(np, (q - values) / bandwidth))) - level
-
-    reach = 60.0 * bandwidth
-    root: float = brentq(excess, float(values.min()) - reach, float(values.max()) + reach,
-                         xtol=1e-14 * max(1.0, float(np.abs(values).max())), rtol=1e-15)
-    return root
-
-
-def _kernel_cdf(xp: Any, z: Any) -> Any:
-    """Student-t distribution function of 2 degrees of freedom, ``(1 + z / sqrt(2 + z^2)) / 2``.
-
-    Its slope decays like ``|z|^-3``, not exponentially (as a logistic or normal
-    kernel's does), so a start far from the quantile still sees a gradient.
-    """
-    return 0.5 * (1.0 + z / xp.sqrt(2.0 + z * z))
 
 
 def _weighted_quantile(values: np.ndarray, weights: np.ndarray, level: float) -> float:
@@ -245,15 +203,14 @@ def _build(objective: str, count: int, joints: int) -> Any:
     from sso.solvers.nlp import compile_nlp
 
     shafts = joints - 1
-    p = casadi.SX.sym("p", count * joints + count * shafts + count + 3)
+    p = casadi.SX.sym("p", count * joints + count * shafts + count + 2)
     cos_beta = casadi.reshape(p[:count * joints], joints, count).T
     offset = count * joints
     gamma = casadi.reshape(p[offset:offset + count * shafts], shafts, count).T
     offset += count * shafts
     weights = p[offset:offset + count]
-    scale, level, bandwidth = p[offset + count], p[offset + count + 1], p[offset + count + 2]
-    size = {"mean": shafts, "worst": shafts + 1, "quantile": shafts + 1,
-            "cvar": shafts + 1 + count}[objective]
+    scale, level = p[offset + count], p[offset + count + 1]
+    size = {"mean": shafts, "worst": shafts + 1, "cvar": shafts + 1 + count}[objective]
     x = casadi.SX.sym("x", size)
     delta = x[:shafts]
     values = casadi.vertcat(*[
@@ -267,9 +224,6 @@ def _build(objective: str, count: int, joints: int) -> Any:
     bound = x[shafts]
     if objective == "worst":
         return compile_nlp(name, x, p, bound, values - bound)
-    if objective == "quantile":
-        below = _kernel_cdf(casadi, (bound - values) / bandwidth)
-        return compile_nlp(name, x, p, bound, level - casadi.dot(weights, below))
     excess = x[shafts + 1:]
     return compile_nlp(name, x, p, bound + casadi.dot(weights, excess) / (1.0 - level),
                        values - bound - excess)
