@@ -31,9 +31,10 @@ import numpy as np
 
 from sso.column.cancel import can_cancel
 from sso.column.chain_matrix import residual_error
+from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry
 from sso.limits import BETA_LIMIT_DEG
-from sso.validation import as_float_tuple, finite_in_range
+from sso.validation import finite_in_range
 
 SCAN_STEP_DEG = 0.05
 EDGE_XTOL_DEG = 1e-10
@@ -152,7 +153,7 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         If ``re_limit`` is not a positive number, lies below the least RE any
         phasing of the column reaches, or below the design's RE.
     """
-    geometry, yoke = _design(design)
+    geometry, yoke = column_design(design)
     limit = finite_in_range("re_limit", re_limit, 0.0, np.inf, lower_open=True, upper_open=True)
     beta = np.asarray(geometry.beta_deg)
     gamma = np.asarray(geometry.plane_angle_deg)
@@ -210,22 +211,6 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         box_half_width_deg=tuple(float(width) for width in half_widths),
         box_scale=box_scale, box_corner_max_re=float(corner_max(np.array([box_scale]))[0]),
         box_grid_max_re=float(re_at(beta, grid).max()), geometry=geometry)
-
-
-def _design(design: Any) -> tuple[ColumnGeometry, tuple[float, ...]]:
-    if isinstance(design, tuple) and len(design) == 2 and isinstance(design[0], ColumnGeometry):
-        geometry, yoke = design
-    elif isinstance(getattr(design, "geometry", None), ColumnGeometry):
-        geometry, yoke = design.geometry, design.yoke_phase_deg
-    else:
-        raise TypeError("design must be (ColumnGeometry, yoke_phase_deg) or a result with "
-                        f"geometry and yoke_phase_deg, not {type(design).__name__}")
-    values = as_float_tuple("yoke_phase_deg", yoke)
-    if len(values) != geometry.joint_count - 1:
-        raise ValueError(f"yoke_phase_deg has {len(values)} entries; a column of "
-                         f"{geometry.joint_count} joints has {geometry.joint_count - 1} "
-                         "intermediate shafts")
-    return geometry, values
 
 
 def _interval(name: str, nominal: float, along: Callable[[np.ndarray], np.ndarray],

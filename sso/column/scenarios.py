@@ -130,13 +130,29 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     parameters = np.concatenate([np.cos(beta_rad).ravel(), gamma_rad.ravel(), weights,
                                  [scale, level]])
     shafts = joints - 1
+    delta_starts, lower_delta, upper_delta = yoke_starts(user_starts_deg, shafts, starts, seed)
+    points, limits = _epigraph_starts(objective, delta_starts, beta_rad, gamma_rad, weights,
+                                      scale, level, lower_delta, upper_delta)
+    return solve_phasing_nlp(nlp, parameters, points, limits, shafts, scale, solvers,
+                             tolerance, max_iterations)
+
+
+def yoke_starts(user_starts_deg: Sequence[Sequence[float]], shafts: int, starts: int,
+                seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Starts of the yoke phasing (rad): the caller's, then ``starts`` Halton points;
+    and the bounds ``YOKE_BOUNDS_DEG`` (rad)."""
     lower_delta = np.full(shafts, np.radians(YOKE_BOUNDS_DEG[0]))
     upper_delta = np.full(shafts, np.radians(YOKE_BOUNDS_DEG[1]))
     given = np.radians(np.asarray(user_starts_deg, dtype=float).reshape(-1, shafts))
     spread = start_points(given[0], lower_delta, upper_delta, starts + 1, seed)[1:]
-    delta_starts = np.vstack([given, spread])
-    points, limits = _epigraph_starts(objective, delta_starts, beta_rad, gamma_rad, weights,
-                                      scale, level, lower_delta, upper_delta)
+    return np.vstack([given, spread]), lower_delta, upper_delta
+
+
+def solve_phasing_nlp(nlp: Any, parameters: np.ndarray, points: np.ndarray, limits: RunLimits,
+                      shafts: int, scale: float, solvers: tuple[str, ...], tolerance: float,
+                      max_iterations: int) -> ScenarioRun:
+    """Every solver from every start on an NLP whose first ``shafts`` variables are the
+    yoke phasing (rad) and whose objective is RE-like times ``scale``; cross-checked."""
     measured = run_starts(nlp, points, parameters, limits, solvers, tolerance, max_iterations)
 
     def yoke(x: np.ndarray) -> tuple[float, ...]:
@@ -232,8 +248,18 @@ def _build(objective: str, count: int, joints: int) -> Any:
 def residual_error_expression(cos_beta: Sequence[Any], phase_rad: Sequence[Any]) -> Any:
     """RE of the exact chain as one expression (CasADi symbols or floats).
 
-    ``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` with ``D_k = diag(1, cos beta_k)`` and
-    ``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` (``det M = prod cos beta``).
+    ``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` of :func:`chain_matrix_expression`.
+    """
+    m11, m12, m21, m22 = chain_matrix_expression(cos_beta, phase_rad)
+    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+
+
+def chain_matrix_expression(cos_beta: Sequence[Any], phase_rad: Sequence[Any]
+                            ) -> tuple[Any, Any, Any, Any]:
+    """Entries ``m11, m12, m21, m22`` of ``M = D_n R(phi_(n-1)) ... R(phi_1) D_1``.
+
+    ``D_k = diag(1, cos beta_k)``; CasADi expressions (the numpy twin is
+    :func:`sso.column.chain_matrix.chain_matrix`).
     """
     import casadi
 
@@ -247,4 +273,4 @@ def residual_error_expression(cos_beta: Sequence[Any], phase_rad: Sequence[Any])
         bottom = (sine * m11 + cosine * m21, sine * m12 + cosine * m22)
         m11, m12 = top
         m21, m22 = cos_beta[k] * bottom[0], cos_beta[k] * bottom[1]
-    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    return m11, m12, m21, m22
