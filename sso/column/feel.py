@@ -38,13 +38,14 @@ from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import (
     DEFAULT_TOLERANCE,
+    PhasingOutcome,
     chain_matrix_expression,
+    outcome_fields,
     solve_phasing_nlp,
     yoke_starts,
 )
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
 from sso.solvers.run import RunLimits
-from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import (
     finite_float,
     finite_in_range,
@@ -97,43 +98,24 @@ class SteeringFeel:
 
 
 @dataclass(frozen=True)
-class OnCentreResult:
+class OnCentreResult(PhasingOutcome):
     """Outcome of :func:`optimise_on_centre`.
 
     Attributes
     ----------
-    x : tuple of float
-        Yoke phasing, deg, in ``[-90, 90)`` (fitter's convention; = ``yoke_phase_deg``).
-    fun : float
-        ``RE + on_centre_weight * V`` at ``x``.
-    success : bool
-        The best run converged and the solvers agree.
-    message : str
+    x, fun, nit, nfev, status, success, message, best, solutions, runs, crosscheck
+        As :class:`sso.column.scenarios.PhasingOutcome`: ``x`` the yoke phasing
+        (deg), ``fun`` = ``RE + on_centre_weight * V`` at ``x``.
     on_centre_weight : float
     feel, nominal_feel : SteeringFeel
         Of this phasing and of the RE optimum (:func:`sso.optimise_phasing`).
     nominal : PhasingResult
-    best, solutions, runs, crosscheck
-        The solvers' answers (``fun`` the objective, ``x`` the phasing in deg).
     """
 
-    x: tuple[float, ...]
-    fun: float
-    success: bool
-    message: str
     on_centre_weight: float
     feel: SteeringFeel
     nominal_feel: SteeringFeel
     nominal: PhasingResult
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-
-    @property
-    def yoke_phase_deg(self) -> tuple[float, ...]:
-        """The phasing, deg (same as ``x``)."""
-        return self.x
 
 
 def speed_ratio(geometry: ColumnGeometry, yoke_phase_deg: Any, input_angle_deg: Any) -> np.ndarray:
@@ -252,15 +234,12 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
     solved = solve_phasing_nlp(nlp, parameters, points, RunLimits(lower, upper), shafts, scale,
                                solver_names, tolerance, max_iterations)
     feel = steering_feel((geometry, solved.yoke_phase_deg), **options)
-    check = solved.crosscheck
     message = (f"{solved.best.message}; on-centre fluctuation {feel.on_centre_fluctuation:.4g} "
                f"(RE optimum {nominal_feel.on_centre_fluctuation:.4g}), at lock "
-               f"{feel.lock_fluctuation:.4g} ({nominal_feel.lock_fluctuation:.4g})"
-               + ("" if check is None else f"; {check.message}"))
-    return OnCentreResult(
-        x=solved.yoke_phase_deg, fun=feel.objective, success=solved.success, message=message,
-        on_centre_weight=weight, feel=feel, nominal_feel=nominal_feel, nominal=nominal,
-        best=solved.best, solutions=solved.solutions, runs=solved.runs, crosscheck=check)
+               f"{feel.lock_fluctuation:.4g} ({nominal_feel.lock_fluctuation:.4g})")
+    return OnCentreResult(**outcome_fields(solved, feel.objective, message),
+                          on_centre_weight=weight, feel=feel, nominal_feel=nominal_feel,
+                          nominal=nominal)
 
 
 def _grid() -> np.ndarray:

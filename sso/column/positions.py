@@ -18,9 +18,14 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
-from sso.column.scenarios import DEFAULT_TOLERANCE, scenario_re, solve_scenarios
+from sso.column.scenarios import (
+    DEFAULT_TOLERANCE,
+    PhasingOutcome,
+    outcome_fields,
+    scenario_re,
+    solve_scenarios,
+)
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
-from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import (
     check_choice,
     finite_float,
@@ -55,22 +60,15 @@ class SinglePositionOptimum:
 
 
 @dataclass(frozen=True)
-class PositionsResult:
+class PositionsResult(PhasingOutcome):
     """Outcome of :func:`optimise_positions`.
 
     Attributes
     ----------
-    x : tuple of float
-        The shared yoke phasing per intermediate shaft, deg, in ``[-90, 90)``
-        (fitter's convention; same as ``yoke_phase_deg``).
-    fun : float
-        The objective: worst position's RE (``"worst"``) or the weighted mean RE
-        (``"mean"``), evaluated at ``x`` with the closed form.
-    nit, nfev, status : int
-        Of the best run.
-    success : bool
-        The best run converged and the solvers agree.
-    message : str
+    x, fun, nit, nfev, status, success, message, best, solutions, runs, crosscheck
+        As :class:`sso.column.scenarios.PhasingOutcome`: ``x`` the shared yoke
+        phasing (deg), ``fun`` the worst position's RE (``"worst"``) or the
+        weighted mean RE (``"mean"``), evaluated at ``x`` with the closed form.
     positions_objective : {"worst", "mean"}
     weights : dict of str to float
         Weight of each position (sum 1; equal unless given).
@@ -85,18 +83,9 @@ class PositionsResult:
         Each position's own optimum, for comparison: its worst-position RE is what
         a phasing chosen for that position alone gives over the range.
     single_position_runs : dict of str to PhasingResult
-    best, solutions, runs, crosscheck
-        The solvers' answers (``fun`` in RE units, ``x`` the phasing in deg).
     geometries : dict of str to ColumnGeometry
     """
 
-    x: tuple[float, ...]
-    fun: float
-    nit: int
-    nfev: int
-    status: int
-    success: bool
-    message: str
     positions_objective: str
     weights: dict[str, float]
     position_re: dict[str, float]
@@ -104,30 +93,18 @@ class PositionsResult:
     active_positions: tuple[str, ...]
     single_position: dict[str, SinglePositionOptimum]
     single_position_runs: dict[str, PhasingResult]
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
     geometries: dict[str, ColumnGeometry]
-
-    @property
-    def yoke_phase_deg(self) -> tuple[float, ...]:
-        """The shared yoke phasing, deg (same as ``x``)."""
-        return self.x
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures (not the geometries' internals)."""
         return {
-            "yoke_phase_deg": list(self.x), "fun": self.fun, "success": self.success,
-            "message": self.message, "positions_objective": self.positions_objective,
+            **self.outcome_dict(), "positions_objective": self.positions_objective,
             "weights": dict(self.weights), "position_re": dict(self.position_re),
             "worst_re": self.worst_re, "active_positions": list(self.active_positions),
             "single_position": {name: {"yoke_phase_deg": list(single.yoke_phase_deg),
                                        "position_re": dict(single.position_re),
                                        "worst_re": single.worst_re}
                                 for name, single in self.single_position.items()},
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
             "geometries": {name: geometry.to_dict() for name, geometry in self.geometries.items()},
         }
 
@@ -206,17 +183,12 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
     fun = worst if objective == "worst" else float(np.dot(weight_array, values))
     active = tuple(name for name, value in zip(names, values)
                    if value >= worst * (1.0 - ACTIVE_RELATIVE))
-    check = solved.crosscheck
     message = (f"{solved.best.message}; worst position RE {worst:.6g} ({', '.join(active)}); "
-               f"best single-position optimum's worst RE {reference:.6g}"
-               + ("" if check is None else f"; {check.message}"))
+               f"best single-position optimum's worst RE {reference:.6g}")
     return PositionsResult(
-        x=solved.yoke_phase_deg, fun=fun, nit=solved.best.nit, nfev=solved.best.nfev,
-        status=solved.best.status, success=solved.success, message=message,
-        positions_objective=positions_objective, weights=weight_of,
-        position_re=_named(names, values), worst_re=worst, active_positions=active,
-        single_position=singles, single_position_runs=singles_runs, best=solved.best,
-        solutions=solved.solutions, runs=solved.runs, crosscheck=check,
+        **outcome_fields(solved, fun, message), positions_objective=positions_objective,
+        weights=weight_of, position_re=_named(names, values), worst_re=worst,
+        active_positions=active, single_position=singles, single_position_runs=singles_runs,
         geometries=dict(zip(names, columns)))
 
 

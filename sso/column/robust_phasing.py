@@ -19,10 +19,16 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
-from sso.column.scenarios import DEFAULT_TOLERANCE, cvar, scenario_re, solve_scenarios
+from sso.column.scenarios import (
+    DEFAULT_TOLERANCE,
+    PhasingOutcome,
+    cvar,
+    outcome_fields,
+    scenario_re,
+    solve_scenarios,
+)
 from sso.column.tolerances import SampleStudy, Tolerances
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
-from sso.solvers.solution import CrossCheck, Solution
 from sso.validation import validate_count, validate_solvers, validate_tolerance
 
 PERCENTILE_PATTERN = re.compile(r"p(\d+(?:\.\d+)?)")
@@ -31,21 +37,15 @@ DEFAULT_ROBUST_STARTS = 4
 
 
 @dataclass(frozen=True)
-class RobustResult:
+class RobustResult(PhasingOutcome):
     """Outcome of :func:`optimise_robust`.
 
     Attributes
     ----------
-    x : tuple of float
-        Robust yoke phasing per intermediate shaft, deg, in ``[-90, 90)``
-        (fitter's convention; same as ``yoke_phase_deg``).
-    fun : float
-        The objective at ``x`` over the sample: mean RE or CVaR.
-    nit, nfev, status : int
-        Of the best run.
-    success : bool
-        The best run converged and the solvers agree.
-    message : str
+    x, fun, nit, nfev, status, success, message, best, solutions, runs, crosscheck
+        As :class:`sso.column.scenarios.PhasingOutcome`: ``x`` the robust yoke
+        phasing (deg), ``fun`` the objective at ``x`` over the sample (mean RE or
+        CVaR).
     robust_objective : str
         ``"mean"`` or ``"pNN"``.
     level : float
@@ -65,17 +65,8 @@ class RobustResult:
     tolerances : Tolerances
     geometry : ColumnGeometry
     nominal : PhasingResult
-    best, solutions, runs, crosscheck
-        The solvers' answers (``fun`` in RE units, ``x`` the phasing in deg).
     """
 
-    x: tuple[float, ...]
-    fun: float
-    nit: int
-    nfev: int
-    status: int
-    success: bool
-    message: str
     robust_objective: str
     level: float
     nominal_re: float
@@ -88,21 +79,11 @@ class RobustResult:
     tolerances: Tolerances
     geometry: ColumnGeometry
     nominal: PhasingResult
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-
-    @property
-    def yoke_phase_deg(self) -> tuple[float, ...]:
-        """Robust yoke phasing, deg (same as ``x``)."""
-        return self.x
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {
-            "yoke_phase_deg": list(self.x), "fun": self.fun, "success": self.success,
-            "message": self.message, "robust_objective": self.robust_objective,
+            **self.outcome_dict(), "robust_objective": self.robust_objective,
             "level": self.level, "nominal_re": self.nominal_re,
             "nominal_optimum_re": self.nominal_optimum_re,
             "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg),
@@ -112,8 +93,6 @@ class RobustResult:
             "validation_robust_study": self.validation_robust_study.to_dict(),
             "validation_nominal_study": self.validation_nominal_study.to_dict(),
             "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
         }
 
 
@@ -196,24 +175,20 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                        tolerances.distribution).sample(geometry)
     robust_study = SampleStudy.of(nominal_re, robust_values)
     nominal_study = SampleStudy.of(nominal.fun, nominal_values)
-    check = solved.crosscheck
-    message = (f"{solved.best.message}; {robust_objective} objective {objective_value(robust_values):.6g} "
-               f"(nominal optimum {objective_value(nominal_values):.6g}); p95 {robust_study.p95:.6g} against "
-               f"{nominal_study.p95:.6g}; nominal RE {nominal_re:.6g} against {nominal.fun:.6g}"
-               + ("" if check is None else f"; {check.message}"))
+    message = (f"{solved.best.message}; {robust_objective} objective "
+               f"{objective_value(robust_values):.6g} (nominal optimum "
+               f"{objective_value(nominal_values):.6g}); p95 {robust_study.p95:.6g} against "
+               f"{nominal_study.p95:.6g}; nominal RE {nominal_re:.6g} against {nominal.fun:.6g}")
     return RobustResult(
-        x=solved.yoke_phase_deg, fun=objective_value(robust_values), nit=solved.best.nit,
-        nfev=solved.best.nfev, status=solved.best.status, success=solved.success,
-        message=message, robust_objective=robust_objective, level=level,
-        nominal_re=nominal_re, nominal_optimum_re=nominal.fun,
-        nominal_re_given_up=nominal_re - nominal.fun,
+        **outcome_fields(solved, objective_value(robust_values), message),
+        robust_objective=robust_objective, level=level, nominal_re=nominal_re,
+        nominal_optimum_re=nominal.fun, nominal_re_given_up=nominal_re - nominal.fun,
         robust_study=robust_study, nominal_study=nominal_study,
         validation_robust_study=SampleStudy.of(nominal_re,
                                                fresh.residual_error(solved.yoke_phase_deg)),
         validation_nominal_study=SampleStudy.of(nominal.fun,
                                                 fresh.residual_error(nominal.yoke_phase_deg)),
-        tolerances=tolerances, geometry=geometry, nominal=nominal, best=solved.best,
-        solutions=solved.solutions, runs=solved.runs, crosscheck=check)
+        tolerances=tolerances, geometry=geometry, nominal=nominal)
 
 
 def _objective(robust_objective: Any, samples: int) -> tuple[str, float]:

@@ -49,20 +49,10 @@ DEFAULT_TOLERANCE = 1e-13
 
 @dataclass(frozen=True)
 class ScenarioRun:
-    """The solvers' answers to one scenario problem.
+    """The solvers' answers to one phasing problem, before a result is made of them.
 
-    Attributes
-    ----------
-    yoke_phase_deg : tuple of float
-        Best yoke phasing, deg, in ``[-90, 90)``.
-    best : sso.Solution
-        Best answer; ``x`` = yoke phasing (deg), ``fun`` = objective in RE units.
-    solutions : dict of str to Solution
-        Best answer of each solver.
-    runs : tuple of Solution
-        Every run of every solver.
-    crosscheck : sso.CrossCheck or None
-        Verdict on the solvers (None with one solver).
+    ``yoke_phase_deg`` (deg, in ``[-90, 90)``), ``best``, ``solutions``, ``runs`` and
+    ``crosscheck`` mean what they mean in :class:`PhasingOutcome`.
     """
 
     yoke_phase_deg: tuple[float, ...]
@@ -75,6 +65,69 @@ class ScenarioRun:
     def success(self) -> bool:
         """The best run converged and the solvers agree."""
         return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+
+
+@dataclass(frozen=True)
+class PhasingOutcome:
+    """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
+
+    Attributes
+    ----------
+    x : tuple of float
+        The yoke phasing per intermediate shaft, deg, in ``[-90, 90)`` (fitter's
+        convention; same as ``yoke_phase_deg``).
+    fun : float
+        The objective at ``x`` (RE units).
+    nit, nfev, status : int
+        Of the best run.
+    success : bool
+        The best run converged and the solvers agree.
+    message : str
+    best : sso.Solution
+        Best answer (``x`` the phasing in deg, ``fun`` in RE units).
+    solutions : dict of str to Solution
+        Best answer of each solver.
+    runs : tuple of Solution
+        Every run of every solver.
+    crosscheck : sso.CrossCheck or None
+        Verdict on the solvers (None with one solver).
+    """
+
+    x: tuple[float, ...]
+    fun: float
+    nit: int
+    nfev: int
+    status: int
+    success: bool
+    message: str
+    best: Solution
+    solutions: dict[str, Solution]
+    runs: tuple[Solution, ...]
+    crosscheck: CrossCheck | None
+
+    @property
+    def yoke_phase_deg(self) -> tuple[float, ...]:
+        """The yoke phasing, deg (same as ``x``)."""
+        return self.x
+
+    def outcome_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of the common figures (not every run)."""
+        return {"yoke_phase_deg": list(self.x), "fun": self.fun, "nit": self.nit,
+                "nfev": self.nfev, "status": self.status, "success": self.success,
+                "message": self.message,
+                "solutions": {name: solution.to_dict()
+                              for name, solution in self.solutions.items()},
+                "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict()}
+
+
+def outcome_fields(solved: ScenarioRun, fun: float, message: str) -> dict[str, Any]:
+    """The :class:`PhasingOutcome` fields of a solved problem, as keywords."""
+    check = solved.crosscheck
+    return {"x": solved.yoke_phase_deg, "fun": fun, "nit": solved.best.nit,
+            "nfev": solved.best.nfev, "status": solved.best.status, "success": solved.success,
+            "message": message + ("" if check is None else f"; {check.message}"),
+            "best": solved.best, "solutions": solved.solutions, "runs": solved.runs,
+            "crosscheck": check}
 
 
 def scenario_re(beta_rad: np.ndarray, gamma_rad: np.ndarray, yoke_phase_deg: Any) -> np.ndarray:
