@@ -172,24 +172,14 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         raise ValueError(f"re_limit = {limit:g} is below the design's RE ({nominal:.6g}): "
                          "the design itself is outside the band")
 
-    phases = []
-    for k in range(len(delta)):
-        def along_phase(values: np.ndarray, k: int = k) -> np.ndarray:
-            rows = np.tile(delta, (len(values), 1))
-            rows[:, k] = values
-            return re_at(beta, rows)
-
-        phases.append(_interval(f"yoke_phase_deg[{k}]", float(delta[k]), along_phase, limit,
-                                float(delta[k]) - HALF_TURN_DEG, float(delta[k]) + HALF_TURN_DEG))
-    angles = []
-    for k in range(len(beta)):
-        def along_angle(values: np.ndarray, k: int = k) -> np.ndarray:
-            rows = np.tile(beta, (len(values), 1))
-            rows[:, k] = values
-            return re_at(rows, delta)
-
-        angles.append(_interval(f"beta_deg[{k}]", float(beta[k]), along_angle, limit, 0.0,
-                                BETA_SCAN_TOP_DEG))
+    phases = [_interval(f"yoke_phase_deg[{k}]", float(delta[k]),
+                        _one_moving(delta, k, lambda rows: re_at(beta, rows)), limit,
+                        float(delta[k]) - HALF_TURN_DEG, float(delta[k]) + HALF_TURN_DEG)
+              for k in range(len(delta))]
+    angles = [_interval(f"beta_deg[{k}]", float(beta[k]),
+                        _one_moving(beta, k, lambda rows: re_at(rows, delta)), limit, 0.0,
+                        BETA_SCAN_TOP_DEG)
+              for k in range(len(beta))]
     widths = np.array([min(interval.nominal_deg - interval.lower_deg,
                            interval.upper_deg - interval.nominal_deg) for interval in phases])
     corners = np.array(list(itertools.product((-1.0, 1.0), repeat=len(delta))))
@@ -211,6 +201,17 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         box_half_width_deg=tuple(float(width) for width in half_widths),
         box_scale=box_scale, box_corner_max_re=float(corner_max(np.array([box_scale]))[0]),
         box_grid_max_re=float(re_at(beta, grid).max()), geometry=geometry)
+
+
+def _one_moving(nominal: np.ndarray, index: int,
+                evaluate: Callable[[np.ndarray], np.ndarray]) -> Callable[[np.ndarray], np.ndarray]:
+    """``values -> evaluate(rows)``: rows of ``nominal`` with entry ``index`` set to each value."""
+    def along(values: np.ndarray) -> np.ndarray:
+        rows = np.tile(nominal, (len(values), 1))
+        rows[:, index] = values
+        return evaluate(rows)
+
+    return along
 
 
 def _interval(name: str, nominal: float, along: Callable[[np.ndarray], np.ndarray],
