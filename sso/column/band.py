@@ -34,7 +34,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry
 from sso.limits import BETA_LIMIT_DEG
-from sso.validation import finite_in_range
+from sso.validation import finite_in_range, validate_count
 
 SCAN_STEP_DEG = 0.05
 EDGE_XTOL_DEG = 1e-10
@@ -201,6 +201,44 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         box_half_width_deg=tuple(float(width) for width in half_widths),
         box_scale=box_scale, box_corner_max_re=float(corner_max(np.array([box_scale]))[0]),
         box_grid_max_re=float(re_at(beta, grid).max()), geometry=geometry)
+
+
+def re_against_phase_error(design: Any, span_deg: float = 10.0,
+                           points: int = 201) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """RE against each yoke phasing's error with the others at nominal (a report's figure).
+
+    Parameters
+    ----------
+    design : (ColumnGeometry, sequence of float) or result
+        As :func:`tolerance_band`.
+    span_deg : float
+        Errors from ``-span_deg`` to ``+span_deg``, deg, in ``(0, 90]``.
+    points : int
+        Errors per curve, in ``[3, 100000]``.
+
+    Returns
+    -------
+    dict of str to (numpy.ndarray, numpy.ndarray)
+        ``"yoke_phase_deg[k]"`` to (errors in deg, RE at each).
+
+    Raises
+    ------
+    TypeError, ValueError
+        For a bad design or option, naming the field.
+    """
+    geometry, yoke = column_design(design)
+    span = finite_in_range("span_deg", span_deg, 0.0, 90.0, "deg", lower_open=True)
+    count = validate_count("points", points, 3, 100_000)
+    beta_rad = np.radians(geometry.beta_deg)
+    gamma = np.asarray(geometry.plane_angle_deg)
+    delta = np.asarray(yoke)
+    errors = np.linspace(-span, span, count)
+    curves = {}
+    for k in range(len(delta)):
+        along = _one_moving(delta, k, lambda rows: residual_error(
+            beta_rad, np.radians(90.0 + rows - gamma)))
+        curves[f"yoke_phase_deg[{k}]"] = (errors, along(delta[k] + errors))
+    return curves
 
 
 def _one_moving(nominal: np.ndarray, index: int,

@@ -5,14 +5,19 @@
 * :class:`Tolerances`, :func:`optimise_robust` (:mod:`sso.column.tolerances`,
   :mod:`sso.column.robust_phasing`): RE over a seeded sample of built columns;
 * :func:`tolerance_band` (:mod:`sso.column.band`): the intervals and the box of
-  phase errors a drawing needs;
+  phase errors a drawing needs; :func:`re_against_phase_error` for its figure;
 * :func:`steering_feel`, :func:`optimise_on_centre` (:mod:`sso.column.feel`): the
   ratio fluctuation on-centre and at lock, and a phasing that keeps it off-centre.
 
 Objectives, sampling, smoothing and the band's definition: ``docs/robust.md``.
 """
 
-from sso.column.band import Interval, ToleranceBand, tolerance_band
+from sso.column.band import (
+    Interval,
+    ToleranceBand,
+    re_against_phase_error,
+    tolerance_band,
+)
 from sso.column.feel import (
     OnCentreResult,
     SteeringFeel,
@@ -30,4 +35,4 @@ from sso.column.tolerances import SampleStudy, Tolerances, ToleranceSample
 __all__ = ["Interval", "OnCentreResult", "PositionsResult", "RobustResult", "SampleStudy",
            "SinglePositionOptimum", "SteeringFeel", "ToleranceBand", "ToleranceSample",
            "Tolerances", "optimise_on_centre", "optimise_positions", "optimise_robust",
-           "steering_feel", "tolerance_band"]
+           "re_against_phase_error", "steering_feel", "tolerance_band"]

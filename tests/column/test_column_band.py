@@ -15,7 +15,7 @@ from column_cases import load
 from cross_and_yoke import residual_error as simulated_residual_error
 
 import sso
-from sso.column.band import tolerance_band
+from sso.column.band import re_against_phase_error, tolerance_band
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import optimise_phasing
 
@@ -114,3 +114,22 @@ def test_bad_designs(truck):
         tolerance_band(geometry, re_limit=1e-3)
     with pytest.raises(ValueError, match="yoke_phase_deg has 1 entries"):
         tolerance_band((geometry, (0.0,)), re_limit=1e-2)
+
+
+def test_re_against_phase_error_is_the_3d_simulation(truck):
+    geometry, optimum = truck
+    curves = re_against_phase_error(optimum, span_deg=20.0, points=41)
+    assert list(curves) == ["yoke_phase_deg[0]", "yoke_phase_deg[1]"]
+    points = np.asarray(geometry.points_mm)
+    for k, (errors, values) in enumerate(curves.values()):
+        assert errors[0] == -20.0 and errors[-1] == 20.0 and len(errors) == 41
+        assert values[20] == pytest.approx(optimum.fun, rel=1e-9)
+        assert values.min() == pytest.approx(optimum.fun, rel=1e-9)  # the optimum is a minimum
+        for index in (0, 33):
+            yoke = list(optimum.yoke_phase_deg)
+            yoke[k] += errors[index]
+            assert values[index] == pytest.approx(simulated_residual_error(points, yoke), rel=1e-9)
+    with pytest.raises(ValueError, match="span_deg"):
+        re_against_phase_error(optimum, span_deg=0.0)
+    with pytest.raises(ValueError, match="points"):
+        re_against_phase_error(optimum, points=2)
