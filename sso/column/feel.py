@@ -117,6 +117,12 @@ class OnCentreResult(PhasingOutcome):
     nominal_feel: SteeringFeel
     nominal: PhasingResult
 
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of the figures."""
+        return {**self.outcome_dict(), "on_centre_weight": self.on_centre_weight,
+                "feel": self.feel.to_dict(), "nominal_feel": self.nominal_feel.to_dict(),
+                "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg)}
+
 
 def speed_ratio(geometry: ColumnGeometry, yoke_phase_deg: Any, input_angle_deg: Any) -> np.ndarray:
     """Output over input speed at input angles ``theta`` (deg, see the module notes)."""

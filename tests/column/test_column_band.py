@@ -8,6 +8,7 @@ sso.ShaftSeries.evaluate (quadrature of the speed ratio) for operating angles.
 from __future__ import annotations
 
 import itertools
+import json
 
 import numpy as np
 import pytest
@@ -133,3 +134,9 @@ def test_re_against_phase_error_is_the_3d_simulation(truck):
         re_against_phase_error(optimum, span_deg=0.0)
     with pytest.raises(ValueError, match="points"):
         re_against_phase_error(optimum, points=2)
+
+
+def test_band_is_json_ready(band):
+    document = json.loads(json.dumps(band.to_dict()))
+    assert document["yoke_phase"][0]["lower_deg"] == band.yoke_phase[0].lower_deg
+    assert document["box_half_width_deg"] == list(band.box_half_width_deg)

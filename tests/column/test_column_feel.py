@@ -7,6 +7,8 @@ against optimise_phasing (sso.optimise option 1).
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from column_cases import load, random_column
@@ -86,3 +88,11 @@ def test_bad_options_name_the_field(tilt_up, keywords, match):
         steering_feel((tilt_up, (0.0, 0.0)), **options)
     with pytest.raises(ValueError, match=match):
         optimise_on_centre(tilt_up, **options)
+
+
+def test_results_are_json_ready(tilt_up):
+    result = optimise_on_centre(tilt_up, straight_ahead_deg=45.0, lock_deg=600.0, starts=0)
+    document = json.loads(json.dumps(result.to_dict()))
+    assert document["yoke_phase_deg"] == list(result.yoke_phase_deg)
+    assert document["feel"]["on_centre_fluctuation"] == result.feel.on_centre_fluctuation
+    assert set(document["solutions"]) == {"ipopt", "slsqp"}

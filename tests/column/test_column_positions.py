@@ -8,6 +8,8 @@ option 1, a quadrature objective) for a single position.
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from column_cases import load, planar_points
@@ -137,3 +139,10 @@ def test_bad_containers_are_type_errors(positions):
         optimise_positions({"mid": positions["mid"].points_mm})
     with pytest.raises(ValueError, match="geometries is empty"):
         optimise_positions({})
+
+
+def test_result_is_json_ready(worst_case):
+    document = json.loads(json.dumps(worst_case.to_dict()))
+    assert document["position_re"] == worst_case.position_re
+    assert document["active_positions"] == ["tilt_up", "tilt_down"]
+    assert document["crosscheck"]["agree"] is True

@@ -7,6 +7,8 @@ against numpy on the same values; CVaR against its definition on sorted samples.
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from column_cases import load
@@ -136,3 +138,10 @@ def test_wrong_types_are_type_errors(tilt_down):
         optimise_robust(tilt_down, {"hardpoint_mm": 1.0})
     with pytest.raises(TypeError, match="geometry"):
         optimise_robust(tilt_down.points_mm, TOLERANCES)
+
+
+def test_result_is_json_ready(robust_p95):
+    document = json.loads(json.dumps(robust_p95.to_dict()))
+    assert document["robust_study"]["p95"] == robust_p95.robust_study.p95
+    assert document["nominal_study"]["p95"] == robust_p95.nominal_study.p95
+    assert document["tolerances"]["samples"] == 100
