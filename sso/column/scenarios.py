@@ -40,7 +40,6 @@ from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.solvers.starts import start_points
 
-OBJECTIVES = ("mean", "worst", "cvar")
 # Yoke phasing bounds of the NLP, deg: two periods (RE has period 180 deg in each
 # phasing), so every minimum lies strictly inside them and no start stalls on a bound.
 YOKE_BOUNDS_DEG = (-180.0, 180.0)
