@@ -16,10 +16,11 @@ __version__ = "0.1.0"
 
 _moved.install()
 
-_EXPORTS = {
+# Public name -> module that defines it, or (module, name there) for an alias.
+_EXPORTS: dict[str, str | tuple[str, str]] = {
     "ShaftSeries": "sso.shafts.series",
     "Evaluation": "sso.shafts.evaluation",
-    "optimise": "sso.shafts.optimise",
+    "optimise": "sso.column.dispatch",
     "OptimisationResult": "sso.shafts.optimise",
     "optimise_batch": "sso.shafts.batch",
     "BatchResult": "sso.shafts.batch",
@@ -27,7 +28,8 @@ _EXPORTS = {
     "CrossCheck": "sso.solvers.solution",
     "sweep": "sso.batch.sweep",
     "SweepResult": "sso.batch.results",
-    "tolerance": "sso.batch.tolerance",
+    "tolerance_study": "sso.batch.tolerance_study",
+    "tolerance": ("sso.batch.tolerance_study", "tolerance_study"),
     "ToleranceResult": "sso.batch.results",
     "design_fourbar": "sso.linkages.fourbar_swing",
     "FourBarDesignResult": "sso.linkages.fourbar_swing",
@@ -40,6 +42,8 @@ _EXPORTS = {
     "can_cancel": "sso.column.cancel",
     "CancelVerdict": "sso.column.cancel",
     "optimise_phasing": "sso.column.phasing",
+    "optimise_joint_positions": "sso.column.joint_positions",
+    "JointPositionResult": "sso.column.joint_positions",
     "PhasingResult": "sso.column.phasing",
     "best_spline_teeth": "sso.column.splines",
     "SplineResult": "sso.column.splines",
@@ -48,6 +52,20 @@ _EXPORTS = {
     "ExcitationRow": "sso.column.excitation",
     "equivalent_angles": "sso.column.excitation",
     "EquivalentAngles": "sso.column.excitation",
+    "optimise_positions": "sso.column.positions",
+    "PositionsResult": "sso.column.positions",
+    "Tolerances": "sso.column.tolerances",
+    "SampleStudy": "sso.column.tolerances",
+    "optimise_robust": "sso.column.robust_phasing",
+    "RobustResult": "sso.column.robust_phasing",
+    "tolerance_band": "sso.column.band",
+    "ToleranceBand": "sso.column.band",
+    "Interval": "sso.column.band",
+    "re_against_phase_error": "sso.column.band",
+    "steering_feel": "sso.column.feel",
+    "SteeringFeel": "sso.column.feel",
+    "optimise_on_centre": "sso.column.feel",
+    "OnCentreResult": "sso.column.feel",
     "InertPhaseWarning": "sso.shafts.series",
     "StartMovedWarning": "sso.shafts.options",
     "QuadratureWarning": "sso.shafts.quadrature",
@@ -57,10 +75,11 @@ __all__ = sorted([*_EXPORTS, "__version__"])
 
 
 def __getattr__(name: str) -> Any:
-    module_name = _EXPORTS.get(name)
-    if module_name is None:
+    where = _EXPORTS.get(name)
+    if where is None:
         raise AttributeError(f"module 'sso' has no attribute {name!r}")
-    value = getattr(import_module(module_name), name)
+    module_name, attribute = (where, name) if isinstance(where, str) else where
+    value = getattr(import_module(module_name), attribute)
     globals()[name] = value
     return value
 

@@ -82,9 +82,7 @@ def _child_paused_before_rename(target: Path) -> subprocess.Popen[str]:
         env=environment,
     )
     assert child.stdout is not None
-    assert child.stdout.readline().strip() == "written", (
-        child.stderr.read() if child.stderr else ""
-    )
+    assert child.stdout.readline().strip() == "written", child.stderr.read() if child.stderr else ""
     return child
 
 
@@ -92,12 +90,8 @@ def test_interrupted_write_leaves_the_old_file_and_cleans_up(tmp_path):
     target = tmp_path / "result.json"
     target.write_bytes(OLD)
     child = _child_paused_before_rename(target)
-    temporaries = [
-        path for path in tmp_path.iterdir() if path.name.startswith(TEMPORARY_PREFIX)
-    ]
-    assert (
-        len(temporaries) == 1 and temporaries[0].read_bytes() == NEW
-    )  # caught mid-write
+    temporaries = [path for path in tmp_path.iterdir() if path.name.startswith(TEMPORARY_PREFIX)]
+    assert len(temporaries) == 1 and temporaries[0].read_bytes() == NEW  # caught mid-write
     child.send_signal(signal.SIGINT)  # Ctrl-C: KeyboardInterrupt inside the write
     child.communicate(timeout=30)
     assert child.returncode != 0

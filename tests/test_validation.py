@@ -20,18 +20,16 @@ from sso.validation import (
     finite_in_range,
     per_item_bounds,
     validate_count,
+    validate_solver_tol,
     validate_solvers,
     validate_speed,
-    validate_tolerance,
 )
 
 
 def test_finite_float_accepts_numbers_and_numpy_scalars():
     assert finite_float("x", 3) == 3.0
     assert finite_float("x", np.float32(0.5)) == 0.5
-    assert (
-        finite_float("x", "2.5") == 2.5
-    )  # float() parses it; callers that care check types
+    assert finite_float("x", "2.5") == 2.5  # float() parses it; callers that care check types
     assert type(finite_float("x", np.int64(7))) is float
 
 
@@ -54,9 +52,7 @@ def test_finite_float_refuses(value, message):
 def test_as_float_tuple_takes_a_scalar_or_a_sequence():
     assert as_float_tuple("beta_deg", 20) == (20.0,)
     assert as_float_tuple("beta_deg", np.array([1, 2.5])) == (1.0, 2.5)
-    with pytest.raises(
-        ValueError, match=r"^beta_deg = '20' must be a number or a list"
-    ):
+    with pytest.raises(ValueError, match=r"^beta_deg = '20' must be a number or a list"):
         as_float_tuple("beta_deg", "20")
     with pytest.raises(ValueError, match=r"^beta_deg\[1\] = nan must be finite"):
         as_float_tuple("beta_deg", [1.0, math.nan])
@@ -66,9 +62,7 @@ def test_check_in_range_closed_and_open_ends():
     assert check_in_range("beta_deg[0]", 0.0, 0.0, 90.0, "deg", upper_open=True) == 0.0
     with pytest.raises(ValueError) as caught:
         check_in_range("beta_deg[0]", 90.0, 0.0, 90.0, "deg", upper_open=True)
-    assert (
-        str(caught.value) == "beta_deg[0] = 90 is outside the allowed range [0, 90) deg"
-    )
+    assert str(caught.value) == "beta_deg[0] = 90 is outside the allowed range [0, 90) deg"
     with pytest.raises(ValueError) as caught:
         check_in_range("rtol", 0.0, 0.0, 1.0, lower_open=True)
     assert str(caught.value) == "rtol = 0 is outside the allowed range (0, 1]"
@@ -80,16 +74,13 @@ def test_finite_in_range_and_speed_and_tolerance():
     assert validate_speed("input_speed_rpm", 25) == 25.0
     with pytest.raises(ValueError) as caught:
         validate_speed("input_speed_rpm", 0.0)
-    assert (
-        str(caught.value)
-        == "input_speed_rpm = 0 is outside the allowed range (0, inf) rpm"
-    )
+    assert str(caught.value) == "input_speed_rpm = 0 is outside the allowed range (0, inf) rpm"
     with pytest.raises(ValueError, match="must be finite"):
         validate_speed("input_speed_rpm", math.inf)
-    assert validate_tolerance(1e-12) == 1e-12
+    assert validate_solver_tol(1e-12) == 1e-12
     with pytest.raises(ValueError) as caught:
-        validate_tolerance(1.0)
-    assert str(caught.value) == "tolerance = 1 is outside the allowed range (0, 1)"
+        validate_solver_tol(1.0)
+    assert str(caught.value) == "solver_tol = 1 is outside the allowed range (0, 1)"
 
 
 def test_check_choice_names_the_choices():
@@ -143,9 +134,7 @@ def test_per_item_bounds_expands_one_pair_or_checks_each():
 )
 def test_per_item_bounds_refuses(bounds, count, message):
     with pytest.raises(ValueError) as caught:
-        per_item_bounds(
-            "beta_bounds_deg", bounds, count, 0.0, 90.0, "deg", upper_open=True
-        )
+        per_item_bounds("beta_bounds_deg", bounds, count, 0.0, 90.0, "deg", upper_open=True)
     assert message in str(caught.value)
 
 

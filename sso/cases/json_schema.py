@@ -10,10 +10,12 @@ other (phase counts, the crank-angle grid, that a linkage assembles).
 
 A key's parser is a closure made by one of the engine's factories (``number``,
 ``whole_number``, ``choice``, ...); its range is read from the closure's variables.
-The few named parsers (``case_name``, ``option_value``, ``length_pair``,
-``angle_pair``) are translated here from the constants they check against. A parser
-this module does not know yields a schema that accepts any value, with the key's
-``allowed`` text as its description (:func:`opaque_keys` lists such keys).
+The few parsers written as named functions (:data:`NAMED_PARSERS`) are translated
+here from the constants they check against. A key renamed in
+:data:`~sso.cases.schema.RENAMED_KEYS` is accepted under its old name too, marked
+``deprecated``. A parser this module does not know yields a schema that accepts any
+value, with the key's ``allowed`` text as its description (:func:`opaque_keys` lists
+such keys).
 
 Regenerate the shipped file with::
 
@@ -34,17 +36,17 @@ from collections.abc import Callable, Sequence
 from importlib import resources
 from typing import Any
 
-from sso.cases.mechanism import angle_pair, length_pair
+from sso.cases.column import MAX_POINTS
 from sso.cases.schema import (
     CASE_KINDS,
     COMMON_KEYS,
     DEFAULT_KIND,
     NAME_PATTERN,
+    RENAMED_KEYS,
     REQUIRED,
     Key,
-    case_name,
-    option_value,
 )
+from sso.column.splines import MAX_TEETH
 from sso.files import write_text_atomic
 from sso.shafts.options import OPTION_NAMES
 
@@ -101,9 +103,7 @@ def opaque_keys(kind: str) -> list[str]:
 
 def shipped_schema_text() -> str:
     """The schema file shipped in the package, as text."""
-    return (
-        resources.files("sso.cases").joinpath(SHIPPED_NAME).read_text(encoding="utf-8")
-    )
+    return resources.files("sso.cases").joinpath(SHIPPED_NAME).read_text(encoding="utf-8")
 
 
 def schema_text() -> str:
@@ -154,6 +154,14 @@ def _kind_schema(kind: str) -> JsonSchema:
         )
         if key.default is REQUIRED:
             holder["required"].append(key.name)
+    by_label = {key.label: key for key in keys}
+    for old_label, new_label in RENAMED_KEYS.items():
+        old_table, old_name = old_label.split(".")
+        if new_label in by_label and old_table in tables:
+            renamed = _key_schema(by_label[new_label])
+            renamed.pop("default", None)
+            renamed.update(deprecated=True, description=f"deprecated name of {new_label}")
+            tables[old_table]["properties"][old_name] = renamed
     for name, table in tables.items():
         top["properties"][name] = table
         if table["required"] and name not in case_kind.optional_tables:
@@ -169,11 +177,7 @@ def _key_schema(key: Key) -> JsonSchema:
     value = _value_schema(key.parse)
     result: JsonSchema = dict(value) if value is not None else {}
     result["description"] = described
-    if (
-        key.default is not REQUIRED
-        and key.default is not None
-        and not callable(key.default)
-    ):
+    if key.default is not REQUIRED and key.default is not None and not callable(key.default):
         result["default"] = _plain(key.default)
     return result
 
@@ -192,24 +196,24 @@ def _closure(parse: Callable[..., Any]) -> dict[str, Any]:
     cells = parse.__closure__ or ()
     return {
         name: cell.cell_contents
-        for name, cell in zip(parse.__code__.co_freevars, cells)
+        for name, cell in zip(parse.__code__.co_freevars, cells, strict=True)
     }
 
 
 def _factory(parse: Callable[..., Any]) -> str:
-    """``number`` for a parser made by ``sso.cases.schema.number``; "" for any other."""
-    module, qualified = (
-        getattr(parse, "__module__", ""),
-        getattr(parse, "__qualname__", ""),
-    )
-    if module != "sso.cases.schema" or ".<locals>." not in qualified:
+    """``number`` for a parser made by a factory ``number`` of a module of
+    :mod:`sso.cases`; "" for any other parser."""
+    module, qualified = str(getattr(parse, "__module__", "")), _qualified_name(parse)
+    if not module.startswith("sso.cases.") or ".<locals>." not in qualified:
         return ""
     return qualified.split(".<locals>.")[0]
 
 
-def _number(
-    lower: float, upper: float, lower_open: bool, upper_open: bool
-) -> JsonSchema:
+def _qualified_name(parse: Callable[..., Any]) -> str:
+    return str(getattr(parse, "__qualname__", ""))
+
+
+def _number(lower: float, upper: float, lower_open: bool, upper_open: bool) -> JsonSchema:
     result: JsonSchema = {"type": "number"}
     if math.isfinite(lower):
         result["exclusiveMinimum" if lower_open else "minimum"] = lower
@@ -222,23 +226,43 @@ def _pair(item: JsonSchema) -> JsonSchema:
     return {"type": "array", "items": item, "minItems": 2, "maxItems": 2}
 
 
+# Parsers written as named functions, by module and name: what each accepts, built from
+# the constants they check against.
+NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
+    "sso.cases.schema.case_name": lambda: {
+        "type": "string",
+        "pattern": f"^{NAME_PATTERN.pattern}$",
+    },
+    "sso.cases.shaft_series.option_value": lambda: {
+        "anyOf": [
+            {"type": "integer", "enum": list(OPTION_NAMES)},
+            {"type": "string", "enum": list(OPTION_NAMES.values())},
+        ]
+    },
+    "sso.cases.mechanism.length_pair": lambda: _pair({"type": "number", "exclusiveMinimum": 0.0}),
+    "sso.cases.mechanism.angle_pair": lambda: _pair(
+        {"type": "number", "exclusiveMinimum": 0.0, "exclusiveMaximum": 180.0}
+    ),
+    "sso.cases.column.point_list": lambda: {
+        "type": "array",
+        "items": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+        "minItems": 1,
+        "maxItems": MAX_POINTS,
+    },
+    "sso.cases.column.teeth_list": lambda: {
+        "type": "array",
+        "items": {"type": "integer", "minimum": 1, "maximum": MAX_TEETH},
+        "minItems": 1,
+    },
+    "sso.cases.column._rpm_range": lambda: _pair({"type": "number", "exclusiveMinimum": 0.0}),
+}
+
+
 def _value_schema(parse: Callable[..., Any]) -> JsonSchema | None:
     """Schema of the values ``parse`` accepts, or None if its kind of parser is unknown."""
-    if parse is case_name:
-        return {"type": "string", "pattern": f"^{NAME_PATTERN.pattern}$"}
-    if parse is option_value:
-        return {
-            "anyOf": [
-                {"type": "integer", "enum": list(OPTION_NAMES)},
-                {"type": "string", "enum": list(OPTION_NAMES.values())},
-            ]
-        }
-    if parse is length_pair:
-        return _pair({"type": "number", "exclusiveMinimum": 0.0})
-    if parse is angle_pair:
-        return _pair(
-            {"type": "number", "exclusiveMinimum": 0.0, "exclusiveMaximum": 180.0}
-        )
+    named = NAMED_PARSERS.get(f"{getattr(parse, '__module__', '')}.{_qualified_name(parse)}")
+    if named is not None:
+        return named()
     try:
         return _factory_schema(_factory(parse), _closure(parse))
     except KeyError:  # a factory whose closure no longer holds the names read here
@@ -248,9 +272,7 @@ def _value_schema(parse: Callable[..., Any]) -> JsonSchema | None:
 def _factory_schema(factory: str, values: dict[str, Any]) -> JsonSchema | None:
     """Schema of a parser made by ``sso.cases.schema.<factory>`` closing over ``values``."""
     if factory == "number":
-        return _number(
-            values["lower"], values["upper"], values["lower_open"], values["upper_open"]
-        )
+        return _number(values["lower"], values["upper"], values["lower_open"], values["upper_open"])
     if factory == "whole_number":
         return {
             "type": "integer",
@@ -279,9 +301,7 @@ def _factory_schema(factory: str, values: dict[str, Any]) -> JsonSchema | None:
             "maxItems": values["max_length"],
         }
     if factory == "bounds_list":
-        pair = _pair(
-            _number(values["lower"], values["upper"], False, values["upper_open"])
-        )
+        pair = _pair(_number(values["lower"], values["upper"], False, values["upper_open"]))
         return {"anyOf": [pair, {"type": "array", "items": pair, "minItems": 1}]}
     if factory == "_one_or_list":
         items = _value_schema(values["items"])

@@ -46,12 +46,8 @@ def test_one_worker_runs_here_and_reports_failures_in_order():
 
 def test_a_pool_runs_in_other_processes_with_one_blas_thread():
     names = [name for name in WORKER_ENVIRONMENT if name not in os.environ]
-    results = sorted(
-        run_tasks(os.getenv, [*names, "PATH"], workers=2), key=lambda r: r[0]
-    )
-    assert [value for _, value, _ in results] == ["1"] * len(names) + [
-        os.environ["PATH"]
-    ]
+    results = sorted(run_tasks(os.getenv, [*names, "PATH"], workers=2), key=lambda r: r[0])
+    assert [value for _, value, _ in results] == ["1"] * len(names) + [os.environ["PATH"]]
     assert all(name not in os.environ for name in names)  # the parent is left as it was
     pids = {value for _, value, _ in run_tasks(_pid_task, [0, 1, 2, 3], workers=2)}
     assert os.getpid() not in pids and 1 <= len(pids) <= 2
@@ -62,8 +58,6 @@ def _pid_task(_: int) -> int:
 
 
 def test_a_pool_reports_a_failing_task_and_finishes_the_others():
-    results = sorted(
-        run_tasks(math.sqrt, [9.0, -4.0, 16.0], workers=2), key=lambda r: r[0]
-    )
+    results = sorted(run_tasks(math.sqrt, [9.0, -4.0, 16.0], workers=2), key=lambda r: r[0])
     assert [value for _, value, _ in results] == [3.0, None, 4.0]
     assert isinstance(results[1][2], ValueError)

@@ -70,9 +70,7 @@ def test_text_columns_stay_text():
 
 def test_rows_are_written_sorted_and_read_back_typed(tmp_path):
     header = columns(["design.beta_deg[0]"])
-    assert header[:2] == ["point", "design.beta_deg[0]"] and header[2:] == list(
-        RESULT_COLUMNS
-    )
+    assert header[:2] == ["point", "design.beta_deg[0]"] and header[2:] == list(RESULT_COLUMNS)
     rows = [
         format_row(
             {
@@ -117,9 +115,7 @@ def test_resume_takes_the_finished_rows_of_the_same_sweep_only(tmp_path):
         2,
     ]  # "lost" is run again
     other = manifest({"design": {"beta_deg": [1.0]}}, axes, "grid", "evaluate", 3)
-    with pytest.raises(
-        ValueError, match=r"holds a different sweep \(differs in action\)"
-    ):
+    with pytest.raises(ValueError, match=r"holds a different sweep \(differs in action\)"):
         done_rows(tmp_path, other, header)
     with pytest.raises(ValueError, match="columns of .* are not those of this sweep"):
         done_rows(tmp_path, expected, columns(["design.phase_deg[0]"]))

@@ -13,9 +13,7 @@ import pytest
 from sso.batch.worker import SweepChunk, failed_rows, run_point, run_sweep_chunk
 from sso.cases.schema import parse_case
 
-ONE_JOINT = parse_case(
-    {"design": {"beta_deg": [30.0]}, "option": 2}, "one.toml"
-).to_dict()
+ONE_JOINT = parse_case({"design": {"beta_deg": [30.0]}, "option": 2}, "one.toml").to_dict()
 TWO_JOINTS = parse_case(
     {"design": {"beta_deg": [30.0, 20.0]}, "solver": {"starts": 2}}, "two.toml"
 ).to_dict()
@@ -24,11 +22,7 @@ TWO_JOINTS = parse_case(
 def test_evaluate_gives_the_closed_form_residual_error():
     row = run_point(4, ONE_JOINT, {"design.beta_deg[0]": 25.0}, "evaluate")
     c = math.cos(math.radians(25.0))
-    assert (
-        row["status"] == "ok"
-        and row["point"] == 4
-        and row["design.beta_deg[0]"] == 25.0
-    )
+    assert row["status"] == "ok" and row["point"] == 4 and row["design.beta_deg[0]"] == 25.0
     assert row["residual_error"] == pytest.approx((1 - c) ** 2 / (2 * c), rel=1e-9)
     assert row["design_beta_deg"] == [25.0] and row["time_s"] > 0.0
 
@@ -39,17 +33,13 @@ def test_optimise_row_carries_each_solvers_columns():
     assert row["residual_error"] < 1e-20  # equal angles at 90 deg cancel
     assert row["crosscheck_agree"] is True
     for solver in ("ipopt", "slsqp"):
-        assert (
-            row[f"{solver}_success"] is True and row[f"{solver}_residual_error"] < 1e-12
-        )
+        assert row[f"{solver}_success"] is True and row[f"{solver}_residual_error"] < 1e-12
 
 
 def test_a_bad_point_is_an_error_row_naming_the_key():
     row = run_point(1, ONE_JOINT, {"design.beta_deg[0]": 95.0}, "evaluate")
     assert row["status"] == "failed"
-    assert row["error"].startswith(
-        "CaseError: point 1: design.beta_deg[0] = 95 is outside"
-    )
+    assert row["error"].startswith("CaseError: point 1: design.beta_deg[0] = 95 is outside")
     assert "residual_error" not in row
 
 

@@ -41,16 +41,11 @@ def test_codes_follow_their_conventions():
     assert (EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT) == (0, 1, 2)
     assert EXIT_INTERRUPTED == 128 + signal.SIGINT
     assert DEFAULT_OUT == "results"
-    assert (
-        DEFAULT_OUT + "/"
-        in (ROOT / ".gitignore").read_text(encoding="utf-8").splitlines()
-    )
+    assert DEFAULT_OUT + "/" in (ROOT / ".gitignore").read_text(encoding="utf-8").splitlines()
 
 
 def test_valid_case_exits_ok_and_bad_input_exits_2_without_traceback(tmp_path):
-    good = sso_command(
-        "validate", str(ROOT / "cases" / "paper_option1_exact.toml"), cwd=tmp_path
-    )
+    good = sso_command("validate", str(ROOT / "cases" / "paper_option1_exact.toml"), cwd=tmp_path)
     assert good.returncode == EXIT_OK, good.stderr
     broken = tmp_path / "broken.toml"
     broken.write_text(

@@ -40,32 +40,22 @@ def test_closed_form_agrees_with_mpmath_quadrature():
         integral = (
             mpmath.quad(
                 lambda t: (
-                    (
-                        mpmath.cos(beta)
-                        / (1 - mpmath.sin(beta) ** 2 * mpmath.sin(t) ** 2)
-                        - 1
-                    )
-                    ** 2
+                    (mpmath.cos(beta) / (1 - mpmath.sin(beta) ** 2 * mpmath.sin(t) ** 2) - 1) ** 2
                 ),
                 [0, mpmath.pi],
             )
             / mpmath.pi
         )
-    assert float(integral) == pytest.approx(
-        closed_form_one_joint(math.pi / 6), rel=1e-15
-    )
+    assert float(integral) == pytest.approx(closed_form_one_joint(math.pi / 6), rel=1e-15)
 
 
 def test_rectangle_rule_converges_geometrically():
     beta = math.radians(40.0)
     exact = closed_form_one_joint(beta)
     errors = [
-        abs(residual_error([beta], [], "exact", samples) - exact) / exact
-        for samples in (4, 8, 16)
+        abs(residual_error([beta], [], "exact", samples) - exact) / exact for samples in (4, 8, 16)
     ]
-    assert (
-        errors[0] > 1e-3 and errors[1] < errors[0] / 10 and errors[2] < errors[1] / 100
-    )
+    assert errors[0] > 1e-3 and errors[1] < errors[0] / 10 and errors[2] < errors[1] / 100
 
 
 def test_two_joints_in_phase_act_as_one_with_cos_squared():
@@ -102,6 +92,4 @@ def test_numpy_and_casadi_give_the_same_integrand():
     symbolic = squared_ratio_error(
         casadi, casadi.DM(cos_theta), casadi.DM(sin_theta), beta, phase, "paper"
     )
-    np.testing.assert_allclose(
-        np.array(symbolic).ravel(), numeric, rtol=1e-13, atol=1e-18
-    )
+    np.testing.assert_allclose(np.array(symbolic).ravel(), numeric, rtol=1e-13, atol=1e-18)

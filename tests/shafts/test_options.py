@@ -52,14 +52,10 @@ def test_option_2_fixes_every_phase_at_90_whatever_is_given():
 
 
 def test_option_3_lays_out_angles_first_then_phases():
-    problem = build_problem(
-        BETA, PHASE, "paper", 3, [(0, 35), (0, 45), (0, 25)], (0, 180)
-    )
+    problem = build_problem(BETA, PHASE, "paper", 3, [(0, 35), (0, 45), (0, 25)], (0, 180))
     np.testing.assert_array_equal(problem.start_deg, BETA + PHASE)
     assert problem.parameters_deg.size == 0
-    np.testing.assert_allclose(
-        np.degrees(problem.upper_rad), [35, 45, 25, 180, 180], rtol=1e-15
-    )
+    np.testing.assert_allclose(np.degrees(problem.upper_rad), [35, 45, 25, 180, 180], rtol=1e-15)
     beta, phase = problem.split([1, 2, 3, 4, 5], [])
     assert (beta, phase) == ([1, 2, 3], [4, 5])
     np.testing.assert_allclose(problem.start_rad, np.radians(BETA + PHASE), rtol=1e-15)
@@ -77,9 +73,7 @@ def test_a_start_outside_its_bounds_is_moved_with_a_warning():
 
 
 def test_option_1_needs_two_joints_and_bounds_are_checked():
-    with pytest.raises(
-        ValueError, match=r"^option = 1 \(phases\) needs at least 2 joints"
-    ):
+    with pytest.raises(ValueError, match=r"^option = 1 \(phases\) needs at least 2 joints"):
         build_problem([30.0], [], "exact", 1, (0, 40), (0, 180))
     with pytest.raises(
         ValueError,

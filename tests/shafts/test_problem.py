@@ -19,9 +19,7 @@ def test_one_joint_graph_gives_the_closed_form_re():
     problem = build_problem([30.0], [], "exact", 2, (0, 40), (0, 180))
     nlp = compiled_nlp(problem, 256)
     beta = math.radians(25.0)
-    value, gradient = nlp.objective_and_gradient(
-        np.array([beta]), problem.parameters_rad
-    )
+    value, gradient = nlp.objective_and_gradient(np.array([beta]), problem.parameters_rad)
     c = math.cos(beta)
     assert value == pytest.approx((1 - c) ** 2 / (2 * c), rel=1e-13)
     # d/db of (1 - c)^2 / (2 c) = s (1 - c)(1 + c) / (2 c^2), by hand.
@@ -30,9 +28,7 @@ def test_one_joint_graph_gives_the_closed_form_re():
 
 
 def test_fixed_angles_enter_as_parameters_in_order():
-    problem = build_problem(
-        [30.0, 20.0, 10.0], [70.0, 110.0], "paper", 1, (0, 40), (0, 180)
-    )
+    problem = build_problem([30.0, 20.0, 10.0], [70.0, 110.0], "paper", 1, (0, 40), (0, 180))
     nlp = compiled_nlp(problem, 64)
     phases = np.radians([50.0, 130.0])
     value, _ = nlp.objective_and_gradient(phases, problem.parameters_rad)

@@ -59,9 +59,7 @@ def two_constraints() -> tuple[CompiledNLP, RunLimits]:
         p[0] * ((x[0] - 2) ** 2 + (x[1] - 1) ** 2),
         casadi.vertcat(x[0] ** 2 - x[1], x[0] + x[1]),
     )
-    limits = RunLimits(
-        BOX.lower, BOX.upper, np.array([-np.inf, -np.inf]), np.array([0.0, 2.0])
-    )
+    limits = RunLimits(BOX.lower, BOX.upper, np.array([-np.inf, -np.inf]), np.array([0.0, 2.0]))
     return nlp, limits
 
 
@@ -69,9 +67,7 @@ def one_equality() -> tuple[CompiledNLP, RunLimits]:
     """min x0^2 + x1^2  s.t.  x0 + x1 = 1: optimum (0.5, 0.5), value 0.5 (by symmetry
     and the Lagrange condition 2 x = lambda (1, 1))."""
     x, p = casadi.SX.sym("x", 2), casadi.SX.sym("p", 1)
-    nlp = compile_nlp(
-        "test_one_equality", x, p, p[0] * (x[0] ** 2 + x[1] ** 2), x[0] + x[1]
-    )
+    nlp = compile_nlp("test_one_equality", x, p, p[0] * (x[0] ** 2 + x[1] ** 2), x[0] + x[1])
     return nlp, RunLimits(BOX.lower, BOX.upper, np.array([1.0]), np.array([1.0]))
 
 
@@ -79,9 +75,7 @@ def saddle() -> CompiledNLP:
     """x0^2 - x1^2 + x1^4 / 4: a saddle at the origin (Hessian diag(2, -2)), minima
     at (0, +-sqrt 2) with value -2 + 1 = -1 (d/dx1 = -2 x1 + x1^3 = 0)."""
     x, p = casadi.SX.sym("x", 2), casadi.SX.sym("p", 1)
-    return compile_nlp(
-        "test_saddle", x, p, p[0] * (x[0] ** 2 - x[1] ** 2 + x[1] ** 4 / 4)
-    )
+    return compile_nlp("test_saddle", x, p, p[0] * (x[0] ** 2 - x[1] ** 2 + x[1] ** 4 / 4))
 
 
 def bowl() -> CompiledNLP:
@@ -94,9 +88,7 @@ def shifted_bowl() -> CompiledNLP:
     """(x0 + 1)^2 + (x1 - 0.5)^2 on [0, 1]^2: minimum at (0, 0.5) on the bound x0 = 0,
     value 1."""
     x, p = casadi.SX.sym("x", 2), casadi.SX.sym("p", 1)
-    return compile_nlp(
-        "test_shifted_bowl", x, p, p[0] * ((x[0] + 1) ** 2 + (x[1] - 0.5) ** 2)
-    )
+    return compile_nlp("test_shifted_bowl", x, p, p[0] * ((x[0] + 1) ** 2 + (x[1] - 0.5) ** 2))
 
 
 SADDLE_MINIMUM = -1.0
@@ -115,9 +107,7 @@ class ClosedFormCase:
 
 
 CLOSED_FORM_CASES = (
-    ClosedFormCase(
-        "rosenbrock", lambda: (rosenbrock(), BOX), (-1.2, 1.0), (1.0, 1.0), 0.0
-    ),
+    ClosedFormCase("rosenbrock", lambda: (rosenbrock(), BOX), (-1.2, 1.0), (1.0, 1.0), 0.0),
     ClosedFormCase(
         "rosenbrock with x0 <= 0.5",
         lambda: (rosenbrock(), RunLimits(np.array([-2.0, -2.0]), np.array([0.5, 2.0]))),
@@ -132,8 +122,6 @@ CLOSED_FORM_CASES = (
         (0.0, 0.5),
         1.0,
     ),
-    ClosedFormCase(
-        "two active constraints", two_constraints, (0.0, 0.0), (1.0, 1.0), 1.0
-    ),
+    ClosedFormCase("two active constraints", two_constraints, (0.0, 0.0), (1.0, 1.0), 1.0),
     ClosedFormCase("one equality", one_equality, (0.0, 0.0), (0.5, 0.5), 0.5),
 )

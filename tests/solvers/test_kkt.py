@@ -18,10 +18,7 @@ NORMAL = np.array([[1.0, 1.0]])
 
 
 def test_projected_gradient_of_an_empty_design_is_zero():
-    assert (
-        projected_gradient_norm(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
-        == 0.0
-    )
+    assert projected_gradient_norm(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)) == 0.0
 
 
 def test_without_constraints_kkt_is_the_projected_gradient():
@@ -43,9 +40,7 @@ def test_residual_is_what_no_non_negative_multiplier_can_explain():
     # At (0.6, 0.4) the constraint is active; gradient (1.2, 0.8) minus lambda (1, 1) is
     # smallest in the least-squares sense at lambda = 1, leaving (0.2, -0.2).
     x = np.array([0.6, 0.4])
-    assert kkt_residual(x, 2 * x, HALF_PLANE, NORMAL @ x, NORMAL) == pytest.approx(
-        0.2, rel=1e-12
-    )
+    assert kkt_residual(x, 2 * x, HALF_PLANE, NORMAL @ x, NORMAL) == pytest.approx(0.2, rel=1e-12)
     # A gradient pulling away from the constraint cannot use a negative multiplier.
     assert kkt_residual(x, -np.array([1.0, 1.0]), HALF_PLANE, NORMAL @ x, NORMAL) == (
         pytest.approx(1.0, rel=1e-12)

@@ -59,18 +59,14 @@ def test_every_solver_runs_from_every_start_and_is_remeasured():
 
 def test_constrained_runs_are_measured_with_their_constraints():
     nlp, limits = two_constraints()
-    runs = run_starts(
-        nlp, np.zeros((1, 2)), PARAMETERS, limits, ("ipopt", "slsqp"), 1e-12, 500
-    )
+    runs = run_starts(nlp, np.zeros((1, 2)), PARAMETERS, limits, ("ipopt", "slsqp"), 1e-12, 500)
     for (run,) in runs.values():
         assert run.fun == pytest.approx(1.0, abs=1e-8)
         assert run.kkt < 1e-6 and run.violation < 1e-8
 
 
 def test_failures_are_kept_and_x_is_clipped_onto_the_bounds():
-    runs = run_starts(
-        rosenbrock(), np.array([[-1.2, 1.0]]), PARAMETERS, BOX, ("ipopt",), 1e-12, 1
-    )
+    runs = run_starts(rosenbrock(), np.array([[-1.2, 1.0]]), PARAMETERS, BOX, ("ipopt",), 1e-12, 1)
     (run,) = runs["ipopt"]
     assert not run.outcome.success and run.outcome.status == -1
     assert np.all(run.outcome.x >= BOX.lower) and np.all(run.outcome.x <= BOX.upper)
@@ -116,8 +112,8 @@ def test_ipopts_relaxed_bound_is_measured_on_the_bound():
     little below the true minimum 1; the measurement clips x onto the bound first."""
     case = next(case for case in CLOSED_FORM_CASES if case.name == "bowl on a bound")
     nlp, limits = case.build()
-    (run,) = run_starts(
-        nlp, np.array([case.start]), PARAMETERS, limits, ("ipopt",), 1e-12, 500
-    )["ipopt"]
+    (run,) = run_starts(nlp, np.array([case.start]), PARAMETERS, limits, ("ipopt",), 1e-12, 500)[
+        "ipopt"
+    ]
     assert run.outcome.x[0] == 0.0
     assert run.fun == pytest.approx(1.0, abs=1e-12)

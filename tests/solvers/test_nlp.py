@@ -22,27 +22,19 @@ def test_objective_and_gradient_match_the_hand_derivative():
         x = np.array(point)
         value, gradient = nlp.objective_and_gradient(x, PARAMETERS)
         assert isinstance(value, float)
-        assert value == pytest.approx(
-            (1 - x[0]) ** 2 + 100 * (x[1] - x[0] ** 2) ** 2, rel=1e-15
-        )
-        np.testing.assert_allclose(
-            gradient, rosenbrock_gradient(x), rtol=1e-14, atol=1e-14
-        )
+        assert value == pytest.approx((1 - x[0]) ** 2 + 100 * (x[1] - x[0] ** 2) ** 2, rel=1e-15)
+        np.testing.assert_allclose(gradient, rosenbrock_gradient(x), rtol=1e-14, atol=1e-14)
     # The parameter enters: p = 3 triples both.
     value, gradient = nlp.objective_and_gradient(np.array([0.3, 0.7]), 3.0 * PARAMETERS)
     assert value == pytest.approx(3 * 37.7, rel=1e-14)
-    np.testing.assert_allclose(
-        gradient, 3 * rosenbrock_gradient(np.array([0.3, 0.7])), rtol=1e-14
-    )
+    np.testing.assert_allclose(gradient, 3 * rosenbrock_gradient(np.array([0.3, 0.7])), rtol=1e-14)
 
 
 def test_constraints_and_jacobian():
     nlp, _ = two_constraints()
     values, jacobian = nlp.constraints_and_jacobian(np.array([0.5, 2.0]), PARAMETERS)
     np.testing.assert_allclose(values, [0.25 - 2.0, 2.5], rtol=1e-15)
-    np.testing.assert_allclose(
-        jacobian, [[1.0, -1.0], [1.0, 1.0]], rtol=1e-15
-    )  # (2 x0, -1)
+    np.testing.assert_allclose(jacobian, [[1.0, -1.0], [1.0, 1.0]], rtol=1e-15)  # (2 x0, -1)
     assert rosenbrock().constraints_and_jacobian is None
     assert set(nlp.symbols) == {"x", "p", "f", "g"}
 
@@ -74,9 +66,7 @@ def test_cache_builds_once_per_key_and_per_thread():
     first = cached_nlp(key, build)
     assert cached_nlp(key, build) is first
     other: list[CompiledNLP] = []
-    thread = threading.Thread(
-        target=lambda: other.append(cached_nlp(key, build)), name="other"
-    )
+    thread = threading.Thread(target=lambda: other.append(cached_nlp(key, build)), name="other")
     thread.start()
     thread.join()
     assert other[0] is not first

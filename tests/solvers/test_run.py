@@ -14,9 +14,7 @@ def test_limits_are_constrained_only_with_constraint_functions():
     bounds_only = RunLimits(np.zeros(2), np.ones(2))
     assert not bounds_only.constrained
     assert bounds_only.constraint_lower.shape == (0,)
-    assert RunLimits(
-        np.zeros(2), np.ones(2), np.array([-np.inf]), np.array([0.0])
-    ).constrained
+    assert RunLimits(np.zeros(2), np.ones(2), np.array([-np.inf]), np.array([0.0])).constrained
 
 
 def test_records_are_frozen():

@@ -29,12 +29,8 @@ def test_a_solver_started_on_the_saddle_is_moved_off_it(backend):
         return backend.solve(nlp, start, PARAMETERS, BOX, 1e-12, 500)
 
     plain = solve(np.zeros(2))
-    assert plain.fun == pytest.approx(
-        0.0, abs=1e-12
-    )  # stuck: the gradient is zero there
-    outcome = solve_with_second_order_care(
-        solve, nlp, np.zeros(2), PARAMETERS, BOX, 1e-12
-    )
+    assert plain.fun == pytest.approx(0.0, abs=1e-12)  # stuck: the gradient is zero there
+    outcome = solve_with_second_order_care(solve, nlp, np.zeros(2), PARAMETERS, BOX, 1e-12)
     assert outcome.success
     assert outcome.fun == pytest.approx(SADDLE_MINIMUM, abs=1e-10)
     assert abs(outcome.x[1]) == pytest.approx(SADDLE_MINIMUM_X1, abs=1e-6)
@@ -50,9 +46,7 @@ def test_a_start_at_a_minimum_skips_the_solver():
         calls.append(start)
         return ipopt.solve(bowl(), start, PARAMETERS, BOX, 1e-12, 500)
 
-    outcome = solve_with_second_order_care(
-        solve, bowl(), np.zeros(2), PARAMETERS, BOX, 1e-12
-    )
+    outcome = solve_with_second_order_care(solve, bowl(), np.zeros(2), PARAMETERS, BOX, 1e-12)
     assert calls == []
     assert outcome.success and outcome.nit == 0 and outcome.fun == 0.0
     assert outcome.message.startswith("start is a minimum to tolerance")

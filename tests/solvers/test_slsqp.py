@@ -32,9 +32,7 @@ def test_bounds_are_kept_exactly():
 
 
 def test_iteration_limit_is_reported_not_raised():
-    outcome = slsqp.solve(
-        rosenbrock(), np.array([-1.2, 1.0]), PARAMETERS, BOX, 1e-12, 1
-    )
+    outcome = slsqp.solve(rosenbrock(), np.array([-1.2, 1.0]), PARAMETERS, BOX, 1e-12, 1)
     assert not outcome.success
     assert outcome.status == 9  # SciPy's SLSQP exit mode 9: iteration limit
     assert outcome.message == "Iteration limit reached"

@@ -21,12 +21,8 @@ def test_starts_fill_the_box_and_repeat_with_the_seed():
     np.testing.assert_array_equal(points[0], USER)
     assert np.all(points[1:] >= LOWER) and np.all(points[1:] <= UPPER)
     np.testing.assert_array_equal(points[1:, 2], 5.0)  # a pinned variable stays pinned
-    np.testing.assert_array_equal(
-        points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED)
-    )
-    assert not np.array_equal(
-        points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED + 1)
-    )
+    np.testing.assert_array_equal(points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED))
+    assert not np.array_equal(points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED + 1))
 
 
 def test_first_coordinate_is_stratified():
