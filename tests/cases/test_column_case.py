@@ -145,3 +145,11 @@ FOUR_JOINTS = [*TRUCK[:-1], [-1427.0, 280.0, 312.8], TRUCK[-1]]
 def test_bad_robust_key_names_the_key(tables, message):
     with pytest.raises(CaseError, match=message):
         parse_case(truck(**tables), "truck.toml")
+
+
+def test_an_error_inside_the_positions_table_names_its_line(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_text(f'kind = "column"\n[hardpoints]\npoints_mm = {TRUCK}\n'
+                    f'[hardpoints.positions]\nup = {TRUCK}\ndown = [[0, 0, 0], [1, 0, "a"]]\n')
+    with pytest.raises(CaseError, match=r"line 4: hardpoints.positions.down\[1\]\[2\] = 'a'"):
+        load_case(path)
