@@ -17,6 +17,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from sso.batch.estimate import block_samples, tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
 from sso.batch.results import METRICS, ToleranceResult
@@ -26,6 +27,7 @@ from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.shafts.series import ShaftSeries
+from sso.solvers.resources import check_memory
 from sso.validation import as_float_tuple, check_choice, check_in_range, validate_speed
 
 DISTRIBUTIONS = ("normal", "uniform")
@@ -45,8 +47,6 @@ DEFAULT_SETTINGS: dict[str, Any] = {
     "seed": 0,
     "percentiles": DEFAULT_PERCENTILES,
 }
-# Samples evaluated per numpy call inside a task: bounds memory to ~100 MB.
-BLOCK_SAMPLES = 1_000
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,7 @@ def tolerance(
     chunk_size: int = DEFAULT_CHUNK_SAMPLES,
     progress: bool | None = None,
     plots: bool = True,
+    memory_limit_mb: float | None = None,
 ) -> ToleranceResult:
     """Monte Carlo study of a design under angle and phase tolerances.
 
@@ -119,6 +120,9 @@ def tolerance(
         Progress bar on stderr (default: only on an interactive terminal outside CI).
     plots : bool
         Draw the histogram (needs ``out_dir``; imports matplotlib).
+    memory_limit_mb : float, optional
+        Refuse the study if its memory estimate exceeds this, MB (default
+        ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
 
     Returns
     -------
@@ -127,7 +131,9 @@ def tolerance(
     Raises
     ------
     ValueError
-        Naming the field, the value and the allowed range.
+        Naming the field, the value and the allowed range; or, before anything is
+        drawn, if the memory estimate exceeds the limit (the message gives both
+        and how many samples fit).
     """
     started = time.perf_counter()
     series, speed_rpm, quadrature, case_settings = _nominal(design, input_speed_rpm)
@@ -153,6 +159,12 @@ def tolerance(
     phase_tolerance = _tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
+    # The quadrature count is fixed after the draw; until then, estimate with the
+    # nominal design's count (the figures grid is never coarser than its minimum).
+    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
+        np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
+    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
+                                    worker_count if client is None else 1), memory_limit_mb)
 
     beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
                                        samples, seed)
@@ -224,12 +236,13 @@ def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
 def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
     """RE, fluctuation and peak output acceleration of each sample, shape (3, m)."""
     values = np.empty((len(METRICS), len(chunk.beta_rad)))
-    for start in range(0, len(chunk.beta_rad), BLOCK_SAMPLES):
-        block = slice(start, start + BLOCK_SAMPLES)
+    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
+    step = block_samples(figure_samples)
+    for start in range(0, len(chunk.beta_rad), step):
+        block = slice(start, start + step)
         beta = [column[:, None] for column in chunk.beta_rad[block].T]
         phase = [column[:, None] for column in chunk.phase_rad[block].T]
         values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
         theta_rad = np.pi * np.arange(figure_samples) / figure_samples
         kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
                                       chunk.model)

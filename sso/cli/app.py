@@ -12,7 +12,9 @@ handlers, so ``sso --help`` and ``sso validate`` load neither CasADi nor SciPy.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
 import time
 import traceback
 from dataclasses import dataclass
@@ -264,7 +266,10 @@ def _validate(args: argparse.Namespace) -> int:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from sso.reports.writer import ResultFileError, read_result, write_report
+    from sso.cli.tracked import RENDERING_ERRORS, field_at_fault
+    from sso.files import write_bytes_atomic
+    from sso.reports.writer import ResultFileError, read_result, render
+    from sso.validation import shown
 
     exit_code = EXIT_OK
     for path in args.results:
@@ -274,16 +279,22 @@ def _report(args: argparse.Namespace) -> int:
             _error(str(error))
             exit_code = EXIT_BAD_INPUT
             continue
-        formats = _formats(args, [name for name in document["case"]["output"]["formats"]
-                                  if name != "json"])
-        if args.out is None:
-            folder = Path(path).parent
-        elif len(args.results) > 1:
-            folder = Path(args.out) / document["case"]["name"]
-        else:
-            folder = Path(args.out)
         try:
-            written = write_report(document, folder, formats)
+            folder, formats = _report_folder(args, path, document)
+            files = render(document, formats)
+        except RENDERING_ERRORS as error:
+            field = field_at_fault(
+                lambda tracked, path=path: render(tracked, _report_folder(args, path, tracked)[1]),
+                document)
+            where = f"field {field}" if field else "a field"
+            _error(f"{path}: not a result document sso can report from: {where} does not "
+                   f"hold what sso writes there ({type(error).__name__}: {shown(str(error))}); "
+                   "write it again with sso run or sso evaluate")
+            exit_code = EXIT_BAD_INPUT
+            continue
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            written = [write_bytes_atomic(folder / name, data) for name, data in files.items()]
         except OSError as error:
             _error(f"{path}: cannot write the report into {folder}: {error.strerror or error}")
             exit_code = EXIT_BAD_INPUT
@@ -291,6 +302,20 @@ def _report(args: argparse.Namespace) -> int:
         _say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
              f"in {folder}")
     return exit_code
+
+
+def _report_folder(args: argparse.Namespace, path: str,
+                   document: Any) -> tuple[Path, tuple[str, ...]]:
+    """Where ``sso report`` writes the reports of ``path``, and which formats."""
+    from sso.cases.schema import case_name
+
+    formats = _formats(args, [name for name in document["case"]["output"]["formats"]
+                              if name != "json"])
+    if args.out is None:
+        return Path(path).parent, formats
+    if len(args.results) > 1:  # the name is checked like a case file's: it names a folder
+        return Path(args.out) / case_name("case.name", document["case"]["name"]), formats
+    return Path(args.out), formats
 
 
 COMMANDS: tuple[Command, ...] = (
@@ -348,9 +373,25 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
     args = build_parser().parse_args(argv)
+    previous = _interrupt_on_sigterm()
     try:
         return args.handle(args)
     except KeyboardInterrupt:
         _error("interrupted; files already written are complete, none is half-written")
         return EXIT_INTERRUPTED
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt_on_sigterm() -> Any:
+    """Make SIGTERM interrupt the run as Ctrl-C does (workers stopped, temporary files
+    removed); returns the previous handler, or None off the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def interrupt(signal_number: int, frame: Any) -> None:
+        raise KeyboardInterrupt(f"signal {signal_number}")
+
+    return signal.signal(signal.SIGTERM, interrupt)
 

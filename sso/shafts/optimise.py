@@ -33,6 +33,7 @@ from sso.solvers.multistart import (
     run_starts,
     solution_from_run,
 )
+from sso.solvers.resources import check_memory, multistart_estimate
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
 from sso.solvers.starts import DEFAULT_SEED, start_points
@@ -164,6 +165,7 @@ def optimise(
     objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+    memory_limit_mb: float | None = None,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
@@ -201,6 +203,10 @@ def optimise(
         Tolerance of the adaptive quadrature (relative, absolute floor).
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check.
+    memory_limit_mb : float, optional
+        Refuse the run if its memory estimate (graph and exact Hessian, kept runs)
+        exceeds this, MB (default ``SSO_MEMORY_LIMIT_MB`` or
+        :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
 
     Returns
     -------
@@ -210,7 +216,8 @@ def optimise(
     Raises
     ------
     ValueError
-        For bad input, naming the field, the value and the allowed range.
+        For bad input, naming the field, the value and the allowed range; or if
+        the run's memory estimate exceeds the limit (the message gives both).
     TypeError
         If ``series`` is not a :class:`sso.ShaftSeries` or a keyword is unknown.
     """
@@ -230,6 +237,8 @@ def optimise(
                                 beta_bounds_deg, phase_bounds_deg)
         rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
                                quadrature_atol)
+        check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
+                                         len(solver_names)), memory_limit_mb)
         result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance,
