@@ -83,23 +83,6 @@ def _check(arguments: list[str], folder: Path) -> int | str:
     return code
 
 
-def _with_limit(limit_mb: str) -> Any:
-    """Set SSO_MEMORY_LIMIT_MB for the block (keeps fuzzed studies and sweeps small)."""
-    previous = os.environ.get("SSO_MEMORY_LIMIT_MB")
-
-    class Limit:
-        def __enter__(self) -> None:
-            os.environ["SSO_MEMORY_LIMIT_MB"] = limit_mb
-
-        def __exit__(self, *exception: Any) -> None:
-            if previous is None:
-                os.environ.pop("SSO_MEMORY_LIMIT_MB", None)
-            else:
-                os.environ["SSO_MEMORY_LIMIT_MB"] = previous
-
-    return Limit()
-
-
 @EXAMPLES
 @given(data=st.data(), value=st.one_of(toml_values, deep_lists))
 def test_fuzzed_case_files_never_give_a_traceback(data, value):
@@ -126,7 +109,8 @@ def test_fuzzed_tolerance_files_never_give_a_traceback(data, value):
     key = data.draw(st.sampled_from(["beta_deg", "phase_deg", "distribution", "samples",
                                      "seed", "percentiles", "extra"]))
     document["tolerance"][key] = value
-    with tempfile.TemporaryDirectory() as temporary, _with_limit("300"):
+    with tempfile.TemporaryDirectory() as temporary, pytest.MonkeyPatch.context() as patch:
+        patch.setenv("SSO_MEMORY_LIMIT_MB", "300")  # keeps fuzzed studies small
         folder = Path(temporary)
         (folder / "out").mkdir()
         case = folder / "input.toml"
@@ -147,7 +131,8 @@ def test_fuzzed_sweep_files_never_give_a_traceback(data, value):
                                       ("extra",)]))
     if path[-1] == "action" and value == "optimise":
         value = "evaluate"  # keep the example fast; optimising sweeps are tested elsewhere
-    with tempfile.TemporaryDirectory() as temporary, _with_limit("20"):
+    with tempfile.TemporaryDirectory() as temporary, pytest.MonkeyPatch.context() as patch:
+        patch.setenv("SSO_MEMORY_LIMIT_MB", "20")  # keeps fuzzed sweeps small
         folder = Path(temporary)
         (folder / "out").mkdir()
         sweep_path = folder / "sweep.toml"

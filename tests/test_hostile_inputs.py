@@ -17,8 +17,8 @@ STEERING = (Path(__file__).resolve().parents[1] / "cases" / "steering_column.tom
     ("input_speed_rpm = 1e308", "input_speed_rpm = 1e+308 is outside the allowed range"),
     ("kind = []", "kind = [] is not one of"),
     ("input_speed_rpm = " + "9" * 5000, "a number cannot be read"),
-    ("input_speed_rpm = " + "9" * 400, "input_speed_rpm = <integer of 400 digits> is too "
-                                       "large for a float"),
+    ("input_speed_rpm = " + "9" * 400,
+     "input_speed_rpm = <integer of 400 digits> is too large for a float"),
     ("input_speed_rpm = " + "[" * 3000 + "]" * 3000, "nested too deeply"),
 ])
 def test_hostile_values_are_refused_naming_the_field(tmp_path, line, message):

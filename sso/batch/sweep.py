@@ -13,7 +13,7 @@ from typing import Any, Mapping
 from sso.batch.axes import Axis, base_case, expand_points, parse_axes
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
-from sso.batch.progress import ProgressBar, interactive
+from sso.solvers.progress import ProgressBar, interactive
 from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,

@@ -19,7 +19,7 @@ import numpy as np
 
 from sso.batch.estimate import block_samples, tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
-from sso.batch.progress import ProgressBar, interactive
+from sso.solvers.progress import ProgressBar, interactive
 from sso.batch.results import METRICS, ToleranceResult
 from sso.kinematics.hooke import chain_kinematics
 from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM

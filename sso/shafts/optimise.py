@@ -33,6 +33,7 @@ from sso.solvers.multistart import (
     run_starts,
     solution_from_run,
 )
+from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import check_memory, multistart_estimate
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
@@ -43,6 +44,9 @@ from sso.validation import (
     validate_speed,
     validate_tolerance,
 )
+
+PROGRESS_MIN_RUNS = 100
+"""Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
 
 
 @dataclass(frozen=True)
@@ -258,8 +262,13 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     nlp = compiled_nlp(problem, rule.samples)
     points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
     limits = RunLimits(problem.lower_rad, problem.upper_rad)
-    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
-                          max_iterations)
+    runs = len(points) * len(solver_names)
+    bar = ProgressBar(runs, "runs", interactive() and runs >= PROGRESS_MIN_RUNS)
+    try:
+        measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names,
+                              tolerance, max_iterations, progress=lambda: bar.advance(1))
+    finally:
+        bar.close()
     solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
                    for name, runs in measured.items()}
     solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -49,6 +49,7 @@ def run_starts(
     solver_names: Sequence[str],
     tolerance: float,
     max_iterations: int,
+    progress: Callable[[], None] | None = None,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
@@ -70,6 +71,8 @@ def run_starts(
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
+    progress : callable, optional
+        Called with no arguments after each run (a progress bar's step).
 
     Returns
     -------
@@ -79,15 +82,17 @@ def run_starts(
     for name in solver_names:
         backend = _backend(name)
 
-        def solve(start: np.ndarray) -> RunOutcome:
+        def solve(start: np.ndarray, backend: Any = backend) -> RunOutcome:
             return backend.solve(nlp, start, parameters, limits, tolerance, max_iterations)
 
-        runs[name] = [
-            _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
-                                                               limits, tolerance),
-                     nlp, parameters, limits)
-            for index, point in enumerate(points)
-        ]
+        runs[name] = []
+        for index, point in enumerate(points):
+            runs[name].append(_measure(name, index,
+                                       solve_with_second_order_care(solve, nlp, point, parameters,
+                                                                    limits, tolerance),
+                                       nlp, parameters, limits))
+            if progress is not None:
+                progress()
     return runs
 
 
