@@ -113,8 +113,10 @@ class OptimisationResult:
 
     @property
     def success(self) -> bool:
-        """True when the best answer converged and the solvers agree."""
-        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+        """True when the best answer converged, the solvers agree, and the optimum's
+        residual error is reliable (its quadrature converged)."""
+        return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+                and self.optimum.quadrature_converged)
 
     @property
     def x(self) -> tuple[float, ...]:

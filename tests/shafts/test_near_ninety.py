@@ -118,3 +118,14 @@ def test_aligned_joints_at_the_top_are_never_wrong_and_converged(model):
     else:  # one peak 9e-16 rad wide: no double-precision grid resolves it
         assert not result.quadrature_converged
         assert any(issubclass(w.category, sso.QuadratureWarning) for w in caught)
+
+
+def test_an_optimum_whose_quadrature_did_not_converge_is_not_a_success():
+    # three exact-model joints pinned at 89.99 deg: the quadrature cannot vouch for
+    # the RE (the strip bound prod cos beta = 5e-12 rad), so the run must not claim
+    # success however well the solvers agree
+    with pytest.warns(sso.QuadratureWarning):
+        result = sso.optimise(sso.ShaftSeries([89.99] * 3, [0.0, 0.0]), 2,
+                              beta_bounds_deg=(89.99, 89.99), starts=1)
+    assert not result.optimum.quadrature_converged
+    assert not result.success
