@@ -48,3 +48,43 @@ cancelling phasing of a planar column; see docs/model.md for non-planar ones).""
 
 MAX_JOINTS = 64
 """Most Hooke joints of one shaft series in a case file."""
+
+NLP_CACHE_SHAPES = 4
+"""Built NLPs (CasADi graphs and their IPOPT instances) kept per thread.
+
+Least recently used shapes are dropped beyond this count, so a long session that
+varies joints, option, model or quadrature count keeps a bounded memory: a shaft
+series of 6 joints costs about 25 MB (mostly IPOPT's exact Hessian), and a shape
+is rebuilt in well under a second when it comes back.
+"""
+
+QUADRATURE_BLOCK_SAMPLES = 16
+"""Quadrature angles written out in one block of the optimiser's graph.
+
+A rule with more angles maps this block over the angle grid, so the size, memory
+and build time of the graph (and of its exact Hessian) do not grow with the angle
+count that the bounds call for; only its evaluation time does.
+"""
+
+MAX_INPUT_SPEED_RPM = 1e6
+"""Largest input shaft speed, rpm (beyond any shaft; its square and the figures
+derived from it stay far from floating-point overflow)."""
+
+INPUT_MAGNITUDE_RANGE = (1e-100, 1e100)
+"""A number in an input file is 0 or has a magnitude in this range: squares,
+products and ratios of such numbers neither overflow nor vanish."""
+
+MAX_INPUT_FILE_BYTES = 1_000_000
+"""Largest case, sweep or result file read, bytes (1 MB); larger files, and paths
+that are not regular files (FIFOs, devices, folders), are refused unread."""
+
+DEFAULT_MEMORY_LIMIT_MB = 4096.0
+"""Memory a tolerance study, sweep or multi-start run may be estimated to need, MB.
+
+Suits a laptop of 8 GB. Work estimated above it is refused before it starts, with
+the estimate and how to lower it. Raise it per call (``memory_limit_mb=``), per
+command (``--memory-limit``) or per session (environment ``SSO_MEMORY_LIMIT_MB``).
+"""
+
+MEMORY_LIMIT_VARIABLE = "SSO_MEMORY_LIMIT_MB"
+"""Environment variable that replaces :data:`DEFAULT_MEMORY_LIMIT_MB`."""

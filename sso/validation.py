@@ -3,12 +3,45 @@
 from __future__ import annotations
 
 import math
+import reprlib
 from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
 
-from sso.limits import SOLVER_NAMES
+from sso.limits import MAX_INPUT_SPEED_RPM, SOLVER_NAMES
+
+
+class _ShortRepr(reprlib.Repr):
+    """``repr`` cut to a readable length, safe for any value a file can hold."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.maxlevel = 3
+        self.maxstring = 60
+        self.maxother = 60
+        self.maxlist = self.maxtuple = self.maxdict = 8
+
+    def repr_int(self, value: int, level: int) -> str:
+        # repr() of an int beyond 4300 digits raises ValueError; count digits instead
+        digits = int(abs(value).bit_length() * math.log10(2))  # this or one more
+        digits += abs(value) >= 10**digits
+        return super().repr_int(value, level) if digits <= 30 else f"<integer of {digits} digits>"
+
+
+_SHORT_REPR = _ShortRepr()
+
+
+def shown(value: Any) -> str:
+    """A short, safe ``repr`` of a user's value for an error message.
+
+    Long strings, huge integers and deeply nested lists are abbreviated, so the
+    message itself can neither fail nor run to megabytes.
+    """
+    try:
+        return _SHORT_REPR.repr(value)
+    except Exception:  # a value whose repr fails is still named by its type
+        return f"<{type(value).__name__}>"
 
 
 def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
@@ -20,7 +53,7 @@ def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
         If an entry is not a number, or is NaN or infinite.
     """
     if isinstance(values, (str, bytes)):
-        raise ValueError(f"{field} = {values!r} must be a number or a list of numbers")
+        raise ValueError(f"{field} = {shown(values)} must be a number or a list of numbers")
     try:
         items = list(values)
     except TypeError:
@@ -37,13 +70,15 @@ def finite_float(field: str, value: Any) -> float:
         If ``value`` is not a real number, or is NaN or infinite.
     """
     if isinstance(value, bool):
-        raise ValueError(f"{field} = {value!r} must be a number, not a boolean")
+        raise ValueError(f"{field} = {shown(value)} must be a number, not a boolean")
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{field} = {value!r} must be a number") from None
+        raise ValueError(f"{field} = {shown(value)} must be a number") from None
+    except OverflowError:
+        raise ValueError(f"{field} = {shown(value)} is too large for a float") from None
     if not math.isfinite(number):
-        raise ValueError(f"{field} = {value!r} must be finite (not NaN or infinite)")
+        raise ValueError(f"{field} = {shown(value)} must be finite (not NaN or infinite)")
     return number
 
 
@@ -70,8 +105,9 @@ def finite_in_range(
 
 
 def validate_speed(field: str, value: Any) -> float:
-    """Return a finite, positive speed in rpm, or raise naming the field."""
-    return finite_in_range(field, value, 0.0, math.inf, "rpm", lower_open=True, upper_open=True)
+    """Return a positive speed of at most :data:`sso.limits.MAX_INPUT_SPEED_RPM`, or
+    raise naming the field."""
+    return finite_in_range(field, value, 0.0, MAX_INPUT_SPEED_RPM, "rpm", lower_open=True)
 
 
 def check_in_range(
@@ -107,7 +143,7 @@ def check_choice(field: str, value: Any, allowed: Iterable[Any]) -> Any:
     """Return ``value`` if it is one of ``allowed``, else raise naming the choices."""
     allowed = tuple(allowed)
     if value not in allowed:
-        raise ValueError(f"{field} = {value!r} is not one of {', '.join(map(repr, allowed))}")
+        raise ValueError(f"{field} = {shown(value)} is not one of {', '.join(map(repr, allowed))}")
     return value
 
 
@@ -136,11 +172,11 @@ def per_item_bounds(
             pairs = list(bounds)
         except TypeError:
             raise ValueError(
-                f"{field} = {bounds!r} must be one (lower, upper) pair or {count} pairs"
+                f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
             ) from None
         if len(pairs) != count or not all(_is_pair_of_numbers(pair) for pair in pairs):
             raise ValueError(
-                f"{field} = {bounds!r} must be one (lower, upper) pair or {count} pairs"
+                f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
             )
     result = []
     for index, (lower, upper) in enumerate(pairs):
@@ -180,7 +216,8 @@ def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
         raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVER_NAMES)}")
     for index, name in enumerate(names):
         if name not in SOLVER_NAMES:
-            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVER_NAMES)}")
+            raise ValueError(f"solvers[{index}] = {shown(name)} is not one of "
+                             f"{', '.join(SOLVER_NAMES)}")
     if len(set(names)) != len(names):
         raise ValueError(f"solvers = {list(names)} names a solver twice")
     return names
@@ -194,7 +231,7 @@ def validate_solver_tol(value: Any) -> float:
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
     """A whole number in ``[lower, upper]``, or raise naming the field and range."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{field} = {value!r} must be a whole number in [{lower}, {upper}]")
+        raise ValueError(f"{field} = {shown(value)} must be a whole number in [{lower}, {upper}]")
     if not lower <= value <= upper:
         raise ValueError(f"{field} = {value} is outside the allowed range [{lower}, {upper}]")
     return int(value)

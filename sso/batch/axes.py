@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from sso.validation import finite_float
+from sso.validation import finite_float, shown
 
 MODES = ("product", "listed")
 MAX_POINTS = 10_000_000
@@ -69,7 +69,7 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {base!r} must be a case file path, an "
+        raise ValueError(f"base = {shown(base)} must be a case file path, an "
                          "sso.cases.shaft_series.Case or a mapping laid out like a case file")
     if not isinstance(case, Case):
         # Name the kind, not the whole case (its repr holds every value).
@@ -111,7 +111,7 @@ def parse_axes(axes: Mapping[str, Any], document: dict[str, Any]) -> tuple[Axis,
         index outside the key's value, an empty list or a malformed range.
     """
     if not isinstance(axes, Mapping) or not axes:
-        raise ValueError(f"axes = {axes!r} must map one or more case keys to values")
+        raise ValueError(f"axes = {shown(axes)} must map one or more case keys to values")
     allowed = sweepable_keys(document)
     parsed = []
     for path, spec in axes.items():
@@ -119,7 +119,8 @@ def parse_axes(axes: Mapping[str, Any], document: dict[str, Any]) -> tuple[Axis,
         if label not in allowed:
             close = difflib.get_close_matches(label, allowed, n=1, cutoff=0.6)
             hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise ValueError(f"axis {path!r}: {label!r} is not a key that can be swept{hint} "
+            raise ValueError(f"axis {shown(path)}: {shown(label)} is not a key that can be "
+                             f"swept{hint} "
                              f"Sweepable keys: {', '.join(allowed)}")
         values = _axis_values(path, spec)
         set_field(copy.deepcopy(document), path, values[0])  # do the indices fit the case?
@@ -140,7 +141,7 @@ def expand_points(axes: Sequence[Axis], mode: str = "product") -> list[dict[str,
         larger than :data:`MAX_POINTS`.
     """
     if mode not in MODES:
-        raise ValueError(f"mode = {mode!r} is not one of {', '.join(map(repr, MODES))}")
+        raise ValueError(f"mode = {shown(mode)} is not one of {', '.join(map(repr, MODES))}")
     paths = [axis.path for axis in axes]
     if mode == "listed":
         lengths = {axis.path: len(axis.values) for axis in axes}
@@ -186,7 +187,7 @@ def set_field(document: dict[str, Any], path: str, value: Any) -> None:
             where = label + "".join(f"[{i}]" for i in indices[:depth])
             size = len(container) if isinstance(container, list) else 0
             allowed = f"[0, {size - 1}]" if size else "none (not a list)"
-            raise ValueError(f"axis {path!r}: index {index} of {where} is outside the "
+            raise ValueError(f"axis {shown(path)}: index {index} of {where} is outside the "
                              f"allowed range {allowed}")
         if depth == len(indices) - 1:
             container[index] = copy.deepcopy(value)
@@ -197,7 +198,7 @@ def set_field(document: dict[str, Any], path: str, value: Any) -> None:
 def _split_path(path: Any) -> tuple[str, list[int]]:
     match = _PATH.match(path) if isinstance(path, str) else None
     if match is None:
-        raise ValueError(f"axis {path!r} is not a case key with optional [index] parts, "
+        raise ValueError(f"axis {shown(path)} is not a case key with optional [index] parts, "
                          "e.g. 'design.beta_deg[1]' or 'option'")
     return match["label"], [int(index) for index in re.findall(r"\d+", match["indices"])]
 
@@ -206,34 +207,42 @@ def _axis_values(path: str, spec: Any) -> tuple[Any, ...]:
     if isinstance(spec, Mapping):
         return _range_values(path, spec)
     if isinstance(spec, (str, bytes)) or not isinstance(spec, Sequence):
-        raise ValueError(f"axis {path!r} = {spec!r} must be a list of values or a range "
+        raise ValueError(f"axis {shown(path)} = {shown(spec)} must be a list of values or a range "
                          "{start, stop, num | step}")
     if len(spec) == 0:
-        raise ValueError(f"axis {path!r} is empty: give at least 1 value")
+        raise ValueError(f"axis {shown(path)} is empty: give at least 1 value")
     return tuple(_plain(list(spec)))
 
 
 def _range_values(path: str, spec: Mapping[str, Any]) -> tuple[float, ...]:
     keys = set(spec)
     if keys not in ({"start", "stop", "num"}, {"start", "stop", "step"}):
-        raise ValueError(f"axis {path!r} range has keys {sorted(keys)}; give start, stop "
+        raise ValueError(f"axis {shown(path)} range has keys {sorted(keys)}; give start, stop "
                          "and either num or step")
-    start = finite_float(f"axis {path!r} start", spec["start"])
-    stop = finite_float(f"axis {path!r} stop", spec["stop"])
+    start = finite_float(f"axis {shown(path)} start", spec["start"])
+    stop = finite_float(f"axis {shown(path)} stop", spec["stop"])
+    if not math.isfinite(stop - start):
+        raise ValueError(f"axis {shown(path)} from {start:g} to {stop:g} spans more than a "
+                         "float can hold")
     if "num" in spec:
         num = spec["num"]
         if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_POINTS:
-            raise ValueError(f"axis {path!r} num = {num!r} is outside the allowed range "
+            raise ValueError(f"axis {shown(path)} num = {shown(num)} is outside the allowed range "
                              f"[1, {MAX_POINTS}] (a whole number)")
         step = (stop - start) / (num - 1) if num > 1 else 0.0
     else:
-        step = finite_float(f"axis {path!r} step", spec["step"])
+        step = finite_float(f"axis {shown(path)} step", spec["step"])
         if step == 0 or (stop - start) / step < 0:
-            raise ValueError(f"axis {path!r} step = {step:g} must be non-zero and point "
+            raise ValueError(f"axis {shown(path)} step = {step:g} must be non-zero and point "
                              f"from start {start:g} towards stop {stop:g}")
-        num = math.floor((stop - start) / step * (1 + 1e-12) + 1e-9) + 1
+        steps = (stop - start) / step
+        if not math.isfinite(steps) or steps >= MAX_POINTS:
+            raise ValueError(f"axis {shown(path)} step = {step:g} from {start:g} to {stop:g} "
+                             f"spans more values than the allowed range [1, {MAX_POINTS}]; "
+                             "give a larger step")
+        num = math.floor(steps * (1 + 1e-12) + 1e-9) + 1
         if num > MAX_POINTS:
-            raise ValueError(f"axis {path!r} spans {num} values, outside the allowed range "
+            raise ValueError(f"axis {shown(path)} spans {num} values, outside the allowed range "
                              f"[1, {MAX_POINTS}]")
     # Twelve significant digits drop the round-off of start + i * step.
     return tuple(float(f"{start + index * step:.12g}") for index in range(num))

@@ -2,12 +2,22 @@
 
 The executor is chosen by the caller and injected: dask is imported only on the
 path that was given a Dask client (or a scheduler address to connect to).
+
+A local pool never outlives its run: when the run is interrupted (Ctrl-C, or
+SIGTERM, which the ``sso`` command turns into the same interruption) the workers
+are killed rather than awaited, workers ignore SIGINT (the terminal sends it to
+the whole process group; the parent decides), and on Linux each worker asks the
+kernel to kill it when its parent dies, so even a SIGKILLed run leaves no worker
+(and so no resource tracker, which exits once every process that could write to
+it is gone).
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
+import sys
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
@@ -107,7 +117,9 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
     # spawn: a fresh interpreter per worker, the same on every platform, and safe
     # with the threads CasADi and BLAS may have started in this process.
     executor = ProcessPoolExecutor(max_workers=min(workers, len(tasks)),
-                                   mp_context=multiprocessing.get_context("spawn"))
+                                   mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_start_worker, initargs=(os.getpid(),))
+    finished = False
     try:
         # The workers start while the first tasks are submitted, and inherit this
         # environment from that moment.
@@ -117,8 +129,35 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
         for future in as_completed(futures):
             error = future.exception()
             yield futures[future], None if error else future.result(), error
+        finished = True
     finally:
+        if not finished:  # interrupted, or the caller stopped early: do not wait for work
+            _kill_workers(executor)
         executor.shutdown(wait=True, cancel_futures=True)
+
+
+def _start_worker(parent_pid: int) -> None:
+    """Initializer of a pool worker: leave SIGINT to the parent, die with the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        pr_set_pdeathsig = 1
+        ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, signal.SIGKILL)
+    if os.getppid() != parent_pid:  # the parent died before the request took effect
+        os._exit(1)
+
+
+def _kill_workers(executor: ProcessPoolExecutor) -> None:
+    """Kill the pool's worker processes and wait for them (at most a few seconds)."""
+    # The pool keeps its processes in a private mapping; there is no public way to
+    # stop running tasks.
+    workers = list((getattr(executor, "_processes", None) or {}).values())
+    for worker in workers:
+        if worker.is_alive():
+            worker.kill()
+    for worker in workers:
+        worker.join(timeout=5)
 
 
 @contextmanager

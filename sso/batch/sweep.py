@@ -5,14 +5,15 @@ from __future__ import annotations
 import json
 import math
 import time
+import warnings
 from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from sso.batch.axes import base_case, expand_points, parse_axes
+from sso.batch.axes import Axis, base_case, expand_points, parse_axes
+from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
-from sso.batch.progress import ProgressBar, interactive
 from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,
@@ -25,7 +26,12 @@ from sso.batch.table import (
     write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import write_text_atomic
+from sso.files import remove_stale_temporaries, write_text_atomic
+from sso.shafts.options import build_problem
+from sso.shafts.quadrature import rule_for_bounds
+from sso.solvers.progress import ProgressBar, interactive
+from sso.solvers.resources import ResourceEstimate, check_memory
+from sso.validation import shown
 
 MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
@@ -47,6 +53,7 @@ def sweep(
     chunk_size: int | None = None,
     progress: bool | None = None,
     plots: bool = True,
+    memory_limit_mb: float | None = None,
 ) -> SweepResult:
     """Optimise or evaluate a base case at every point of a sweep.
 
@@ -86,6 +93,9 @@ def sweep(
         outside CI).
     plots : bool
         Draw the report's plots (needs ``out_dir``; imports matplotlib).
+    memory_limit_mb : float, optional
+        Refuse the sweep if its memory estimate exceeds this, MB (default
+        ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
 
     Returns
     -------
@@ -97,15 +107,20 @@ def sweep(
     ------
     ValueError
         For a bad base case, axis, mode, action, count, or an ``out_dir`` that
-        holds a different sweep (or any sweep, without ``resume``).
+        holds a different sweep (or any sweep, without ``resume``); or, before
+        any point is computed, if the memory estimate exceeds the limit.
     """
     started = time.perf_counter()
-    document = base_case(base).to_dict()
+    case = base_case(base)
+    document = case.to_dict()
     parsed_axes = parse_axes(axes, document)
-    points = expand_points(parsed_axes, mode)
     if action not in ACTIONS:
-        raise ValueError(f"action = {action!r} is not one of {', '.join(map(repr, ACTIONS))}")
+        raise ValueError(f"action = {shown(action)} is not one of "
+                         f"{', '.join(map(repr, ACTIONS))}")
     worker_count = validate_workers(workers)
+    check_memory(_estimate(case, parsed_axes, mode, action,
+                           worker_count if client is None else 1), memory_limit_mb)
+    points = expand_points(parsed_axes, mode)
     header = columns([axis.path for axis in parsed_axes])
     identity = manifest(document, parsed_axes, mode, action, len(points))
 
@@ -114,6 +129,7 @@ def sweep(
     if out_dir is not None:
         out_dir = Path(out_dir)
         out_dir.mkdir(parents=True, exist_ok=True)
+        remove_stale_temporaries(out_dir)  # of a sweep killed mid-write
         csv_path = out_dir / CSV_NAME
         if resume:
             rows = done_rows(out_dir, identity, header)
@@ -154,6 +170,25 @@ def sweep(
 
     files = (csv_path, out_dir / MANIFEST_NAME, *write_sweep_report(result, out_dir, plots))
     return replace(result, files=files)
+
+
+def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
+              workers: int) -> ResourceEstimate:
+    """Memory and solves of the sweep, from the base case's shape."""
+    count = (math.prod(len(axis.values) for axis in axes) if mode != "listed"
+             else max(len(axis.values) for axis in axes))
+    optimising = action == "optimise"
+    per_point = case.starts * len(case.solvers) if optimising and hasattr(case, "starts") else 1
+    joints = free = samples = 0
+    if case.kind == "shaft_series":
+        with warnings.catch_warnings():  # the points' runs report these warnings
+            warnings.simplefilter("ignore")
+            problem = build_problem(case.beta_deg, case.phase_deg, case.model, case.option,
+                                    case.beta_bounds_deg, case.phase_bounds_deg)
+            samples = rule_for_bounds(problem.beta_upper_rad, case.model).samples
+        joints, free = problem.n_joints, problem.n_free
+    return sweep_estimate(count, joints, free, samples, per_point, workers,
+                          optimising and case.kind == "shaft_series")
 
 
 def _parallelism(client: Any, workers: int) -> int:

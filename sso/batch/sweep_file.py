@@ -19,13 +19,14 @@ Like a case file, a sweep file is data only; nothing in it is executed.
 from __future__ import annotations
 
 import difflib
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from sso.batch.worker import ACTIONS
-from sso.cases.schema import NAME_PATTERN
+from sso.cases.schema import NAME_PATTERN, parse_toml
+from sso.files import read_input_bytes
+from sso.validation import shown
 
 KEYS = ("name", "case", "action", "mode", "chunk_size", "axes")
 
@@ -65,11 +66,12 @@ def load_sweep(path: str | Path) -> SweepSpec:
     """
     path = Path(path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise ValueError(f"{path}: cannot read the sweep file: {error.strerror or error}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+        source = read_input_bytes(path).decode("utf-8")
+    except UnicodeDecodeError as error:
         raise ValueError(f"{path}: not a valid TOML sweep file: {error}") from None
+    except ValueError as error:
+        raise ValueError(f"{path}: cannot read the sweep file: {error}") from None
+    document = parse_toml(source, str(path), _sweep_file_error)
     for key in document:
         if key not in KEYS:
             close = difflib.get_close_matches(key, KEYS, n=1, cutoff=0.6)
@@ -77,13 +79,13 @@ def load_sweep(path: str | Path) -> SweepSpec:
             raise ValueError(f"{path}: unknown key {key}{hint} Keys: {', '.join(KEYS)}")
     name = document.get("name", path.stem)
     if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
-        raise ValueError(f"{path}: name = {name!r} must be 1 to 100 letters, digits, '.', '_' "
+        raise ValueError(f"{path}: name = {shown(name)} must be 1 to 100 letters, digits, '.', '_' "
                          "or '-', starting with a letter or digit (it names the output folder)")
     base = document.get("case")
     if isinstance(base, str):
         base = path.parent / base
     elif not isinstance(base, dict):
-        raise ValueError(f"{path}: case = {base!r} must be a case file path (relative to the "
+        raise ValueError(f"{path}: case = {shown(base)} must be a case file path (relative to the "
                          "sweep file) or a [case] table laid out like a case file")
     axes = document.get("axes")
     if not isinstance(axes, dict) or not axes:
@@ -91,7 +93,12 @@ def load_sweep(path: str | Path) -> SweepSpec:
                          "with their values, e.g. option = [2, 3]")
     action = document.get("action", "optimise")
     if action not in ACTIONS:
-        raise ValueError(f"{path}: action = {action!r} is not one of "
+        raise ValueError(f"{path}: action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
     return SweepSpec(name=name, base=base, axes=axes, action=action,
                      mode=document.get("mode", "product"), chunk_size=document.get("chunk_size"))
+
+
+def _sweep_file_error(path: str, reason: str, line: int | None) -> ValueError:
+    where = f"{path}, line {line}" if line is not None else path
+    return ValueError(f"{where}: not a valid TOML sweep file: {reason}")

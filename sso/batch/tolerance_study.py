@@ -20,13 +20,16 @@ from typing import Any
 
 import numpy as np
 
+from sso.batch.estimate import tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
-from sso.batch.progress import ProgressBar, interactive
 from sso.batch.results import ToleranceResult
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
+from sso.shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso.shafts.perturbed import METRICS, ToleranceChunk, draw_samples, evaluate_chunk
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.shafts.series import ShaftSeries
+from sso.solvers.progress import ProgressBar, interactive
+from sso.solvers.resources import check_memory
 from sso.validation import (
     as_float_tuple,
     check_choice,
@@ -67,6 +70,7 @@ def tolerance_study(
     chunk_size: int = DEFAULT_CHUNK_SAMPLES,
     progress: bool | None = None,
     plots: bool = True,
+    memory_limit_mb: float | None = None,
 ) -> ToleranceResult:
     """Monte Carlo study of a design under angle and phase tolerances.
 
@@ -110,6 +114,9 @@ def tolerance_study(
         Progress bar on stderr (default: only on an interactive terminal outside CI).
     plots : bool
         Draw the histogram (needs ``out_dir``; imports matplotlib).
+    memory_limit_mb : float, optional
+        Refuse the study if its memory estimate exceeds this, MB (default
+        ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
 
     Returns
     -------
@@ -118,7 +125,9 @@ def tolerance_study(
     Raises
     ------
     ValueError
-        Naming the field, the value and the allowed range.
+        Naming the field, the value and the allowed range; or, before anything is
+        drawn, if the memory estimate exceeds the limit (the message gives both
+        and how many samples fit).
     """
     started = time.perf_counter()
     series, speed_rpm, quadrature, case_settings = _nominal(design, input_speed_rpm)
@@ -144,6 +153,12 @@ def tolerance_study(
     phase_tolerance = _tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
+    # The quadrature count is fixed after the draw; until then, estimate with the
+    # nominal design's count (the figures grid is never coarser than its minimum).
+    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
+        np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
+    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
+                                    worker_count if client is None else 1), memory_limit_mb)
 
     beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
                                        samples, seed)

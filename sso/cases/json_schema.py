@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from collections.abc import Callable, Sequence
 from importlib import resources
@@ -49,6 +48,7 @@ from sso.cases.schema import (
 )
 from sso.column.splines import MAX_TEETH
 from sso.files import write_text_atomic
+from sso.limits import INPUT_MAGNITUDE_RANGE
 from sso.shafts.options import OPTION_NAMES
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -215,11 +215,21 @@ def _qualified_name(parse: Callable[..., Any]) -> str:
 
 
 def _number(lower: float, upper: float, lower_open: bool, upper_open: bool) -> JsonSchema:
+    """A number in the interval that is also 0 or of a magnitude in INPUT_MAGNITUDE_RANGE
+    (the engine's :func:`sso.cases.schema.number` checks both)."""
+    smallest, largest = INPUT_MAGNITUDE_RANGE
     result: JsonSchema = {"type": "number"}
-    if math.isfinite(lower):
+    if lower > -largest:
         result["exclusiveMinimum" if lower_open else "minimum"] = lower
-    if math.isfinite(upper):
+    else:
+        result["minimum"] = -largest
+    if upper < largest:
         result["exclusiveMaximum" if upper_open else "maximum"] = upper
+    else:
+        result["maximum"] = largest
+    if lower < smallest and upper > -smallest:  # the interval reaches the tiny magnitudes
+        result["not"] = {"allOf": [{"exclusiveMinimum": -smallest},
+                                   {"exclusiveMaximum": smallest}, {"not": {"const": 0}}]}
     return result
 
 

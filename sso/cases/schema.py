@@ -28,8 +28,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from sso.limits import MAX_JOINTS, OUTPUT_FORMATS
-from sso.validation import finite_float, per_item_bounds
+from sso.files import read_input_bytes
+from sso.limits import INPUT_MAGNITUDE_RANGE, MAX_JOINTS, OUTPUT_FORMATS
+from sso.validation import finite_float, per_item_bounds, shown
 
 DEFAULT_KIND = "shaft_series"
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
@@ -132,17 +133,26 @@ def _describe_range(lower: float, upper: float, lower_open: bool = False,
 
 def number(lower: float, upper: float, unit: str = "", lower_open: bool = False,
            upper_open: bool = False) -> Callable[[str, Any], float]:
-    """Parser of one real number inside an interval."""
+    """Parser of one real number inside an interval.
+
+    Whatever the interval, the number must be 0 or have a magnitude inside
+    :data:`sso.limits.INPUT_MAGNITUDE_RANGE`, so that squares, products and
+    ratios computed from it cannot overflow.
+    """
     allowed = _describe_range(lower, upper, lower_open, upper_open, unit)
+    smallest, largest = INPUT_MAGNITUDE_RANGE
 
     def parse(label: str, value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ValueError(f"{label} = {value!r} must be a number in {allowed}")
+            raise ValueError(f"{label} = {shown(value)} must be a number in {allowed}")
         result = finite_float(label, value)
         too_low = result <= lower if lower_open else result < lower
         too_high = result >= upper if upper_open else result > upper
         if too_low or too_high:
             raise ValueError(f"{label} = {result:g} is outside the allowed range {allowed}")
+        if result != 0.0 and not smallest <= abs(result) <= largest:
+            raise ValueError(f"{label} = {result:g} is outside the allowed range {allowed}: "
+                             f"a number must be 0 or of magnitude {smallest:g} to {largest:g}")
         return result
 
     return parse
@@ -153,7 +163,8 @@ def whole_number(lower: int, upper: int) -> Callable[[str, Any], int]:
 
     def parse(label: str, value: Any) -> int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise ValueError(f"{label} = {value!r} must be a whole number in [{lower}, {upper}]")
+            raise ValueError(f"{label} = {shown(value)} must be a whole number in "
+                             f"[{lower}, {upper}]")
         if not lower <= value <= upper:
             raise ValueError(f"{label} = {value} is outside the allowed range [{lower}, {upper}]")
         return value
@@ -166,7 +177,7 @@ def choice(allowed: tuple[str, ...]) -> Callable[[str, Any], str]:
 
     def parse(label: str, value: Any) -> str:
         if value not in allowed:
-            raise ValueError(f"{label} = {value!r} is not one of {_quoted(allowed)}")
+            raise ValueError(f"{label} = {shown(value)} is not one of {_quoted(allowed)}")
         return value
 
     return parse
@@ -177,7 +188,7 @@ def text(max_length: int = MAX_TEXT_LENGTH) -> Callable[[str, Any], str]:
 
     def parse(label: str, value: Any) -> str:
         if not isinstance(value, str):
-            raise ValueError(f"{label} = {value!r} must be a string of at most {max_length} "
+            raise ValueError(f"{label} = {shown(value)} must be a string of at most {max_length} "
                              "characters")
         if len(value) > max_length:
             raise ValueError(f"{label} has {len(value)} characters; at most {max_length} are "
@@ -192,12 +203,14 @@ def choice_list(allowed: tuple[str, ...]) -> Callable[[str, Any], tuple[str, ...
 
     def parse(label: str, value: Any) -> tuple[str, ...]:
         if not isinstance(value, list) or not value:
-            raise ValueError(f"{label} = {value!r} must be a non-empty list of {_quoted(allowed)}")
+            raise ValueError(f"{label} = {shown(value)} must be a non-empty list of "
+                             f"{_quoted(allowed)}")
         for index, item in enumerate(value):
             if item not in allowed:
-                raise ValueError(f"{label}[{index}] = {item!r} is not one of {_quoted(allowed)}")
+                raise ValueError(f"{label}[{index}] = {shown(item)} is not one of "
+                                 f"{_quoted(allowed)}")
         if len(set(value)) != len(value):
-            raise ValueError(f"{label} = {value!r} names an entry twice")
+            raise ValueError(f"{label} = {shown(value)} names an entry twice")
         return tuple(value)
 
     return parse
@@ -211,7 +224,7 @@ def number_list(lower: float, upper: float, unit: str, upper_open: bool = False,
 
     def parse(label: str, value: Any) -> tuple[float, ...]:
         if not isinstance(value, list) or not min_length <= len(value) <= max_length:
-            raise ValueError(f"{label} = {value!r} must be a list of {min_length} to "
+            raise ValueError(f"{label} = {shown(value)} must be a list of {min_length} to "
                              f"{max_length} numbers, "
                              f"each in {_describe_range(lower, upper, False, upper_open, unit)}")
         return tuple(item(f"{label}[{index}]", entry) for index, entry in enumerate(value))
@@ -229,7 +242,7 @@ def bounds_list(lower: float, upper: float, unit: str,
             return tuple(per_item_bounds(label, value, 1, lower, upper, unit, upper_open)[0])
         if isinstance(value, list) and value and all(_is_pair(pair) for pair in value):
             return per_item_bounds(label, value, len(value), lower, upper, unit, upper_open)
-        raise ValueError(f"{label} = {value!r} must be one [lower, upper] pair or a list of "
+        raise ValueError(f"{label} = {shown(value)} must be one [lower, upper] pair or a list of "
                          f"pairs, each bound in {allowed}")
 
     return parse
@@ -239,10 +252,20 @@ def case_name(label: str, value: Any) -> str:
     """Parser of a case name: it names the report folder, so it must be a safe file name."""
     if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
         raise ValueError(
-            f"{label} = {value!r} must be 1 to 100 letters, digits, '.', '_' or '-', "
+            f"{label} = {shown(value)} must be 1 to 100 letters, digits, '.', '_' or '-', "
             "starting with a letter or digit (it names the report folder)"
         )
     return value
+
+
+def _name_from_file(path: str) -> str:
+    """The default case name, the file's stem, checked like a given name."""
+    stem = Path(path).stem
+    try:
+        return case_name("name", stem)
+    except ValueError as error:
+        raise ValueError(f"{error}; the name comes from the file name: rename the file or "
+                         "give name = \"...\"") from None
 
 
 def _is_pair(value: Any) -> bool:
@@ -261,7 +284,7 @@ COMMON_KEYS: tuple[Key, ...] = (
     Key("", "kind", lambda label, value: value, DEFAULT_KIND, "",
         "a registered kind: 'shaft_series', 'fourbar', 'slider_crank', 'quick_return', "
         "'fourbar_design', 'column'"),
-    Key("", "name", case_name, lambda values, path: Path(path).stem, "",
+    Key("", "name", case_name, lambda values, path: _name_from_file(path), "",
         "1-100 of A-Z a-z 0-9 . _ -, starting with a letter or digit"),
     Key("", "description", text(), "", "", "free text"),
     Key("output", "formats", choice_list(OUTPUT_FORMATS), OUTPUT_FORMATS, "",
@@ -284,11 +307,11 @@ def register_case_kind(kind: str, keys: tuple[Key, ...], build: Callable,
         If the kind is already registered or a key repeats a common key.
     """
     if kind in CASE_KINDS:
-        raise ValueError(f"case kind {kind!r} is already registered")
+        raise ValueError(f"case kind {shown(kind)} is already registered")
     common = {key.label for key in COMMON_KEYS}
     clashes = [key.label for key in keys if key.label in common]
     if clashes:
-        raise ValueError(f"keys {clashes} of kind {kind!r} repeat common keys")
+        raise ValueError(f"keys {clashes} of kind {shown(kind)} repeat common keys")
     CASE_KINDS[kind] = CaseKind(tuple(keys), frozenset(optional_tables), build)
 
 
@@ -321,18 +344,28 @@ def load_case(path: str | Path) -> Any:
     """
     path_text = str(path)
     try:
-        source = Path(path).read_bytes().decode("utf-8")
-    except OSError as error:
-        raise CaseError(path_text,
-                        f"cannot read the case file: {error.strerror or error}") from None
-    except UnicodeDecodeError as error:
-        raise CaseError(path_text, f"not a UTF-8 text file (byte {error.start})") from None
+        source = read_input_bytes(path).decode("utf-8")
+    except ValueError as error:  # UnicodeDecodeError is one too
+        reason = (f"not a UTF-8 text file (byte {error.start})"
+                  if isinstance(error, UnicodeDecodeError)
+                  else f"cannot read the case file: {error}")
+        raise CaseError(path_text, reason) from None
+    return parse_case(parse_toml(source, path_text, CaseError), path_text, source)
+
+
+def parse_toml(source: str, path: str, error_type: Callable[..., Exception]) -> dict[str, Any]:
+    """Parse TOML text, raising ``error_type(path, reason, line)`` for anything tomllib
+    refuses or cannot handle (syntax, integers of more than 4300 digits, nesting too
+    deep for the parser)."""
     try:
-        document = tomllib.loads(source)
+        return tomllib.loads(source)
     except tomllib.TOMLDecodeError as error:
-        raise CaseError(path_text, f"TOML syntax error: {error}",
-                        _line_of_decode_error(error, source)) from None
-    return parse_case(document, path_text, source)
+        raise error_type(path, f"TOML syntax error: {error}",
+                         _line_of_decode_error(error, source)) from None
+    except ValueError as error:  # int() of a number with more than 4300 digits
+        raise error_type(path, f"a number cannot be read: {error}", None) from None
+    except RecursionError:
+        raise error_type(path, "arrays or tables are nested too deeply to read", None) from None
 
 
 def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = "") -> Any:
@@ -357,8 +390,9 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
         If a key is unknown, has the wrong type or lies out of range.
     """
     kind_value = document.get("kind", DEFAULT_KIND)
-    if kind_value not in CASE_KINDS:
-        raise CaseError(path, f"kind = {kind_value!r} is not one of {_quoted(tuple(CASE_KINDS))}",
+    if not isinstance(kind_value, str) or kind_value not in CASE_KINDS:
+        raise CaseError(path, f"kind = {shown(kind_value)} is not one of "
+                        f"{_quoted(tuple(CASE_KINDS))}",
                         _line_of_key(source, "", "kind"))
     case_kind = CASE_KINDS[kind_value]
     keys = COMMON_KEYS + case_kind.keys
@@ -374,17 +408,26 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
             except ValueError as error:
                 raise CaseError(path, str(error),
                                 _line_of_key(source, key.table, key.name)) from None
+            except (TypeError, ArithmeticError, RecursionError):
+                raise CaseError(path, f"{key.label} = {shown(table[key.name])} is not "
+                                f"allowed: give {key.allowed}",
+                                _line_of_key(source, key.table, key.name)) from None
         elif key.default is REQUIRED:
             if key.table in case_kind.optional_tables and key.table not in document:
                 continue
             raise CaseError(path, f"{key.label} is missing: give {key.allowed}")
-    for key in keys:
-        if key.label not in values and key.default is not REQUIRED:
-            values[key.label] = key.default(values, path) if callable(key.default) else key.default
     try:
+        for key in keys:
+            if key.label not in values and key.default is not REQUIRED:
+                values[key.label] = (key.default(values, path) if callable(key.default)
+                                     else key.default)
         case = case_kind.build(values, path)
     except ValueError as error:
         raise CaseError(path, str(error), _line_of_first_label(source, str(error), keys)) from None
+    except (TypeError, ArithmeticError, RecursionError) as error:
+        raise CaseError(path, f"the values do not fit together ({type(error).__name__}: "
+                        f"{shown(str(error))}); check the keys against the case-file "
+                        "reference") from None
     for note in renamed:
         warnings.warn(note, DeprecationWarning, stacklevel=2)
     return replace(case, warnings=(*renamed, *case.warnings)) if renamed else case
@@ -422,7 +465,7 @@ def _refuse_unknown_keys(document: Mapping[str, Any], keys: tuple[Key, ...], pat
     for name, value in document.items():
         if name in tables:
             if not isinstance(value, dict):
-                raise CaseError(path, f"{name} = {value!r} must be a table ([{name}])",
+                raise CaseError(path, f"{name} = {shown(value)} must be a table ([{name}])",
                                 _line_of_key(source, "", name))
             known = [key.name for key in keys if key.table == name]
             for inner in value:

@@ -33,6 +33,7 @@ from sso.limits import (
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
+    MAX_INPUT_SPEED_RPM,
     MAX_ITERATIONS,
     MAX_JOINTS,
     MAX_STARTS,
@@ -47,6 +48,7 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
 )
 from sso.solvers.starts import DEFAULT_SEED
+from sso.validation import shown
 
 KIND = "shaft_series"
 
@@ -66,7 +68,7 @@ def option_value(label: str, value: Any) -> int:
     try:
         return parse_option(value)
     except ValueError:
-        raise ValueError(f"{label} = {value!r} is not one of 1, 2, 3, "
+        raise ValueError(f"{label} = {shown(value)} is not one of 1, 2, 3, "
                          f"{_quoted(tuple(OPTION_NAMES.values()))}") from None
 
 
@@ -242,9 +244,8 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("", "model", choice(MODELS), "exact", "", "'exact' or 'paper'"),
     Key("", "option", option_value, 3, "",
         "1 or 'phase', 2 or 'angle', 3 or 'both'"),
-    Key("", "input_speed_rpm", number(0.0, float("inf"), "rpm", lower_open=True,
-                                      upper_open=True), DEFAULT_INPUT_SPEED_RPM, "rpm",
-        "(0, inf)"),
+    Key("", "input_speed_rpm", number(0.0, MAX_INPUT_SPEED_RPM, "rpm", lower_open=True),
+        DEFAULT_INPUT_SPEED_RPM, "rpm", f"(0, {MAX_INPUT_SPEED_RPM:g}]"),
     Key("design", "beta_deg", number_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True), REQUIRED,
         "deg", f"1-{MAX_JOINTS} entries (one per joint), {_BETA_RANGE}"),
     Key("design", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),

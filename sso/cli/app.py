@@ -15,7 +15,10 @@ CasADi nor SciPy.
 from __future__ import annotations
 
 import argparse
+import signal
+import threading
 from collections.abc import Sequence
+from typing import Any
 
 from sso.cli import batch_commands, report, solve, validate
 from sso.cli.common import EXIT_INTERRUPTED, Command, print_error
@@ -50,8 +53,24 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
     args = build_parser().parse_args(argv)
+    previous = _interrupt_on_sigterm()
     try:
         return args.handle(args)
     except KeyboardInterrupt:
         print_error("interrupted; files already written are complete, none is half-written")
         return EXIT_INTERRUPTED
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt_on_sigterm() -> Any:
+    """Make SIGTERM interrupt the run as Ctrl-C does (workers stopped, temporary files
+    removed); returns the previous handler, or None off the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def interrupt(signal_number: int, frame: Any) -> None:
+        raise KeyboardInterrupt(f"signal {signal_number}")
+
+    return signal.signal(signal.SIGTERM, interrupt)

@@ -55,7 +55,8 @@ def run_sweep(args: argparse.Namespace) -> int:
         result = sweep(spec.base, spec.axes, mode=spec.mode, action=spec.action,
                        out_dir=Path(args.out or DEFAULT_OUT) / spec.name, resume=args.resume,
                        client=client, workers=args.workers, chunk_size=spec.chunk_size,
-                       progress=False if args.quiet else None, plots=not args.no_plots)
+                       progress=False if args.quiet else None, plots=not args.no_plots,
+                       memory_limit_mb=args.memory_limit)
         print(result.summary(), flush=True)
         return EXIT_OK if result.success else EXIT_FAILED
 
@@ -74,7 +75,8 @@ def run_tolerance(args: argparse.Namespace) -> int:
                                  out_dir=Path(args.out or DEFAULT_OUT) / case.name,
                                  client=client, workers=args.workers,
                                  progress=False if args.quiet else None,
-                                 plots=not args.no_plots)
+                                 plots=not args.no_plots,
+                                 memory_limit_mb=args.memory_limit)
         print(result.summary(), flush=True)
         return EXIT_OK
 
@@ -92,6 +94,9 @@ def _add_execution_arguments(parser: argparse.ArgumentParser, out_help: str) -> 
                         help="write no plots (matplotlib is not even imported)")
     parser.add_argument("--quiet", action="store_true",
                         help="no progress bar; print only errors and the closing summary")
+    parser.add_argument("--memory-limit", type=float, metavar="MB",
+                        help="refuse the work if its memory estimate exceeds MB (default: "
+                        "environment SSO_MEMORY_LIMIT_MB, else 4096)")
 
 
 def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], int]) -> int:

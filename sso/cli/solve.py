@@ -121,6 +121,8 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
 
 
 def _status(document: dict[str, Any]) -> tuple[str, int]:
+    from sso.run.document import UNRELIABLE_VERDICT
+
     if document["mode"] == "evaluate":
         return "evaluated", EXIT_OK
     if document["mode"] == "analyse":
@@ -129,6 +131,8 @@ def _status(document: dict[str, Any]) -> tuple[str, int]:
         return "solved", EXIT_OK
     if document["verdict"].startswith("solver failed"):
         return "solver failed", EXIT_FAILED
+    if document["verdict"].startswith(UNRELIABLE_VERDICT):
+        return UNRELIABLE_VERDICT, EXIT_FAILED
     return "solvers disagree", EXIT_FAILED
 
 

@@ -15,8 +15,9 @@ from typing import Any
 from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
 from sso.cases.schema import rename_old_keys
-from sso.files import write_bytes_atomic
+from sso.files import read_input_bytes, write_bytes_atomic
 from sso.run.document import SCHEMA_VERSION
+from sso.validation import shown
 
 RESULT_FILE = "result.json"
 REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "option_name",
@@ -146,17 +147,22 @@ def read_result(path: str | Path) -> dict[str, Any]:
         lacks a key the reports need.
     """
     try:
-        document = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as error:
-        raise ResultFileError(f"{path}: cannot read the result file: "
-                              f"{error.strerror or error}") from None
+        data = read_input_bytes(path)
+    except ValueError as error:
+        raise ResultFileError(f"{path}: cannot read the result file: {error}") from None
+    try:
+        document = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise ResultFileError(f"{path}: not a JSON result file: {error}") from None
+    except ValueError as error:  # int() of a number with more than 4300 digits
+        raise ResultFileError(f"{path}: a number cannot be read: {error}") from None
+    except RecursionError:
+        raise ResultFileError(f"{path}: arrays or objects are nested too deeply to read") from None
     if not isinstance(document, dict):
         raise ResultFileError(f"{path}: not a result document (a JSON object is expected)")
     version = document.get("schema_version")
-    if version != SCHEMA_VERSION:
-        raise ResultFileError(f"{path}: schema_version = {version!r}; this sso reads "
+    if type(version) is not type(SCHEMA_VERSION) or version != SCHEMA_VERSION:
+        raise ResultFileError(f"{path}: schema_version = {shown(version)}; this sso reads "
                               f"schema_version {SCHEMA_VERSION}")
     required = (COLUMN_REQUIRED_KEYS if document.get("kind") == COLUMN_KIND
                 else MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS

@@ -172,9 +172,17 @@ def _add_reference(document: dict[str, Any], case: Case) -> None:
         document["designs"]["reference"] = _design(case.reference_label, reference, evaluation)
 
 
+UNRELIABLE_VERDICT = "optimum unreliable"
+"""How the verdict of a run whose optimum's quadrature did not converge begins."""
+
+
 def _verdict(result: Any) -> str:
     if not result.best.success:
         return f"solver failed: {result.best.solver}: {result.best.message}"
+    # a shaft series' optimum says whether its quadrature converged; a four-bar's has none
+    if not getattr(getattr(result, "optimum", None), "quadrature_converged", True):
+        return (f"{UNRELIABLE_VERDICT}: operating angles this close to 90 deg put peaks in "
+                "the speed ratio that the residual-error quadrature cannot resolve")
     if result.crosscheck is None:
         return f"solved by {result.best.solver} alone (no cross-check): {result.best.message}"
     return result.crosscheck.message

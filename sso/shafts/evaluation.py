@@ -12,7 +12,13 @@ import numpy as np
 from sso.kinematics.hooke import chain_kinematics
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.objective import angle_grid, squared_ratio_error
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, adaptive_rule
+from sso.shafts.quadrature import (
+    DEFAULT_ATOL,
+    DEFAULT_RTOL,
+    EVALUATION_MAX_SAMPLES,
+    adaptive_rule,
+    resolving_samples,
+)
 from sso.validation import finite_in_range, validate_speed
 
 
@@ -70,7 +76,9 @@ class Evaluation:
     quadrature_error : float
         Estimated absolute error of RE (dimensionless).
     quadrature_converged : bool
-        False if the quadrature hit its cap before its tolerance.
+        False if the quadrature hit its cap before its tolerance, or if no count up
+        to the cap resolves the speed-ratio peaks of angles near 90 deg (then RE
+        and the speed figures are unreliable and a QuadratureWarning is raised).
     """
 
     input_speed_rpm: float
@@ -149,7 +157,8 @@ def evaluate(
         cos_theta, sin_theta = angle_grid(count)
         return squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, series.model)
 
-    residual, rule = adaptive_rule(squared_errors, rtol, atol)
+    residual, rule = adaptive_rule(squared_errors, rtol, atol, EVALUATION_MAX_SAMPLES,
+                                   resolving_samples(beta_rad, series.model))
     if figure_samples < 4 * rule.samples:
         figure_samples = 4 * rule.samples
         theta_rad = np.pi * np.arange(figure_samples) / figure_samples

@@ -28,6 +28,8 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_RTOL,
 )
 from sso.solvers.multistart import MeasuredRun, solution_from_run, solve_from_starts
+from sso.solvers.progress import ProgressBar, interactive
+from sso.solvers.resources import check_memory, multistart_estimate
 from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import Solution
@@ -38,6 +40,9 @@ from sso.validation import (
     validate_solvers,
     validate_speed,
 )
+
+PROGRESS_MIN_RUNS = 100
+"""Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -90,6 +95,13 @@ class OptimisationResult(DesignResult):
     starts: int
     warnings: tuple[str, ...]
 
+    @property
+    def success(self) -> bool:
+        """True when the best answer converged, the solvers agree, and the optimum's
+        residual error is reliable (its quadrature converged)."""
+        return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+                and self.optimum.quadrature_converged)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
@@ -129,6 +141,7 @@ def optimise(
     objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+    memory_limit_mb: float | None = None,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
@@ -167,6 +180,10 @@ def optimise(
         Tolerance of the adaptive quadrature (relative, absolute floor).
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check.
+    memory_limit_mb : float, optional
+        Refuse the run if its memory estimate (graph and exact Hessian, kept runs)
+        exceeds this, MB (default ``SSO_MEMORY_LIMIT_MB`` or
+        :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
 
     Returns
     -------
@@ -176,7 +193,8 @@ def optimise(
     Raises
     ------
     ValueError
-        For bad input, naming the field, the value and the allowed range.
+        For bad input, naming the field, the value and the allowed range; or if
+        the run's memory estimate exceeds the limit (the message gives both).
     TypeError
         If ``series`` is not a :class:`sso.ShaftSeries` or a keyword is unknown.
     """
@@ -196,6 +214,8 @@ def optimise(
                                 beta_bounds_deg, phase_bounds_deg)
         rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
                                quadrature_atol)
+        check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
+                                         len(solver_names)), memory_limit_mb)
         result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance,
@@ -212,14 +232,19 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
     from sso.shafts.problem import compiled_nlp
 
-    solved = solve_from_starts(
-        compiled_nlp(problem, rule.samples), problem.start_rad,
-        RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
-        solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
-        max_iterations=max_iterations,
-        to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
-        objective_rtol=objective_rtol, objective_atol=objective_atol,
-        kkt_tolerance=kkt_tolerance)
+    runs = starts * len(solver_names)
+    bar = ProgressBar(runs, "runs", interactive() and runs >= PROGRESS_MIN_RUNS)
+    try:
+        solved = solve_from_starts(
+            compiled_nlp(problem, rule.samples), problem.start_rad,
+            RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
+            solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
+            max_iterations=max_iterations,
+            to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
+            objective_rtol=objective_rtol, objective_atol=objective_atol,
+            kkt_tolerance=kkt_tolerance, progress=lambda: bar.advance(1))
+    finally:
+        bar.close()
     best = solved["best"]
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))

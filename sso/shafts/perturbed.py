@@ -17,13 +17,12 @@ from sso.limits import BETA_LIMIT_DEG
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
 from sso.shafts.series import ShaftSeries
+from sso.solvers.resources import block_samples
 
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
 # A normal draw further than this many standard deviations out is treated as a
 # broken input (probability ~2e-9 per draw), not as a manufacturing deviation.
 NORMAL_REACH_SIGMAS = 6.0
-# Samples evaluated per numpy call inside a task: bounds memory to ~100 MB.
-BLOCK_SAMPLES = 1_000
 
 
 @dataclass(frozen=True)
@@ -73,12 +72,13 @@ def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
 def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
     """RE, fluctuation and peak output acceleration of each sample, shape (3, m)."""
     values = np.empty((len(METRICS), len(chunk.beta_rad)))
-    for start in range(0, len(chunk.beta_rad), BLOCK_SAMPLES):
-        block = slice(start, start + BLOCK_SAMPLES)
+    figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
+    step = block_samples(figure_samples)
+    for start in range(0, len(chunk.beta_rad), step):
+        block = slice(start, start + step)
         beta = [column[:, None] for column in chunk.beta_rad[block].T]
         phase = [column[:, None] for column in chunk.phase_rad[block].T]
         values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
         theta_rad = np.pi * np.arange(figure_samples) / figure_samples
         kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
                                       chunk.model)

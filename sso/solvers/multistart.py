@@ -70,6 +70,7 @@ def solve_from_starts(
     objective_rtol: float,
     objective_atol: float,
     kkt_tolerance: float,
+    progress: Callable[[], None] | None = None,
 ) -> SolverFields:
     """Solve one design problem from ``starts`` points with every solver.
 
@@ -89,6 +90,8 @@ def solve_from_starts(
         ``(run, runs of its solver) -> Solution`` in the problem's own units.
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check and of merging equal minima.
+    progress : callable, optional
+        Called once after each solver run (for a progress bar).
 
     Returns
     -------
@@ -97,7 +100,7 @@ def solve_from_starts(
     """
     points = start_points(user_start, limits.lower, limits.upper, starts, seed)
     measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
-                          max_iterations)
+                          max_iterations, progress)
     solver_runs = {name: [to_solution(run, runs) for run in runs]
                    for name, runs in measured.items()}
     solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
@@ -120,6 +123,7 @@ def run_starts(
     solver_names: Sequence[str],
     solver_tol: float,
     max_iterations: int,
+    progress: Callable[[], None] | None = None,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
@@ -141,6 +145,8 @@ def run_starts(
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
+    progress : callable, optional
+        Called with no arguments after each run (a progress bar's step).
 
     Returns
     -------
@@ -153,12 +159,14 @@ def run_starts(
         def solve(start: np.ndarray, backend: Any = backend) -> RunOutcome:
             return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
 
-        runs[name] = [
-            _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
-                                                               limits, solver_tol),
-                     nlp, parameters, limits)
-            for index, point in enumerate(points)
-        ]
+        runs[name] = []
+        for index, point in enumerate(points):
+            runs[name].append(_measure(name, index,
+                                       solve_with_second_order_care(solve, nlp, point, parameters,
+                                                                    limits, solver_tol),
+                                       nlp, parameters, limits))
+            if progress is not None:
+                progress()
     return runs
 
 

@@ -4,17 +4,22 @@ A design problem builds its graph once per shape (see :mod:`sso.shafts.problem`
 and :mod:`sso.linkages.fourbar_swing`); fixed values enter as parameters ``p``
 and the bounds as ``lbx``/``ubx``, so a new design, new bounds or a new start
 reuse the same graph. Each thread gets its own cache: a CasADi function object is
-never shared between threads.
+never shared between threads. A cache keeps the
+:data:`sso.limits.NLP_CACHE_SHAPES` most recently used shapes and drops older
+ones, so memory stays bounded however many shapes a session visits.
 """
 
 from __future__ import annotations
 
 import threading
+from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from sso.limits import NLP_CACHE_SHAPES
 
 _cache = threading.local()
 
@@ -67,14 +72,45 @@ class CompiledNLP:
 
 
 def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
-    """This thread's NLP for ``key``, built by ``build()`` the first time."""
-    cache = getattr(_cache, "nlps", None)
-    if cache is None:
-        cache = _cache.nlps = {}
+    """This thread's NLP for ``key``, built by ``build()`` when it is not cached.
+
+    The least recently used shape is dropped when more than
+    :data:`sso.limits.NLP_CACHE_SHAPES` are cached in this thread.
+    """
+    cache = cached_shapes()
     nlp = cache.get(key)
     if nlp is None:
         nlp = cache[key] = build()
+        if len(cache) > NLP_CACHE_SHAPES:
+            while len(cache) > NLP_CACHE_SHAPES:
+                cache.popitem(last=False)
+            _return_freed_memory()
+    else:
+        cache.move_to_end(key)
     return nlp
+
+
+def _return_freed_memory() -> None:
+    """Hand memory freed by dropped CasADi objects back to the system (glibc only).
+
+    Without this the C++ heap keeps the freed pages and the process's resident
+    memory reflects every shape ever built, not the ones cached.
+    """
+    import ctypes
+    import ctypes.util
+
+    library = ctypes.util.find_library("c")
+    trim = getattr(ctypes.CDLL(library), "malloc_trim", None) if library else None
+    if trim is not None:
+        trim(0)
+
+
+def cached_shapes() -> OrderedDict[Hashable, CompiledNLP]:
+    """This thread's cache of built NLPs, least recently used first."""
+    cache: OrderedDict[Hashable, CompiledNLP] | None = getattr(_cache, "nlps", None)
+    if cache is None:
+        cache = _cache.nlps = OrderedDict()
+    return cache
 
 
 class BufferedFunction:

@@ -81,7 +81,8 @@ def test_one_joint_and_a_case_file_as_the_design(tmp_path):
     ({"percentiles": [50, 101]}, r"percentiles\[1\] = 101 is outside the allowed range"),
     ({"beta_tolerance_deg": 20.0}, r"beta_tolerance_deg\[2\] = 20 deg lets joint 2 \(beta "
                                    r"15.8387 deg\) reach 90 deg"),
-    ({"input_speed_rpm": 0.0}, r"input_speed_rpm = 0 is outside the allowed range \(0, inf\)"),
+    ({"input_speed_rpm": 0.0},
+     r"input_speed_rpm = 0 is outside the allowed range \(0, 1e\+06\] rpm"),
 ])
 def test_bad_input_is_refused_naming_the_field_and_range(keywords, message):
     with pytest.raises(ValueError, match=message):

@@ -114,9 +114,9 @@ def test_unknown_key_suggests_the_nearest(tmp_path, text, line, message):
 
 @pytest.mark.parametrize("text, line, reason", [
     ('input_speed_rpm = -3\n' + MINIMAL, 1,
-     "input_speed_rpm = -3 is outside the allowed range (0, inf) rpm"),
+     "input_speed_rpm = -3 is outside the allowed range (0, 1e+06] rpm"),
     ('input_speed_rpm = "fast"\n' + MINIMAL, 1,
-     "input_speed_rpm = 'fast' must be a number in (0, inf) rpm"),
+     "input_speed_rpm = 'fast' must be a number in (0, 1e+06] rpm"),
     ('[design]\nbeta_deg = [10, 95]\n', 2,
      "design.beta_deg[1] = 95 is outside the allowed range [0, 90) deg"),
     (MINIMAL + '[solver]\nstarts = 0\n', 4,

@@ -245,7 +245,7 @@ def test_bad_arguments_exit_2(tmp_path, arguments, message):
     ('name = "x"\n' + MINIMAL.replace("starts", "strats"),
      "line 5: unknown key solver.strats; did you mean solver.starts?"),
     ('name = "x"\ninput_speed_rpm = "fast"\n' + MINIMAL,
-     "line 2: input_speed_rpm = 'fast' must be a number in (0, inf) rpm"),
+     "line 2: input_speed_rpm = 'fast' must be a number in (0, 1e+06] rpm"),
     ('name = "x"\n[design]\nbeta_deg = [20.0, 95.0]\n',
      "line 3: design.beta_deg[1] = 95 is outside the allowed range [0, 90) deg"),
 ])

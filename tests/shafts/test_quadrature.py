@@ -45,7 +45,18 @@ def test_error_estimate_bounds_the_true_error():
 
 
 def test_cap_reached_warns_and_marks_unconverged():
+    # one 85-deg joint: peak half-width atanh(cos 85 deg) = 0.0874 rad, resolved from
+    # 4 / 0.0874 = 46 -> 64 angles, but 1e-10 needs more than 64
     with pytest.warns(sso.QuadratureWarning, match="cap of"):
+        _, rule = adaptive_residual_error([np.radians(85.0)], [], "exact", max_samples=64)
+    assert not rule.converged
+    assert rule.samples == 64
+
+
+def test_unresolvable_peaks_warn_and_mark_unconverged():
+    # three aligned 85-deg joints act as one joint with cos B = cos(85)^3 = 6.6e-4:
+    # 4 / atanh(6.6e-4) = 6040 angles resolve its peak, above a cap of 1024
+    with pytest.warns(sso.QuadratureWarning, match="cannot resolve"):
         _, rule = adaptive_residual_error(list(np.radians([85.0, 85.0, 85.0])), [0.0, 0.0],
                                           "exact", max_samples=1024)
     assert not rule.converged

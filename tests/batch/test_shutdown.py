@@ -1,0 +1,124 @@
+"""A signalled ``sso sweep`` with 2 workers leaves no process and no temporary file.
+
+Real processes: ``python -m sso.cli sweep`` runs in a subprocess; once it has written
+its first chunk, it gets SIGINT, SIGTERM or SIGKILL. Within 5 s (issue 11) no process
+it started may remain (its pool workers and multiprocessing's resource tracker,
+found as its children in /proc), no ``.sso-tmp-*`` file may remain, and ``--resume``
+then completes the sweep.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from sso.batch.table import read_rows
+from sso.files import TEMPORARY_PREFIX
+
+pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc")
+
+SWEEP = """\
+name = "shutdown"
+action = "optimise"
+chunk_size = 1
+
+[case]
+[case.design]
+beta_deg = [30.0, 40.0, 40.0]
+phase_deg = [90.0, 90.0]
+[case.bounds]
+beta_deg = [10.0, 40.0]
+[case.solver]
+starts = 4
+
+[axes]
+"design.beta_deg[0]" = { start = 10.0, stop = 40.0, num = 6 }
+"design.beta_deg[1]" = { start = 10.0, stop = 40.0, num = 5 }
+"""
+POINTS = 30
+GONE_WITHIN_S = 5.0
+START_DEADLINE_S = 120.0
+
+
+def children(pid: int) -> set[int]:
+    """Processes whose parent is ``pid`` (from /proc)."""
+    found = set()
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            found.add(int(entry.name))
+    return found
+
+
+def alive(pid: int) -> bool:
+    """True while ``pid`` exists and is not a zombie."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def start_sweep(folder: Path, log_name: str, *extra: str) -> subprocess.Popen[bytes]:
+    """``sso sweep`` in a subprocess; its output goes to a file (a pipe would keep a
+    leftover worker's reader waiting)."""
+    environment = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+    with open(folder / log_name, "wb") as log:
+        return subprocess.Popen([sys.executable, "-m", "sso.cli", "sweep",
+                                 str(folder / "sweep.toml"), "--workers", "2", "--no-plots",
+                                 "--quiet", "--out", str(folder / "out"), *extra],
+                                env=environment, stdout=log, stderr=subprocess.STDOUT)
+
+
+@pytest.mark.parametrize("signal_number", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
+def test_a_signalled_sweep_leaves_nothing_behind_and_resumes(tmp_path, signal_number):
+    (tmp_path / "sweep.toml").write_text(SWEEP)
+    csv_path = tmp_path / "out" / "shutdown" / "sweep.csv"
+    process = start_sweep(tmp_path, "run.log")
+    started = set()
+    deadline = time.monotonic() + START_DEADLINE_S
+    try:
+        while not (csv_path.exists() and len(started) >= 2):
+            assert process.poll() is None, (tmp_path / "run.log").read_text()
+            assert time.monotonic() < deadline, "the sweep wrote no chunk in time"
+            started |= children(process.pid)
+            time.sleep(0.01)
+        started |= children(process.pid)
+        os.kill(process.pid, signal_number)
+        deadline = time.monotonic() + GONE_WITHIN_S
+        while process.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        exit_code = process.poll()
+        while any(alive(pid) for pid in started) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        left = [pid for pid in started if alive(pid)]
+    finally:
+        for pid in [process.pid, *started]:  # whatever the outcome, leave nothing running
+            if alive(pid):
+                os.kill(pid, signal.SIGKILL)
+        process.wait()
+    assert exit_code is not None, "the sweep did not stop within 5 s"
+    assert left == []
+    assert sorted(tmp_path.rglob(f"{TEMPORARY_PREFIX}*")) == []
+    assert "Traceback" not in (tmp_path / "run.log").read_text()
+    if signal_number != signal.SIGKILL:
+        assert exit_code == 130  # the CLI's "interrupted"
+    done_before = len(read_rows(csv_path))
+    assert 1 <= done_before < POINTS, "the run was not interrupted mid-way"
+    if signal_number == signal.SIGKILL:  # the hardest case: resume it to the end
+        resumed = start_sweep(tmp_path, "resume.log", "--resume")
+        assert resumed.wait(timeout=300) == 0, (tmp_path / "resume.log").read_text()
+        rows = read_rows(csv_path)
+        assert [int(row["point"]) for row in rows] == list(range(POINTS))
+        assert all(row["status"] == "ok" for row in rows)
