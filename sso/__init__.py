@@ -37,6 +37,7 @@ _EXPORTS = {
     "InertPhaseWarning": "sso.shafts.series",
     "StartMovedWarning": "sso.shafts.options",
     "QuadratureWarning": "sso.shafts.quadrature",
+    "write_report": "sso.reports.kinds",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

@@ -174,7 +174,7 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
 def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
                started: float) -> Outcome:
     from sso.cases.mechanism import MECHANISM_KINDS
-    from sso.reports.writer import write_report
+    from sso.reports.kinds import write_report
     from sso.run.document import evaluate_case, optimise_case
     from sso.run.mechanism_document import mechanism_document
 
@@ -194,8 +194,9 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     _warn(case.name, document["warnings"])
     try:
         written = write_report(document, folder, case.formats)
-    except OSError as error:
-        _error(f"{case.name}: cannot write the report into {folder}: {error.strerror or error}")
+    except (OSError, ValueError) as error:
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
+        _error(f"{case.name}: cannot write the report into {folder}: {reason}")
         return Outcome(case.name, "cannot write", EXIT_BAD_INPUT)
     status, code = _status(document)
     if not document["success"]:
@@ -264,7 +265,8 @@ def _validate(args: argparse.Namespace) -> int:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from sso.reports.writer import ResultFileError, read_result, write_report
+    from sso.reports.kinds import write_report
+    from sso.reports.writer import ResultFileError, read_result
 
     exit_code = EXIT_OK
     for path in args.results:
@@ -274,8 +276,9 @@ def _report(args: argparse.Namespace) -> int:
             _error(str(error))
             exit_code = EXIT_BAD_INPUT
             continue
-        formats = _formats(args, [name for name in document["case"]["output"]["formats"]
-                                  if name != "json"])
+        # The folder is written afresh, so result.json goes into it again.
+        formats = ("json", *_formats(args, [name for name in document["case"]["output"]["formats"]
+                                            if name != "json"]))
         if args.out is None:
             folder = Path(path).parent
         elif len(args.results) > 1:
@@ -284,8 +287,9 @@ def _report(args: argparse.Namespace) -> int:
             folder = Path(args.out)
         try:
             written = write_report(document, folder, formats)
-        except OSError as error:
-            _error(f"{path}: cannot write the report into {folder}: {error.strerror or error}")
+        except (OSError, ValueError) as error:
+            reason = error.strerror if isinstance(error, OSError) and error.strerror else error
+            _error(f"{path}: cannot write the report into {folder}: {reason}")
             exit_code = EXIT_BAD_INPUT
             continue
         _say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "

@@ -1,7 +1,7 @@
-"""Write a report folder from a result document, and read ``result.json`` back.
+"""Render the report files of a result document, and read ``result.json`` back.
 
-Everything is rendered in memory first, then each file is written atomically, so
-a failure never leaves a half-written file and never touches earlier results.
+Everything is rendered in memory; :func:`sso.reports.kinds.write_report` writes
+the files as one new report folder.
 """
 
 from __future__ import annotations
@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from sso.cases.mechanism import MECHANISM_KINDS
-from sso.files import write_bytes_atomic
 from sso.run.document import SCHEMA_VERSION
 
 RESULT_FILE = "result.json"
@@ -76,23 +75,6 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
 
             files["report.html"] = render_html(blocks, images).encode("utf-8")
     return files
-
-
-def write_report(document: Mapping[str, Any], folder: str | Path,
-                 formats: Sequence[str]) -> list[Path]:
-    """Render the requested formats and write them atomically into ``folder``.
-
-    Files of other formats already in the folder are left alone.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
-    """
-    files = render(document, formats)
-    target = Path(folder)
-    target.mkdir(parents=True, exist_ok=True)
-    return [write_bytes_atomic(target / name, data) for name, data in files.items()]
 
 
 def result_json(document: Mapping[str, Any]) -> str:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any, ClassVar, Iterable
 
 import numpy as np
 
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -44,8 +45,8 @@ from sso.validation import (
 )
 
 
-@dataclass(frozen=True)
-class OptimisationResult:
+@dataclass(frozen=True, repr=False)
+class OptimisationResult(Readable):
     """Everything one optimisation found; reports are rendered from it alone.
 
     Attributes
@@ -106,6 +107,8 @@ class OptimisationResult:
     starts: int
     warnings: tuple[str, ...]
 
+    report_kind: ClassVar[str] = "optimisation"
+
     @property
     def success(self) -> bool:
         """True when the best answer converged and the solvers agree."""
@@ -120,6 +123,34 @@ class OptimisationResult:
     def fun(self) -> float:
         """Residual error of the best answer (dimensionless)."""
         return self.best.fun
+
+    def _repr_text(self) -> str:
+        verdict = "success" if self.success else "FAILED"
+        return (f"option {self.option} ({self.option_name}), {self.model} model, "
+                f"{verdict}: RE {format_number(self.initial.residual_error, 4)} -> "
+                f"{format_number(self.fun, 4)} by {self.best.solver}; "
+                f"beta_deg [{format_numbers(self.best.series.beta_deg, 6)}], "
+                f"phase_deg [{format_numbers(self.best.series.phase_deg, 6)}]")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = "success" if self.success else "FAILED"
+        designs = TextTable(("design", "beta (deg)", "phase (deg)", "RE"), (
+            ("initial", format_numbers(self.initial_series.beta_deg),
+             format_numbers(self.initial_series.phase_deg),
+             format_number(self.initial.residual_error)),
+            (f"optimum ({self.best.solver})", format_numbers(self.best.series.beta_deg),
+             format_numbers(self.best.series.phase_deg), format_number(self.fun))))
+        solvers = TextTable(("solver", "converged", "RE", "KKT (1/rad)", "iterations",
+                             "message"),
+                            tuple((name, "yes" if solution.success else "no",
+                                   format_number(solution.fun), format_number(solution.kkt, 2),
+                                   str(solution.nit), solution.message)
+                                  for name, solution in self.solutions.items()))
+        check = ("cross-check: one solver, none made" if self.crosscheck is None
+                 else f"cross-check: {self.crosscheck.message}")
+        title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
+                 f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
+        return [title, designs, solvers, check]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""

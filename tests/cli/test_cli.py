@@ -2,6 +2,7 @@
 
 import json
 import re
+import shutil
 import struct
 import subprocess
 import sys
@@ -148,7 +149,29 @@ def test_report_rerenders_the_same_files_from_result_json(option3_run, tmp_path)
                       for folder in (tmp_path, report)]
     assert without_images[0] == without_images[1]
     assert png_size(tmp_path / "polar.png") == (1000, 700)
-    assert not (tmp_path / "result.json").exists()
+    # The folder is written afresh, so the result it was rendered from goes into it too.
+    assert (tmp_path / "result.json").read_bytes() == (report / "result.json").read_bytes()
+
+
+def test_report_in_place_keeps_result_json_and_drops_files_of_the_earlier_run(option3_run,
+                                                                              tmp_path):
+    _, report = option3_run
+    folder = tmp_path / "copy"
+    shutil.copytree(report, folder)
+    completed = sso("report", folder / "result.json", "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert (folder / "result.json").read_bytes() == (report / "result.json").read_bytes()
+    assert not list(folder.glob("*.png"))  # the earlier run's plots are gone
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["copy"]  # no temporary left
+
+
+def test_a_folder_with_files_that_are_not_a_report_is_refused(option3_run, tmp_path):
+    _, report = option3_run
+    (tmp_path / "notes.txt").write_text("mine")
+    completed = sso("report", report / "result.json", "--out", tmp_path, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "notes.txt, which is not a report file" in completed.stderr
+    assert (tmp_path / "notes.txt").read_text() == "mine"
 
 
 @pytest.mark.parametrize("model, low_rpm, high_rpm", [("paper", 18.17, 34.40)])

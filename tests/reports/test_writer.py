@@ -13,8 +13,8 @@ from sso.reports.writer import (
     read_result,
     render,
     result_json,
-    write_report,
 )
+from sso.reports.kinds import write_report
 from sso.run.document import evaluate_case
 
 
@@ -42,13 +42,14 @@ def test_result_json_is_strict_json():
 
 def test_evaluation_document_round_trips_through_result_json(tmp_path):
     document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
-    write_report(document, tmp_path, ["json", "csv"])
-    assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
+    write_report(document, tmp_path / "report", ["json", "csv"])
+    assert read_result(tmp_path / "report" / "result.json") == json.loads(result_json(document))
     evaluation = document["designs"]["initial"]["evaluation"]
     # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
-    assert render(document, ["csv"]) == {"speeds.csv": (tmp_path / "speeds.csv").read_bytes()}
+    assert render(document, ["csv"]) == {"speeds.csv":
+                                         (tmp_path / "report" / "speeds.csv").read_bytes()}
 
 
 @pytest.mark.parametrize("content, message", [

@@ -1,0 +1,64 @@
+"""Every public result reads well: a short repr, summary(), _repr_html_, sso.write_report."""
+
+import json
+
+import pytest
+
+import sso
+from sso.display import FLOOR_TEXT, format_number
+from sso.limits import ROUND_OFF_FLOOR
+
+
+@pytest.fixture(scope="module")
+def two_joint_result():
+    # Two equal joints phased 90 deg cancel exactly (docs/model.md, "Two joints"):
+    # the optimum's RE is zero to round-off.
+    return sso.optimise(sso.ShaftSeries([20.0, 20.0], [40.0], "exact"), 1, starts=1)
+
+
+@pytest.mark.parametrize("value, text", [
+    (0.0, "0"), (7.8e-31, FLOOR_TEXT), (-3e-17, FLOOR_TEXT), (ROUND_OFF_FLOOR, FLOOR_TEXT),
+    (2.1e-15, "2.1e-15"), (0.00349849123, "0.00349849"), (1234567.0, "1.23457e+06"),
+    (None, "n/a"), (float("nan"), "n/a"), (3, "3"), (True, "True"),
+])
+def test_numbers_have_six_digits_and_round_off_prints_as_the_floor(value, text):
+    assert format_number(value) == text
+
+
+def test_optimisation_result_reads_well(two_joint_result):
+    result = two_joint_result
+    text = repr(result)
+    assert len(text) <= 400 and text.count("\n") <= 2
+    assert text.startswith("OptimisationResult(option 1 (phase), exact model, success")
+    summary = result.summary()
+    assert "optimum (" in summary and "cross-check: solvers agree" in summary
+    # The optimum phase is 90 deg to the solver's tolerance; its RE is round-off.
+    optimum_line = next(line for line in summary.splitlines() if line.startswith("optimum"))
+    assert optimum_line.split()[-2:] == ["<", "1e-15"]
+    assert "ipopt" in summary and "slsqp" in summary
+    assert "<table>" in result._repr_html_()
+
+
+def test_evaluation_solution_and_crosscheck_read_well(two_joint_result):
+    evaluation = sso.ShaftSeries([20.0, 20.0], [0.0], "exact").evaluate(25.0)
+    for item in (evaluation, two_joint_result.best, two_joint_result.crosscheck):
+        assert len(repr(item)) <= 400 and "\n" not in repr(item)
+        assert item.summary() and "<" in item._repr_html_()
+    assert format_number(evaluation.speed_min_rpm) in evaluation.summary()
+
+
+def test_write_report_of_an_optimisation_is_the_report_sso_run_writes(two_joint_result,
+                                                                      tmp_path):
+    written = sso.write_report(two_joint_result, tmp_path / "report", formats=("json", "md"))
+    assert sorted(path.name for path in written) == ["report.md", "result.json"]
+    document = json.loads((tmp_path / "report" / "result.json").read_text())
+    assert document["mode"] == "optimise" and document["designs"]["optimum"]["phase_deg"] == [
+        pytest.approx(90.0, abs=1e-4)]
+    assert "# SSO report: optimisation" in (tmp_path / "report" / "report.md").read_text()
+
+
+def test_write_report_refuses_what_is_not_a_result(tmp_path):
+    with pytest.raises(TypeError, match="result must be an sso result"):
+        sso.write_report(42, tmp_path / "report")
+    with pytest.raises(ValueError, match="formats = \\['pdf'\\]"):
+        sso.write_report({}, tmp_path / "report", formats=["pdf"])
