@@ -56,6 +56,29 @@ REPORT_SUFFIXES = (".json", ".csv", ".md", ".html", ".png")
 """Files a report folder may hold for :func:`replace_folder` to replace it."""
 
 
+def check_report_folder(path: str | os.PathLike[str]) -> Path:
+    """``path`` as a Path, if it is missing or a folder holding report files only.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` is a file, or a folder holding a subfolder or a file whose
+        suffix is not one of :data:`REPORT_SUFFIXES`.
+    """
+    target = Path(path)
+    if target.exists():
+        if not target.is_dir():
+            raise ValueError(f"{target} is a file, not a report folder")
+        foreign = sorted(entry.name for entry in target.iterdir()
+                         if not entry.is_file() or entry.suffix not in REPORT_SUFFIXES)
+        if foreign:
+            raise ValueError(f"{target} holds {', '.join(foreign[:3])}"
+                             f"{' and more' if len(foreign) > 3 else ''}, which is not a "
+                             f"report file ({', '.join(REPORT_SUFFIXES)}); choose an empty or "
+                             "new folder for the report")
+    return target
+
+
 def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes]) -> list[Path]:
     """Make ``path`` a folder holding exactly ``files``, never losing the old one on failure.
 
@@ -85,17 +108,7 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes]) -> 
     OSError
         If the folder cannot be written; ``path`` is then left as it was.
     """
-    target = Path(path)
-    if target.exists():
-        if not target.is_dir():
-            raise ValueError(f"{target} is a file, not a report folder")
-        foreign = sorted(entry.name for entry in target.iterdir()
-                         if not entry.is_file() or entry.suffix not in REPORT_SUFFIXES)
-        if foreign:
-            raise ValueError(f"{target} holds {', '.join(foreign[:3])}"
-                             f"{' and more' if len(foreign) > 3 else ''}, which is not a "
-                             f"report file ({', '.join(REPORT_SUFFIXES)}); choose an empty or "
-                             "new folder for the report")
+    target = check_report_folder(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}new-", suffix=f"-{target.name}",
                                     dir=target.parent))

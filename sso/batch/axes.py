@@ -67,8 +67,9 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {base!r} must be a case file path, an sso.cases.schema.Case or "
-                         "a mapping laid out like a case file")
+        raise ValueError(f"base is a {type(base).__name__}; it must be a case file path, an "
+                         "sso.cases.schema.Case or a mapping laid out like a case file (a "
+                         "tolerance study also takes an sso.OptimisationResult or sso.ShaftSeries)")
     return case
 
 

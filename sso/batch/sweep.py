@@ -24,8 +24,12 @@ from sso.batch.table import (
     write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import write_text_atomic
+from sso.files import check_report_folder, write_text_atomic
+from sso.limits import OUTPUT_FORMATS
+from sso.reports.kinds import write_report
 
+SWEEPABLE_KINDS = ("shaft_series",)
+"""Case kinds a sweep can vary (the mechanism kinds have no sweep yet)."""
 MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
@@ -66,9 +70,11 @@ def sweep(
     action : {"optimise", "evaluate"}
         Optimise each point's case, or evaluate its design as given.
     out_dir : str or pathlib.Path, optional
-        Folder for ``sweep.csv`` (rewritten atomically as chunks finish),
-        ``sweep.json`` (what the sweep is), ``report.md`` and the plots. Without
-        it nothing is written.
+        Folder for ``sweep.csv`` (rewritten atomically as chunks finish; every
+        digit), ``sweep.json`` (what the sweep is), ``report.md``, ``report.html``
+        and ``sweep_re.png``. When the sweep ends the whole folder is written
+        afresh (:func:`sso.write_report`). It must be new, empty or hold report
+        files only. Without it nothing is written.
     resume : bool
         Continue the sweep already in ``out_dir``: compute only its missing
         points. The final ``sweep.csv`` equals that of an uninterrupted run
@@ -95,11 +101,16 @@ def sweep(
     Raises
     ------
     ValueError
-        For a bad base case, axis, mode, action, count, or an ``out_dir`` that
-        holds a different sweep (or any sweep, without ``resume``).
+        For a bad base case, a case kind that cannot be swept, a bad axis, mode,
+        action or count, or an ``out_dir`` that holds a different sweep (or any
+        sweep, without ``resume``) or files that are not a report's.
     """
     started = time.perf_counter()
-    document = base_case(base).to_dict()
+    case = base_case(base)
+    if case.kind not in SWEEPABLE_KINDS:
+        raise ValueError(f"kind = {case.kind!r}: a case of this kind cannot be swept; sweeps "
+                         f"support kind = {', '.join(map(repr, SWEEPABLE_KINDS))}")
+    document = case.to_dict()
     parsed_axes = parse_axes(axes, document)
     points = expand_points(parsed_axes, mode)
     if action not in ACTIONS:
@@ -111,7 +122,7 @@ def sweep(
     rows: dict[int, dict[str, str]] = {}
     csv_path = None
     if out_dir is not None:
-        out_dir = Path(out_dir)
+        out_dir = check_report_folder(out_dir)
         out_dir.mkdir(parents=True, exist_ok=True)
         csv_path = out_dir / CSV_NAME
         if resume:
@@ -146,13 +157,12 @@ def sweep(
     ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
     result = SweepResult(axes=parsed_axes, mode=mode, action=action, rows=ordered,
                          computed=len(pending), resumed=resumed,
-                         elapsed_s=time.perf_counter() - started, out_dir=out_dir)
+                         elapsed_s=time.perf_counter() - started, out_dir=out_dir,
+                         manifest=identity)
     if out_dir is None:
         return result
-    from sso.batch.report import write_sweep_report
-
-    files = (csv_path, out_dir / MANIFEST_NAME, *write_sweep_report(result, out_dir, plots))
-    return replace(result, files=files)
+    formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
+    return replace(result, files=tuple(write_report(result, out_dir, formats)))
 
 
 def _parallelism(client: Any, workers: int) -> int:

@@ -79,11 +79,16 @@ def format_row(row: Mapping[str, Any], header: Sequence[str]) -> dict[str, str]:
 
 def write_rows(path: Path, header: Sequence[str], rows: Iterable[Mapping[str, str]]) -> None:
     """Write formatted rows, sorted by point index, atomically."""
+    write_text_atomic(path, render_rows(header, rows))
+
+
+def render_rows(header: Sequence[str], rows: Iterable[Mapping[str, str]]) -> str:
+    """Text of ``sweep.csv``: the header and the formatted rows, sorted by point index."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, fieldnames=list(header), lineterminator="\n")
     writer.writeheader()
     writer.writerows(sorted(rows, key=lambda row: int(row["point"])))
-    write_text_atomic(path, buffer.getvalue())
+    return buffer.getvalue()
 
 
 def read_rows(path: Path) -> list[dict[str, str]]:

@@ -323,10 +323,12 @@ COMMANDS: tuple[Command, ...] = (
             "computes only the missing points. Exit 0: every point finished (and converged); "
             "1: some did not; 2: bad input.",
             configure_sweep, run_sweep),
-    Command("tolerance", "Monte Carlo tolerance study of a case's design",
-            "Perturb the case's angles and phases as its [tolerance] table says (normal or "
+    Command("tolerance", "Monte Carlo tolerance study of a case's optimum",
+            "Optimise the case (or read its optimum from --result RESULT.json), perturb the "
+            "optimum's angles and phases as the case's [tolerance] table says (normal or "
             "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
-            "and output acceleration with a histogram into DIR/<case name>/.",
+            "and output acceleration with a histogram into DIR/<case name>/. --at start "
+            "studies the case's design as given instead.",
             configure_tolerance, run_tolerance),
 )
 
