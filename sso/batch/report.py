@@ -172,6 +172,8 @@ def _sweep_figure(result: Any) -> Any:
     ok = [row for row in result.rows if row["status"] == "ok"]
     if result.mode == "product" and len(result.axes) == 2:
         outer, inner = result.axes
+        if _numeric(outer) and not _numeric(inner):  # a numeric x axis reads better
+            outer, inner = inner, outer
         panels = [(f"{outer.path} = {_cell(value)}", inner,
                    [row for row in ok if _same(row[outer.path], value)])
                   for value in outer.values[:MOST_PANELS]]
@@ -189,9 +191,12 @@ def _sweep_figure(result: Any) -> Any:
     for axes, (title, axis, rows) in zip(grid.flat, panels):
         _sweep_panel(axes, axis, rows, title)
     failed = len(result.rows) - len(ok)
-    omitted = (f"; first {MOST_PANELS} of {len(result.axes[0].values)} panels"
-               if len(panels) < (len(result.axes[0].values) if result.mode == "product"
-                                 and len(result.axes) == 2 else len(result.axes)) else "")
+    possible = (len(outer.values) if result.mode == "product" and len(result.axes) == 2
+                else len(result.axes))
+    omitted = f"; first {MOST_PANELS} of {possible} panels" if len(panels) < possible else ""
+    drawn = [max(row["residual_error"], ROUND_OFF_FLOOR) for row in ok]
+    top = max(max(drawn, default=1.0) * 5, ROUND_OFF_FLOOR * 100)
+    grid.flat[0].set_ylim(ROUND_OFF_FLOOR / 10, top)  # shared by every panel
     figure.suptitle(f"Residual error RE over the sweep ({result.action}, {len(result.rows)} "
                     f"points{f', {failed} failed not shown' if failed else ''}{omitted})")
     legend: dict[str, Any] = {}
@@ -206,7 +211,7 @@ def _sweep_figure(result: Any) -> Any:
 def _sweep_panel(axes: Any, axis: Any, rows: list[dict[str, Any]], title: str) -> None:
     from matplotlib.ticker import MaxNLocator
 
-    numeric = all(_is_number(value) for value in axis.values)
+    numeric = _numeric(axis)
     categories = {str(value): index for index, value in enumerate(axis.values)}
     x = np.array([row[axis.path] if numeric else categories[str(row[axis.path])]
                   for row in rows], dtype=float)
@@ -226,8 +231,6 @@ def _sweep_panel(axes: Any, axis: Any, rows: list[dict[str, Any]], title: str) -
     axes.axhline(ROUND_OFF_FLOOR, color="grey", linestyle=":", linewidth=1,
                  label=f"round-off floor {ROUND_OFF_FLOOR:g}")
     axes.set_yscale("log")
-    top = float(drawn.max()) * 5 if len(x) else 1.0
-    axes.set_ylim(ROUND_OFF_FLOOR / 10, max(top, ROUND_OFF_FLOOR * 100))
     axes.set_title(title, fontsize="medium")
     axes.set_xlabel(axis.path)
     axes.set_ylabel("RE")
@@ -295,6 +298,10 @@ def _re_key(row: dict[str, Any]) -> tuple[bool, float]:
 
 def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _numeric(axis: Any) -> bool:
+    return all(_is_number(value) for value in axis.values)
 
 
 def _same(left: Any, right: Any) -> bool:
