@@ -21,6 +21,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("kinematics",),
     ("solvers",),
     ("shafts", "linkages"),
+    ("column",),
     ("cases",),
     ("run",),
     ("reports",),

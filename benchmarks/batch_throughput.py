@@ -1,0 +1,265 @@
+"""Throughput of ``optimise_batch`` and single-solve latency, against the skilled baseline.
+
+Two measurements in one run, every figure a ratio against
+:mod:`benchmarks.skilled_baseline` (closed form, complex-step gradient, SLSQP, one
+start) timed in the same process:
+
+1. **Batch.** ``optimise_batch`` on ``--starts`` (default 2,000) random three-joint
+   option-3 starts (beta in [10, 40] deg, phase in [0, 180] deg): designs per
+   second (best of ``--repeats``), against the baseline's solves per second on the
+   same starts; the fraction reaching RE <= 1e-10, and that fraction among the
+   starts where the baseline reaches it.
+2. **Shapes.** ``--shape-starts`` (default 300) random starts of 3 to 6 joints for
+   each option (beta in [5, 35] deg; option 1 keeps the start's angles): designs
+   per second against the baseline's solves per second on the same starts, and how
+   many starts end with a higher or lower RE than the baseline's (by more than
+   1e-12).
+3. **One design.** The paper's three options (``cases/paper_option*_exact.toml``):
+   the baseline, ``sso.optimise`` with SLSQP and one start, with IPOPT and one
+   start, the default call (both solvers, its default starts) and
+   ``optimise_batch`` with one row: median wall time after a warm-up (NLP built),
+   and RE reached. The issue's targets: the fastest sso solver >= 5x faster than the
+   baseline, the default call <= 5x the baseline.
+
+Usage::
+
+    python -m benchmarks.batch_throughput [--starts 2000] [--repeats 3] [--out DIR]
+
+Writes ``batch_throughput.json`` and ``batch_throughput.md`` into ``DIR`` (default
+``results/benchmarks/``, ignored by git) and prints the summary.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import sso
+from benchmarks.skilled_baseline import solve as baseline_solve
+from sso.files import write_text_atomic
+from sso.shafts.batch import optimise_batch
+
+REACHED = 1e-10
+BETA_BOUNDS_DEG = (10.0, 40.0)
+PHASE_BOUNDS_DEG = (0.0, 180.0)
+SEED = 20261123
+TARGET_DESIGNS_PER_S = 5000.0
+TARGET_BATCH_RATIO = 20.0
+TARGET_FASTEST_RATIO = 5.0
+TARGET_DEFAULT_RATIO = 5.0
+# The paper's cases (cases/paper_option*_exact.toml): start, beta bounds.
+PAPER_CASES = {
+    1: ((15.0, 20.0, 9.0), (30.0, 40.0), (0.0, 40.0)),
+    2: ((10.0, 15.0, 30.0), (90.0, 90.0), (7.0, 25.0)),
+    3: ((30.0, 40.0, 50.0), (90.0, 90.0), (10.0, 40.0)),
+}
+LATENCY_REPEATS = 21
+
+
+def batch_figures(count: int, repeats: int) -> dict[str, Any]:
+    """Designs per second of ``optimise_batch`` and of the baseline on the same starts."""
+    rng = np.random.default_rng(SEED)
+    beta_deg = rng.uniform(*BETA_BOUNDS_DEG, (count, 3))
+    phase_deg = rng.uniform(*PHASE_BOUNDS_DEG, (count, 2))
+    times = []
+    for _ in range(repeats):
+        started = time.perf_counter()
+        result = optimise_batch(beta_deg, phase_deg, option=3, beta_bounds_deg=BETA_BOUNDS_DEG,
+                                phase_bounds_deg=PHASE_BOUNDS_DEG)
+        times.append(time.perf_counter() - started)
+    started = time.perf_counter()
+    baseline = [baseline_solve(beta_deg[row], phase_deg[row], 3, BETA_BOUNDS_DEG,
+                               PHASE_BOUNDS_DEG) for row in range(count)]
+    baseline_time = time.perf_counter() - started
+    baseline_fun = np.array([solve.fun for solve in baseline])
+    baseline_reached = baseline_fun <= REACHED
+    batch_reached = result.fun <= REACHED
+    designs_per_s = count / min(times)
+    baseline_per_s = count / baseline_time
+    return {
+        "starts": count,
+        "batch_time_s": min(times),
+        "batch_times_s": times,
+        "designs_per_s": designs_per_s,
+        "baseline_time_s": baseline_time,
+        "baseline_solves_per_s": baseline_per_s,
+        "ratio": designs_per_s / baseline_per_s,
+        "batch_fraction_reached": float(np.mean(batch_reached)),
+        "baseline_fraction_reached": float(np.mean(baseline_reached)),
+        "batch_reached_where_baseline_did": float(np.mean(batch_reached[baseline_reached])),
+        "batch_success": float(np.mean(result.success)),
+        "batch_nit_median": float(np.median(result.nit)),
+        "batch_nit_max": int(np.max(result.nit)),
+        "baseline_nit_median": float(np.median([solve.nit for solve in baseline])),
+        "lower_re_than_baseline": int(np.sum(result.fun < baseline_fun - 1e-12)),
+        "higher_re_than_baseline": int(np.sum(result.fun > baseline_fun + 1e-12)),
+    }
+
+
+def shape_figures(count: int) -> list[dict[str, Any]]:
+    """Batch against baseline for 3 to 6 joints and each option."""
+    rows = []
+    bounds = (5.0, 35.0)
+    for n_joints in range(3, 7):
+        for option in (1, 2, 3):
+            rng = np.random.default_rng(SEED + 10 * n_joints + option)
+            beta_deg = rng.uniform(*bounds, (count, n_joints))
+            phase_deg = rng.uniform(*PHASE_BOUNDS_DEG, (count, n_joints - 1))
+            started = time.perf_counter()
+            result = optimise_batch(beta_deg, phase_deg, option=option, beta_bounds_deg=bounds)
+            batch_time = time.perf_counter() - started
+            started = time.perf_counter()
+            baseline = np.array([baseline_solve(beta_deg[row], phase_deg[row], option, bounds,
+                                                PHASE_BOUNDS_DEG).fun for row in range(count)])
+            baseline_time = time.perf_counter() - started
+            rows.append({
+                "joints": n_joints, "option": option, "starts": count,
+                "designs_per_s": count / batch_time,
+                "baseline_solves_per_s": count / baseline_time,
+                "ratio": baseline_time / batch_time,
+                "success": float(np.mean(result.success)),
+                "nit_max": int(np.max(result.nit)),
+                "higher_re_than_baseline": int(np.sum(result.fun > baseline + 1e-12)),
+                "lower_re_than_baseline": int(np.sum(result.fun < baseline - 1e-12)),
+            })
+    return rows
+
+
+def _median_time(call: Callable[[], float]) -> tuple[float, float]:
+    """Median wall time (s) of repeated calls after one warm-up, and the RE returned."""
+    fun = call()
+    times = []
+    for _ in range(LATENCY_REPEATS):
+        started = time.perf_counter()
+        fun = call()
+        times.append(time.perf_counter() - started)
+    return statistics.median(times), fun
+
+
+def _methods(option: int, beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],
+             beta_bounds: tuple[float, float]) -> dict[str, Callable[[], float]]:
+    """One solve of the case by each method, returning the RE reached."""
+    series = sso.ShaftSeries(beta_deg, phase_deg)
+    arguments: dict[str, Any] = {"beta_bounds_deg": beta_bounds,
+                                 "phase_bounds_deg": PHASE_BOUNDS_DEG}
+    return {
+        "skilled_baseline": lambda: baseline_solve(
+            np.array(beta_deg), np.array(phase_deg), option, beta_bounds, PHASE_BOUNDS_DEG).fun,
+        "sso_slsqp_1_start": lambda: sso.optimise(
+            series, option, solvers=("slsqp",), starts=1, **arguments).fun,
+        "sso_ipopt_1_start": lambda: sso.optimise(
+            series, option, solvers=("ipopt",), starts=1, **arguments).fun,
+        "sso_default": lambda: sso.optimise(series, option, **arguments).fun,
+        "optimise_batch_1_row": lambda: float(optimise_batch(
+            [beta_deg], [phase_deg], option=option, **arguments).fun[0]),
+    }
+
+
+def latency_figures() -> dict[str, Any]:
+    """One-design wall time of every method on the paper's three options."""
+    figures: dict[str, Any] = {}
+    for option, (beta_deg, phase_deg, beta_bounds) in PAPER_CASES.items():
+        methods = _methods(option, beta_deg, phase_deg, beta_bounds)
+        case: dict[str, Any] = {}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for name, call in methods.items():
+                seconds, fun = _median_time(call)
+                case[name] = {"time_s": seconds, "fun": fun}
+        base = case["skilled_baseline"]["time_s"]
+        for name in methods:
+            case[name]["baseline_over_method"] = base / case[name]["time_s"]
+        fastest = max(("sso_slsqp_1_start", "sso_ipopt_1_start"),
+                      key=lambda name: case[name]["baseline_over_method"])
+        case["fastest_sso_solver"] = fastest
+        case["fastest_target_met"] = case[fastest]["baseline_over_method"] >= TARGET_FASTEST_RATIO
+        case["default_over_baseline"] = case["sso_default"]["time_s"] / base
+        case["default_target_met"] = case["default_over_baseline"] <= TARGET_DEFAULT_RATIO
+        figures[f"option{option}"] = case
+    return figures
+
+
+def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[str, Any]) -> str:
+    """The measured figures and the targets met or missed, as Markdown."""
+    met = {True: "met", False: "missed"}
+    lines = [
+        "# Batch throughput and one-design latency (ratios measured in one run)",
+        "",
+        (f"## optimise_batch: {batch['starts']} random 3-joint option-3 starts "
+        f"(beta {BETA_BOUNDS_DEG}, phase {PHASE_BOUNDS_DEG} deg)"),
+        "",
+        (f"- optimise_batch: {batch['designs_per_s']:,.0f} designs/s "
+        f"({batch['batch_time_s'] * 1e3:.1f} ms, best of {len(batch['batch_times_s'])}); "
+        f"target {TARGET_DESIGNS_PER_S:,.0f}: {met[batch['designs_per_s'] >= TARGET_DESIGNS_PER_S]}"),
+        (f"- skilled baseline: {batch['baseline_solves_per_s']:,.0f} solves/s; ratio "
+        f"{batch['ratio']:.1f}x, target {TARGET_BATCH_RATIO:.0f}x: "
+        f"{met[batch['ratio'] >= TARGET_BATCH_RATIO]}"),
+        (f"- RE <= {REACHED:g}: batch {batch['batch_fraction_reached']:.2%}, baseline "
+        f"{batch['baseline_fraction_reached']:.2%}; batch where the baseline reached it "
+        f"{batch['batch_reached_where_baseline_did']:.2%}"),
+        (f"- iterations: batch median {batch['batch_nit_median']:g} (max {batch['batch_nit_max']}), "
+        f"baseline median {batch['baseline_nit_median']:g}"),
+        "",
+        "## optimise_batch by shape (beta in [5, 35] deg, phase in [0, 180] deg)",
+        "",
+        ("| joints | option | designs/s | baseline solves/s | ratio | success | max nit "
+         "| RE higher / lower than baseline |"),
+        "|---|---|---|---|---|---|---|---|",
+        *[f"| {row['joints']} | {row['option']} | {row['designs_per_s']:,.0f} | "
+          f"{row['baseline_solves_per_s']:,.0f} | {row['ratio']:.1f} | {row['success']:.0%} | "
+          f"{row['nit_max']} | {row['higher_re_than_baseline']} / {row['lower_re_than_baseline']} |"
+          for row in shapes],
+        "",
+        ("## One design, the paper's options (median of "
+        f"{LATENCY_REPEATS} after a warm-up; baseline time / method time)"),
+        "",
+        "| option | method | time (ms) | RE | baseline / method |",
+        "|---|---|---|---|---|",
+    ]
+    for option, case in latency.items():
+        for name, figures in case.items():
+            if isinstance(figures, dict):
+                lines.append(f"| {option} | {name} | {figures['time_s'] * 1e3:.3f} | "
+                             f"{figures['fun']:.3e} | {figures['baseline_over_method']:.2f} |")
+    lines.append("")
+    for option, case in latency.items():
+        lines.append(
+            f"- {option}: fastest sso solver ({case['fastest_sso_solver']}) "
+            f"{case[case['fastest_sso_solver']]['baseline_over_method']:.2f}x the baseline's "
+            f"speed, target >= {TARGET_FASTEST_RATIO:g}x: {met[case['fastest_target_met']]}; "
+            f"default call {case['default_over_baseline']:.1f}x the baseline's time, target "
+            f"<= {TARGET_DEFAULT_RATIO:g}x: {met[case['default_target_met']]}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run both measurements, print the summary and write the results."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--starts", type=int, default=2000, help="random starts (default 2000)")
+    parser.add_argument("--repeats", type=int, default=3, help="batch repeats (default 3)")
+    parser.add_argument("--shape-starts", type=int, default=300,
+                        help="starts per shape (default 300)")
+    parser.add_argument("--out", type=Path, default=Path("results/benchmarks"),
+                        help="output folder (default: results/benchmarks)")
+    arguments = parser.parse_args(argv)
+    batch = batch_figures(arguments.starts, arguments.repeats)
+    shapes = shape_figures(arguments.shape_starts)
+    latency = latency_figures()
+    text = summary(batch, shapes, latency)
+    print(text)
+    arguments.out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(arguments.out / "batch_throughput.json",
+                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency}, indent=2) + "\n")
+    write_text_atomic(arguments.out / "batch_throughput.md", text)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,199 @@
+"""Driveline excitation over an rpm range: SAE AE-7 small-angle figures and the exact model.
+
+Small-angle figures (SAE AE-7, "Universal Joint and Driveshaft Design Manual";
+the form below reproduces the published calibration of an open-source driveline
+calculator to its printed precision, see ``docs/column.md``). Joint ``j`` of ``n``
+alone makes the speed ratio ``1 - (beta_j^2 / 2) cos(2 (theta + Phi_j))``, with
+``Phi_j`` the accumulated model phase, so each joint is a phasor
+``z_j = beta_j^2 exp(2 i Phi_j)`` (deg^2):
+
+* torsional equivalent angle ``sqrt(|sum_j z_j|)``: the output's excitation;
+* drive equivalent angle ``sqrt(|sum_j (n - j) z_j|)``: the summed angular
+  acceleration of the ``n - 1`` intermediate shafts (equal inertias) with the
+  input at constant speed (joint ``j`` drives the ``n - j`` shafts after it);
+* coast equivalent angle ``sqrt(|sum_j (j - 1) z_j|)``: the same with the output
+  at constant speed (joint ``j`` drives the ``j - 1`` shafts before it);
+* excitation ``omega^2 sin^2(equivalent angle)``, rad/s^2, ``omega`` the input speed.
+
+For a planar column with yokes in phase or crossed the phasors are ``+-beta^2``,
+the sign rules of the manual.
+
+Exact model: the chain is one 2x2 matrix ``M``; as a single joint it has the
+equivalent angle ``beta_eq`` with ``cos beta_eq = s_min / s_max`` (singular values),
+``omega^2 sin^2 beta_eq`` is its small-angle excitation, and the output
+acceleration amplitude is the largest ``|d w_out / dt|`` of
+:meth:`sso.ShaftSeries.evaluate`.
+
+Published limits (as used by driveline makers): inertial 1000 rad/s^2 for cars
+and 2000 for trucks; torsional 300 / 500 rad/s^2.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from sso.column.chain_matrix import chain_matrix
+
+if TYPE_CHECKING:
+    from sso.shafts.series import ShaftSeries
+
+RPM_TO_RAD_S = 2.0 * math.pi / 60.0
+INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
+TORSIONAL_LIMIT_RAD_S2 = {"car": 300.0, "truck": 500.0}
+
+
+@dataclass(frozen=True)
+class EquivalentAngles:
+    """Speed-independent excitation angles of a design, deg.
+
+    Attributes
+    ----------
+    drive_deg, coast_deg, torsional_deg : float
+        SAE AE-7 small-angle equivalent angles.
+    exact_deg : float
+        ``beta_eq`` of the exact chain (the single joint with the same matrix ``M``).
+    """
+
+    drive_deg: float
+    coast_deg: float
+    torsional_deg: float
+    exact_deg: float
+
+
+@dataclass(frozen=True)
+class ExcitationRow:
+    """Excitation at one input speed, rad/s^2, with the published limits.
+
+    Attributes
+    ----------
+    input_speed_rpm : float
+    drive_rad_s2, coast_rad_s2, torsional_rad_s2 : float
+        SAE AE-7 small-angle excitations ``omega^2 sin^2(angle)``.
+    exact_torsional_rad_s2 : float
+        ``omega^2 sin^2 beta_eq`` of the exact chain.
+    exact_output_accel_rad_s2 : float
+        Largest output angular acceleration of the exact model at constant input speed.
+    inertial_limit_rad_s2, torsional_limit_rad_s2 : float
+        Published limits for the vehicle kind.
+    within_limits : bool
+        Drive and coast at or below the inertial limit, torsional at or below the
+        torsional limit.
+    """
+
+    input_speed_rpm: float
+    drive_rad_s2: float
+    coast_rad_s2: float
+    torsional_rad_s2: float
+    exact_torsional_rad_s2: float
+    exact_output_accel_rad_s2: float
+    inertial_limit_rad_s2: float
+    torsional_limit_rad_s2: float
+    within_limits: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return asdict(self)
+
+
+def equivalent_angles(series: ShaftSeries) -> EquivalentAngles:
+    """The SAE AE-7 and exact equivalent angles of a design (exact-model phases).
+
+    Raises
+    ------
+    TypeError
+        If ``series`` is not a :class:`sso.ShaftSeries`.
+    """
+    _check_series(series)
+    beta_deg = np.asarray(series.beta_deg)
+    joints = len(beta_deg)
+    accumulated = np.radians(np.concatenate([[0.0], np.cumsum(series.phase_deg)]))
+    phasors = beta_deg**2 * np.exp(2j * accumulated)
+    number = np.arange(1, joints + 1)
+    matrix = chain_matrix(np.radians(beta_deg), np.radians(series.phase_deg))
+    singular = np.linalg.svd(matrix, compute_uv=False)
+    return EquivalentAngles(
+        drive_deg=float(np.sqrt(abs(np.sum((joints - number) * phasors)))),
+        coast_deg=float(np.sqrt(abs(np.sum((number - 1) * phasors)))),
+        torsional_deg=float(np.sqrt(abs(np.sum(phasors)))),
+        exact_deg=float(np.degrees(np.arccos(singular[1] / singular[0]))),
+    )
+
+
+def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
+                     vehicle: str = "car") -> tuple[ExcitationRow, ...]:
+    """Excitation of a design over input speeds, beside the published limits.
+
+    Parameters
+    ----------
+    series : sso.ShaftSeries
+        The design (for a column: ``geometry.series(yoke_phase_deg)``); the exact
+        figures use the exact model whatever ``series.model`` says.
+    input_speed_rpm : sequence of float
+        Input speeds, rpm, each finite and > 0.
+    vehicle : {"car", "truck"}
+        Which published limits apply.
+
+    Returns
+    -------
+    tuple of ExcitationRow
+
+    Raises
+    ------
+    TypeError
+        If ``series`` is not a :class:`sso.ShaftSeries`.
+    ValueError
+        If a speed is not finite and positive, the list is empty, or the vehicle
+        kind is unknown.
+    """
+    from sso.validation import as_float_tuple, check_choice, validate_speed
+
+    _check_series(series)
+    check_choice("vehicle", vehicle, tuple(INERTIAL_LIMIT_RAD_S2))
+    speeds = as_float_tuple("input_speed_rpm", input_speed_rpm)
+    if not speeds:
+        raise ValueError("input_speed_rpm is empty: give at least one speed in rpm")
+    speeds = tuple(validate_speed(f"input_speed_rpm[{index}]", speed)
+                   for index, speed in enumerate(speeds))
+    angles = equivalent_angles(series)
+    exact = series if series.model == "exact" else _exact_copy(series)
+    # The output acceleration at constant input speed scales with the speed squared.
+    accel_per_rpm2 = exact.evaluate(input_speed_rpm=1.0).max_output_accel_rad_s2
+    inertial = INERTIAL_LIMIT_RAD_S2[vehicle]
+    torsional_limit = TORSIONAL_LIMIT_RAD_S2[vehicle]
+    rows = []
+    for speed in speeds:
+        omega_squared = (speed * RPM_TO_RAD_S) ** 2
+        drive, coast, torsional = (omega_squared * math.sin(math.radians(angle)) ** 2
+                                   for angle in (angles.drive_deg, angles.coast_deg,
+                                                 angles.torsional_deg))
+        rows.append(ExcitationRow(
+            input_speed_rpm=speed,
+            drive_rad_s2=drive,
+            coast_rad_s2=coast,
+            torsional_rad_s2=torsional,
+            exact_torsional_rad_s2=omega_squared * math.sin(math.radians(angles.exact_deg)) ** 2,
+            exact_output_accel_rad_s2=accel_per_rpm2 * speed**2,
+            inertial_limit_rad_s2=inertial,
+            torsional_limit_rad_s2=torsional_limit,
+            within_limits=drive <= inertial and coast <= inertial and torsional <= torsional_limit,
+        ))
+    return tuple(rows)
+
+
+def _exact_copy(series: ShaftSeries) -> ShaftSeries:
+    import sso
+
+    exact: ShaftSeries = sso.ShaftSeries(series.beta_deg, series.phase_deg, "exact")
+    return exact
+
+
+def _check_series(series: Any) -> None:
+    import sso
+
+    if not isinstance(series, sso.ShaftSeries):
+        raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")

@@ -1,0 +1,195 @@
+"""Yoke phasing for fixed hardpoints: the best assembly and the ones it replaces."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from sso.column.cancel import CancelVerdict, can_cancel, minimising_phases_deg
+from sso.column.chain_matrix import residual_error
+from sso.column.geometry import ColumnGeometry, wrap_half_turn
+
+if TYPE_CHECKING:
+    from sso.shafts.optimise import OptimisationResult
+
+# Phase bounds of the NLP: one and a half periods, so every minimum (period 180 deg)
+# lies strictly inside them at least once and no start stalls on a bound.
+PHASE_BOUNDS_DEG = (-90.0, 270.0)
+# Two phasings are the same assembly when they differ by less than this (deg, mod 180).
+SAME_PHASING_DEG = 1e-6
+
+
+@dataclass(frozen=True)
+class PhasingResult:
+    """The best yoke phasing of a column and the reference assemblies.
+
+    Attributes
+    ----------
+    geometry : ColumnGeometry
+    x : tuple of float
+        Best yoke phasing ``delta_k`` per intermediate shaft, deg, in ``[-90, 90)``
+        (the fitter's convention; same as ``yoke_phase_deg``).
+    fun : float
+        RE of the best phasing (dimensionless).
+    success : bool
+        The optimisation converged, its solvers agree, and ``fun`` is within
+        ``1e-12`` of the closed-form least RE.
+    message : str
+    yoke_phase_deg : tuple of float
+        Same as ``x``.
+    phase_deg : tuple of float
+        The model phases of the best phasing, deg, in ``[0, 180)``.
+    equivalent_yoke_phase_deg : tuple of tuple of float
+        Every phasing (mod 180 deg) that reaches the least RE, in the fitter's
+        convention: from the closed form where the set is finite; else the
+        distinct minima the solvers found (the set is then a continuum).
+    optimum_set_is_continuum : bool
+        True for 4 or more joints that can cancel, or a straight joint.
+    minimum_residual_error : float
+        Least RE any phasing reaches, closed form (``sso.can_cancel``).
+    in_phase_re : float
+        RE with every yoke in phase (``delta = 0``).
+    plane_corrected_re : float
+        RE of the textbook correction: each yoke turned by its bend-plane angle
+        (``delta_k = gamma_k``, so ``phi = 90`` everywhere).
+    verdict : CancelVerdict
+    optimisation : sso.OptimisationResult
+        The option-1 run of :func:`sso.optimise` (IPOPT and SLSQP, cross-checked).
+    """
+
+    geometry: ColumnGeometry
+    x: tuple[float, ...]
+    fun: float
+    success: bool
+    message: str
+    phase_deg: tuple[float, ...]
+    equivalent_yoke_phase_deg: tuple[tuple[float, ...], ...]
+    optimum_set_is_continuum: bool
+    minimum_residual_error: float
+    in_phase_re: float
+    plane_corrected_re: float
+    verdict: CancelVerdict
+    optimisation: OptimisationResult
+
+    @property
+    def yoke_phase_deg(self) -> tuple[float, ...]:
+        """Best yoke phasing per intermediate shaft, deg (same as ``x``)."""
+        return self.x
+
+
+def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
+                     solvers: tuple[str, ...] = ("ipopt", "slsqp"),
+                     input_speed_rpm: float = 25.0, tolerance: float = 1e-12,
+                     max_iterations: int = 500, seed: int = 0) -> PhasingResult:
+    """Best yoke phasing of a column whose hardpoints are fixed.
+
+    Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every
+    phase free over a full period) from the in-phase assembly and space-filling
+    starts, and checks the answer against the closed-form least RE.
+
+    Parameters
+    ----------
+    geometry : ColumnGeometry
+        The column, at least 2 joints.
+    starts : int
+        Starts per solver (the in-phase assembly plus space-filling points).
+    solvers : tuple of {"ipopt", "slsqp"}
+        Solvers; with two they are cross-checked.
+    input_speed_rpm : float
+        Input speed for the reported figures, rpm.
+    tolerance, max_iterations
+        Solver tolerance and iteration limit of each run (as :func:`sso.optimise`).
+    seed : int
+        Seed of the space-filling starts and of the search for representatives of
+        a continuum of optima.
+
+    Returns
+    -------
+    PhasingResult
+
+    Raises
+    ------
+    TypeError
+        If ``geometry`` is not a :class:`ColumnGeometry`.
+    ValueError
+        If the column has one joint (nothing to phase), or an option is bad.
+    """
+    import sso
+
+    if not isinstance(geometry, ColumnGeometry):
+        raise TypeError(f"geometry must be a ColumnGeometry, not {type(geometry).__name__}")
+    if geometry.joint_count < 2:
+        raise ValueError("geometry has 1 joint: yoke phasing needs at least 2 joints "
+                         "(an intermediate shaft)")
+    beta_rad = np.radians(geometry.beta_deg)
+    gamma_deg = np.asarray(geometry.plane_angle_deg)
+    in_phase = geometry.series()
+    run = sso.optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
+                       solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
+                       tolerance=tolerance, max_iterations=max_iterations, seed=seed)
+    best_phase = np.mod(np.asarray(run.best.series.phase_deg), 180.0)
+    verdict = can_cancel(geometry.beta_deg)
+    closed = minimising_phases_deg(geometry.beta_deg)
+    if closed is None:
+        optima = _distinct(np.vstack([best_phase[None, :],
+                                      _local_minima_deg(beta_rad, verdict, seed)]))
+    else:
+        optima = np.asarray(closed, dtype=float)
+    fun = float(run.fun)
+    gap = fun - verdict.minimum_residual_error
+    reached = gap <= 1e-12
+    message = (f"{run.best.message}; RE {fun:.6g}, closed-form least RE "
+               f"{verdict.minimum_residual_error:.6g} (gap {gap:.3g})")
+    return PhasingResult(
+        geometry=geometry,
+        x=geometry.yoke_phase_deg_from_phase(best_phase),
+        fun=fun,
+        success=bool(run.success and reached),
+        message=message,
+        phase_deg=tuple(float(value) for value in best_phase),
+        equivalent_yoke_phase_deg=tuple(geometry.yoke_phase_deg_from_phase(row) for row in optima),
+        optimum_set_is_continuum=closed is None,
+        minimum_residual_error=verdict.minimum_residual_error,
+        in_phase_re=float(residual_error(beta_rad, np.radians(in_phase.phase_deg))),
+        plane_corrected_re=float(residual_error(
+            beta_rad, np.radians(geometry.phase_deg_from_yoke(wrap_half_turn(gamma_deg))))),
+        verdict=verdict,
+        optimisation=run,
+    )
+
+
+def _local_minima_deg(beta_rad: np.ndarray, verdict: CancelVerdict, seed: int,
+                      count: int = 16) -> np.ndarray:
+    """Representatives of a continuum of optimal phasings (deg): least-squares polishes
+    of the closed-form chain from random starts, kept where they reach the least RE."""
+    from scipy.optimize import least_squares  # type: ignore[import-untyped]
+
+    from sso.column.chain_matrix import chain_matrix
+
+    def residuals(phase_rad: np.ndarray) -> np.ndarray:
+        matrix = chain_matrix(beta_rad, phase_rad)
+        scale = np.sqrt(2.0 * np.linalg.det(matrix))
+        scaled: np.ndarray = np.array([matrix[0, 0] - matrix[1, 1],
+                                       matrix[0, 1] + matrix[1, 0]]) / scale
+        return scaled
+
+    rng = np.random.default_rng(seed)
+    found = []
+    for start in rng.uniform(0.0, np.pi, (count, len(beta_rad) - 1)):
+        solution = least_squares(residuals, start, xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        if residual_error(beta_rad, solution.x) <= verdict.minimum_residual_error + 1e-12:
+            found.append(np.mod(np.degrees(solution.x), 180.0))
+    minima: np.ndarray = np.asarray(found).reshape(-1, len(beta_rad) - 1)
+    return minima
+
+
+def _distinct(phases_deg: np.ndarray) -> np.ndarray:
+    kept: list[np.ndarray] = []
+    for row in phases_deg:
+        if all(np.max(np.abs(wrap_half_turn(row - other))) > SAME_PHASING_DEG for other in kept):
+            kept.append(row)
+    return np.asarray(kept)
+
+

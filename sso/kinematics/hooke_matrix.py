@@ -1,0 +1,245 @@
+"""Closed form of the exact Hooke-joint chain: one 2x2 matrix, no quadrature.
+
+In the exact model (``sso.kinematics.hooke``) joint ``k`` maps the direction
+``(cos a, sin a)`` of its driving yoke to ``(cos a, cos beta_k sin a)`` up to length,
+and a phase is a rotation. With ``R(phi)`` the rotation by ``+phi`` (the driving
+angle of joint ``k`` is ``psi_k + Phi_k``) and ``D_k = diag(1, cos beta_k)``, the
+output direction is ``R(-Phi_n) M (cos theta, sin theta)`` with
+
+    M = D_n R(phi_(n-1)) D_(n-1) ... R(phi_1) D_1.
+
+The final rotation changes neither lengths nor angle rates, so everything follows
+from ``M`` (``v = (cos theta, sin theta)``, ``det M = prod cos beta_k > 0``):
+
+* speed ratio ``w_out / w_in = det M / |M v|^2`` (the rate of the angle of ``M v``);
+  its mean over a turn is exactly 1;
+* residual error ``RE = |M|_F^2 / (2 det M) - 1
+  = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M) = |r|^2`` with the two residuals
+  ``r = (m11 - m22, m12 + m21) / sqrt(2 det M)`` (zero exactly when ``M`` is a
+  scaled rotation);
+* ratio extremes ``det M / s_max^2`` and ``det M / s_min^2`` (singular values of
+  ``M``), which reduce to ``1 + RE -/+ sqrt(RE (RE + 2))``: reciprocal, and computed
+  here without cancellation.
+
+The chain is written once against a namespace ``xp`` (``numpy`` or ``casadi``), as in
+``sso.kinematics.hooke``; a 2x2 matrix is a tuple ``(m11, m12, m21, m22)`` of
+entries that broadcast, so numpy arrays with leading axes evaluate many designs at
+once and CasADi symbols give an expression graph. The Jacobian of the residuals
+costs ``O(n)`` matrix products (prefix and suffix products of the chain).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+Matrix = tuple[Any, Any, Any, Any]
+
+
+def _product(left: Matrix, right: Matrix) -> Matrix:
+    """``left @ right`` of two 2x2 matrices stored as entry tuples."""
+    a11, a12, a21, a22 = left
+    b11, b12, b21, b22 = right
+    return (a11 * b11 + a12 * b21, a11 * b12 + a12 * b22,
+            a21 * b11 + a22 * b21, a21 * b12 + a22 * b22)
+
+
+def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list[Matrix]:
+    """The chain's factors from the input side: ``D_1, R(phi_1), D_2, ..., D_n``."""
+    if len(beta_rad) < 1:
+        raise ValueError("beta_rad is empty: a chain needs at least 1 joint")
+    if len(phase_rad) != len(beta_rad) - 1:
+        raise ValueError(
+            f"phase_rad has {len(phase_rad)} entries; {len(beta_rad)} joints need "
+            f"{len(beta_rad) - 1}"
+        )
+    factors: list[Matrix] = []
+    for k, beta in enumerate(beta_rad):
+        if k > 0:
+            cos_phase, sin_phase = xp.cos(phase_rad[k - 1]), xp.sin(phase_rad[k - 1])
+            factors.append((cos_phase, -sin_phase, sin_phase, cos_phase))
+        cos_beta = xp.cos(beta)
+        factors.append((1, 0, 0, cos_beta))
+    return factors
+
+
+def chain_matrix(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> Matrix:
+    """The chain matrix ``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` as ``(m11, m12, m21, m22)``.
+
+    Parameters
+    ----------
+    xp : module
+        ``numpy`` or ``casadi``: supplies ``sin`` and ``cos``.
+    beta_rad : sequence
+        Operating angle of each joint (rad), ``n >= 1`` entries: numbers, numpy
+        arrays that broadcast against each other, or CasADi symbols.
+    phase_rad : sequence
+        Relative phases ``phi_1 .. phi_(n-1)`` (rad).
+
+    Returns
+    -------
+    tuple
+        The four entries of ``M`` (dimensionless), broadcast over the inputs.
+
+    Raises
+    ------
+    ValueError
+        If there is no joint or the phase count is not ``len(beta_rad) - 1``.
+    """
+    factors = _factors(xp, beta_rad, phase_rad)
+    matrix = factors[0]
+    for factor in factors[1:]:
+        matrix = _product(factor, matrix)
+    return matrix
+
+
+def chain_determinant(xp: Any, beta_rad: Sequence[Any]) -> Any:
+    """``det M = prod cos beta_k`` (rotations have determinant 1)."""
+    determinant: Any = 1
+    for beta in beta_rad:
+        determinant = determinant * xp.cos(beta)
+    return determinant
+
+
+def residuals(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> tuple[Any, Any]:
+    """The two least-squares residuals ``r`` with ``RE = r_1^2 + r_2^2`` (dimensionless).
+
+    ``r = (m11 - m22, m12 + m21) / sqrt(2 det M)``. Parameters as in
+    :func:`chain_matrix`.
+    """
+    m11, m12, m21, m22 = chain_matrix(xp, beta_rad, phase_rad)
+    scale = 1 / xp.sqrt(2 * chain_determinant(xp, beta_rad))
+    return (m11 - m22) * scale, (m12 + m21) * scale
+
+
+def residual_error(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> Any:
+    """Residual error ``RE`` of the exact model, mean square of ``w_out/w_in - 1``.
+
+    Exact (no quadrature) for every operating angle below 90 deg. Parameters as
+    in :func:`chain_matrix`.
+    """
+    first, second = residuals(xp, beta_rad, phase_rad)
+    return first * first + second * second
+
+
+def speed_ratio(xp: Any, cos_theta: Any, sin_theta: Any, beta_rad: Sequence[Any],
+                phase_rad: Sequence[Any]) -> Any:
+    """Speed ratio ``w_out / w_in = det M / |M v|^2`` at ``v = (cos theta, sin theta)``.
+
+    Parameters
+    ----------
+    xp : module
+        ``numpy`` or ``casadi``.
+    cos_theta, sin_theta : array
+        Cosine and sine of the input angles; they broadcast against the entries
+        of ``M`` (for numpy designs of shape ``(m,)`` pass angles of shape ``(m, k)``
+        and designs of shape ``(m, 1)``).
+    beta_rad, phase_rad : sequence
+        As in :func:`chain_matrix`.
+    """
+    m11, m12, m21, m22 = chain_matrix(xp, beta_rad, phase_rad)
+    first = m11 * cos_theta + m12 * sin_theta
+    second = m21 * cos_theta + m22 * sin_theta
+    return chain_determinant(xp, beta_rad) / (first * first + second * second)
+
+
+def ratio_extremes(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> tuple[Any, Any]:
+    """Least and greatest speed ratio over a turn, ``det M / s_max^2`` and ``det M / s_min^2``.
+
+    With ``RE = (|M|_F^2 - 2 det M) / (2 det M)`` these are
+    ``1 + RE -/+ sqrt(RE (RE + 2))``, reciprocal to each other; the least is
+    computed as the reciprocal of the greatest so neither cancels.
+    """
+    error = residual_error(xp, beta_rad, phase_rad)
+    greatest = 1 + error + xp.sqrt(error * (error + 2))
+    return 1 / greatest, greatest
+
+
+def residual_jacobian(xp: Any, beta_rad: Sequence[Any],
+                      phase_rad: Sequence[Any]) -> tuple[tuple[Any, Any], list[Any], list[Any]]:
+    """Residuals and their derivatives with respect to every angle, in ``O(n)`` products.
+
+    ``dM/d beta_k`` and ``dM/d phi_k`` replace one factor by its derivative, so each
+    is ``(product of the factors after it) dF (product of the factors before it)``;
+    the prefix and suffix products are built once. ``d ln det M / d beta_k =
+    -tan beta_k`` and ``det M`` does not depend on the phases.
+
+    Parameters
+    ----------
+    xp, beta_rad, phase_rad
+        As in :func:`chain_matrix`.
+
+    Returns
+    -------
+    residuals : (r1, r2)
+        As :func:`residuals`.
+    d_beta : list of (dr1, dr2)
+        Derivatives (per rad) with respect to ``beta_1 .. beta_n``.
+    d_phase : list of (dr1, dr2)
+        Derivatives (per rad) with respect to ``phi_1 .. phi_(n-1)``.
+    """
+    factors = _factors(xp, beta_rad, phase_rad)
+    count = len(factors)
+    # before[i] = F_(i-1) ... F_0; after[i] = F_(count-1) ... F_(i+1).
+    before: list[Any] = [None] * count
+    after: list[Any] = [None] * count
+    for i in range(1, count):
+        before[i] = factors[0] if i == 1 else _product(factors[i - 1], before[i - 1])
+    for i in range(count - 2, -1, -1):
+        after[i] = factors[-1] if i == count - 2 else _product(after[i + 1], factors[i + 1])
+    matrix = factors[-1] if count == 1 else _product(factors[-1], before[-1])
+    determinant = chain_determinant(xp, beta_rad)
+    scale = 1 / xp.sqrt(2 * determinant)
+    residual = ((matrix[0] - matrix[3]) * scale, (matrix[1] + matrix[2]) * scale)
+
+    def derivative(i: int, d_factor: Matrix, d_log_scale: Any) -> tuple[Any, Any]:
+        d_matrix = d_factor
+        if before[i] is not None:
+            d_matrix = _product(d_matrix, before[i])
+        if after[i] is not None:
+            d_matrix = _product(after[i], d_matrix)
+        return ((d_matrix[0] - d_matrix[3]) * scale + residual[0] * d_log_scale,
+                (d_matrix[1] + d_matrix[2]) * scale + residual[1] * d_log_scale)
+
+    d_beta, d_phase = [], []
+    for k, beta in enumerate(beta_rad):
+        sin_beta, cos_beta = xp.sin(beta), xp.cos(beta)
+        zero = 0 * sin_beta
+        # d ln(scale) / d beta = -(1/2) d ln det / d beta = tan(beta) / 2
+        d_beta.append(derivative(2 * k, (zero, zero, zero, -sin_beta),
+                                 sin_beta / (2 * cos_beta)))
+    for k, phase in enumerate(phase_rad):
+        cos_phase, sin_phase = xp.cos(phase), xp.sin(phase)
+        d_phase.append(derivative(2 * k + 1, (-sin_phase, -cos_phase, cos_phase, -sin_phase),
+                                  0))
+    return residual, d_beta, d_phase
+
+
+def residuals_and_jacobian_numpy(beta_rad: Any, phase_rad: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Residuals and Jacobian of many designs at once, as numpy arrays.
+
+    Parameters
+    ----------
+    beta_rad : array of shape (..., n)
+        Operating angles (rad).
+    phase_rad : array of shape (..., n - 1)
+        Relative phases (rad).
+
+    Returns
+    -------
+    residual : numpy.ndarray of shape (..., 2)
+    jacobian : numpy.ndarray of shape (..., 2, 2n - 1)
+        Columns: ``beta_1 .. beta_n`` then ``phi_1 .. phi_(n-1)`` (per rad).
+    """
+    beta = np.asarray(beta_rad, dtype=float)
+    phase = np.asarray(phase_rad, dtype=float)
+    residual, d_beta, d_phase = residual_jacobian(
+        np, [beta[..., k] for k in range(beta.shape[-1])],
+        [phase[..., k] for k in range(phase.shape[-1])])
+    shape = np.broadcast_shapes(beta.shape[:-1], phase.shape[:-1])
+    columns = [np.broadcast_to(np.stack(column, axis=-1), (*shape, 2))
+               for column in (*d_beta, *d_phase)]
+    return (np.broadcast_to(np.stack(residual, axis=-1), (*shape, 2)),
+            np.stack(columns, axis=-1))

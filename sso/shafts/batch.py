@@ -1,0 +1,302 @@
+"""``sso.optimise_batch``: many shaft-series designs of one shape optimised at once.
+
+The exact model's residual error is the squared norm of two residuals of the chain
+matrix (``sso.kinematics.hooke_matrix``), so ``m`` starts form ``m`` tiny
+least-squares problems that :func:`sso.solvers.least_squares.batch_least_squares`
+solves together as array work: no quadrature, no CasADi build, no per-design
+Python loop. The paper's model has no closed form and is refused here (use
+:func:`sso.optimise`); falling back to a per-design quadrature solve would silently
+change the speed a caller relies on.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from importlib import import_module
+from typing import Any
+
+import numpy as np
+
+from sso.limits import BETA_LIMIT_DEG
+from sso.shafts.options import (
+    OPTION_FIXED_PHASE_DEG,
+    OPTION_NAMES,
+    StartMovedWarning,
+    build_problem,
+)
+from sso.kinematics.hooke import MODELS
+from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
+from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
+from sso.validation import (
+    check_choice,
+    validate_count,
+    validate_speed,
+    validate_tolerance,
+)
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Optimised designs of a batch, one row per start.
+
+    Attributes
+    ----------
+    fun : numpy.ndarray of shape (m,)
+        Residual error RE of each optimised design (dimensionless, exact model,
+        closed form).
+    beta_deg : numpy.ndarray of shape (m, n)
+        Operating angles of each design, deg (option 1: the given ones).
+    phase_deg : numpy.ndarray of shape (m, n - 1)
+        Relative phases, deg (option 2: 90 deg).
+    success : numpy.ndarray of shape (m,)
+        Whether the solver converged for that start.
+    status : numpy.ndarray of shape (m,)
+        Stopping reason, a key of :data:`sso.solvers.least_squares.STATUS_MESSAGES`.
+    nit, nfev : numpy.ndarray of shape (m,)
+        Iterations and residual evaluations of each start.
+    kkt : numpy.ndarray of shape (m,)
+        Infinity norm of RE's projected gradient under the bounds (per rad), the
+        first-order optimality measure of :class:`sso.Solution`.
+    speed_min_rpm, speed_max_rpm : numpy.ndarray of shape (m,)
+        Output speed extremes over a turn at ``input_speed_rpm``.
+    option : int
+    model : str
+    input_speed_rpm : float
+    beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
+        Per-joint / per-phase bounds used, deg.
+    """
+
+    fun: np.ndarray
+    beta_deg: np.ndarray
+    phase_deg: np.ndarray
+    success: np.ndarray
+    status: np.ndarray
+    nit: np.ndarray
+    nfev: np.ndarray
+    kkt: np.ndarray
+    speed_min_rpm: np.ndarray
+    speed_max_rpm: np.ndarray
+    option: int
+    model: str
+    input_speed_rpm: float
+    beta_bounds_deg: tuple[tuple[float, float], ...]
+    phase_bounds_deg: tuple[tuple[float, float], ...]
+
+    @property
+    def message(self) -> tuple[str, ...]:
+        """Each start's stopping reason in words."""
+        return tuple(STATUS_MESSAGES[int(code)] for code in self.status)
+
+    def to_columns(self) -> dict[str, np.ndarray]:
+        """One flat column per figure (``beta_deg_1 .. beta_deg_n``, ``phase_deg_1 ..``)."""
+        columns: dict[str, np.ndarray] = {"fun": self.fun}
+        for index in range(self.beta_deg.shape[1]):
+            columns[f"beta_deg_{index + 1}"] = self.beta_deg[:, index]
+        for index in range(self.phase_deg.shape[1]):
+            columns[f"phase_deg_{index + 1}"] = self.phase_deg[:, index]
+        for name in ("success", "status", "nit", "nfev", "kkt", "speed_min_rpm",
+                     "speed_max_rpm"):
+            columns[name] = getattr(self, name)
+        return columns
+
+    def to_frame(self) -> Any:
+        """The columns of :meth:`to_columns` as a ``pandas.DataFrame``.
+
+        Raises
+        ------
+        ImportError
+            If pandas is not installed (sso does not depend on it; use
+            :meth:`to_columns` or :meth:`to_dict` instead).
+        """
+        try:
+            pandas = import_module("pandas")
+        except ImportError:
+            raise ImportError(
+                "BatchResult.to_frame needs pandas, which sso does not install; "
+                "install pandas or use to_columns() / to_dict()"
+            ) from None
+        return pandas.DataFrame(self.to_columns())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field (arrays as nested lists)."""
+        return {
+            "option": self.option,
+            "option_name": OPTION_NAMES[self.option],
+            "model": self.model,
+            "input_speed_rpm": self.input_speed_rpm,
+            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
+            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
+            "fun": self.fun.tolist(),
+            "beta_deg": self.beta_deg.tolist(),
+            "phase_deg": self.phase_deg.tolist(),
+            "success": self.success.tolist(),
+            "status": self.status.tolist(),
+            "message": list(self.message),
+            "nit": self.nit.tolist(),
+            "nfev": self.nfev.tolist(),
+            "kkt": self.kkt.tolist(),
+            "speed_min_rpm": self.speed_min_rpm.tolist(),
+            "speed_max_rpm": self.speed_max_rpm.tolist(),
+        }
+
+
+def optimise_batch(
+    beta_deg: Any,
+    phase_deg: Any,
+    *,
+    option: int | str = 3,
+    beta_bounds_deg: Any = (0.0, 40.0),
+    phase_bounds_deg: Any = (0.0, 180.0),
+    model: str = "exact",
+    input_speed_rpm: float = 25.0,
+    tolerance: float = 1e-12,
+    max_iterations: int = 500,
+) -> BatchResult:
+    """Optimise ``m`` start designs of one shape at once (exact model, closed form).
+
+    Each row is an independent problem with the meaning of :func:`sso.optimise`
+    with one start: minimise the residual error under the bounds from that start.
+
+    Parameters
+    ----------
+    beta_deg : array of shape (m, n) or (n,)
+        Operating angles of each start, deg, in ``[0, 90)``; option 1 keeps them.
+    phase_deg : array of shape (m, n - 1) or (n - 1,)
+        Relative phases of each start, deg; option 2 replaces them by 90 deg.
+    option : {1, 2, 3, "phase", "angle", "both"}
+        Which angles are design variables.
+    beta_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the operating angles, deg, inside ``[0, 90)``; one pair for all
+        joints or one per joint.
+    phase_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the relative phases, deg, inside ``[-360, 360]``.
+    model : {"exact"}
+        Only the exact model has the closed form.
+    input_speed_rpm : float
+        Input speed, rpm (> 0); it scales the reported speeds, not the optimum.
+    tolerance : float
+        In ``(0, 1)``: a start stops when RE's projected gradient (per rad) is at
+        most this, as :func:`sso.optimise`'s default cross-check measures it.
+    max_iterations : int
+        Iteration limit of each start, ``1..1000000``.
+
+    Returns
+    -------
+    BatchResult
+        Solver failures are reported per start in ``success``/``status``.
+
+    Raises
+    ------
+    ValueError
+        For bad input (naming the field, the value and the allowed range), and for
+        ``model = "paper"``, which has no closed form.
+    TypeError
+        If the start angles are not arrays of numbers, or a keyword is unknown.
+    """
+    check_choice("model", model, MODELS)
+    if model != "exact":
+        raise ValueError(
+            f"model = {model!r} has no closed form, and optimise_batch solves the exact "
+            "model only; use sso.optimise for the paper model"
+        )
+    speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
+    gradient_tolerance = validate_tolerance(tolerance)
+    iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    beta = _design_array("beta_deg", beta_deg, None)
+    n_joints = beta.shape[1]
+    phase = _design_array("phase_deg", phase_deg, (beta.shape[0], n_joints - 1))
+    out_of_range = (beta < 0.0) | (beta >= BETA_LIMIT_DEG)
+    if np.any(out_of_range):
+        row, column = np.argwhere(out_of_range)[0]
+        raise ValueError(f"beta_deg[{row}, {column}] = {beta[row, column]:g} is outside the "
+                         f"allowed range [0, {BETA_LIMIT_DEG:g}) deg")
+    with warnings.catch_warnings():
+        # Only the layout and the checks of the option and bounds are used here;
+        # starts outside the bounds are counted below over every row.
+        warnings.simplefilter("ignore", StartMovedWarning)
+        problem = build_problem(beta[0].tolist(), phase[0].tolist(), model, option,
+                                beta_bounds_deg, phase_bounds_deg)
+    option_number = problem.option
+    beta_bounds, phase_bounds = problem.beta_bounds_deg, problem.phase_bounds_deg
+    if option_number == 2:
+        phase = np.full_like(phase, OPTION_FIXED_PHASE_DEG)
+
+    # The full design row is (beta_1 .. beta_n, phi_1 .. phi_(n-1)); the option frees some.
+    design_deg = np.hstack([beta, phase])
+    free = np.r_[np.arange(n_joints) if problem.beta_free else [],
+                 n_joints + np.arange(n_joints - 1) if problem.phase_free else []].astype(int)
+    lower, upper = np.array([*beta_bounds, *phase_bounds], dtype=float).reshape(-1, 2)[free].T
+    start = design_deg[:, free]
+    moved = np.count_nonzero((start < lower) | (start > upper))
+    if moved:
+        warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
+                      StartMovedWarning, stacklevel=2)
+    design_rad = np.radians(design_deg)
+
+    def residual_and_jacobian(x_rad: np.ndarray,
+                              rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        full = design_rad[rows]
+        full[:, free] = x_rad
+        residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])
+        return residual, jacobian[..., free]
+
+    solved = batch_least_squares(residual_and_jacobian, np.radians(start), np.radians(lower),
+                                 np.radians(upper), gtol=gradient_tolerance,
+                                 max_iterations=iterations)
+    # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
+    design_deg[:, free] = np.clip(np.degrees(solved.x), lower, upper)
+    beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
+    beta_rad, phase_rad = np.radians(beta_out), np.radians(phase_out)
+    least, greatest = ratio_extremes(np, [beta_rad[:, k] for k in range(n_joints)],
+                                     [phase_rad[:, k] for k in range(n_joints - 1)])
+    return BatchResult(
+        fun=solved.fun,
+        beta_deg=np.array(beta_out, dtype=float),
+        phase_deg=np.array(phase_out, dtype=float),
+        success=solved.success,
+        status=solved.status,
+        nit=solved.nit,
+        nfev=solved.nfev,
+        kkt=solved.projected_gradient,
+        speed_min_rpm=speed_rpm * np.broadcast_to(least, solved.fun.shape),
+        speed_max_rpm=speed_rpm * np.broadcast_to(greatest, solved.fun.shape),
+        option=option_number,
+        model=model,
+        input_speed_rpm=speed_rpm,
+        beta_bounds_deg=beta_bounds,
+        phase_bounds_deg=phase_bounds,
+    )
+
+
+def _design_array(field: str, values: Any, shape: tuple[int, int] | None) -> np.ndarray:
+    """Start angles as a finite float array of shape ``(m, k)`` (a 1-D array is one row).
+
+    Raises
+    ------
+    ValueError
+        Naming the field if the entries are not finite numbers or the shape is wrong.
+    """
+    if isinstance(values, (str, bytes)):
+        raise TypeError(f"{field} = {values!r} must be an array of numbers")
+    try:
+        raw = np.asarray(values)
+        array = np.array(raw, dtype=float, ndmin=2)
+    except (TypeError, ValueError):
+        raise TypeError(f"{field} must be an array of numbers (m starts x angles)") from None
+    if raw.dtype == bool or raw.dtype.kind not in "iuf":
+        raise TypeError(f"{field} must be an array of numbers, not of {raw.dtype}")
+    if shape is not None and array.size == 0 and shape[1] == 0:
+        return np.zeros(shape)
+    if array.ndim != 2:
+        raise ValueError(f"{field} has shape {np.shape(values)}; expected (m starts, angles)")
+    if shape is None and (array.shape[0] == 0 or array.shape[1] == 0):
+        raise ValueError(f"{field} has shape {array.shape}: it needs at least 1 start and 1 joint")
+    if shape is not None and array.shape != shape:
+        raise ValueError(f"{field} has shape {array.shape}; the starts of beta_deg need {shape}")
+    bad = np.argwhere(~np.isfinite(array))
+    if bad.size:
+        row, column = bad[0]
+        raise ValueError(f"{field}[{row}, {column}] = {float(array[row, column])!r} must be finite "
+                         "(not NaN or infinite)")
+    return array

@@ -1,0 +1,198 @@
+"""The closed form of the exact chain against independent formulations.
+
+References: the quadrature of the angle-by-angle chain (``sso.ShaftSeries.evaluate``,
+``sso.kinematics.hooke``); an mpmath high-precision quadrature of the per-joint angle
+law (paper eq. 5 and 8, no matrices) split at every joint's speed peak; complex-step
+derivatives; the one-joint extremes ``cos b`` and ``1/cos b`` of the spec
+("Checks with known answers").
+"""
+
+import casadi
+import mpmath
+import numpy as np
+import pytest
+
+import sso
+from sso.kinematics import hooke_matrix
+
+RNG_SEED = 20261123
+
+
+def random_chain(rng, n_joints, beta_max_deg=70.0):
+    beta_rad = np.radians(rng.uniform(0.0, beta_max_deg, n_joints))
+    phase_rad = np.radians(rng.uniform(-180.0, 360.0, n_joints - 1))
+    return beta_rad, phase_rad
+
+
+def test_closed_form_matches_the_quadrature_of_the_angle_chain():
+    rng = np.random.default_rng(RNG_SEED)
+    for _ in range(60):
+        n_joints = int(rng.integers(1, 9))
+        beta_rad, phase_rad = random_chain(rng, n_joints)
+        evaluation = sso.ShaftSeries(np.degrees(beta_rad), np.degrees(phase_rad)).evaluate(
+            25.0, quadrature_rtol=1e-14, quadrature_atol=1e-300)
+        error = hooke_matrix.residual_error(np, list(beta_rad), list(phase_rad))
+        least, greatest = hooke_matrix.ratio_extremes(np, list(beta_rad), list(phase_rad))
+        assert error == pytest.approx(evaluation.residual_error, rel=1e-10)
+        assert 25.0 * least == pytest.approx(evaluation.speed_min_rpm, rel=1e-10)
+        assert 25.0 * greatest == pytest.approx(evaluation.speed_max_rpm, rel=1e-10)
+
+
+def test_speed_ratio_matches_the_angle_chain_at_every_angle():
+    rng = np.random.default_rng(RNG_SEED + 1)
+    theta_deg = np.linspace(0.0, 360.0, 73)
+    for n_joints in range(1, 9):
+        beta_rad, phase_rad = random_chain(rng, n_joints, 85.0)
+        series = sso.ShaftSeries(np.degrees(beta_rad), np.degrees(phase_rad))
+        theta_rad = np.radians(theta_deg)
+        ratio = hooke_matrix.speed_ratio(np, np.cos(theta_rad), np.sin(theta_rad),
+                                         list(beta_rad), list(phase_rad))
+        np.testing.assert_allclose(ratio, series.speed_ratio(theta_deg), rtol=1e-10)
+
+
+def _mpmath_residual_error(beta_rad, phase_rad, digits=40):
+    """RE by tanh-sinh quadrature of the angle law, split where each joint peaks.
+
+    Joint k's ratio ``cos b / (1 - sin^2 b sin^2 a_k)`` peaks where its driving
+    angle ``a_k`` is 90 deg; that input angle is found by inverting the upstream
+    joints (``tan a = tan g / cos b``), so every peak sits at an interval end,
+    where tanh-sinh nodes cluster.
+    """
+    with mpmath.workdps(digits):
+        beta = [mpmath.mpf(float(value)) for value in beta_rad]
+        cumulative = [mpmath.mpf(0)]
+        for value in phase_rad:
+            cumulative.append(cumulative[-1] + mpmath.mpf(float(value)))
+        cosines = [mpmath.cos(value) for value in beta]
+
+        def ratio(theta):
+            psi, product = theta, mpmath.mpf(1)
+            for k, cosine in enumerate(cosines):
+                driving = psi + cumulative[k]
+                product *= cosine / (1 - mpmath.sin(beta[k]) ** 2 * mpmath.sin(driving) ** 2)
+                psi = mpmath.atan2(cosine * mpmath.sin(driving), mpmath.cos(driving)) - cumulative[k]
+            return product
+
+        peaks = []
+        for k in range(len(beta)):
+            psi = mpmath.pi / 2 - cumulative[k]
+            for j in range(k - 1, -1, -1):
+                output = psi + cumulative[j]
+                psi = mpmath.atan2(mpmath.sin(output), cosines[j] * mpmath.cos(output)) - cumulative[j]
+            peaks.append(psi % mpmath.pi)
+        points = sorted({mpmath.mpf(0), mpmath.pi, *peaks})
+        value, error = mpmath.quad(lambda theta: (ratio(theta) - 1) ** 2, points, error=True,
+                                   maxdegree=10)
+        assert error < 1e-12 * value
+        return float(value / mpmath.pi)
+
+
+@pytest.mark.parametrize("n_joints, top_deg, all_at_top", [
+    (2, 89.99, True), (3, 89.9, False), (5, 89.99, False), (8, 89.0, False),
+])
+def test_closed_form_near_90_deg_matches_high_precision_quadrature(n_joints, top_deg,
+                                                                   all_at_top):
+    rng = np.random.default_rng(RNG_SEED + n_joints)
+    beta_deg = np.full(n_joints, top_deg) if all_at_top else rng.uniform(0, top_deg, n_joints)
+    beta_deg[rng.integers(n_joints)] = top_deg
+    beta_rad = np.radians(beta_deg)
+    phase_rad = np.radians(rng.uniform(0.0, 180.0, n_joints - 1))
+    reference = _mpmath_residual_error(beta_rad, phase_rad)
+    error = hooke_matrix.residual_error(np, list(beta_rad), list(phase_rad))
+    assert error == pytest.approx(reference, rel=1e-12)
+
+
+def test_mean_speed_ratio_is_one():
+    # The output turns once per input turn. The rectangle rule is exact to
+    # round-off for this periodic integrand at 4096 angles (largest angle 60 deg).
+    rng = np.random.default_rng(RNG_SEED + 2)
+    theta_rad = np.pi * np.arange(4096) / 4096
+    for n_joints in range(1, 9):
+        beta_rad, phase_rad = random_chain(rng, n_joints, 60.0)
+        ratio = hooke_matrix.speed_ratio(np, np.cos(theta_rad), np.sin(theta_rad),
+                                         list(beta_rad), list(phase_rad))
+        assert np.mean(ratio) == pytest.approx(1.0, abs=1e-13)
+
+
+@pytest.mark.parametrize("beta_deg", [5.0, 30.0, 60.0, 89.0])
+def test_one_joint_extremes(beta_deg):
+    cosine = np.cos(np.radians(beta_deg))
+    least, greatest = hooke_matrix.ratio_extremes(np, [np.radians(beta_deg)], [])
+    assert least == pytest.approx(cosine, rel=1e-14)
+    assert greatest == pytest.approx(1 / cosine, rel=1e-14)
+
+
+def test_equal_joints_at_90_deg_phase_cancel():
+    # spec: two equal joints with phi = 90 deg give ratio 1 at every angle.
+    error = hooke_matrix.residual_error(np, [np.radians(30.0)] * 2, [np.pi / 2])
+    assert error < 1e-30
+    assert hooke_matrix.residual_error(np, [np.radians(30.0)] * 2, [0.0]) > 1e-3
+
+
+def test_jacobian_matches_complex_step():
+    rng = np.random.default_rng(RNG_SEED + 3)
+    step = 1e-30
+    for n_joints in range(1, 9):
+        beta_rad, phase_rad = random_chain(rng, n_joints, 80.0)
+        residual, jacobian = hooke_matrix.residuals_and_jacobian_numpy(beta_rad, phase_rad)
+        x = np.concatenate([beta_rad, phase_rad]).astype(complex)
+        for column in range(x.size):
+            shifted = x.copy()
+            shifted[column] += 1j * step
+            values = hooke_matrix.residuals(np, list(shifted[:n_joints]),
+                                            list(shifted[n_joints:]))
+            expected = np.array([value.imag / step for value in values])
+            np.testing.assert_allclose(jacobian[:, column], expected, rtol=1e-12, atol=1e-13)
+        np.testing.assert_allclose(residual, np.real(hooke_matrix.residuals(
+            np, list(beta_rad), list(phase_rad))), rtol=0, atol=0)
+
+
+def test_batched_designs_match_one_at_a_time():
+    rng = np.random.default_rng(RNG_SEED + 4)
+    beta_rad = np.radians(rng.uniform(0.0, 60.0, (7, 4)))
+    phase_rad = np.radians(rng.uniform(0.0, 180.0, (7, 3)))
+    residual, jacobian = hooke_matrix.residuals_and_jacobian_numpy(beta_rad, phase_rad)
+    assert residual.shape == (7, 2) and jacobian.shape == (7, 2, 7)
+    for row in range(7):
+        one_residual, one_jacobian = hooke_matrix.residuals_and_jacobian_numpy(
+            beta_rad[row], phase_rad[row])
+        np.testing.assert_allclose(residual[row], one_residual, rtol=1e-15, atol=1e-16)
+        np.testing.assert_allclose(jacobian[row], one_jacobian, rtol=1e-15, atol=1e-16)
+
+
+def test_numpy_and_casadi_paths_agree():
+    rng = np.random.default_rng(RNG_SEED + 5)
+    n_joints = 5
+    beta_rad, phase_rad = random_chain(rng, n_joints, 80.0)
+    beta = casadi.SX.sym("beta", n_joints)
+    phase = casadi.SX.sym("phase", n_joints - 1)
+    beta_list = [beta[k] for k in range(n_joints)]
+    phase_list = [phase[k] for k in range(n_joints - 1)]
+    residual, d_beta, d_phase = hooke_matrix.residual_jacobian(casadi, beta_list, phase_list)
+    least, greatest = hooke_matrix.ratio_extremes(casadi, beta_list, phase_list)
+    outputs = casadi.vertcat(*residual, *[value for pair in (*d_beta, *d_phase) for value in pair],
+                             hooke_matrix.residual_error(casadi, beta_list, phase_list),
+                             least, greatest)
+    function = casadi.Function("closed_form", [beta, phase], [outputs])
+    symbolic = np.array(function(beta_rad, phase_rad)).ravel()
+    numeric_residual, numeric_jacobian = hooke_matrix.residuals_and_jacobian_numpy(beta_rad,
+                                                                                   phase_rad)
+    numeric_least, numeric_greatest = hooke_matrix.ratio_extremes(np, list(beta_rad),
+                                                                  list(phase_rad))
+    expected = np.concatenate([
+        numeric_residual, numeric_jacobian.T.ravel(),
+        [hooke_matrix.residual_error(np, list(beta_rad), list(phase_rad)),
+         numeric_least, numeric_greatest]])
+    np.testing.assert_allclose(symbolic, expected, rtol=1e-13, atol=1e-15)
+    # CasADi's own derivative of the residual graph agrees with the hand-written one.
+    automatic = casadi.Function("jacobian", [beta, phase], [casadi.jacobian(
+        casadi.vertcat(*residual), casadi.vertcat(beta, phase))])
+    np.testing.assert_allclose(np.array(automatic(beta_rad, phase_rad)), numeric_jacobian,
+                               rtol=1e-12, atol=1e-14)
+
+
+def test_phase_count_and_empty_chain_are_refused():
+    with pytest.raises(ValueError, match="phase_rad has 2 entries; 2 joints need 1"):
+        hooke_matrix.chain_matrix(np, [0.1, 0.2], [0.3, 0.4])
+    with pytest.raises(ValueError, match="beta_rad is empty"):
+        hooke_matrix.chain_matrix(np, [], [])
