@@ -1,12 +1,16 @@
 """Every public result reads well: a short repr, summary(), _repr_html_, sso.write_report."""
 
 import json
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 import sso
 from sso.display import FLOOR_TEXT, format_number
 from sso.limits import ROUND_OFF_FLOOR
+
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 @pytest.fixture(scope="module")
@@ -62,3 +66,19 @@ def test_write_report_refuses_what_is_not_a_result(tmp_path):
         sso.write_report(42, tmp_path / "report")
     with pytest.raises(ValueError, match="formats = \\['pdf'\\]"):
         sso.write_report({}, tmp_path / "report", formats=["pdf"])
+
+
+def test_batch_phasing_and_spline_results_read_well():
+    batch = sso.optimise_batch(np.array([[20.0, 20.0], [20.0, 20.0]]), np.array([[40.0], [80.0]]),
+                               option=1)
+    column = json.loads((DATA / "columns" / "truck_three_joints.json").read_text())
+    geometry = sso.ColumnGeometry(np.asarray(column["points_mm"]))
+    phasing = sso.optimise_phasing(geometry)
+    splines = sso.best_spline_teeth(geometry, 12)
+    for item in (batch, phasing, splines):
+        assert len(repr(item)) <= 400 and "\n" not in repr(item), repr(item)
+        assert "<table>" in item._repr_html_()
+    # Two equal joints: option 1 puts the phase at 90 deg and cancels (docs/model.md).
+    assert "lowest RE < 1e-15" in repr(batch)
+    assert phasing.summary().startswith("Phasing: ")
+    assert "tooth offset" in splines.summary()
