@@ -30,9 +30,10 @@ import sys
 import tempfile
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -105,7 +106,7 @@ def sso_solver(case: BenchmarkCase, solver: str, tolerance: float,
     def solve() -> Any:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return sso.optimise(series, solvers=solver, starts=1, tolerance=tolerance,
+            return sso.optimise(series, solvers=solver, starts=1, solver_tol=tolerance,
                                 **arguments)
 
     return solve
@@ -212,7 +213,8 @@ def batch_of_solves(count: int, best_known: dict[str, Any]) -> dict[str, Any]:
         }
     baseline_total = outcome["methods"]["baseline"]["total_s"]
     for method in METHODS[:-1]:
-        outcome["methods"][method]["speedup"] = baseline_total / outcome["methods"][method]["total_s"]
+        method_total = outcome["methods"][method]["total_s"]
+        outcome["methods"][method]["speedup"] = baseline_total / method_total
     return outcome
 
 
@@ -309,7 +311,8 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                 f"| {1e3 * summary['baseline_time_s']:.2f} | {method} "
                 f"| {figures['best_error']:.3g} | {_format(time_ms, '.2f')} "
                 f"| {_format(figures['speedup'], '.2f')} "
-                f"| {_format(figures['solver_speedup'], '.2f')} | {figures['nfev_at_default_tol']} |")
+                f"| {_format(figures['solver_speedup'], '.2f')} "
+                f"| {figures['nfev_at_default_tol']} |")
     lines += ["", f"## Batch: {batch['solves']} solves of {batch['case']} in one process "
               f"(tolerance {batch['tolerance']:g})", "",
               "| method | total (s) | per solve (ms) | within 1e-10 of best | speedup |",
@@ -341,10 +344,10 @@ def plot(out: Path, rows: list[Measurement]) -> None:
 
     keys = list(dict.fromkeys((row.case, row.model) for row in rows))
     columns = 3
-    figure, axes = plt.subplots((len(keys) + columns - 1) // columns, columns,
-                                figsize=(4.2 * columns, 3.2 * ((len(keys) + columns - 1) // columns)),
+    rows = (len(keys) + columns - 1) // columns
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.2 * rows),
                                 squeeze=False)
-    for axis, (case, model) in zip(axes.flat, keys):
+    for axis, (case, model) in zip(axes.flat, keys, strict=False):
         for method in METHODS:
             own = sorted((row for row in rows if (row.case, row.model, row.method)
                           == (case, model, method)), key=lambda row: row.tol, reverse=True)

@@ -51,3 +51,12 @@ design). The floor applies to the magnitude of every number in a report table;
 REPORT_DIGITS = 6
 """Significant digits of every number in report tables (CSV, Markdown, HTML) and
 summaries; ``result.json`` keeps full precision."""
+SOLVER_NAMES = ("ipopt", "slsqp")
+"""The solvers every design problem can run (and cross-check when both run)."""
+
+CONVENTIONAL_PHASE_DEG = 90.0
+"""Relative phase of successive joints when none is given, deg (the in-line
+cancelling phasing of a planar column; see docs/model.md for non-planar ones)."""
+
+MAX_JOINTS = 64
+"""Most Hooke joints of one shaft series in a case file."""

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable, Sequence
+from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
+
+from sso.limits import SOLVER_NAMES
 
 
 def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
@@ -168,25 +171,24 @@ def _is_pair_of_numbers(value: Any) -> bool:
     )
 
 
-SOLVERS = ("ipopt", "slsqp")
 
 
 def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
-        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVERS)}")
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVER_NAMES)}")
     for index, name in enumerate(names):
-        if name not in SOLVERS:
-            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVERS)}")
+        if name not in SOLVER_NAMES:
+            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVER_NAMES)}")
     if len(set(names)) != len(names):
         raise ValueError(f"solvers = {list(names)} names a solver twice")
     return names
 
 
-def validate_tolerance(value: Any) -> float:
-    """A solver tolerance in ``(0, 1)``, or raise naming the field and range."""
-    return finite_in_range("tolerance", value, 0.0, 1.0, lower_open=True, upper_open=True)
+def validate_solver_tol(value: Any) -> float:
+    """The solvers' stopping tolerance in ``(0, 1)``, or raise naming the field and range."""
+    return finite_in_range("solver_tol", value, 0.0, 1.0, lower_open=True, upper_open=True)
 
 
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:

@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
+
+from sso.cli.common import Command
 
 
 def configure_sweep(parser: argparse.ArgumentParser) -> None:
@@ -74,7 +77,7 @@ def run_tolerance(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from sso.batch.axes import base_case
-    from sso.batch.tolerance import tolerance
+    from sso.batch.tolerance_study import tolerance_study
     from sso.cli.common import DEFAULT_OUT, EXIT_OK
     from sso.limits import OUTPUT_FORMATS
     from sso.reports.kinds import write_report
@@ -91,9 +94,9 @@ def run_tolerance(args: argparse.Namespace) -> int:
         settings.update({name: value for name, value in (("samples", args.samples),
                                                          ("seed", args.seed))
                          if value is not None})
-        result = tolerance(design, **settings, input_speed_rpm=case.input_speed_rpm,
-                           client=client, workers=args.workers,
-                           progress=False if args.quiet else None)
+        result = tolerance_study(design, **settings, input_speed_rpm=case.input_speed_rpm,
+                                 client=client, workers=args.workers,
+                                 progress=False if args.quiet else None)
         result = replace(result, study_of=study_of)
         formats = tuple(name for name in OUTPUT_FORMATS if not (args.no_plots and name == "png"))
         folder = Path(args.out or DEFAULT_OUT) / case.name
@@ -162,3 +165,21 @@ def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], in
     finally:
         if client is not None:
             client.close()
+
+
+COMMANDS = (
+    Command("sweep", "optimise or evaluate a base case over a grid of key values",
+            "Run a sweep file: a base case, the [axes] to vary (any case key, e.g. "
+            "design.beta_deg[1], option, model, input_speed_rpm) and the action. Writes "
+            "sweep.csv as chunks finish, report.md and a plot into DIR/<name>/; --resume "
+            "computes only the missing points. Exit 0: every point finished (and converged); "
+            "1: some did not; 2: bad input.",
+            configure_sweep, run_sweep),
+    Command("tolerance", "Monte Carlo tolerance study of a case's optimum",
+            "Optimise the case (or read its optimum from --result RESULT.json), perturb the "
+            "optimum's angles and phases as the case's [tolerance] table says (normal or "
+            "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
+            "and output acceleration with a histogram into DIR/<case name>/. --at start "
+            "studies the case's design as given instead.",
+            configure_tolerance, run_tolerance),
+)

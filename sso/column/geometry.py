@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sso.limits import BETA_LIMIT_DEG
+from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG
 from sso.validation import as_float_tuple, finite_float
 
 if TYPE_CHECKING:
@@ -43,7 +43,6 @@ STRAIGHT_SINE = 1e-12
 ROUND_OFF_SINE = 1e-13
 # Consecutive points closer than this fraction of the column's extent coincide.
 COINCIDENT_RELATIVE = 1e-9
-CONVENTIONAL_PHASE_DEG = 90.0
 
 
 @dataclass(frozen=True)

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, ClassVar, Iterable
+from typing import Any, ClassVar
 
 import numpy as np
 
-from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.deprecation import renamed_keywords
+from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -25,28 +27,22 @@ from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
 )
-from sso.solvers.multistart import (
-    MeasuredRun,
-    best_solution,
-    distinct_minima,
-    run_starts,
-    solution_from_run,
-)
+from sso.solvers.multistart import MeasuredRun, solution_from_run, solve_from_starts
+from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.solution import CrossCheck, Solution
-from sso.solvers.starts import DEFAULT_SEED, start_points
+from sso.solvers.solution import Solution
+from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     validate_count,
+    validate_solver_tol,
     validate_solvers,
     validate_speed,
-    validate_tolerance,
 )
 
 
-@dataclass(frozen=True, repr=False)
-class OptimisationResult(Readable):
+@dataclass(frozen=True, kw_only=True, repr=False)
+class OptimisationResult(DesignResult):
     """Everything one optimisation found; reports are rendered from it alone.
 
     Attributes
@@ -67,16 +63,9 @@ class OptimisationResult(Readable):
         The user's start after moving it onto the bounds.
     initial, optimum : sso.Evaluation
         Evaluations of ``initial_series`` and of the best design.
-    best : sso.Solution
-        Lowest RE among successful answers (among all, if none succeeded).
-    solutions : dict of str to Solution
-        Best answer of each solver.
-    runs : tuple of Solution
-        Every run, each solver from each start.
-    crosscheck : sso.CrossCheck or None
-        The solvers' verdict; None when one solver was asked for.
-    local_minima : tuple of float
-        Distinct RE values the successful runs stopped at, ascending.
+    best, solutions, runs, crosscheck, local_minima
+        As in :class:`sso.solvers.result.DesignResult`; ``fun`` is the residual
+        error RE and ``x`` is in deg.
     samples : int
         Quadrature angles of the NLP (chosen for the bounds).
     quadrature_error : float
@@ -97,32 +86,12 @@ class OptimisationResult(Readable):
     start_series: ShaftSeries
     initial: Evaluation
     optimum: Evaluation
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-    local_minima: tuple[float, ...]
     samples: int
     quadrature_error: float
     starts: int
     warnings: tuple[str, ...]
 
     report_kind: ClassVar[str] = "optimisation"
-
-    @property
-    def success(self) -> bool:
-        """True when the best answer converged and the solvers agree."""
-        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
-
-    @property
-    def x(self) -> tuple[float, ...]:
-        """Design vector of the best answer, deg."""
-        return self.best.x
-
-    @property
-    def fun(self) -> float:
-        """Residual error of the best answer (dimensionless)."""
-        return self.best.fun
 
     def _repr_text(self) -> str:
         verdict = "success" if self.success else "FAILED"
@@ -140,17 +109,9 @@ class OptimisationResult(Readable):
              format_number(self.initial.residual_error)),
             (f"optimum ({self.best.solver})", format_numbers(self.best.series.beta_deg),
              format_numbers(self.best.series.phase_deg), format_number(self.fun))))
-        solvers = TextTable(("solver", "converged", "RE", "KKT (1/rad)", "iterations",
-                             "message"),
-                            tuple((name, "yes" if solution.success else "no",
-                                   format_number(solution.fun), format_number(solution.kkt, 2),
-                                   str(solution.nit), solution.message)
-                                  for name, solution in self.solutions.items()))
-        check = ("cross-check: one solver, none made" if self.crosscheck is None
-                 else f"cross-check: {self.crosscheck.message}")
         title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
                  f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
-        return [title, designs, solvers, check]
+        return [title, designs, *self._solver_parts("RE", "KKT (1/rad)")]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -165,19 +126,15 @@ class OptimisationResult(Readable):
             "start_series": self.start_series.to_dict(),
             "initial": self.initial.to_dict(),
             "optimum": self.optimum.to_dict(),
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
             "samples": self.samples,
             "quadrature_error": self.quadrature_error,
             "starts": self.starts,
-            "success": self.success,
             "warnings": list(self.warnings),
+            **self.solver_dict(),
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def optimise(
     series: ShaftSeries,
     option: int | str = 3,
@@ -187,7 +144,7 @@ def optimise(
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = DEFAULT_STARTS,
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
-    tolerance: float = DEFAULT_SHAFT_SOLVER_TOL,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
     quadrature_rtol: float = DEFAULT_RTOL,
@@ -221,9 +178,10 @@ def optimise(
         Starts per solver, ``1..10000``: the user's start plus space-filling points.
     input_speed_rpm : float
         Input speed, rpm (> 0); it scales the reported figures, not the optimum.
-    tolerance : float
-        Solver tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's ``ftol`` relative
-        to the starting objective.
+    solver_tol : float
+        The solvers' stopping tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's
+        ``ftol`` relative to the starting objective. (Its name until v0.1,
+        ``tolerance``, still works with a DeprecationWarning.)
     max_iterations : int
         Iteration limit of each run, >= 1.
     seed : int
@@ -251,7 +209,7 @@ def optimise(
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
-    tolerance = validate_tolerance(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
                                                                      quadrature_atol)
 
@@ -261,7 +219,7 @@ def optimise(
                                 beta_bounds_deg, phase_bounds_deg)
         rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
                                quadrature_atol)
-        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
+        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance,
                         tuple(str(warning.message) for warning in caught))
@@ -271,22 +229,21 @@ def optimise(
 
 
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
-           starts: int, speed_rpm: float, tolerance: float, max_iterations: int, seed: int,
+           starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
     from sso.shafts.problem import compiled_nlp
 
-    nlp = compiled_nlp(problem, rule.samples)
-    points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
-    limits = RunLimits(problem.lower_rad, problem.upper_rad)
-    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
-                          max_iterations)
-    solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
-                   for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
-    best = best_solution(solutions.values())
+    solved = solve_from_starts(
+        compiled_nlp(problem, rule.samples), problem.start_rad,
+        RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
+        solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
+        max_iterations=max_iterations,
+        to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
+        objective_rtol=objective_rtol, objective_atol=objective_atol,
+        kkt_tolerance=kkt_tolerance)
+    best = solved["best"]
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
@@ -303,16 +260,11 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         start_series=ShaftSeries(start_beta, start_phase, series.model),
         initial=initial_series.evaluate(speed_rpm, **evaluation_options),
         optimum=best.series.evaluate(speed_rpm, **evaluation_options),
-        best=best,
-        solutions=solutions,
-        runs=tuple(all_runs),
-        crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
-                    if len(solutions) > 1 else None),
-        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,
         warnings=setup_warnings,
+        **solved,
     )
 
 

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, Sequence
+from typing import Any, Protocol
 
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 
@@ -63,7 +64,7 @@ class Solution(Readable):
     """
 
     solver: str
-    series: "SeriesDesign | None"
+    series: SeriesDesign | None
     x: tuple[float, ...]
     fun: float
     nit: int

@@ -22,7 +22,7 @@ def test_percentiles_equal_numpy_over_directly_evaluated_samples():
     np.testing.assert_array_equal(result.beta_deg, beta_deg)
     np.testing.assert_array_equal(result.phase_deg, phase_deg)
     evaluations = [sso.ShaftSeries(beta, phase).evaluate(25.0)
-                   for beta, phase in zip(beta_deg, phase_deg)]
+                   for beta, phase in zip(beta_deg, phase_deg, strict=True)]
     table = result.percentile_table()
     # RE: the same rule to 1e-10; figures: parabola-refined peaks of the same grid,
     # where two near-equal peaks may swap (1e-8 relative).
