@@ -88,8 +88,8 @@ def render_text(parts: Sequence[Part]) -> str:
         cells = [part.header, *part.rows]
         widths = [max(len(row[column]) for row in cells) for column in range(len(part.header))]
         for index, row in enumerate(cells):
-            lines.append("  ".join(cell.ljust(width) for cell, width in zip(row, widths))
-                         .rstrip())
+            padded = (cell.ljust(width) for cell, width in zip(row, widths, strict=True))
+            lines.append("  ".join(padded).rstrip())
             if index == 0:
                 lines.append("  ".join("-" * width for width in widths))
     return "\n".join(lines)

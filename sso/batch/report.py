@@ -188,7 +188,7 @@ def _sweep_figure(result: Any) -> Any:
     grid = figure.subplots(rows_count, columns_count, squeeze=False, sharey=True)
     for axes in grid.flat[count:]:
         axes.set_visible(False)
-    for axes, (title, axis, rows) in zip(grid.flat, panels):
+    for axes, (title, axis, rows) in zip(grid.flat, panels, strict=False):
         _sweep_panel(axes, axis, rows, title)
     failed = len(result.rows) - len(ok)
     possible = (len(outer.values) if result.mode == "product" and len(result.axes) == 2
@@ -201,7 +201,7 @@ def _sweep_figure(result: Any) -> Any:
                     f"points{f', {failed} failed not shown' if failed else ''}{omitted})")
     legend: dict[str, Any] = {}
     for axes in grid.flat[:count]:
-        for handle, label in zip(*axes.get_legend_handles_labels()):
+        for handle, label in zip(*axes.get_legend_handles_labels(), strict=True):
             legend.setdefault(label, handle)
     figure.legend(list(legend.values()), list(legend), loc="outside lower center",
                   ncols=min(len(legend), 2), fontsize="small")

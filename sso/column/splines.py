@@ -118,7 +118,7 @@ class SplineResult(Readable):
     def _summary_parts(self) -> list[Part]:
         rows = tuple((str(index + 1), str(teeth), str(offset), format_number(phase))
                      for index, (teeth, offset, phase) in enumerate(
-                         zip(self.teeth, self.tooth_offset, self.yoke_phase_deg)))
+                         zip(self.teeth, self.tooth_offset, self.yoke_phase_deg, strict=True)))
         title = (f"Spline teeth ({self.method}): RE {format_number(self.residual_error)}, "
                  f"loss against the continuous optimum {format_number(self.loss)}")
         return [title, TextTable(("shaft", "teeth", "tooth offset", "yoke phase (deg)"), rows),

@@ -6,11 +6,14 @@ the whole report folder (:func:`sso.files.replace_folder`). The command line cal
 the same function, so a report written from Python is the one ``sso`` writes.
 
 Kinds of this layer and below are registered here: ``"document"`` (a result
-document, e.g. read from ``result.json``) and ``"optimisation"``
-(:class:`sso.OptimisationResult`). The studies above this layer register their
-own (``"sweep"``, ``"tolerance"`` in :mod:`sso.batch.report`) when their result
-module is imported, so any result that exists has its kind registered. A result
-names its kind in its ``report_kind`` class attribute.
+document, e.g. read from ``result.json``), ``"optimisation"``
+(:class:`sso.OptimisationResult`), ``"fourbar_design"``
+(:class:`sso.FourBarDesignResult`) and ``"mechanism_table"`` (a
+:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns). The studies
+above this layer register their own (``"sweep"``, ``"tolerance"`` in
+:mod:`sso.batch.report`) when their result module is imported, so any result that
+exists has its kind registered. A result names its kind in its ``report_kind``
+class attribute.
 """
 
 from __future__ import annotations
@@ -143,5 +146,20 @@ def _render_optimisation(result: Any, formats: tuple[str, ...]) -> dict[str, byt
     return render(optimisation_document(result), formats)
 
 
+def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.writer import render
+    from sso.run.mechanism_document import fourbar_design_document
+
+    return render(fourbar_design_document(result), formats)
+
+
+def _render_mechanism_table(table: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.mechanism_report import table_report
+
+    return table_report(table, formats)
+
+
 register_report_kind("document", _render_document)
 register_report_kind("optimisation", _render_optimisation)
+register_report_kind("fourbar_design", _render_fourbar_design)
+register_report_kind("mechanism_table", _render_mechanism_table)

@@ -60,7 +60,7 @@ def optimise_case(case: Case) -> dict[str, Any]:
     return document
 
 
-def optimisation_document(result: "OptimisationResult", case: Case | None = None) -> dict[str, Any]:
+def optimisation_document(result: OptimisationResult, case: Case | None = None) -> dict[str, Any]:
     """The result document of an optimisation, as ``sso run`` writes it.
 
     Parameters
@@ -100,7 +100,7 @@ def optimisation_document(result: "OptimisationResult", case: Case | None = None
     return document
 
 
-def case_of_result(result: "OptimisationResult") -> Case:
+def case_of_result(result: OptimisationResult) -> Case:
     """A case holding what an optimisation result records of its problem."""
     from sso.cases.schema import parse_case
 

@@ -76,7 +76,7 @@ def test_run_writes_every_file_and_exits_0(option3_run):
     assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
     summary = completed.stdout.splitlines()[-2:]
     assert summary[0].startswith("--------")
-    assert re.match(r"paper_option3_exact\s+solved\s+0\.0514\s+\S+\s+0\.00193\s", summary[1])
+    assert re.match(r"paper_option3_exact\s+solved\s+0\.0514\s+< 1e-15\s+0\.00193\s", summary[1])
 
 
 def test_result_json_holds_the_whole_story(option3_run):

@@ -82,3 +82,13 @@ def test_batch_phasing_and_spline_results_read_well():
     assert "lowest RE < 1e-15" in repr(batch)
     assert phasing.summary().startswith("Phasing: ")
     assert "tooth offset" in splines.summary()
+
+
+def test_every_public_result_type_reads_well():
+    from sso.display import Readable
+
+    results = [name for name in sso.__all__ if name.endswith("Result")]
+    assert {"OptimisationResult", "FourBarDesignResult", "SweepResult", "ToleranceResult",
+            "BatchResult", "PhasingResult", "SplineResult"} <= set(results)
+    for name in [*results, "Evaluation", "Solution", "CrossCheck", "MechanismTable"]:
+        assert issubclass(getattr(sso, name), Readable), name

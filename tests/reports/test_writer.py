@@ -7,13 +7,13 @@ import pytest
 from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
+from sso.reports.kinds import write_report
 from sso.reports.writer import (
     ResultFileError,
     read_result,
     render,
     result_json,
 )
-from sso.reports.kinds import write_report
 from sso.run.document import evaluate_case
 
 
