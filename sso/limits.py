@@ -45,8 +45,9 @@ ROUND_OFF_FLOOR = 1e-15
 error of about 3e-8; a design a thousandth of a degree off a cancelling optimum
 already has RE near 1e-10, so differences below the floor only say where the solver
 stopped and how the floating-point sums rounded (1e-31 and 1e-26 are the same
-design). The floor applies to the magnitude of every number in a report table;
-``result.json`` keeps the full value."""
+design). The floor applies to the magnitude of every number in summaries and in
+Markdown and HTML reports; CSV cells stay numbers (six digits) so that programs can
+read them, and ``result.json`` keeps the full value."""
 
 REPORT_DIGITS = 6
 """Significant digits of every number in report tables (CSV, Markdown, HTML) and

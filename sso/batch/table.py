@@ -22,7 +22,7 @@ from sso.limits import SOLVER_NAMES
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"
 MANIFEST_NAME = "sweep.json"
-SOLVER_FIELDS = ("residual_error", "status", "success", "kkt", "time_s", "message")
+SOLVER_FIELDS = ("residual_error", "status", "success", "kkt_per_rad", "time_s", "message")
 RESULT_COLUMNS = (
     "status", "error", "residual_error", "residual_error_rpm2", "fluctuation",
     "max_output_accel_rad_s2", "design_beta_deg", "design_phase_deg", "success",
