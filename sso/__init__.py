@@ -20,7 +20,7 @@ _moved.install()
 _EXPORTS: dict[str, str | tuple[str, str]] = {
     "ShaftSeries": "sso.shafts.series",
     "Evaluation": "sso.shafts.evaluation",
-    "optimise": "sso.shafts.optimise",
+    "optimise": "sso.column.dispatch",
     "OptimisationResult": "sso.shafts.optimise",
     "optimise_batch": "sso.shafts.batch",
     "BatchResult": "sso.shafts.batch",
@@ -42,6 +42,8 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "can_cancel": "sso.column.cancel",
     "CancelVerdict": "sso.column.cancel",
     "optimise_phasing": "sso.column.phasing",
+    "optimise_joint_positions": "sso.column.joint_positions",
+    "JointPositionResult": "sso.column.joint_positions",
     "PhasingResult": "sso.column.phasing",
     "best_spline_teeth": "sso.column.splines",
     "SplineResult": "sso.column.splines",

@@ -6,13 +6,47 @@ chain is ``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` with ``D_k = diag(1, cos beta
 and ``RE = |M|_F^2 / (2 det M) - 1``. The column modules use it to scan thousands of
 phasings (brute force, spline teeth) in one array operation; the tests check it
 against :meth:`sso.ShaftSeries.evaluate`.
+
+:func:`chain_entries` and :func:`entries_residual_error` use nothing but ``+ - * /``,
+so the same source builds numpy arrays here and the CasADi graph of the joint-position
+NLP (:mod:`sso.column.joint_positions`). RE does not change when ``M`` is scaled, so
+a rotation may be given scaled (``lambda (cos phi, sin phi)``, any ``lambda != 0``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
+
+def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
+                  sin_phase: Sequence[Any]) -> tuple[Any, Any, Any, Any]:
+    """Entries ``(m11, m12, m21, m22)`` of ``M`` in any arithmetic (numpy, CasADi).
+
+    Parameters
+    ----------
+    cos_beta : sequence
+        ``cos beta_k`` of each joint (``n`` entries).
+    cos_phase, sin_phase : sequence
+        ``cos phi_k`` and ``sin phi_k`` of each phase (``n - 1`` entries each); the
+        pair of one phase may be scaled by a common non-zero factor.
+    """
+    m11: Any = 1.0
+    m12: Any = 0.0
+    m21: Any = 0.0
+    m22: Any = cos_beta[0]
+    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=False):
+        top_left, top_right = c * m11 - s * m21, c * m12 - s * m22
+        m21, m22 = cosine * (s * m11 + c * m21), cosine * (s * m12 + c * m22)
+        m11, m12 = top_left, top_right
+    return m11, m12, m21, m22
+
+
+def entries_residual_error(m11: Any, m12: Any, m21: Any, m22: Any) -> Any:
+    """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` in any arithmetic."""
+    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
 
 
 def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
@@ -32,24 +66,19 @@ def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
     cosines = np.cos(np.asarray(beta_rad, dtype=float))
     phases = np.asarray(phase_rad, dtype=float)
     batch = np.broadcast_shapes(cosines.shape[:-1], phases.shape[:-1])
-    matrix = np.zeros((*batch, 2, 2))
-    matrix[..., 0, 0] = 1.0
-    matrix[..., 1, 1] = cosines[..., 0]
-    for k in range(1, cosines.shape[-1]):
-        cos_phase = np.cos(phases[..., k - 1])[..., None]
-        sin_phase = np.sin(phases[..., k - 1])[..., None]
-        top = cos_phase * matrix[..., 0, :] - sin_phase * matrix[..., 1, :]
-        bottom = sin_phase * matrix[..., 0, :] + cos_phase * matrix[..., 1, :]
-        matrix[..., 0, :] = top
-        matrix[..., 1, :] = cosines[..., k, None] * bottom
+    entries = chain_entries([cosines[..., k] for k in range(cosines.shape[-1])],
+                            [np.cos(phases[..., k]) for k in range(phases.shape[-1])],
+                            [np.sin(phases[..., k]) for k in range(phases.shape[-1])])
+    m11, m12, m21, m22 = (np.broadcast_to(entry, batch) for entry in entries)
+    matrix: np.ndarray = np.stack([np.stack([m11, m12], axis=-1),
+                                   np.stack([m21, m22], axis=-1)], axis=-2)
     return matrix
 
 
 def matrix_residual_error(matrix: np.ndarray) -> np.ndarray:
     """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` of each matrix."""
-    m11, m12 = matrix[..., 0, 0], matrix[..., 0, 1]
-    m21, m22 = matrix[..., 1, 0], matrix[..., 1, 1]
-    residual: np.ndarray = ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    residual: np.ndarray = entries_residual_error(matrix[..., 0, 0], matrix[..., 0, 1],
+                                                  matrix[..., 1, 0], matrix[..., 1, 1])
     return residual
 
 
