@@ -23,7 +23,8 @@ from sso.column.geometry import ColumnGeometry
 from sso.column.robust_phasing import optimise_robust
 from sso.column.tolerances import Tolerances
 
-CASE = Path(__file__).resolve().parents[1] / "tests" / "data" / "columns" / "truck_three_positions.json"
+CASE = (Path(__file__).resolve().parents[1] / "tests" / "data" / "columns"
+        / "truck_three_positions.json")
 
 
 def main() -> None:

@@ -9,6 +9,7 @@ and lines of text) rendered here, so no result imports the report writers above 
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import math
 from collections.abc import Sequence
@@ -114,16 +115,19 @@ class Readable:
     """``summary()``, ``_repr_html_`` and a short ``repr`` from two methods.
 
     A result class lists its summary in :meth:`_summary_parts` and its one-line
-    description in :meth:`_repr_text`; the text and HTML are rendered here.
-    Dataclasses using it must pass ``repr=False`` so their generated ``repr``
-    does not replace this one.
+    description in :meth:`_repr_text`; the text and HTML are rendered here. A
+    dataclass that defines neither gets both from its plain fields (numbers,
+    text, flags and short tuples of numbers; arrays and nested objects are
+    left out). Dataclasses using it must pass ``repr=False`` so their generated
+    ``repr`` does not replace this one.
     """
 
     def _summary_parts(self) -> list[Part]:
-        raise NotImplementedError
+        rows = tuple((name, text) for name, text in _plain_fields(self))
+        return [type(self).__name__, TextTable(("field", "value"), rows)]
 
     def _repr_text(self) -> str:
-        raise NotImplementedError
+        return ", ".join(f"{name}={text}" for name, text in _plain_fields(self))
 
     def summary(self) -> str:
         """A short plain-text table of what the result says."""
@@ -134,3 +138,24 @@ class Readable:
 
     def __repr__(self) -> str:
         return shorten(f"{type(self).__name__}({self._repr_text()})", REPR_LIMIT)
+
+
+PLAIN_TUPLE_LIMIT = 8
+"""Longest tuple of numbers a default summary shows."""
+
+
+def _plain_fields(result: Any) -> list[tuple[str, str]]:
+    """``(name, text)`` of a dataclass's fields that read as plain values."""
+    if not dataclasses.is_dataclass(result):
+        return []
+    shown = []
+    for field in dataclasses.fields(result):
+        value = getattr(result, field.name)
+        if isinstance(value, str):
+            shown.append((field.name, shorten(value, 80)))
+        elif isinstance(value, (bool, int, float)):
+            shown.append((field.name, format_number(value)))
+        elif (isinstance(value, tuple) and len(value) <= PLAIN_TUPLE_LIMIT
+              and all(isinstance(item, (int, float)) for item in value)):
+            shown.append((field.name, f"[{format_numbers(value)}]"))
+    return shown

@@ -37,7 +37,7 @@ def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
     m12: Any = 0.0
     m21: Any = 0.0
     m22: Any = cos_beta[0]
-    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=False):
+    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=True):
         top_left, top_right = c * m11 - s * m21, c * m12 - s * m22
         m21, m22 = cosine * (s * m11 + c * m21), cosine * (s * m12 + c * m22)
         m11, m12 = top_left, top_right

@@ -97,7 +97,7 @@ class SteeringFeel:
         return dict(self.__dict__)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class OnCentreResult(PhasingOutcome):
     """Outcome of :func:`optimise_on_centre`.
 
@@ -186,7 +186,7 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
                        window_deg: float = DEFAULT_WINDOW_DEG,
                        on_centre_weight: float = DEFAULT_ON_CENTRE_WEIGHT,
                        solvers: tuple[str, ...] = ("ipopt", "slsqp"), starts: int = 4,
-                       tolerance: float = DEFAULT_TOLERANCE,
+                       solver_tol: float = DEFAULT_TOLERANCE,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
                        seed: int = 0) -> OnCentreResult:
     """Yoke phasing that minimises ``RE + on_centre_weight * V`` (module notes).
@@ -197,7 +197,7 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
         At least 2 joints.
     straight_ahead_deg, window_deg, lock_deg, on_centre_weight
         As :func:`steering_feel`.
-    solvers, starts, tolerance, max_iterations, seed
+    solvers, starts, solver_tol, max_iterations, seed
         As :func:`optimise_positions` (starts added to the RE optimum, its
         equivalent phasings and the in-phase assembly).
 
@@ -218,7 +218,7 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 0, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
-    tolerance = validate_solver_tol(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     nominal = optimise_phasing(geometry, solvers=solver_names, seed=seed)
     options = {"straight_ahead_deg": centre, "window_deg": window, "lock_deg": lock,
                "on_centre_weight": weight}
@@ -238,7 +238,7 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
         [nominal.yoke_phase_deg, *nominal.equivalent_yoke_phase_deg, [0.0] * shafts],
         shafts, starts, seed)
     solved = solve_phasing_nlp(nlp, parameters, points, RunLimits(lower, upper), shafts, scale,
-                               solver_names, tolerance, max_iterations)
+                               solver_names, solver_tol, max_iterations)
     feel = steering_feel((geometry, solved.yoke_phase_deg), **options)
     message = (f"{solved.best.message}; on-centre fluctuation {feel.on_centre_fluctuation:.4g} "
                f"(RE optimum {nominal_feel.on_centre_fluctuation:.4g}), at lock "

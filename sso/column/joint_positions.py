@@ -414,7 +414,7 @@ def _build(joints: int, phasing_free: bool) -> Any:
     lengths = [casadi.sqrt(casadi.dot(d, d)) for d in differences]
     cos_beta = [casadi.dot(before, after) / (length_before * length_after)
                 for before, after, length_before, length_after
-                in zip(differences[:-1], differences[1:], lengths[:-1], lengths[1:], strict=False)]
+                in zip(differences[:-1], differences[1:], lengths[:-1], lengths[1:], strict=True)]
     constraints = casadi.vertcat(*cos_beta, *lengths)
     return compile_nlp(f"sso_column_joints_{joints}_{'free' if phasing_free else 'fixed'}", x, p,
                        objective, constraints)
@@ -448,7 +448,7 @@ def _validated_boxes(joint_boxes_mm: Any, geometry: ColumnGeometry
         if len(box) != 2:
             raise ValueError(f"{label} = {box!r} must be [[x, y, z] lower, [x, y, z] upper] in mm")
         corners = []
-        for side, corner in zip(("lower", "upper"), box, strict=False):
+        for side, corner in zip(("lower", "upper"), box, strict=True):
             values = as_float_tuple(f"{label} {side}", corner)
             if len(values) != 3:
                 raise ValueError(f"{label} {side} = {list(values)} must have 3 coordinates in mm")

@@ -59,7 +59,7 @@ class SinglePositionOptimum:
     worst_re: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PositionsResult(PhasingOutcome):
     """Outcome of :func:`optimise_positions`.
 
@@ -114,7 +114,7 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
                        weights: Mapping[str, float] | None = None,
                        solvers: tuple[str, ...] = ("ipopt", "slsqp"),
                        starts: int = DEFAULT_POSITION_STARTS,
-                       tolerance: float = DEFAULT_TOLERANCE,
+                       solver_tol: float = DEFAULT_TOLERANCE,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
                        seed: int = 0) -> PositionsResult:
     """One yoke phasing for several positions of a column.
@@ -134,7 +134,7 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
         With two they are cross-checked.
     starts : int
         Space-filling starts per solver, added to each position's own optimum.
-    tolerance : float
+    solver_tol : float
         Solver tolerance on the scaled problem (RE divided by the best
         single-position optimum's worst-position RE).
     max_iterations, seed
@@ -159,12 +159,12 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 0, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
-    tolerance = validate_solver_tol(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
 
     beta_rad = np.radians([column.beta_deg for column in columns])
     gamma_rad = np.radians([column.plane_angle_deg for column in columns])
     singles_runs = {name: optimise_phasing(column, solvers=solver_names, seed=seed)
-                    for name, column in zip(names, columns)}
+                    for name, column in zip(names, columns, strict=True)}
     singles = {}
     for name, run in singles_runs.items():
         values = scenario_re(beta_rad, gamma_rad, run.yoke_phase_deg)
@@ -175,13 +175,14 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
     weight_array = np.array([weight_of[name] for name in names])
     objective = "worst" if positions_objective == "worst" else "mean"
     solved = solve_scenarios(beta_rad, gamma_rad, objective=objective, weights=weight_array,
-                             scale=scale, user_starts_deg=[s.yoke_phase_deg for s in singles.values()],
-                             starts=starts, solvers=solver_names, tolerance=tolerance,
+                             scale=scale,
+                             user_starts_deg=[s.yoke_phase_deg for s in singles.values()],
+                             starts=starts, solvers=solver_names, solver_tol=solver_tol,
                              max_iterations=max_iterations, seed=seed)
     values = scenario_re(beta_rad, gamma_rad, solved.yoke_phase_deg)
     worst = float(values.max())
     fun = worst if objective == "worst" else float(np.dot(weight_array, values))
-    active = tuple(name for name, value in zip(names, values)
+    active = tuple(name for name, value in zip(names, values, strict=True)
                    if value >= worst * (1.0 - ACTIVE_RELATIVE))
     message = (f"{solved.best.message}; worst position RE {worst:.6g} ({', '.join(active)}); "
                f"best single-position optimum's worst RE {reference:.6g}")
@@ -189,11 +190,11 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
         **outcome_fields(solved, fun, message), positions_objective=positions_objective,
         weights=weight_of, position_re=_named(names, values), worst_re=worst,
         active_positions=active, single_position=singles, single_position_runs=singles_runs,
-        geometries=dict(zip(names, columns)))
+        geometries=dict(zip(names, columns, strict=True)))
 
 
 def _named(names: list[str], values: np.ndarray) -> dict[str, float]:
-    return {name: float(value) for name, value in zip(names, values)}
+    return {name: float(value) for name, value in zip(names, values, strict=True)}
 
 
 def _validated_geometries(geometries: Any) -> tuple[list[str], list[ColumnGeometry]]:
@@ -212,7 +213,7 @@ def _validated_geometries(geometries: Any) -> tuple[list[str], list[ColumnGeomet
         names.append(name)
         columns.append(column)
     first = columns[0].joint_count
-    for name, column in zip(names, columns):
+    for name, column in zip(names, columns, strict=True):
         if column.joint_count != first:
             raise ValueError(
                 f"geometries[{name!r}] has {column.joint_count} joints but "

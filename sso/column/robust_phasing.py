@@ -36,7 +36,7 @@ LOWEST_PERCENTILE = 50.0
 DEFAULT_ROBUST_STARTS = 4
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class RobustResult(PhasingOutcome):
     """Outcome of :func:`optimise_robust`.
 
@@ -100,7 +100,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                     robust_objective: str = "p95",
                     solvers: tuple[str, ...] = ("ipopt", "slsqp"),
                     starts: int = DEFAULT_ROBUST_STARTS,
-                    tolerance: float = DEFAULT_TOLERANCE,
+                    solver_tol: float = DEFAULT_TOLERANCE,
                     max_iterations: int = DEFAULT_MAX_ITERATIONS,
                     seed: int = 0) -> RobustResult:
     """Yoke phasing that minimises RE over a sample of built columns.
@@ -121,7 +121,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     starts : int
         Space-filling starts per solver, added to the nominal optimum and its
         equivalent phasings.
-    tolerance : float
+    solver_tol : float
         Solver tolerance on the scaled problem (objective divided by the nominal
         optimum's objective over the sample).
     max_iterations, seed
@@ -147,7 +147,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 0, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
-    tolerance = validate_solver_tol(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
 
     nominal = optimise_phasing(geometry, solvers=solver_names, seed=seed)
     sample = tolerances.sample(geometry)
@@ -164,7 +164,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
         sample.beta_rad, sample.gamma_rad, objective=objective, weights=weights,
         scale=scale, level=level,
         user_starts_deg=[nominal.yoke_phase_deg, *nominal.equivalent_yoke_phase_deg],
-        starts=starts, solvers=solver_names, tolerance=tolerance,
+        starts=starts, solvers=solver_names, solver_tol=solver_tol,
         max_iterations=max_iterations, seed=seed)
     robust_values = sample.residual_error(solved.yoke_phase_deg)
     beta_rad = np.radians([geometry.beta_deg])

@@ -29,6 +29,7 @@ import numpy as np
 
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
+from sso.display import Readable
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -66,8 +67,8 @@ class ScenarioRun:
         return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
 
-@dataclass(frozen=True)
-class PhasingOutcome:
+@dataclass(frozen=True, repr=False)
+class PhasingOutcome(Readable):
     """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
 
     Attributes
@@ -152,7 +153,7 @@ def scenario_re(beta_rad: np.ndarray, gamma_rad: np.ndarray, yoke_phase_deg: Any
 def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: str,
                     weights: np.ndarray, scale: float, level: float = 0.0,
                     user_starts_deg: Sequence[Sequence[float]], starts: int,
-                    solvers: tuple[str, ...], tolerance: float, max_iterations: int,
+                    solvers: tuple[str, ...], solver_tol: float, max_iterations: int,
                     seed: int) -> ScenarioRun:
     """Best shared yoke phasing of the scenarios under one objective.
 
@@ -171,7 +172,7 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
         Starts given by the caller (yoke phasing, deg), tried first.
     starts : int
         Space-filling starts added to them.
-    solvers, tolerance, max_iterations, seed
+    solvers, solver_tol, max_iterations, seed
         As :func:`sso.optimise`.
     """
     from sso.solvers.nlp import cached_nlp
@@ -186,7 +187,7 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     points, limits = _epigraph_starts(objective, delta_starts, beta_rad, gamma_rad, weights,
                                       scale, level, lower_delta, upper_delta)
     return solve_phasing_nlp(nlp, parameters, points, limits, shafts, scale, solvers,
-                             tolerance, max_iterations)
+                             solver_tol, max_iterations)
 
 
 def yoke_starts(user_starts_deg: Sequence[Sequence[float]], shafts: int, starts: int,
@@ -201,11 +202,11 @@ def yoke_starts(user_starts_deg: Sequence[Sequence[float]], shafts: int, starts:
 
 
 def solve_phasing_nlp(nlp: Any, parameters: np.ndarray, points: np.ndarray, limits: RunLimits,
-                      shafts: int, scale: float, solvers: tuple[str, ...], tolerance: float,
+                      shafts: int, scale: float, solvers: tuple[str, ...], solver_tol: float,
                       max_iterations: int) -> ScenarioRun:
     """Every solver from every start on an NLP whose first ``shafts`` variables are the
     yoke phasing (rad) and whose objective is RE-like times ``scale``; cross-checked."""
-    measured = run_starts(nlp, points, parameters, limits, solvers, tolerance, max_iterations)
+    measured = run_starts(nlp, points, parameters, limits, solvers, solver_tol, max_iterations)
 
     def yoke(x: np.ndarray) -> tuple[float, ...]:
         return tuple(float(value) for value in wrap_half_turn(np.degrees(x[:shafts])))

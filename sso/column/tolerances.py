@@ -111,7 +111,8 @@ class Tolerances:
                                gamma_rad=np.radians(gamma - phase_errors),
                                hardpoint_offsets_mm=offsets, yoke_phase_errors_deg=phase_errors)
 
-    def _draw(self, rng: np.random.Generator, tolerance: float, shape: tuple[int, ...]) -> np.ndarray:
+    def _draw(self, rng: np.random.Generator, tolerance: float,
+              shape: tuple[int, ...]) -> np.ndarray:
         if tolerance == 0.0:
             return np.zeros(shape)
         if self.distribution == "normal":

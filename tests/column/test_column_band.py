@@ -69,7 +69,8 @@ def test_operating_angle_edges_meet_the_limit_by_quadrature(truck, band):
 def test_box_corners_meet_the_limit_and_its_grid_stays_under(truck, band):
     geometry, optimum = truck
     points = np.asarray(geometry.points_mm)
-    widths = [min(i.nominal_deg - i.lower_deg, i.upper_deg - i.nominal_deg) for i in band.yoke_phase]
+    widths = [min(i.nominal_deg - i.lower_deg, i.upper_deg - i.nominal_deg)
+              for i in band.yoke_phase]
     np.testing.assert_allclose(band.box_half_width_deg, band.box_scale * np.asarray(widths))
     assert 0 < band.box_scale < 1
     corners = [simulated_residual_error(points, np.add(optimum.yoke_phase_deg,

@@ -92,3 +92,20 @@ def test_every_public_result_type_reads_well():
             "BatchResult", "PhasingResult", "SplineResult"} <= set(results)
     for name in [*results, "Evaluation", "Solution", "CrossCheck", "MechanismTable"]:
         assert issubclass(getattr(sso, name), Readable), name
+
+
+def test_a_result_without_its_own_summary_reads_from_its_plain_fields():
+    from dataclasses import dataclass
+
+    from sso.display import Readable
+
+    @dataclass(frozen=True, repr=False)
+    class Outcome(Readable):
+        fun: float
+        x: tuple[float, ...]
+        message: str
+        samples: np.ndarray
+
+    outcome = Outcome(3e-31, (90.0, 45.5), "done", np.zeros(1000))
+    assert repr(outcome) == "Outcome(fun=< 1e-15, x=[90, 45.5], message=done)"
+    assert "fun      < 1e-15" in outcome.summary().splitlines()
