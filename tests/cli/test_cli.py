@@ -362,3 +362,22 @@ def test_report_refuses_a_bad_result_file(tmp_path):
     assert completed.returncode == 2
     assert "not a JSON result file" in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+def test_a_rerun_without_plots_leaves_no_plot_of_the_earlier_run(tmp_path):
+    case = CASES / "steering_column.toml"
+    first = sso("evaluate", case, "--out", tmp_path / "out", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    folder = tmp_path / "out" / "steering_column"
+    assert (folder / "polar.png").exists()
+    again = sso("evaluate", case, "--out", tmp_path / "out", "--no-plots", cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert not list(folder.glob("*.png"))
+    assert sorted(path.name for path in (tmp_path / "out").iterdir()) == ["steering_column"]
+
+
+def test_a_tolerance_study_of_a_mechanism_case_is_refused_naming_the_kind(tmp_path):
+    completed = sso("tolerance", CASES / "mechanisms" / "fourbar_crank2.toml", cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "kind = 'fourbar': a tolerance study needs a shaft_series case" in completed.stderr
+    assert "Traceback" not in completed.stderr
