@@ -85,8 +85,8 @@ def test_one_panel_per_axis_and_a_small_multiples_grid_for_two(tmp_path):
     assert two.best["point"] == 5
     assert two.best["residual_error"] < 1e-28
     report = (tmp_path / "two" / "report.md").read_text()
-    assert "lowest RE &lt; 1e-15 at point 5" in report  # Markdown escapes "<"
-    assert "| 5 | 20 | 90 | ok | &lt; 1e-15 |" in report
+    assert "lowest RE < 1e-15 at point 5" in report
+    assert "| 5 | 20 | 90 | ok | < 1e-15 |" in report
 
 
 def test_a_sweep_of_three_axes_draws_three_panels(tmp_path):

@@ -117,7 +117,7 @@ def test_a_study_of_an_optimisation_result_perturbs_its_optimum(tmp_path):
     assert np.all(result.residual_error > result.nominal.residual_error)
     report = (tmp_path / "study" / "report.md").read_text()
     assert "Design studied: the optimum (" in report
-    assert "| residual error RE (dimensionless) | &lt; 1e-15 |" in report
+    assert "| residual error RE (dimensionless) | < 1e-15 |" in report
     assert len(repr(result)) <= 400 and "<table>" in result._repr_html_()
     assert "design studied: the optimum" in result.summary()
 

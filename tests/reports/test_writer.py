@@ -44,3 +44,17 @@ def test_read_result_refuses_what_it_cannot_render(tmp_path, content, message):
     path.write_text(content, encoding="latin-1")
     with pytest.raises(ResultFileError, match=message):
         read_result(path)
+
+
+@pytest.mark.parametrize("text, written", [
+    ("< 1e-15", "< 1e-15"),                      # cannot start a tag: stays readable
+    ("a <b>bold</b> try", "a &lt;b&gt;bold&lt;/b&gt; try"),
+    ("<!-- hidden -->", "&lt;!-- hidden --&gt;"),
+    ("R&D &amp; &#60;", "R&amp;D &amp;amp; &amp;#60;"),
+    ("5 & 6", "5 & 6"),
+])
+def test_markdown_escapes_only_what_could_start_markup(text, written):
+    from sso.reports.markdown import render_markdown
+    from sso.reports.summary import Paragraph
+
+    assert render_markdown([Paragraph(text)]) == written + "\n"
