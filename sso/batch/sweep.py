@@ -29,8 +29,6 @@ from sso.files import check_report_folder, write_text_atomic
 from sso.limits import OUTPUT_FORMATS
 from sso.reports.kinds import write_report
 
-SWEEPABLE_KINDS = ("shaft_series",)
-"""Case kinds a sweep can vary (the mechanism kinds have no sweep yet)."""
 MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
@@ -107,11 +105,7 @@ def sweep(
         sweep, without ``resume``) or files that are not a report's.
     """
     started = time.perf_counter()
-    case = base_case(base)
-    if case.kind not in SWEEPABLE_KINDS:
-        raise ValueError(f"kind = {case.kind!r}: a case of this kind cannot be swept; sweeps "
-                         f"support kind = {', '.join(map(repr, SWEEPABLE_KINDS))}")
-    document = case.to_dict()
+    document = base_case(base).to_dict()  # refuses the kinds a sweep cannot vary
     parsed_axes = parse_axes(axes, document)
     points = expand_points(parsed_axes, mode)
     if action not in ACTIONS:

@@ -214,8 +214,6 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     from sso.batch.axes import base_case
 
     case = base_case(design)
-    if case.kind != "shaft_series":
-        raise ValueError(f"kind = {case.kind!r}: a tolerance study needs a shaft_series case")
     speed = case.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
     return (case.series(), validate_speed("input_speed_rpm", speed),
             (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},

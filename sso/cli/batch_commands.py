@@ -84,8 +84,6 @@ def run_tolerance(args: argparse.Namespace) -> int:
 
     def work(client: Any) -> int:
         case = base_case(args.case)
-        if case.kind != "shaft_series":
-            raise ValueError(f"kind = {case.kind!r}: a tolerance study needs a shaft_series case")
         if args.at == "start" and args.result is not None:
             raise ValueError("--at start studies the case's design as given; --result gives an "
                              "optimum: use one of them")

@@ -213,7 +213,7 @@ def test_validate_and_help_import_neither_casadi_nor_scipy(tmp_path):
     completed, loaded = sso_loading("validate", *sorted(CASES.glob("*.toml")), cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert loaded == []
-    assert completed.stdout.count("ok: ") == 10
+    assert completed.stdout.count("ok: ") == len(list(CASES.glob("*.toml")))
     for arguments in (["--help"], ["run", "--help"], ["evaluate", "--help"],
                       ["validate", "--help"], ["report", "--help"]):
         completed, loaded = sso_loading(*arguments, cwd=tmp_path)
@@ -380,5 +380,6 @@ def test_a_rerun_without_plots_leaves_no_plot_of_the_earlier_run(tmp_path):
 def test_a_tolerance_study_of_a_mechanism_case_is_refused_naming_the_kind(tmp_path):
     completed = sso("tolerance", CASES / "mechanisms" / "fourbar_crank2.toml", cwd=tmp_path)
     assert completed.returncode == 2
-    assert "kind = 'fourbar': a tolerance study needs a shaft_series case" in completed.stderr
+    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series cases only"
+            in completed.stderr)
     assert "Traceback" not in completed.stderr
