@@ -69,6 +69,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "InertPhaseWarning": "sso.shafts.series",
     "StartMovedWarning": "sso.shafts.options",
     "QuadratureWarning": "sso.shafts.quadrature",
+    "write_report": "sso.reports.kinds",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

@@ -1,11 +1,13 @@
-"""Atomic file writes (a temporary file in the target's folder, then ``os.replace``)
-and guarded reads of input files."""
+"""Atomic writes (a file via a temporary file and ``os.replace``; a whole report folder
+via a temporary sibling folder swapped into place) and guarded reads of input files."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import stat
 import tempfile
+from collections.abc import Mapping
 from pathlib import Path
 
 from sso.limits import MAX_INPUT_FILE_BYTES
@@ -138,3 +140,89 @@ def read_input_bytes(path: str | os.PathLike[str],
     if len(data) > limit_bytes:
         raise ValueError(f"it has more than {limit_bytes} bytes; at most {limit_bytes} are read")
     return data
+
+
+REPORT_SUFFIXES = (".json", ".csv", ".md", ".html", ".png")
+"""Files a report folder may hold for :func:`replace_folder` to replace it."""
+
+
+def check_report_folder(path: str | os.PathLike[str]) -> Path:
+    """``path`` as a Path, if it is missing or a folder holding report files only.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` is a file, or a folder holding a subfolder or a file whose
+        suffix is not one of :data:`REPORT_SUFFIXES`.
+    """
+    target = Path(path)
+    if target.exists():
+        if not target.is_dir():
+            raise ValueError(f"{target} is a file, not a report folder")
+        foreign = sorted(entry.name for entry in target.iterdir()
+                         if not entry.is_file() or entry.suffix not in REPORT_SUFFIXES)
+        if foreign:
+            raise ValueError(f"{target} holds {', '.join(foreign[:3])}"
+                             f"{' and more' if len(foreign) > 3 else ''}, which is not a "
+                             f"report file ({', '.join(REPORT_SUFFIXES)}); choose an empty or "
+                             "new folder for the report")
+    return target
+
+
+def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes]) -> list[Path]:
+    """Make ``path`` a folder holding exactly ``files``, never losing the old one on failure.
+
+    The files are written (and flushed to disk) into a new temporary folder beside
+    ``path``; then the old folder is renamed aside, the new one renamed into its
+    place, and only then is the old one deleted. Whatever fails before the second
+    rename leaves ``path`` as it was; readers never see a half-written folder.
+
+    Parameters
+    ----------
+    path : path-like
+        The report folder; its parent is created if missing.
+    files : mapping of str to bytes
+        File name (no folders) to complete contents.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files now in ``path``.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` exists and holds anything but report files (a subfolder, or
+        a file whose suffix is not one of :data:`REPORT_SUFFIXES`): it is not a
+        report folder, and replacing it would delete what its owner keeps there.
+    OSError
+        If the folder cannot be written; ``path`` is then left as it was.
+    """
+    target = check_report_folder(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}new-", suffix=f"-{target.name}",
+                                    dir=target.parent))
+    try:
+        for name, data in files.items():
+            with open(staging / name, "wb") as handle:
+                handle.write(data)
+                handle.flush()
+                os.fsync(handle.fileno())
+            os.chmod(staging / name, 0o644)
+        os.chmod(staging, 0o755)
+        if target.exists():
+            aside = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}old-",
+                                          suffix=f"-{target.name}", dir=target.parent))
+            os.replace(target, aside)  # onto the empty folder just made: atomic on POSIX
+            try:
+                os.replace(staging, target)
+            except BaseException:
+                os.replace(aside, target)
+                raise
+            shutil.rmtree(aside, ignore_errors=True)
+        else:
+            os.replace(staging, target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return [target / name for name in files]

@@ -39,6 +39,19 @@ designer's usual band; the four-bar design's default constraint)."""
 OUTPUT_FORMATS = ("json", "csv", "md", "html", "png")
 """Report files a run can write, by format name."""
 
+ROUND_OFF_FLOOR = 1e-15
+"""Magnitudes at or below this are not data: reports and summaries print them as
+``"< 1e-15"`` and plots draw them at this floor. An RE of 1e-15 is an rms speed-ratio
+error of about 3e-8; a design a thousandth of a degree off a cancelling optimum
+already has RE near 1e-10, so differences below the floor only say where the solver
+stopped and how the floating-point sums rounded (1e-31 and 1e-26 are the same
+design). The floor applies to the magnitude of every number in summaries and in
+Markdown and HTML reports; CSV cells stay numbers (six digits) so that programs can
+read them, and ``result.json`` keeps the full value."""
+
+REPORT_DIGITS = 6
+"""Significant digits of every number in report tables (CSV, Markdown, HTML) and
+summaries; ``result.json`` keeps full precision."""
 SOLVER_NAMES = ("ipopt", "slsqp")
 """The solvers every design problem can run (and cross-check when both run)."""
 

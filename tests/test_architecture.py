@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution"),
-    ("validation", "files", "deprecation"),
+    ("validation", "files", "deprecation", "display"),
     ("kinematics",),
     ("solvers",),
     ("shafts", "linkages"),

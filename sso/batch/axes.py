@@ -69,8 +69,9 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {shown(base)} must be a case file path, an "
-                         "sso.cases.shaft_series.Case or a mapping laid out like a case file")
+        raise ValueError(f"base is a {type(base).__name__}; it must be a case file path, an "
+                         "sso.cases.shaft_series.Case or a mapping laid out like a case file (a "
+                         "tolerance study also takes an sso.OptimisationResult or sso.ShaftSeries)")
     if not isinstance(case, Case):
         # Name the kind, not the whole case (its repr holds every value).
         raise ValueError(f"kind = {case.kind!r}: sso sweep and sso tolerance work on "

@@ -1,47 +1,104 @@
-"""Summary reports of sweeps and tolerance studies: Markdown, CSV/JSON, and plots.
+"""Reports of sweeps and tolerance studies, registered as the report kinds
+``"sweep"`` and ``"tolerance"`` of :func:`sso.write_report`.
 
-matplotlib is imported only inside the plotting functions (object-oriented
-``Figure`` API, no pyplot state), so a run without plots never loads it.
+Each renderer turns a result into the contents of its report files (nothing is
+written here): the data files (``sweep.csv`` and ``sweep.json``; ``tolerance.csv``
+and ``tolerance.json``), ``report.md`` and ``report.html`` rendered from the same
+blocks as every other report, and the plot. The results are read by their
+attributes only, so this module does not import :mod:`sso.batch.results` (which
+imports it, to register the kinds). matplotlib is imported only inside the
+plotting functions (object-oriented ``Figure`` API, no pyplot state).
+
+Data files: ``sweep.csv`` keeps every digit (a resumed sweep continues from it,
+and its rows are the sweep's data, as ``result.json`` is a run's);
+``tolerance.csv`` holds the samples to six significant digits and
+``tolerance.json`` the summary at full precision.
 """
 
 from __future__ import annotations
 
 import io
 import json
+import math
+import textwrap
 from collections.abc import Sequence
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from sso.files import write_bytes_atomic, write_text_atomic
+from sso.batch.table import CSV_NAME, MANIFEST_NAME, columns, format_row, render_rows
+from sso.display import format_number
+from sso.limits import REPORT_DIGITS, ROUND_OFF_FLOOR
+from sso.reports.kinds import register_report_kind
+from sso.reports.summary import Block, Heading, Image, Paragraph, Table
+from sso.validation import shown
 
-if TYPE_CHECKING:
-    from sso.batch.results import SweepResult, ToleranceResult
-
-# RE of an exactly cancelling design is 0 to round-off; plots floor it here.
-RE_PLOT_FLOOR = 1e-32
 REPORT_ROWS = 50
-FIGURE_SIZE_IN = (7.0, 4.5)
+SWEEP_PLOT = "sweep_re.png"
+TOLERANCE_PLOT = "tolerance_histogram.png"
+TOLERANCE_CSV = "tolerance.csv"
+TOLERANCE_JSON = "tolerance.json"
+PANEL_SIZE_IN = (3.6, 2.7)
+SINGLE_SIZE_IN = (7.0, 4.5)
 FIGURE_DPI = 120
+MOST_PANELS = 16
+MOST_TICK_LABELS = 8
+FLOOR_LABEL = f"at or below {ROUND_OFF_FLOOR:g} (round-off), drawn at {ROUND_OFF_FLOOR:g}"
+# (metric, label with unit) of a tolerance study's figures.
+TOLERANCE_FIGURES = (
+    ("residual_error", "residual error RE (dimensionless)"),
+    ("fluctuation", "fluctuation, peak to peak / input speed (dimensionless)"),
+    ("max_output_accel_rad_s2", "output acceleration, max |dw/dt| (rad/s^2)"),
+)
+# (sweep.csv column, report column with unit)
+SWEEP_TABLE_COLUMNS = (
+    ("status", "status"), ("residual_error", "RE (dimensionless)"),
+    ("fluctuation", "fluctuation (dimensionless)"), ("success", "converged and agree"),
+    ("crosscheck_agree", "solvers agree"), ("time_s", "time (s)"),
+)
 
 
-def write_sweep_report(result: SweepResult, out_dir: Path, plots: bool) -> list[Path]:
-    """Write ``report.md`` and, with ``plots``, the sweep's plot; return the paths."""
-    paths = []
-    plot_name = None
-    if plots:
-        plot_name, figure = _sweep_figure(result)
-        paths.append(_save(figure, out_dir / plot_name))
-    paths.insert(0, write_text_atomic(out_dir / "report.md", _sweep_markdown(result, plot_name)))
-    return paths
+def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    """Report files of a :class:`sso.SweepResult`, keyed by file name."""
+    files: dict[str, bytes] = {}
+    if "csv" in formats:
+        header = columns([axis.path for axis in result.axes])
+        files[CSV_NAME] = render_rows(header, [format_row(row, header)
+                                               for row in result.rows]).encode("utf-8")
+    if "json" in formats and result.manifest:
+        files[MANIFEST_NAME] = (json.dumps(result.manifest, indent=2) + "\n").encode("utf-8")
+    images = {SWEEP_PLOT: _png(_sweep_figure(result))} if "png" in formats else {}
+    files.update(images)
+    _add_documents(files, formats, _sweep_blocks(result, tuple(images)), images)
+    return files
 
 
-def write_tolerance_report(result: ToleranceResult, out_dir: Path, plots: bool) -> list[Path]:
-    """Write ``tolerance.csv``, ``tolerance.json``, ``tolerance.md`` and the histogram."""
-    from sso.batch.table import format_cell
+def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    """Report files of a :class:`sso.ToleranceResult`, keyed by file name."""
+    files: dict[str, bytes] = {}
+    if "csv" in formats:
+        files[TOLERANCE_CSV] = _tolerance_csv(result).encode("utf-8")
+    if "json" in formats:
+        files[TOLERANCE_JSON] = (json.dumps(result.to_dict(), indent=2) + "\n").encode("utf-8")
+    images = {TOLERANCE_PLOT: _png(_tolerance_figure(result))} if "png" in formats else {}
+    files.update(images)
+    _add_documents(files, formats, _tolerance_blocks(result, tuple(images)), images)
+    return files
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+
+def _add_documents(files: dict[str, bytes], formats: tuple[str, ...], blocks: list[Block],
+                   images: dict[str, bytes]) -> None:
+    if "md" in formats:
+        from sso.reports.markdown import render_markdown
+
+        files["report.md"] = render_markdown(blocks).encode("utf-8")
+    if "html" in formats:
+        from sso.reports.html import render_html
+
+        files["report.html"] = render_html(blocks, images).encode("utf-8")
+
+
+def _tolerance_csv(result: Any) -> str:
     joints = result.design.n_joints
     header = ["sample", *(f"beta_deg[{k}]" for k in range(joints)),
               *(f"phase_deg[{k}]" for k in range(joints - 1)),
@@ -49,144 +106,191 @@ def write_tolerance_report(result: ToleranceResult, out_dir: Path, plots: bool) 
     table = np.column_stack([result.beta_deg, result.phase_deg, result.residual_error,
                              result.fluctuation, result.max_output_accel_rad_s2])
     lines = [",".join(header)]
-    lines += [",".join([str(index), *(format_cell(value) for value in row.tolist())])
+    lines += [",".join([str(index), *(f"{value:.{REPORT_DIGITS}g}" for value in row.tolist())])
               for index, row in enumerate(table)]
-    paths = [write_text_atomic(out_dir / "tolerance.csv", "\n".join(lines) + "\n"),
-             write_text_atomic(out_dir / "tolerance.json",
-                               json.dumps(result.to_dict(), indent=2) + "\n")]
-    plot_name = None
-    if plots:
-        plot_name = "tolerance_histogram.png"
-        paths.append(_save(_tolerance_figure(result), out_dir / plot_name))
-    paths.append(write_text_atomic(out_dir / "tolerance.md",
-                                   _tolerance_markdown(result, plot_name)))
-    return paths
+    return "\n".join(lines) + "\n"
 
 
-def _sweep_markdown(result: SweepResult, plot_name: str | None) -> str:
-    axes_lines = [f"- `{axis.path}`: {len(axis.values)} values, "
-                  f"{_cell(axis.values[0])} .. {_cell(axis.values[-1])}" for axis in result.axes]
-    lines = ["# Sweep", "", f"Action: {result.action}; mode: {result.mode}; "
-             f"{len(result.rows)} points.", "", *axes_lines, "", "## Summary", "", "```",
-             result.summary(), "```", ""]
-    if plot_name is not None:
-        lines += [f"![residual error]({plot_name})", ""]
+def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
+    blocks: list[Block] = [
+        Heading(1, "Sweep"),
+        Paragraph(f"Action: {result.action}; mode: {result.mode}; {len(result.rows)} points. "
+                  f"Every point, at full precision, is in {CSV_NAME}."),
+        Table(("axis", "values", "first", "last"),
+              tuple((axis.path, str(len(axis.values)), _cell(axis.values[0]),
+                     _cell(axis.values[-1])) for axis in result.axes)),
+        Heading(2, "Summary"), *[Paragraph(line.strip()) for line in result.summary().splitlines()
+                                 if not line.strip().startswith("results:")],
+    ]
+    if image_files:
+        blocks.append(Image(image_files[0], "Residual error of each point against each swept "
+                            f"value (log scale); values {FLOOR_LABEL}."))
     paths = [axis.path for axis in result.axes]
-    columns = ["point", *paths, "status", "residual_error", "fluctuation", "success",
-               "crosscheck_agree", "time_s"]
     shown = sorted(result.rows, key=_re_key)[:REPORT_ROWS]
-    lines += [f"## Lowest residual error ({len(shown)} of {len(result.rows)} points; "
-              "all in sweep.csv)", "", "| " + " | ".join(columns) + " |",
-              "|" + "---|" * len(columns)]
-    lines += ["| " + " | ".join(_cell(row.get(column)) for column in columns) + " |"
-              for row in shown]
+    blocks += [Heading(2, f"Lowest residual error ({len(shown)} of {len(result.rows)} points)"),
+               Table(("point", *paths, *(label for _, label in SWEEP_TABLE_COLUMNS)),
+                     tuple((str(row["point"]), *(_cell(row.get(path)) for path in paths),
+                            *(_cell(row.get(column)) for column, _ in SWEEP_TABLE_COLUMNS))
+                           for row in shown))]
     if result.failed:
-        lines += ["", "## Failed points", "", "| point | error |", "|---|---|"]
-        lines += [f"| {row['point']} | {_cell(row['error'])} |" for row in result.failed]
-    return "\n".join(lines) + "\n"
+        blocks += [Heading(2, "Failed points"),
+                   Table(("point", "error"), tuple((str(row["point"]), _cell(row["error"]))
+                                                   for row in result.failed))]
+    return blocks
 
 
-def _tolerance_markdown(result: ToleranceResult, plot_name: str | None) -> str:
-    percentiles = list(result.percentiles)
-    header = ["figure", "nominal", *(f"p{q:g}" for q in percentiles)]
-    lines = ["# Tolerance study", "",
-             f"Design: beta {list(result.design.beta_deg)} deg, phase "
-             f"{list(result.design.phase_deg)} deg, {result.design.model} model, "
-             f"{result.input_speed_rpm:g} rpm.",
-             f"Deviations: {result.distribution}, beta {list(result.beta_tolerance_deg)} deg, "
-             f"phase {list(result.phase_tolerance_deg)} deg "
-             f"({'standard deviation' if result.distribution == 'normal' else 'half-width'}); "
-             f"{result.samples} samples, seed {result.seed}.", "",
-             "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for metric, values in result.percentile_table().items():
-        cells = [f"{getattr(result.nominal, metric):.6g}",
-                 *(f"{values[q]:.6g}" for q in percentiles)]
-        lines.append(f"| {metric} | " + " | ".join(cells) + " |")
-    if plot_name is not None:
-        lines += ["", f"![histograms]({plot_name})"]
-    return "\n".join(lines) + "\n"
-
-
-def _sweep_figure(result: SweepResult) -> tuple[str, Any]:
-    """``sweep_heatmap.png`` for a two-axis product, else RE against the first axis."""
-    from matplotlib.colors import LogNorm
-
-    figure = _figure()
-    axes = figure.add_subplot()
-    scalar = [axis for axis in result.axes if all(_is_number(value) for value in axis.values)]
-    if result.mode == "product" and len(result.axes) == 2 and len(scalar) == 2:
-        rows_axis, columns_axis = result.axes
-        grid = np.full((len(rows_axis.values), len(columns_axis.values)), np.nan)
-        for row in result.rows:
-            if row["status"] == "ok":
-                grid[row["point"] // grid.shape[1], row["point"] % grid.shape[1]] = max(
-                    row["residual_error"], RE_PLOT_FLOOR)
-        if np.isfinite(grid).any():
-            image = axes.imshow(grid, origin="lower", aspect="auto", cmap="viridis",
-                                norm=LogNorm(np.nanmin(grid), np.nanmax(grid)))
-            figure.colorbar(image, ax=axes, label="residual error RE (log scale)")
-        _index_ticks(axes.set_xticks, columns_axis.values)
-        _index_ticks(axes.set_yticks, rows_axis.values)
-        axes.set_xlabel(columns_axis.path)
-        axes.set_ylabel(rows_axis.path)
-        axes.set_title("Residual error over the sweep (blank: failed)")
-        return "sweep_heatmap.png", figure
-    axis = result.axes[0]
-    ok = [row for row in result.rows if row["status"] == "ok"]
-    numeric = axis in scalar
-    positions = {value: index for index, value in enumerate(dict.fromkeys(map(str, axis.values)))}
-    x = [row[axis.path] if numeric else positions[str(row[axis.path])] for row in ok]
-    axes.semilogy(x, [max(row["residual_error"], RE_PLOT_FLOOR) for row in ok], "o-"
-                  if len(result.axes) == 1 else "o", label="best RE")
-    if not numeric:
-        axes.set_xticks(list(positions.values()), list(positions))
-    axes.set_xlabel(axis.path)
-    axes.set_ylabel("residual error RE")
-    failed = len(result.rows) - len(ok)
-    axes.set_title(f"Residual error against {axis.path}"
-                   + (f" ({failed} failed points not shown)" if failed else ""))
-    axes.grid(True, which="both", alpha=0.3)
-    return "sweep_re.png", figure
-
-
-def _tolerance_figure(result: ToleranceResult) -> Any:
-    figure = _figure(width_scale=1.6)
-    labels = {"residual_error": "residual error RE", "fluctuation": "fluctuation (p-p / input)",
-              "max_output_accel_rad_s2": "peak output accel, rad/s^2"}
+def _tolerance_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
+    spread = "standard deviation" if result.distribution == "normal" else "half-width"
     table = result.percentile_table()
-    for index, (metric, label) in enumerate(labels.items()):
-        axes = figure.add_subplot(1, 3, index + 1)
-        axes.hist(getattr(result, metric), bins=50, color="tab:blue", alpha=0.8)
-        axes.axvline(getattr(result.nominal, metric), color="black", label="nominal")
-        for value in table[metric].values():
-            axes.axvline(value, color="tab:red", linestyle=":", linewidth=1)
-        axes.set_xlabel(label)
-        axes.set_ylabel("samples" if index == 0 else "")
-        axes.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
-    figure.axes[0].legend(loc="upper right")
-    figure.suptitle(f"{result.samples} samples, {result.distribution} deviations; red dotted: "
-                    f"p{', p'.join(f'{q:g}' for q in result.percentiles)}")
+    blocks: list[Block] = [
+        Heading(1, "Tolerance study"),
+        Paragraph(f"Design studied: {result.study_of}. Operating angles "
+                  f"{_numbers(result.design.beta_deg)} deg, phases "
+                  f"{_numbers(result.design.phase_deg)} deg, {result.design.model} model, "
+                  f"{format_number(result.input_speed_rpm)} rpm."),
+        Paragraph(f"Deviations: {result.distribution} ({spread}): operating angles "
+                  f"{_numbers(result.beta_tolerance_deg)} deg, phases "
+                  f"{_numbers(result.phase_tolerance_deg)} deg; {result.samples} samples, "
+                  f"seed {result.seed}."),
+        Paragraph(f"Samples with a perturbed operating angle below 0 deg: "
+                  f"{result.reflected_samples}. They are reflected to |beta| (the same joint "
+                  "bent the other way; the joint law depends on cos beta only). A tolerance "
+                  "that could carry an angle to 90 deg, where the joint locks, is refused "
+                  "before sampling."),
+        Table(("figure", "nominal", *(f"p{q:g}" for q in result.percentiles)),
+              tuple((label, format_number(getattr(result.nominal, metric)),
+                     *(format_number(value) for value in table[metric].values()))
+                    for metric, label in TOLERANCE_FIGURES)),
+    ]
+    if image_files:
+        blocks.append(Image(image_files[0], "Histograms of the samples' figures; black: nominal, "
+                            "red dotted: the percentiles above."))
+    return blocks
+
+
+def _sweep_figure(result: Any) -> Any:
+    """One panel per swept axis; a two-axis product: one panel per value of the first axis."""
+    ok = [row for row in result.rows if row["status"] == "ok"]
+    if result.mode == "product" and len(result.axes) == 2:
+        outer, inner = result.axes
+        if _numeric(outer) and not _numeric(inner):  # a numeric x axis reads better
+            outer, inner = inner, outer
+        panels = [(f"{outer.path} = {_cell(value)}", inner,
+                   [row for row in ok if _same(row[outer.path], value)])
+                  for value in outer.values[:MOST_PANELS]]
+    else:
+        panels = [(f"against {axis.path}", axis, ok) for axis in result.axes[:MOST_PANELS]]
+    count = len(panels)
+    columns_count = count if count <= 3 else 2 if count == 4 else 3 if count <= 9 else 4
+    rows_count = math.ceil(count / columns_count)
+    size = (SINGLE_SIZE_IN if count == 1 else
+            (PANEL_SIZE_IN[0] * columns_count, PANEL_SIZE_IN[1] * rows_count + 0.6))
+    figure = _figure(size)
+    grid = figure.subplots(rows_count, columns_count, squeeze=False, sharey=True)
+    for axes in grid.flat[count:]:
+        axes.set_visible(False)
+    for axes, (title, axis, rows) in zip(grid.flat, panels, strict=False):
+        _sweep_panel(axes, axis, rows, title)
+    failed = len(result.rows) - len(ok)
+    possible = (len(outer.values) if result.mode == "product" and len(result.axes) == 2
+                else len(result.axes))
+    omitted = f"; first {MOST_PANELS} of {possible} panels" if len(panels) < possible else ""
+    drawn = [max(row["residual_error"], ROUND_OFF_FLOOR) for row in ok]
+    top = max(max(drawn, default=1.0) * 5, ROUND_OFF_FLOOR * 100)
+    grid.flat[0].set_ylim(ROUND_OFF_FLOOR / 10, top)  # shared by every panel
+    figure.suptitle(f"Residual error RE over the sweep ({result.action}, {len(result.rows)} "
+                    f"points{f', {failed} failed not shown' if failed else ''}{omitted})")
+    legend: dict[str, Any] = {}
+    for axes in grid.flat[:count]:
+        for handle, label in zip(*axes.get_legend_handles_labels(), strict=True):
+            legend.setdefault(label, handle)
+    figure.legend(list(legend.values()), list(legend), loc="outside lower center",
+                  ncols=min(len(legend), 2), fontsize="small")
     return figure
 
 
-def _figure(width_scale: float = 1.0) -> Any:
+def _sweep_panel(axes: Any, axis: Any, rows: list[dict[str, Any]], title: str) -> None:
+    from matplotlib.ticker import MaxNLocator
+
+    numeric = _numeric(axis)
+    categories = {str(value): index for index, value in enumerate(axis.values)}
+    x = np.array([row[axis.path] if numeric else categories[str(row[axis.path])]
+                  for row in rows], dtype=float)
+    re_values = np.array([row["residual_error"] for row in rows], dtype=float)
+    at_floor = re_values <= ROUND_OFF_FLOOR
+    drawn = np.maximum(re_values, ROUND_OFF_FLOOR)
+    if len(x):
+        order = np.argsort(x, kind="stable")
+        lowest = {value: drawn[x == value].min() for value in np.unique(x)}
+        axes.plot(list(lowest), list(lowest.values()), "-", color="tab:blue", linewidth=1.2,
+                  label="lowest RE at each value")
+        axes.plot(x[order][~at_floor[order]], drawn[order][~at_floor[order]], "o",
+                  color="tab:blue", markersize=4, label="RE of a point")
+        if at_floor.any():
+            axes.plot(x[at_floor], drawn[at_floor], "v", color="tab:orange", markersize=6,
+                      label=f"RE {FLOOR_LABEL}")
+    axes.axhline(ROUND_OFF_FLOOR, color="grey", linestyle=":", linewidth=1,
+                 label=f"round-off floor {ROUND_OFF_FLOOR:g}")
+    axes.set_yscale("log")
+    axes.set_title(title, fontsize="medium")
+    axes.set_xlabel(axis.path)
+    axes.set_ylabel("RE")
+    axes.grid(True, which="major", alpha=0.3)
+    if numeric:
+        axes.xaxis.set_major_locator(MaxNLocator(nbins=6))
+    else:
+        step = max(1, math.ceil(len(categories) / MOST_TICK_LABELS))
+        shown = list(categories.items())[::step]
+        axes.set_xticks([index for _, index in shown],
+                        [_cell(label) for label, _ in shown], rotation=30, ha="right")
+
+
+def _tolerance_figure(result: Any) -> Any:
+    figure = _figure((SINGLE_SIZE_IN[0] * 1.6, SINGLE_SIZE_IN[1]))
+    table = result.percentile_table()
+    for index, (metric, label) in enumerate(TOLERANCE_FIGURES):
+        axes = figure.add_subplot(1, 3, index + 1)
+        values = np.asarray(getattr(result, metric), dtype=float)
+        positive = values[values > ROUND_OFF_FLOOR]
+        logarithmic = metric == "residual_error" and len(positive) > 1 and (
+            positive.max() > 100 * positive.min())
+        if logarithmic:
+            bins = np.geomspace(positive.min(), positive.max(), 51)
+            axes.hist(np.maximum(values, positive.min()), bins=bins, color="tab:blue", alpha=0.8)
+            axes.set_xscale("log")
+        else:
+            axes.hist(values, bins=50, color="tab:blue", alpha=0.8)
+            axes.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
+        nominal = getattr(result.nominal, metric)
+        if not logarithmic or nominal >= positive.min():
+            axes.axvline(nominal, color="black", label="nominal")
+        else:
+            axes.text(0.02, 0.97, f"nominal {format_number(nominal, 3)},\nleft of this axis",
+                      transform=axes.transAxes, va="top", fontsize="small")
+        for value in table[metric].values():
+            axes.axvline(value, color="tab:red", linestyle=":", linewidth=1)
+        axes.set_xlabel(label.replace(" (dimensionless)", ""), fontsize="small")
+        axes.set_ylabel("samples" if index == 0 else "")
+    labelled = [axes for axes in figure.axes if axes.get_legend_handles_labels()[0]]
+    if labelled:
+        labelled[0].legend(loc="upper right")
+    title = (f"{result.samples} samples, {result.distribution} deviations; red dotted: "
+             f"p{', p'.join(f'{q:g}' for q in result.percentiles)}\n"
+             + "\n".join(textwrap.wrap(f"design: {result.study_of}", 110)))
+    figure.suptitle(title, fontsize="medium")
+    return figure
+
+
+def _figure(size_in: tuple[float, float]) -> Any:
     from matplotlib.figure import Figure
 
-    return Figure(figsize=(FIGURE_SIZE_IN[0] * width_scale, FIGURE_SIZE_IN[1]),
-                  dpi=FIGURE_DPI, layout="constrained")
+    return Figure(figsize=size_in, dpi=FIGURE_DPI, layout="constrained")
 
 
-def _save(figure: Any, path: Path) -> Path:
+def _png(figure: Any) -> bytes:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png")
-    return write_bytes_atomic(path, buffer.getvalue())
-
-
-def _index_ticks(set_ticks: Any, values: Sequence[Any]) -> None:
-    """Label cell indices with their values, at most about ten labels."""
-    step = max(1, -(-len(values) // 10))
-    positions = list(range(0, len(values), step))
-    set_ticks(positions, [f"{values[index]:g}" for index in positions])
+    return buffer.getvalue()
 
 
 def _re_key(row: dict[str, Any]) -> tuple[bool, float]:
@@ -197,9 +301,31 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def _numeric(axis: Any) -> bool:
+    return all(_is_number(value) for value in axis.values)
+
+
+def _same(left: Any, right: Any) -> bool:
+    if _is_number(left) and _is_number(right):
+        return float(left) == float(right)
+    return json.dumps(left) == json.dumps(right)
+
+
+def _numbers(values: Sequence[float]) -> str:
+    return "[" + ", ".join(format_number(value) for value in values) + "]"
+
+
 def _cell(value: Any) -> str:
     if value is None:
         return ""
     if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(value).replace("|", "\\|").replace("\n", " ")
+        return format_number(value)
+    if isinstance(value, (list, tuple)):
+        if all(isinstance(item, (int, float)) and not isinstance(item, bool) for item in value):
+            return _numbers(value)
+        return shown(value)  # a value the point refused (a nested list), shown abbreviated
+    return str(value)
+
+
+register_report_kind("sweep", render_sweep)
+register_report_kind("tolerance", render_tolerance)

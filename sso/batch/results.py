@@ -9,19 +9,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
+import sso.batch.report  # noqa: F401  (registers the "sweep" and "tolerance" report kinds)
 from sso.batch.axes import Axis
 from sso.batch.table import CSV_NAME
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.shafts.evaluation import Evaluation
 from sso.shafts.perturbed import METRICS
 from sso.shafts.series import ShaftSeries
 
 
-@dataclass(frozen=True)
-class SweepResult:
+@dataclass(frozen=True, repr=False)
+class SweepResult(Readable):
     """What a sweep computed, one row per point.
 
     Attributes
@@ -43,6 +45,8 @@ class SweepResult:
         Where ``sweep.csv``, ``sweep.json`` and the report were written.
     files : tuple of pathlib.Path
         Files written.
+    manifest : dict
+        What the sweep is (``sweep.json``): base case, axes, mode, action, points.
     """
 
     axes: tuple[Axis, ...]
@@ -54,6 +58,9 @@ class SweepResult:
     elapsed_s: float
     out_dir: Path | None = None
     files: tuple[Path, ...] = field(default=())
+    manifest: dict[str, Any] = field(default_factory=dict)
+
+    report_kind: ClassVar[str] = "sweep"
 
     @property
     def failed(self) -> tuple[dict[str, Any], ...]:
@@ -71,27 +78,35 @@ class SweepResult:
         """Every point finished; when optimising, each converged and cross-checked."""
         return not self.failed and all(row.get("success") is not False for row in self.rows)
 
-    def summary(self) -> str:
-        """A few lines for the end of a run."""
+    def _repr_text(self) -> str:
+        axes = " x ".join(f"{axis.path} ({len(axis.values)})" for axis in self.axes)
+        best = self.best
+        lowest = ("" if best is None else f", lowest RE {format_number(best['residual_error'], 4)}"
+                  f" at point {best['point']}")
+        return (f"{self.action} {self.mode} over {axes}: {len(self.rows)} points, "
+                f"{len(self.failed)} failed{lowest}")
+
+    def _summary_parts(self) -> list[Part]:
         rate = self.computed / self.elapsed_s if self.elapsed_s > 0 else 0.0
-        lines = [f"sweep: {len(self.rows)} points ({self.computed} computed in "
-                 f"{self.elapsed_s:.1f} s, {rate:.1f} points/s; {self.resumed} from an "
-                 f"earlier run), {len(self.failed)} failed"]
+        headline = (f"sweep: {len(self.rows)} points ({self.computed} computed in "
+                    f"{self.elapsed_s:.1f} s, {rate:.1f} points/s; {self.resumed} from an "
+                    f"earlier run), {len(self.failed)} failed")
+        parts: list[Part] = [headline]
         if self.action == "optimise":
             unconverged = sum(row.get("success") is False for row in self.rows)
-            lines.append(f"  not converged or solvers disagree: {unconverged}")
+            parts.append(f"  not converged or solvers disagree: {unconverged}")
         best = self.best
         if best is not None:
             where = ", ".join(f"{axis.path} = {best[axis.path]}" for axis in self.axes)
-            lines.append(f"  lowest RE {best['residual_error']:.6g} at point {best['point']} "
-                         f"({where})")
+            parts.append(f"  lowest RE {format_number(best['residual_error'])} at point "
+                         f"{best['point']} ({where})")
         for row in self.failed[:5]:
-            lines.append(f"  point {row['point']} failed: {row['error']}")
+            parts.append(f"  point {row['point']} failed: {row['error']}")
         if len(self.failed) > 5:
-            lines.append(f"  ... and {len(self.failed) - 5} more failures (see sweep.csv)")
+            parts.append(f"  ... and {len(self.failed) - 5} more failures (see sweep.csv)")
         if self.out_dir is not None:
-            lines.append(f"  results: {self.out_dir / CSV_NAME}")
-        return "\n".join(lines)
+            parts.append(f"  results: {self.out_dir / CSV_NAME}")
+        return parts
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -109,8 +124,8 @@ class SweepResult:
         }
 
 
-@dataclass(frozen=True)
-class ToleranceResult:
+@dataclass(frozen=True, repr=False)
+class ToleranceResult(Readable):
     """A Monte Carlo tolerance study of one design.
 
     Attributes
@@ -138,6 +153,11 @@ class ToleranceResult:
         Wall time, s.
     files : tuple of pathlib.Path
         Files written.
+    study_of : str
+        Which design was studied, in words (an optimum, a case's start, ...).
+    reflected_samples : int
+        Samples in which a perturbed operating angle fell below 0 deg and was
+        reflected to its magnitude (the same joint bent the other way).
     """
 
     design: ShaftSeries
@@ -156,6 +176,10 @@ class ToleranceResult:
     max_output_accel_rad_s2: np.ndarray
     elapsed_s: float
     files: tuple[Path, ...] = field(default=())
+    study_of: str = "the given design"
+    reflected_samples: int = 0
+
+    report_kind: ClassVar[str] = "tolerance"
 
     @property
     def samples(self) -> int:
@@ -169,14 +193,28 @@ class ToleranceResult:
                                  strict=True))
                 for metric in METRICS}
 
-    def summary(self) -> str:
-        """A few lines for the end of a run."""
-        lines = [f"tolerance: {self.samples} samples ({self.distribution}, seed {self.seed}) "
-                 f"in {self.elapsed_s:.2f} s"]
-        for metric, values in self.percentile_table().items():
-            cells = ", ".join(f"p{q:g} {value:.4g}" for q, value in values.items())
-            lines.append(f"  {metric}: nominal {getattr(self.nominal, metric):.4g}; {cells}")
-        return "\n".join(lines)
+    def _repr_text(self) -> str:
+        median = self.percentile_table()["residual_error"]
+        cells = ", ".join(f"p{q:g} {format_number(value, 3)}" for q, value in median.items())
+        return (f"{self.samples} {self.distribution} samples of {self.study_of}: RE nominal "
+                f"{format_number(self.nominal.residual_error, 3)}; {cells}")
+
+    def _summary_parts(self) -> list[Part]:
+        header = ("figure", "nominal", *(f"p{q:g}" for q in self.percentiles))
+        rows = tuple((metric, format_number(getattr(self.nominal, metric)),
+                      *(format_number(value) for value in values.values()))
+                     for metric, values in self.percentile_table().items())
+        spread = "standard deviation" if self.distribution == "normal" else "half-width"
+        headline = (f"tolerance: {self.samples} samples ({self.distribution}, seed {self.seed}) "
+                    f"in {self.elapsed_s:.2f} s")
+        design = (f"  design studied: {self.study_of}: beta "
+                  f"[{format_numbers(self.design.beta_deg)}] deg, phase "
+                  f"[{format_numbers(self.design.phase_deg)}] deg")
+        deviations = (f"  deviations ({spread}): beta [{format_numbers(self.beta_tolerance_deg)}]"
+                      f" deg, phase [{format_numbers(self.phase_tolerance_deg)}] deg")
+        reflected = ("  samples with a negative operating angle, reflected to |beta|: "
+                     f"{self.reflected_samples}")
+        return [headline, design, deviations, reflected, TextTable(header, rows)]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary: settings, nominal evaluation and percentiles.
@@ -199,4 +237,6 @@ class ToleranceResult:
             "max": {metric: float(np.max(getattr(self, metric))) for metric in METRICS},
             "elapsed_s": self.elapsed_s,
             "files": [str(path) for path in self.files],
+            "study_of": self.study_of,
+            "reflected_samples": self.reflected_samples,
         }

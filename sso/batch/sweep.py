@@ -26,7 +26,9 @@ from sso.batch.table import (
     write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import remove_stale_temporaries, write_text_atomic
+from sso.files import check_report_folder, remove_stale_temporaries, write_text_atomic
+from sso.limits import OUTPUT_FORMATS
+from sso.reports.kinds import write_report
 from sso.shafts.options import build_problem
 from sso.shafts.quadrature import rule_for_bounds
 from sso.solvers.progress import ProgressBar, interactive
@@ -74,9 +76,11 @@ def sweep(
     action : {"optimise", "evaluate"}
         Optimise each point's case, or evaluate its design as given.
     out_dir : str or pathlib.Path, optional
-        Folder for ``sweep.csv`` (rewritten atomically as chunks finish),
-        ``sweep.json`` (what the sweep is), ``report.md`` and the plots. Without
-        it nothing is written.
+        Folder for ``sweep.csv`` (rewritten atomically as chunks finish; every
+        digit), ``sweep.json`` (what the sweep is), ``report.md``, ``report.html``
+        and ``sweep_re.png``. When the sweep ends the whole folder is written
+        afresh (:func:`sso.write_report`). It must be new, empty or hold report
+        files only. Without it nothing is written.
     resume : bool
         Continue the sweep already in ``out_dir``: compute only its missing
         points. The final ``sweep.csv`` equals that of an uninterrupted run
@@ -106,12 +110,13 @@ def sweep(
     Raises
     ------
     ValueError
-        For a bad base case, axis, mode, action, count, or an ``out_dir`` that
-        holds a different sweep (or any sweep, without ``resume``); or, before
+        For a bad base case, a case kind that cannot be swept, a bad axis, mode,
+        action or count, or an ``out_dir`` that holds a different sweep (or any
+        sweep, without ``resume``) or files that are not a report's; or, before
         any point is computed, if the memory estimate exceeds the limit.
     """
     started = time.perf_counter()
-    case = base_case(base)
+    case = base_case(base)  # refuses the kinds a sweep cannot vary
     document = case.to_dict()
     parsed_axes = parse_axes(axes, document)
     if action not in ACTIONS:
@@ -127,7 +132,7 @@ def sweep(
     rows: dict[int, dict[str, str]] = {}
     csv_path = None
     if out_dir is not None:
-        out_dir = Path(out_dir)
+        out_dir = check_report_folder(out_dir)
         out_dir.mkdir(parents=True, exist_ok=True)
         remove_stale_temporaries(out_dir)  # of a sweep killed mid-write
         csv_path = out_dir / CSV_NAME
@@ -163,13 +168,12 @@ def sweep(
     ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
     result = SweepResult(axes=parsed_axes, mode=mode, action=action, rows=ordered,
                          computed=len(pending), resumed=resumed,
-                         elapsed_s=time.perf_counter() - started, out_dir=out_dir)
+                         elapsed_s=time.perf_counter() - started, out_dir=out_dir,
+                         manifest=identity)
     if out_dir is None:
         return result
-    from sso.batch.report import write_sweep_report
-
-    files = (csv_path, out_dir / MANIFEST_NAME, *write_sweep_report(result, out_dir, plots))
-    return replace(result, files=files)
+    formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
+    return replace(result, files=tuple(write_report(result, out_dir, formats)))
 
 
 def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,

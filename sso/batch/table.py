@@ -22,7 +22,7 @@ from sso.limits import SOLVER_NAMES
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"
 MANIFEST_NAME = "sweep.json"
-SOLVER_FIELDS = ("residual_error", "status", "success", "kkt", "time_s", "message")
+SOLVER_FIELDS = ("residual_error", "status", "success", "kkt_per_rad", "time_s", "message")
 RESULT_COLUMNS = (
     "status", "error", "residual_error", "residual_error_rpm2", "fluctuation",
     "max_output_accel_rad_s2", "design_beta_deg", "design_phase_deg", "success",
@@ -80,11 +80,16 @@ def format_row(row: Mapping[str, Any], header: Sequence[str]) -> dict[str, str]:
 
 def write_rows(path: Path, header: Sequence[str], rows: Iterable[Mapping[str, str]]) -> None:
     """Write formatted rows, sorted by point index, atomically."""
+    write_text_atomic(path, render_rows(header, rows))
+
+
+def render_rows(header: Sequence[str], rows: Iterable[Mapping[str, str]]) -> str:
+    """Text of ``sweep.csv``: the header and the formatted rows, sorted by point index."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, fieldnames=list(header), lineterminator="\n")
     writer.writeheader()
     writer.writerows(sorted(rows, key=lambda row: int(row["point"])))
-    write_text_atomic(path, buffer.getvalue())
+    return buffer.getvalue()
 
 
 def read_rows(path: Path) -> list[dict[str, str]]:

@@ -23,8 +23,11 @@ import numpy as np
 from sso.batch.estimate import tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.results import ToleranceResult
-from sso.limits import DEFAULT_INPUT_SPEED_RPM
+from sso.files import check_report_folder
+from sso.limits import DEFAULT_INPUT_SPEED_RPM, OUTPUT_FORMATS
+from sso.reports.kinds import write_report
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES
+from sso.shafts.optimise import OptimisationResult
 from sso.shafts.perturbed import METRICS, ToleranceChunk, draw_samples, evaluate_chunk
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.shafts.series import ShaftSeries
@@ -78,15 +81,24 @@ def tolerance_study(
     ``rng = numpy.random.default_rng(seed)`` draws ``d_beta = rng.normal(0,
     beta_tolerance_deg, (samples, joints))`` and then ``d_phase = rng.normal(0,
     phase_tolerance_deg, (samples, joints - 1))`` (``rng.uniform(-t, t, ...)`` for
-    the uniform distribution). A negative sampled operating angle acts as its
-    mirror image (the joint law depends on ``cos beta`` only).
+    the uniform distribution).
+
+    Samples out of the physical range: a sampled operating angle below 0 deg is
+    reflected to its magnitude (the same joint bent the other way: the joint law
+    depends on ``cos beta`` only), and the samples so reflected are counted in
+    :attr:`ToleranceResult.reflected_samples` and in the report. A tolerance that
+    could carry an angle to 90 deg (the joint locks) is refused before sampling:
+    ``beta + 6 * tolerance`` (normal) or ``beta + tolerance`` (uniform) must stay
+    below 90 deg.
 
     Parameters
     ----------
-    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.shaft_series.Case or mapping
-        The nominal design, or a case whose design (as given) is perturbed; a
-        case also gives the input speed and, in its ``[tolerance]`` table, the
-        defaults of the settings below.
+    design : sso.OptimisationResult, sso.ShaftSeries, str, pathlib.Path, Case or mapping
+        What to study: the best design of an optimisation result (the usual
+        case: how its optimum spreads under tolerances), a design, or a case
+        whose design as given (its start) is perturbed; a case also gives the
+        input speed and, in its ``[tolerance]`` table, the defaults of the
+        settings below. ``sso tolerance CASE`` optimises the case first.
     beta_tolerance_deg, phase_tolerance_deg : float or sequence of float, optional
         Standard deviation (normal) or half-width (uniform) of the deviation, deg,
         in ``[0, 45]``: one value for all, or one per joint / per phase
@@ -102,8 +114,10 @@ def tolerance_study(
     percentiles : sequence of float, optional
         Percentiles to report, each in ``[0, 100]`` (default 5, 50, 95, 99).
     out_dir : str or pathlib.Path, optional
-        Folder for ``tolerance.csv`` (every sample), ``tolerance.json`` (summary),
-        ``tolerance.md`` and ``tolerance_histogram.png``.
+        Report folder, written afresh (:func:`sso.write_report`):
+        ``tolerance.csv`` (every sample, 6 digits), ``tolerance.json`` (summary,
+        full precision), ``report.md``, ``report.html`` and
+        ``tolerance_histogram.png``.
     client : dask.distributed.Client, optional
         Evaluate the chunks on this Dask cluster.
     workers : int, optional
@@ -130,7 +144,9 @@ def tolerance_study(
         and how many samples fit).
     """
     started = time.perf_counter()
-    series, speed_rpm, quadrature, case_settings = _nominal(design, input_speed_rpm)
+    series, speed_rpm, quadrature, case_settings, study_of = _nominal(design, input_speed_rpm)
+    if out_dir is not None:
+        out_dir = check_report_folder(out_dir)
     given = {"beta_tolerance_deg": beta_tolerance_deg, "phase_tolerance_deg": phase_tolerance_deg,
              "distribution": distribution, "samples": samples, "seed": seed,
              "percentiles": percentiles}
@@ -162,6 +178,8 @@ def tolerance_study(
 
     beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
                                        samples, seed)
+    reflected = int(np.count_nonzero((beta_deg < 0.0).any(axis=1)))
+    beta_deg = np.abs(beta_deg)
     beta_rad = np.radians(beta_deg)
     phase_rad = np.radians(phase_deg)
     rule = rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model, *quadrature)
@@ -187,27 +205,34 @@ def tolerance_study(
         phase_tolerance_deg=phase_tolerance, seed=int(seed), input_speed_rpm=speed_rpm,
         quadrature_samples=rule.samples, percentiles=quantiles, beta_deg=beta_deg,
         phase_deg=phase_deg, residual_error=metrics[0], fluctuation=metrics[1],
-        max_output_accel_rad_s2=metrics[2], elapsed_s=time.perf_counter() - started)
+        max_output_accel_rad_s2=metrics[2], elapsed_s=time.perf_counter() - started,
+        study_of=study_of, reflected_samples=reflected)
     if out_dir is None:
         return result
-    from sso.batch.report import write_tolerance_report
+    formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
+    return replace(result, files=tuple(write_report(result, out_dir, formats)))
 
-    return replace(result, files=tuple(write_tolerance_report(result, Path(out_dir), plots)))
 
-
-def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float,
-                                                         tuple[float, float], dict[str, Any]]:
-    """The nominal series, input speed, quadrature tolerance and settings of ``design``."""
+def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tuple[float, float],
+                                                         dict[str, Any], str]:
+    """The nominal series, input speed, quadrature tolerance, settings and origin of ``design``."""
+    if isinstance(design, OptimisationResult):
+        speed = design.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
+        return (design.best.series, validate_speed("input_speed_rpm", speed),
+                (DEFAULT_RTOL, DEFAULT_ATOL), {},
+                f"the optimum ({design.best.solver}) of an optimisation, option "
+                f"{design.option} ({design.option_name})")
     if isinstance(design, ShaftSeries):
         speed = DEFAULT_INPUT_SPEED_RPM if input_speed_rpm is None else input_speed_rpm
         return (design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL),
-                {})
+                {}, "the given design")
     from sso.batch.axes import base_case
 
     case = base_case(design)
     speed = case.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
     return (case.series(), validate_speed("input_speed_rpm", speed),
-            (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {})
+            (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},
+            f"the design as given (start) in case {case.name!r}")
 
 
 def _tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:

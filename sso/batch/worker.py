@@ -108,7 +108,7 @@ def _optimise_row(case: Any) -> dict[str, Any]:
             f"{name}_status": solution.status,
             f"{name}_success": solution.success,
             f"{name}_message": solution.message,
-            f"{name}_kkt": solution.kkt,
+            f"{name}_kkt_per_rad": solution.kkt,
             f"{name}_time_s": sum(run.time_s for run in result.runs if run.solver == name),
         })
     return row

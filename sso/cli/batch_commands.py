@@ -35,13 +35,19 @@ def configure_tolerance(parser: argparse.ArgumentParser) -> None:
     from sso.cli.common import DEFAULT_OUT
 
     parser.add_argument("case", metavar="CASE.toml",
-                        help="case file: its design is perturbed as its [tolerance] table says")
+                        help="case file: its optimum is perturbed as its [tolerance] table says")
+    parser.add_argument("--at", choices=("optimum", "start"), default="optimum",
+                        help="study the case's optimum (default: optimise first, or read it "
+                        "with --result) or its design as given (start)")
+    parser.add_argument("--result", metavar="RESULT.json",
+                        help="take the optimum from this result.json (written by sso run) "
+                        "instead of optimising")
     parser.add_argument("--samples", type=int, metavar="N",
                         help="number of samples (default: the case's, or 10000)")
     parser.add_argument("--seed", type=int, metavar="N",
                         help="seed of the draw (default: the case's, or 0)")
-    _add_execution_arguments(parser, "write tolerance.csv/.json/.md and the histogram into "
-                             f"DIR/<case name>/ (default: {DEFAULT_OUT})")
+    _add_execution_arguments(parser, "write tolerance.csv/.json, report.md/.html and the "
+                             f"histogram into DIR/<case name>/ (default: {DEFAULT_OUT})")
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -64,23 +70,70 @@ def run_sweep(args: argparse.Namespace) -> int:
 
 
 def run_tolerance(args: argparse.Namespace) -> int:
-    """Run ``sso tolerance``; exit 0 on success, 2 for bad input."""
+    """Run ``sso tolerance``; exit 0 on success, 2 for bad input.
+
+    The optimum is studied unless ``--at start``: the case is optimised first,
+    or its optimum read from ``--result``; the report says which.
+    """
+    from dataclasses import replace
+
     from sso.batch.axes import base_case
     from sso.batch.tolerance_study import tolerance_study
     from sso.cli.common import DEFAULT_OUT, EXIT_OK
+    from sso.limits import OUTPUT_FORMATS
+    from sso.reports.kinds import write_report
 
     def work(client: Any) -> int:
         case = base_case(args.case)
-        result = tolerance_study(case, samples=args.samples, seed=args.seed,
-                                 out_dir=Path(args.out or DEFAULT_OUT) / case.name,
+        if args.at == "start" and args.result is not None:
+            raise ValueError("--at start studies the case's design as given; --result gives an "
+                             "optimum: use one of them")
+        design, study_of = _studied_design(args, case)
+        settings = dict(case.tolerance_study or {})
+        settings.update({name: value for name, value in (("samples", args.samples),
+                                                         ("seed", args.seed))
+                         if value is not None})
+        result = tolerance_study(design, **settings, input_speed_rpm=case.input_speed_rpm,
                                  client=client, workers=args.workers,
                                  progress=False if args.quiet else None,
-                                 plots=not args.no_plots,
                                  memory_limit_mb=args.memory_limit)
+        result = replace(result, study_of=study_of)
+        formats = tuple(name for name in OUTPUT_FORMATS if not (args.no_plots and name == "png"))
+        folder = Path(args.out or DEFAULT_OUT) / case.name
+        result = replace(result, files=tuple(write_report(result, folder, formats)))
         print(result.summary(), flush=True)
         return EXIT_OK
 
     return _with_client(args, args.case, work)
+
+
+def _studied_design(args: argparse.Namespace, case: Any) -> tuple[Any, str]:
+    """The design ``sso tolerance`` studies, and the words that say which it is."""
+    if args.at == "start":
+        return case, f"the design as given (start) in {Path(args.case).name}"
+    if args.result is not None:
+        from sso.reports.writer import read_result
+        from sso.shafts.series import ShaftSeries
+
+        document = read_result(args.result)
+        optimum = document.get("designs", {}).get("optimum")
+        if optimum is None:
+            raise ValueError(f"{args.result} holds no optimum (was it written by sso evaluate?); "
+                             "give a result of sso run, or --at start")
+        series = ShaftSeries(optimum["beta_deg"], optimum["phase_deg"], document["model"])
+        return series, f"the {optimum['label']} read from {args.result}"
+    from sso.display import format_number
+    from sso.shafts.optimise import optimise
+
+    if not args.quiet:
+        print(f"{case.name}: optimising first, to study the optimum", flush=True)
+    result = optimise(case.series(), case.option, **case.optimise_options())
+    if not result.success:
+        print(f"warning: {case.name}: the optimisation did not succeed "
+              f"({'solvers disagree' if result.best.success else 'solver failed'}); "
+              "studying its best design", file=sys.stderr, flush=True)
+    return result, (f"the optimum ({result.best.solver}, RE {format_number(result.fun, 3)}) of "
+                    f"{Path(args.case).name}, optimised first")
 
 
 def _add_execution_arguments(parser: argparse.ArgumentParser, out_help: str) -> None:
@@ -125,9 +178,11 @@ COMMANDS = (
             "computes only the missing points. Exit 0: every point finished (and converged); "
             "1: some did not; 2: bad input.",
             configure_sweep, run_sweep),
-    Command("tolerance", "Monte Carlo tolerance study of a case's design",
-            "Perturb the case's angles and phases as its [tolerance] table says (normal or "
+    Command("tolerance", "Monte Carlo tolerance study of a case's optimum",
+            "Optimise the case (or read its optimum from --result RESULT.json), perturb the "
+            "optimum's angles and phases as the case's [tolerance] table says (normal or "
             "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
-            "and output acceleration with a histogram into DIR/<case name>/.",
+            "and output acceleration with a histogram into DIR/<case name>/. --at start "
+            "studies the case's design as given instead.",
             configure_tolerance, run_tolerance),
 )

@@ -25,10 +25,10 @@ def _configure_report(parser: argparse.ArgumentParser) -> None:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from sso.cli.tracked import RENDERING_ERRORS, field_at_fault
-    from sso.files import write_bytes_atomic
-    from sso.reports.writer import ResultFileError, read_result, render
-    from sso.validation import shown
+    from sso.cli.tracked import RENDERING_ERRORS
+    from sso.files import check_report_folder
+    from sso.reports.kinds import write_report
+    from sso.reports.writer import ResultFileError, read_result
 
     exit_code = EXIT_OK
     for path in args.results:
@@ -40,20 +40,22 @@ def _report(args: argparse.Namespace) -> int:
             continue
         try:
             folder, formats = _report_folder(args, path, document)
-            files = render(document, formats)
+            check_report_folder(folder)
+        except ValueError as error:  # a folder that is not a report's, or a bad case name
+            print_error(f"{path}: cannot write the report: {error}")
+            exit_code = EXIT_BAD_INPUT
+            continue
         except RENDERING_ERRORS as error:
-            field = field_at_fault(
-                lambda tracked, path=path: render(tracked, _report_folder(args, path, tracked)[1]),
-                document)
-            where = f"field {field}" if field else "a field"
-            print_error(f"{path}: not a result document sso can report from: {where} does not "
-                        f"hold what sso writes there ({type(error).__name__}: "
-                        f"{shown(str(error))}); write it again with sso run or sso evaluate")
+            print_error(_not_a_result(args, path, document, error))
             exit_code = EXIT_BAD_INPUT
             continue
         try:
-            folder.mkdir(parents=True, exist_ok=True)
-            written = [write_bytes_atomic(folder / name, data) for name, data in files.items()]
+            # The folder is written afresh, so result.json goes into it again.
+            written = write_report(document, folder, ("json", *formats))
+        except RENDERING_ERRORS as error:
+            print_error(_not_a_result(args, path, document, error))
+            exit_code = EXIT_BAD_INPUT
+            continue
         except OSError as error:
             print_error(f"{path}: cannot write the report into {folder}: {error.strerror or error}")
             exit_code = EXIT_BAD_INPUT
@@ -61,6 +63,21 @@ def _report(args: argparse.Namespace) -> int:
         say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
             f"in {folder}")
     return exit_code
+
+
+def _not_a_result(args: argparse.Namespace, path: str, document: Any,
+                  error: BaseException) -> str:
+    """Why ``document`` cannot be reported, naming the field at fault where it is found."""
+    from sso.cli.tracked import field_at_fault
+    from sso.reports.writer import render
+    from sso.validation import shown
+
+    field = field_at_fault(
+        lambda tracked: render(tracked, _report_folder(args, path, tracked)[1]), document)
+    where = f"field {field}" if field else "a field"
+    return (f"{path}: not a result document sso can report from: {where} does not hold what "
+            f"sso writes there ({type(error).__name__}: {shown(str(error))}); write it again "
+            "with sso run or sso evaluate")
 
 
 def _report_folder(args: argparse.Namespace, path: str,

@@ -23,6 +23,7 @@ from sso.cli.common import (
     report_formats,
     say,
 )
+from sso.display import format_number
 from sso.limits import SOLVER_NAMES
 
 
@@ -82,7 +83,7 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
                started: float) -> Outcome:
     from sso.cases.column import COLUMN_KIND
     from sso.cases.mechanism import MECHANISM_KINDS
-    from sso.reports.writer import write_report
+    from sso.reports.kinds import write_report
     from sso.run.column_document import column_document
     from sso.run.document import evaluate_case, optimise_case
     from sso.run.mechanism_document import mechanism_document
@@ -105,9 +106,9 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     print_warnings(case.name, document["warnings"])
     try:
         written = write_report(document, folder, case.formats)
-    except OSError as error:
-        print_error(f"{case.name}: cannot write the report into {folder}: "
-                    f"{error.strerror or error}")
+    except (OSError, ValueError) as error:
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
+        print_error(f"{case.name}: cannot write the report into {folder}: {reason}")
         return Outcome(case.name, "cannot write", EXIT_BAD_INPUT)
     status, code = _status(document)
     if not document["success"]:
@@ -115,7 +116,7 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
     designs = document.get("designs", {})
-    errors = tuple(f"{designs[role]['evaluation']['residual_error']:.3g}"
+    errors = tuple(format_number(designs[role]["evaluation"]["residual_error"], 3)
                    if role in designs else "-" for role in ("initial", "optimum", "reference"))
     return Outcome(case.name, status, code, errors, time.perf_counter() - started, str(folder))
 

@@ -97,7 +97,7 @@ class SteeringFeel:
         return dict(self.__dict__)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class OnCentreResult(PhasingOutcome):
     """Outcome of :func:`optimise_on_centre`.
 

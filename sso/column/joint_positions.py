@@ -42,6 +42,7 @@ from sso.column.chain_matrix import (
 )
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.column.phasing import PHASE_BOUNDS_DEG, optimise_phasing
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
     BETA_LIMIT_DEG,
     DEFAULT_MAX_ITERATIONS,
@@ -81,8 +82,8 @@ DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
 DEFAULT_SHORTEST_FRACTION = 0.5
 
 
-@dataclass(frozen=True)
-class JointPositionResult:
+@dataclass(frozen=True, repr=False)
+class JointPositionResult(Readable):
     """The best joint positions (and phasing) within the boxes.
 
     Attributes
@@ -146,6 +147,27 @@ class JointPositionResult:
     runs: tuple[Solution, ...]
     crosscheck: CrossCheck | None
     local_minima: tuple[float, ...]
+
+    def _repr_text(self) -> str:
+        verdict = "success" if self.success else "FAILED"
+        return (f"{verdict}: RE {format_number(self.initial_re, 4)} -> "
+                f"{format_number(self.fun, 4)} by {self.best.solver}; yoke_phase_deg "
+                f"[{format_numbers(self.yoke_phase_deg)}], {len(self.points_mm)} points")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = "success" if self.success else "FAILED"
+        points = TextTable(("point", "x (mm)", "y (mm)", "z (mm)"),
+                           tuple((f"P{index}", *(format_number(value) for value in point))
+                                 for index, point in enumerate(self.points_mm)))
+        solvers = TextTable(("solver", "converged", "RE", "iterations", "message"),
+                            tuple((name, "yes" if solution.success else "no",
+                                   format_number(solution.fun), str(solution.nit),
+                                   solution.message)
+                                  for name, solution in self.solutions.items()))
+        return [f"Joint positions: {verdict}; RE {format_number(self.initial_re)} as given, "
+                f"{format_number(self.fixed_points_re)} with the given points and the best "
+                f"phasing, {format_number(self.fun)} at the optimum",
+                points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
 
     @property
     def nit(self) -> int:

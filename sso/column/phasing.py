@@ -10,6 +10,7 @@ import numpy as np
 from sso.column.cancel import CancelVerdict, can_cancel, minimising_phases_deg
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -28,8 +29,8 @@ PHASE_BOUNDS_DEG = (-90.0, 270.0)
 SAME_PHASING_DEG = 1e-6
 
 
-@dataclass(frozen=True)
-class PhasingResult:
+@dataclass(frozen=True, repr=False)
+class PhasingResult(Readable):
     """The best yoke phasing of a column and the reference assemblies.
 
     Attributes
@@ -79,6 +80,21 @@ class PhasingResult:
     plane_corrected_re: float
     verdict: CancelVerdict
     optimisation: OptimisationResult
+
+    def _repr_text(self) -> str:
+        return (f"yoke_phase_deg [{format_numbers(self.x)}], RE {format_number(self.fun, 4)} "
+                f"(in phase {format_number(self.in_phase_re, 4)}, plane-corrected "
+                f"{format_number(self.plane_corrected_re, 4)}), success={self.success}")
+
+    def _summary_parts(self) -> list[Part]:
+        rows = (("best phasing", format_numbers(self.x), format_number(self.fun)),
+                ("yokes in phase", "0" + ", 0" * (len(self.x) - 1) if self.x else "",
+                 format_number(self.in_phase_re)),
+                ("each yoke turned by its bend-plane angle", "", 
+                 format_number(self.plane_corrected_re)))
+        return [f"Phasing: {self.message}",
+                TextTable(("assembly", "yoke phase (deg)", "RE"), rows),
+                f"least RE any phasing reaches: {format_number(self.minimum_residual_error)}"]
 
     @property
     def yoke_phase_deg(self) -> tuple[float, ...]:

@@ -59,7 +59,7 @@ class SinglePositionOptimum:
     worst_re: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PositionsResult(PhasingOutcome):
     """Outcome of :func:`optimise_positions`.
 

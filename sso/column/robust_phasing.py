@@ -36,7 +36,7 @@ LOWEST_PERCENTILE = 50.0
 DEFAULT_ROBUST_STARTS = 4
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class RobustResult(PhasingOutcome):
     """Outcome of :func:`optimise_robust`.
 

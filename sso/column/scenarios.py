@@ -29,6 +29,7 @@ import numpy as np
 
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
+from sso.display import Readable
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -66,8 +67,8 @@ class ScenarioRun:
         return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
 
-@dataclass(frozen=True)
-class PhasingOutcome:
+@dataclass(frozen=True, repr=False)
+class PhasingOutcome(Readable):
     """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
 
     Attributes

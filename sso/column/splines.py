@@ -34,6 +34,7 @@ from sso.column.chain_matrix import (
     matrix_residual_error,
 )
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import CONVENTIONAL_PHASE_DEG
 
 ENUMERATION_LIMIT = 200_000
@@ -70,8 +71,8 @@ class YokeInstruction:
     text: str
 
 
-@dataclass(frozen=True)
-class SplineResult:
+@dataclass(frozen=True, repr=False)
+class SplineResult(Readable):
     """Best tooth positions of a column's yokes.
 
     Attributes
@@ -109,6 +110,20 @@ class SplineResult:
     instructions: tuple[YokeInstruction, ...]
     method: str
     assemblies_evaluated: int
+
+    def _repr_text(self) -> str:
+        return (f"teeth {list(self.teeth)}, tooth_offset {list(self.tooth_offset)}, RE "
+                f"{format_number(self.residual_error, 4)} (continuous optimum "
+                f"{format_number(self.continuous_residual_error, 4)}), {self.method}")
+
+    def _summary_parts(self) -> list[Part]:
+        rows = tuple((str(index + 1), str(teeth), str(offset), format_number(phase))
+                     for index, (teeth, offset, phase) in enumerate(
+                         zip(self.teeth, self.tooth_offset, self.yoke_phase_deg, strict=True)))
+        title = (f"Spline teeth ({self.method}): RE {format_number(self.residual_error)}, "
+                 f"loss against the continuous optimum {format_number(self.loss)}")
+        return [title, TextTable(("shaft", "teeth", "tooth offset", "yoke phase (deg)"), rows),
+                *self.assembly_text().splitlines()]
 
     def assembly_text(self) -> str:
         """The instructions, one line per yoke."""

@@ -23,11 +23,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from sso.deprecation import renamed_keywords
+from sso.display import Part, TextTable, format_number
 from sso.limits import (
     DEFAULT_FOURBAR_SOLVER_TOL,
     DEFAULT_MAX_ITERATIONS,
@@ -58,7 +59,7 @@ if TYPE_CHECKING:
 LINKS = ("crank", "coupler", "rocker", "ground")
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, repr=False)
 class FourBarDesignResult(DesignResult):
     """Outcome of :func:`design_fourbar`.
 
@@ -87,6 +88,32 @@ class FourBarDesignResult(DesignResult):
     optimum_transmission_angle_deg: tuple[float, float]
     transmission_angle_bounds_deg: tuple[float, float]
     link_bounds: dict[str, tuple[float, float]]
+
+    report_kind: ClassVar[str] = "fourbar_design"
+
+    def _repr_text(self) -> str:
+        verdict = "success" if self.success else "FAILED"
+        lengths = ", ".join(f"{name} {format_number(getattr(self.optimum, name))}"
+                            for name in LINKS)
+        return (f"{verdict}: swing {format_number(self.initial_swing_deg, 4)} -> "
+                f"{format_number(self.optimum_swing_deg, 4)} deg by {self.best.solver}; "
+                f"{lengths}")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = "success" if self.success else "FAILED"
+        low, high = self.optimum_transmission_angle_deg
+        designs = TextTable(("linkage", *LINKS, "swing (deg)"), (
+            ("initial", *(format_number(getattr(self.initial, name)) for name in LINKS),
+             format_number(self.initial_swing_deg)),
+            (f"optimum ({self.best.solver})",
+             *(format_number(getattr(self.optimum, name)) for name in LINKS),
+             format_number(self.optimum_swing_deg))))
+        band = (f"transmission angle of the optimum: {format_number(low)} .. "
+                f"{format_number(high)} deg (allowed "
+                f"{format_number(self.transmission_angle_bounds_deg[0])} .. "
+                f"{format_number(self.transmission_angle_bounds_deg[1])})")
+        return [f"Four-bar design, largest rocker swing: {verdict}", designs, band,
+                *self._solver_parts("-swing (rad)", "KKT")]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""

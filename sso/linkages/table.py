@@ -4,16 +4,23 @@ import csv
 import io
 import math
 import os
+import re
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
+from sso.display import Part, Readable, TextTable, format_number
 
-@dataclass(frozen=True, eq=False)
-class MechanismTable:
+# How a unit reads at the end of a column name (``"length"``: the links' unit).
+UNIT_SUFFIXES = {"deg": "deg", "rad/s": "rad_s", "rad/s^2": "rad_s2", "length": "{length}",
+                 "length/s": "{length}_s", "length/s^2": "{length}_s2"}
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class MechanismTable(Readable):
     """Columns of equal length, one row per crank angle (or per case).
 
     Columns are read-only numpy arrays, reachable as ``table["name"]`` or
@@ -40,6 +47,8 @@ class MechanismTable:
     name: str
     columns: dict[str, np.ndarray]
     units: dict[str, str]
+
+    report_kind: ClassVar[str] = "mechanism_table"
 
     def __post_init__(self) -> None:
         columns = {key: np.array(values) for key, values in self.columns.items()}
@@ -74,6 +83,38 @@ class MechanismTable:
 
     def __len__(self) -> int:
         return len(next(iter(self.columns.values()), ()))
+
+    def _repr_text(self) -> str:
+        return (f"{self.name!r}, {len(self)} rows x {len(self.columns)} columns: "
+                + ", ".join(self.columns))
+
+    def _summary_parts(self) -> list[Part]:
+        rows = []
+        for column, values in self.columns.items():
+            finite = values[np.isfinite(values)] if values.dtype.kind == "f" else values
+            low, high = ((format_number(float(finite.min())), format_number(float(finite.max())))
+                         if values.dtype.kind == "f" and len(finite) else ("", ""))
+            rows.append((column, self.units[column] or "-", low, high))
+        return [f"{self.name}: {len(self)} rows",
+                TextTable(("column", "unit", "min", "max"), tuple(rows))]
+
+    def unit_names(self, length_unit: str = "length") -> list[str]:
+        """Column names that each end in their unit (``joint_a_x`` -> ``joint_a_x_mm``).
+
+        Parameters
+        ----------
+        length_unit : str
+            The unit the link lengths were given in (``"length"`` when unknown);
+            anything but letters and digits becomes ``_`` (``"length units"`` ->
+            ``joint_a_x_length_units``).
+        """
+        length = re.sub(r"[^A-Za-z0-9]+", "_", length_unit).strip("_") or "length"
+        names = []
+        for column, unit in self.units.items():
+            suffix = UNIT_SUFFIXES.get(unit, "").format(length=length)
+            names.append(column if not suffix or column.endswith(f"_{suffix}")
+                         else f"{column}_{suffix}")
+        return names
 
     def to_dict(self) -> dict[str, Any]:
         """Plain, JSON-ready form: NaN becomes ``None``, arrays become lists.
@@ -118,13 +159,23 @@ class MechanismTable:
         _write_text_atomically(path, self.csv_text())
         return path
 
-    def csv_text(self) -> str:
-        """The table as CSV text, exactly as :meth:`to_csv` writes it."""
+    def csv_text(self, length_unit: str | None = None, digits: int = 17) -> str:
+        """The table as CSV text; by default exactly as :meth:`to_csv` writes it.
+
+        Parameters
+        ----------
+        length_unit : str, optional
+            Give it to end every column name in its unit (:meth:`unit_names`), as
+            the reports do; by default the names are the table's own.
+        digits : int
+            Significant digits of the floats (17 round-trips exactly; reports use 6).
+        """
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(self.columns)
+        writer.writerow(list(self.columns) if length_unit is None
+                        else self.unit_names(length_unit))
         for row in zip(*self.columns.values(), strict=True):
-            writer.writerow(_csv_cell(value) for value in row)
+            writer.writerow(_csv_cell(value, digits) for value in row)
         return buffer.getvalue()
 
     @classmethod
@@ -150,10 +201,10 @@ def _plain(value: np.generic) -> bool | float | None:
     return None if math.isnan(number) else number
 
 
-def _csv_cell(value: np.generic) -> str:
+def _csv_cell(value: np.generic, digits: int = 17) -> str:
     if isinstance(value, np.bool_):
         return str(bool(value))
-    return format(float(value), ".17g")
+    return format(float(value), f".{digits}g")
 
 
 def _write_text_atomically(path: Path, text: str) -> None:

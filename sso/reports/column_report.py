@@ -11,6 +11,7 @@ import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from sso.limits import REPORT_DIGITS
 from sso.reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
 
@@ -38,14 +39,16 @@ CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the ang
 
 
 def excitation_csv(document: Mapping[str, Any]) -> str:
-    """``excitation.csv``: one row per speed and assembly (as built, recommended)."""
+    """``excitation.csv``: one row per speed and assembly (as built, recommended), six
+    significant digits (``result.json`` keeps every digit)."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(("assembly", *EXCITATION_COLUMNS))
     for role, rows in document["excitation"]["rows"].items():
         for row in rows:
-            writer.writerow((role, *(repr(row[name]) if isinstance(row[name], float)
-                                     else row[name] for name in EXCITATION_COLUMNS)))
+            writer.writerow((role, *(f"{row[name]:.{REPORT_DIGITS}g}"
+                                     if isinstance(row[name], float) else row[name]
+                                     for name in EXCITATION_COLUMNS)))
     return buffer.getvalue()
 
 

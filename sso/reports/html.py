@@ -1,7 +1,8 @@
 """``report.html``: the report blocks as one self-contained HTML page.
 
 Images are embedded as base64 data URIs; every string is passed through
-:func:`html.escape`.
+:func:`html.escape`. Each table sits in a box that scrolls sideways
+(``overflow-x: auto``), so a wide table never widens the page.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from sso.reports.summary import Block, Heading, Image, Paragraph, Table
 STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; padding: 0 1rem;
        color: #222; }
-table { border-collapse: collapse; margin: 0.5rem 0 1rem; }
+.table { overflow-x: auto; margin: 0.5rem 0 1rem; }
+table { border-collapse: collapse; }
 th, td { border: 1px solid #bbb; padding: 0.25rem 0.6rem; text-align: left; vertical-align: top; }
 th { background: #eee; }
 td { font-variant-numeric: tabular-nums; }
@@ -45,7 +47,8 @@ def render_html(blocks: Sequence[Block], images: Mapping[str, bytes]) -> str:
             header = "".join(f"<th>{_escape(cell)}</th>" for cell in block.header)
             rows = "".join("<tr>" + "".join(f"<td>{_escape(cell)}</td>" for cell in row) + "</tr>"
                            for row in block.rows)
-            body.append(f"<table><thead><tr>{header}</tr></thead><tbody>{rows}</tbody></table>")
+            body.append(f'<div class="table"><table><thead><tr>{header}</tr></thead>'
+                        f"<tbody>{rows}</tbody></table></div>")
         elif isinstance(block, Image):
             data = base64.b64encode(images[block.file_name]).decode("ascii")
             body.append(f'<figure><img src="data:image/png;base64,{data}" '

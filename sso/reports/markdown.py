@@ -1,12 +1,15 @@
 """``report.md``: the report blocks as Markdown.
 
-Strings are HTML-escaped (Markdown passes inline HTML through) and table cells
-have their pipes escaped and line breaks folded.
+Markdown passes inline HTML through, so every ``<`` or ``&`` that could start a tag
+or an entity (``<`` before a letter, ``/``, ``!`` or ``?``; ``&`` before a letter or
+``#``) and every ``>`` is written as an entity; a ``<`` or ``&`` that cannot start
+markup stays as it is, so ``< 1e-15`` reads as itself in the file too. Table
+cells have their pipes escaped and line breaks folded.
 """
 
 from __future__ import annotations
 
-import html
+import re
 from collections.abc import Sequence
 
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table
@@ -29,8 +32,12 @@ def render_markdown(blocks: Sequence[Block]) -> str:
     return "\n\n".join(parts) + "\n"
 
 
+MARKUP = re.compile(r"<(?=[A-Za-z/!?])|&(?=[A-Za-z#])|>")
+ENTITIES = {"<": "&lt;", "&": "&amp;", ">": "&gt;"}
+
+
 def _escape(text: str) -> str:
-    return html.escape(text, quote=False)
+    return MARKUP.sub(lambda match: ENTITIES[match.group()], text)
 
 
 def _row(cells: Sequence[str]) -> str:

@@ -7,12 +7,18 @@ same thing and every string is escaped for its format.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
+from sso.limits import REPORT_DIGITS
 from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
+from sso.reports.html import render_html
+from sso.reports.markdown import render_markdown
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
 
 TABLE_FILE = "table.csv"
@@ -35,11 +41,16 @@ ROLE_NAMES = {"given": "linkage", "initial": "initial linkage", "optimum": "opti
 
 def table_files(document: Mapping[str, Any]) -> dict[str, str]:
     """CSV text of each table: ``table.csv`` for the main linkage (the optimum of a
-    design), ``table_<role>.csv`` for the others."""
+    design), ``table_<role>.csv`` for the others.
+
+    Six significant digits (``result.json`` keeps every digit); each column name
+    ends in its unit, lengths in the case's (``joint_a_x_mm``).
+    """
     roles = list(document["tables"])
     main = "optimum" if "optimum" in roles else roles[0]
     return {(TABLE_FILE if role == main else f"table_{role}.csv"):
-            MechanismTable.from_dict(document["tables"][role]).csv_text() for role in roles}
+            MechanismTable.from_dict(document["tables"][role]).csv_text(
+                document["length_unit"], REPORT_DIGITS) for role in roles}
 
 
 def unit_text(unit: str, length_unit: str) -> str:
@@ -204,6 +215,43 @@ def _rows_table(document: Mapping[str, Any], role: str) -> Table:
     rows = tuple(tuple(_table_cell(table["columns"][name][index]) for name in columns)
                  for index in range(len(table["columns"]["crank_angle_deg"])))
     return Table(header, rows)
+
+
+def table_report(table: MechanismTable, formats: tuple[str, ...]) -> dict[str, bytes]:
+    """Report files of a :class:`sso.MechanismTable` made in Python.
+
+    ``table.csv`` (six digits, names ending in their units, lengths in the unit
+    the links were given in, written ``length``), ``table.json`` (every digit),
+    and ``report.md``/``report.html`` with each column's range and the rows. The
+    table does not know its linkage, so there are no plots: a case file run with
+    ``sso run`` draws them.
+    """
+    files: dict[str, bytes] = {}
+    if "csv" in formats:
+        files[TABLE_FILE] = table.csv_text("length", REPORT_DIGITS).encode("utf-8")
+    if "json" in formats:
+        files["table.json"] = (json.dumps(table.to_dict(), indent=2) + "\n").encode("utf-8")
+    names = table.unit_names("length")
+    summary = next(part for part in table._summary_parts() if not isinstance(part, str))
+    blocks: list[Block] = [
+        Heading(1, f"Mechanism analysis: {table.name}"),
+        Paragraph(f"{len(table)} rows. Lengths are in the unit the links were given in "
+                  "(written 'length'); angles in deg, angular rates in rad/s and rad/s^2."),
+        Heading(2, "Columns"), Table(summary.header, summary.rows),
+        Heading(2, "Rows"),
+        Table(tuple(names), tuple(tuple(_table_cell(_plain_cell(values[index]))
+                                        for values in table.columns.values())
+                                  for index in range(len(table)))),
+    ]
+    if "md" in formats:
+        files["report.md"] = render_markdown(blocks).encode("utf-8")
+    if "html" in formats:
+        files["report.html"] = render_html(blocks, {}).encode("utf-8")
+    return files
+
+
+def _plain_cell(value: Any) -> Any:
+    return bool(value) if isinstance(value, np.bool_) else float(value)
 
 
 def _table_cell(value: Any) -> str:

@@ -7,11 +7,12 @@ import io
 from collections.abc import Mapping
 from typing import Any
 
+from sso.limits import REPORT_DIGITS
 from sso.reports.curves import speed_curves
 
 
 def render_speeds_csv(document: Mapping[str, Any]) -> str:
-    """CSV text: one row per input angle (deg, 0 to 360 by 1), speeds in rpm.
+    """CSV text: one row per input angle (deg, 0 to 360 by 1), speeds in rpm (6 digits).
 
     Columns: ``input_angle_deg``, ``input_speed_rpm``, then
     ``output_speed_<role>_rpm`` for each design (initial, optimum, reference).
@@ -23,6 +24,7 @@ def render_speeds_csv(document: Mapping[str, Any]) -> str:
     writer.writerow(["input_angle_deg", "input_speed_rpm",
                      *[f"output_speed_{role}_rpm" for role in roles]])
     for index, angle in enumerate(curves.input_angle_deg):
-        writer.writerow([f"{angle:g}", f"{curves.input_speed_rpm:.12g}",
-                         *[f"{curves.output_speed_rpm[role][index]:.12g}" for role in roles]])
+        writer.writerow([f"{angle:g}", f"{curves.input_speed_rpm:.{REPORT_DIGITS}g}",
+                         *[f"{curves.output_speed_rpm[role][index]:.{REPORT_DIGITS}g}"
+                           for role in roles]])
     return buffer.getvalue()

@@ -11,6 +11,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from sso.display import NOT_AVAILABLE, format_number
+from sso.limits import REPORT_DIGITS, ROUND_OFF_FLOOR
 from sso.run.document import DESIGN_ROLES
 
 
@@ -55,7 +57,7 @@ FIGURES = (
     ("speed_max_rpm", "output speed max (rpm)", ".6g"),
     ("fluctuation_rpm", "fluctuation, peak to peak (rpm)", ".4g"),
     ("fluctuation", "fluctuation / input speed (dimensionless)", ".4g"),
-    ("mean_speed_ratio", "mean output / input speed", ".10g"),
+    ("mean_speed_ratio", "mean output / input speed", ".6g"),
     ("transmission_error_deg", "transmission error, max |out - in| (deg)", ".4g"),
     ("max_output_accel_rad_s2", "output acceleration, max |dw/dt| (rad/s^2)", ".4g"),
     ("torque_ratio_min", "torque ratio T_out/T_in min", ".6g"),
@@ -66,9 +68,20 @@ FIGURES = (
 
 
 def number(value: Any, spec: str = ".6g") -> str:
-    """Format a number for a report cell ("n/a" for missing or non-finite)."""
+    """Format a number for a report cell.
+
+    ``"n/a"`` for missing or non-finite values, ``"< 1e-15"`` for magnitudes at or
+    below :data:`sso.limits.ROUND_OFF_FLOOR`; ``spec`` otherwise, with at most
+    :data:`sso.limits.REPORT_DIGITS` significant digits (a ``"g"`` spec asking
+    for more, or none, gets that many).
+    """
     if value is None or isinstance(value, float) and not math.isfinite(value):
-        return "n/a"
+        return NOT_AVAILABLE
+    if isinstance(value, float) and abs(value) <= ROUND_OFF_FLOOR:
+        return format_number(value)
+    if spec.endswith("g"):
+        digits = int(spec[1:-1]) if spec[1:-1] else REPORT_DIGITS
+        return format_number(value, min(digits, REPORT_DIGITS))
     return format(value, spec)
 
 
@@ -148,10 +161,10 @@ def _design_table(document: Mapping[str, Any], roles: list[str]) -> Table:
     designs = document["designs"]
     joints = len(designs["initial"]["beta_deg"])
     rows = [(f"beta_{index + 1} (deg)",
-             *[number(designs[role]["beta_deg"][index], ".6f") for role in roles])
+             *[number(designs[role]["beta_deg"][index]) for role in roles])
             for index in range(joints)]
     rows += [(f"phi_{index + 1} (deg)",
-              *[number(designs[role]["phase_deg"][index], ".6f") for role in roles])
+              *[number(designs[role]["phase_deg"][index]) for role in roles])
              for index in range(joints - 1)]
     return Table(("angle", *[designs[role]["label"] for role in roles]), tuple(rows))
 

@@ -1,7 +1,7 @@
-"""Write a report folder from a result document, and read ``result.json`` back.
+"""Render the report files of a result document, and read ``result.json`` back.
 
-Everything is rendered in memory first, then each file is written atomically, so
-a failure never leaves a half-written file and never touches earlier results.
+Everything is rendered in memory; :func:`sso.reports.kinds.write_report` writes
+the files as one new report folder.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
 from sso.cases.schema import rename_old_keys
-from sso.files import read_input_bytes, write_bytes_atomic
+from sso.files import read_input_bytes
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
 
@@ -113,23 +113,6 @@ def _render_column(document: Mapping[str, Any], formats: Sequence[str]) -> dict[
 
             files["report.html"] = render_html(blocks, images).encode("utf-8")
     return files
-
-
-def write_report(document: Mapping[str, Any], folder: str | Path,
-                 formats: Sequence[str]) -> list[Path]:
-    """Render the requested formats and write them atomically into ``folder``.
-
-    Files of other formats already in the folder are left alone.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
-    """
-    files = render(document, formats)
-    target = Path(folder)
-    target.mkdir(parents=True, exist_ok=True)
-    return [write_bytes_atomic(target / name, data) for name, data in files.items()]
 
 
 def result_json(document: Mapping[str, Any]) -> str:

@@ -24,11 +24,14 @@ import re
 import warnings
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sso.cases.shaft_series import Case
 from sso.distribution import installed_version
 from sso.shafts.options import OPTION_NAMES
+
+if TYPE_CHECKING:
+    from sso.shafts.optimise import OptimisationResult
 
 SCHEMA_VERSION = 1
 DESIGN_ROLES = ("initial", "optimum", "reference")
@@ -51,6 +54,26 @@ def optimise_case(case: Case) -> dict[str, Any]:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = optimise(case.series(), case.option, **case.optimise_options())
+    document = optimisation_document(result, case)
+    document["warnings"] = _unique(document["warnings"]
+                                   + [str(warning.message) for warning in caught])
+    return document
+
+
+def optimisation_document(result: OptimisationResult, case: Case | None = None) -> dict[str, Any]:
+    """The result document of an optimisation, as ``sso run`` writes it.
+
+    Parameters
+    ----------
+    result : sso.OptimisationResult
+    case : sso.cases.schema.Case, optional
+        The case it solved. Without one (a result made in Python) the document's
+        case is built from what the result records: its design, option, model,
+        bounds, solvers and starts; settings the result does not record (solver
+        tolerance, iteration limit, seed) appear at their defaults.
+    """
+    if case is None:
+        case = case_of_result(result)
     document = _common(case, "optimise")
     document["designs"] = {
         "initial": _design("initial design (as given)", result.initial_series, result.initial),
@@ -73,9 +96,26 @@ def optimise_case(case: Case) -> dict[str, Any]:
         "success": result.success,
         "verdict": _verdict(result),
     })
-    document["warnings"] = _unique(document["warnings"] + list(result.warnings)
-                                   + [str(warning.message) for warning in caught])
+    document["warnings"] = _unique(document["warnings"] + list(result.warnings))
     return document
+
+
+def case_of_result(result: OptimisationResult) -> Case:
+    """A case holding what an optimisation result records of its problem."""
+    from sso.cases.schema import parse_case
+
+    return parse_case({
+        "name": "optimisation",
+        "description": "An optimisation made with sso.optimise in Python.",
+        "model": result.model,
+        "option": result.option,
+        "input_speed_rpm": result.input_speed_rpm,
+        "design": {"beta_deg": list(result.initial_series.beta_deg),
+                   "phase_deg": list(result.initial_series.phase_deg)},
+        "bounds": {"beta_deg": [list(pair) for pair in result.beta_bounds_deg],
+                   "phase_deg": [list(pair) for pair in result.phase_bounds_deg]},
+        "solver": {"solvers": list(result.solutions), "starts": result.starts},
+    }, "<sso.optimise>")
 
 
 def evaluate_case(case: Case) -> dict[str, Any]:

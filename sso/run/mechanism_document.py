@@ -21,12 +21,12 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import asdict
 from datetime import UTC, datetime
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from sso.cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
+from sso.cases.mechanism import DESIGN_KIND, DESIGN_LINKS, MechanismCase, angle_grid
 from sso.linkages.mechanisms import (
     FourBar,
     SliderCrank,
@@ -36,11 +36,15 @@ from sso.linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso.linkages.table import MechanismTable
 from sso.run.document import SCHEMA_VERSION, _verdict, package_versions
 
+if TYPE_CHECKING:
+    from sso.linkages.fourbar_swing import FourBarDesignResult
+
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""
 
 
-def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
+def mechanism_document(case: MechanismCase, optimising: bool,
+                       result: FourBarDesignResult | None = None) -> dict[str, Any]:
     """Analyse (or design, then analyse) a mechanism case into its result document.
 
     Parameters
@@ -50,6 +54,8 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     optimising : bool
         For a ``fourbar_design`` case: solve the design problem (``sso run``) or
         only analyse the start linkage (``sso evaluate``). Analysis kinds ignore it.
+    result : sso.FourBarDesignResult, optional
+        The design already solved (its document is wanted, not a new solve).
 
     Returns
     -------
@@ -78,15 +84,16 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     if case.kind != DESIGN_KIND:
         linkages = {"given": start}
         document.update(success=True, verdict=_analysis_verdict(case))
-    elif optimising:
-        from sso.linkages.fourbar_swing import design_fourbar
+    elif optimising or result is not None:
+        if result is None:
+            from sso.linkages.fourbar_swing import design_fourbar
 
-        if not isinstance(start, FourBar):
-            raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            result = design_fourbar(start, **case.design_options())
-        caught_messages = [str(warning.message) for warning in caught]
+            if not isinstance(start, FourBar):
+                raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                result = design_fourbar(start, **case.design_options())
+            caught_messages = [str(warning.message) for warning in caught]
         linkages = {"initial": start, "optimum": result.optimum}
         document.update(mode="optimise", design=result.to_dict(), success=result.success,
                         verdict=_verdict(result))
@@ -105,6 +112,29 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     document["warnings"] = list(dict.fromkeys([*case.warnings, *caught_messages]))
     document["versions"] = package_versions()
     return document
+
+
+def fourbar_design_document(result: FourBarDesignResult) -> dict[str, Any]:
+    """The result document of a four-bar design made in Python, as ``sso run`` writes it.
+
+    Its case is built from what the result records (start linkage, link and
+    transmission-angle bounds, solvers); the drive and plot settings take their
+    defaults, and so do the solver settings the result does not record.
+    """
+    from sso.cases.schema import parse_case
+
+    start = result.initial
+    case = parse_case({
+        "kind": DESIGN_KIND,
+        "name": "fourbar_design",
+        "description": "A four-bar design made with sso.design_fourbar in Python.",
+        "start": {**{name: getattr(start, name) for name in DESIGN_LINKS},
+                  "branch": start.branch},
+        "bounds": {**{name: list(result.link_bounds[name]) for name in DESIGN_LINKS},
+                   "transmission_angle_deg": list(result.transmission_angle_bounds_deg)},
+        "solver": {"solvers": list(result.solutions)},
+    }, "<sso.design_fourbar>")
+    return mechanism_document(case, True, result)
 
 
 def linkage_dict(mechanism: Mechanism) -> dict[str, Any]:

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from sso.deprecation import renamed_keywords
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.kinematics.hooke import MODELS
 from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
 from sso.limits import (
@@ -42,9 +43,12 @@ from sso.validation import (
     validate_speed,
 )
 
+SUMMARY_ROWS = 5
+"""Designs a batch's summary lists (the lowest RE first)."""
 
-@dataclass(frozen=True)
-class BatchResult:
+
+@dataclass(frozen=True, repr=False)
+class BatchResult(Readable):
     """Optimised designs of a batch, one row per start.
 
     Attributes
@@ -89,6 +93,22 @@ class BatchResult:
     input_speed_rpm: float
     beta_bounds_deg: tuple[tuple[float, float], ...]
     phase_bounds_deg: tuple[tuple[float, float], ...]
+
+    def _repr_text(self) -> str:
+        best = int(np.argmin(self.fun)) if len(self.fun) else None
+        lowest = "" if best is None else (f", lowest RE {format_number(self.fun[best], 4)} at "
+                                          f"start {best}")
+        return (f"{len(self.fun)} starts, option {self.option}, {self.model} model, "
+                f"{int(np.count_nonzero(self.success))} converged{lowest}")
+
+    def _summary_parts(self) -> list[Part]:
+        order = np.argsort(self.fun, kind="stable")[:SUMMARY_ROWS]
+        rows = tuple((str(int(index)), format_numbers(self.beta_deg[index]),
+                      format_numbers(self.phase_deg[index]), format_number(self.fun[index]),
+                      "yes" if self.success[index] else "no") for index in order)
+        title = (f"Batch of {len(self.fun)} starts, option {self.option}, {self.model} model: "
+                 f"{int(np.count_nonzero(self.success))} converged; the {len(order)} lowest RE:")
+        return [title, TextTable(("start", "beta (deg)", "phase (deg)", "RE", "converged"), rows)]
 
     @property
     def message(self) -> tuple[str, ...]:

@@ -9,6 +9,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from sso.display import Part, Readable, TextTable, format_number
 from sso.kinematics.hooke import chain_kinematics
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.objective import angle_grid, squared_ratio_error
@@ -45,8 +46,19 @@ RPM_TO_RAD_S = 2.0 * np.pi / 60.0
 MIN_FIGURE_SAMPLES = 1024
 
 
-@dataclass(frozen=True)
-class Evaluation:
+# (field, label with unit) of the figures a summary shows.
+SUMMARY_FIGURES = (
+    ("residual_error", "residual error RE"),
+    ("speed_min_rpm", "output speed min (rpm)"),
+    ("speed_max_rpm", "output speed max (rpm)"),
+    ("fluctuation", "fluctuation / input speed"),
+    ("transmission_error_deg", "transmission error (deg)"),
+    ("max_output_accel_rad_s2", "output acceleration max (rad/s^2)"),
+)
+
+
+@dataclass(frozen=True, repr=False)
+class Evaluation(Readable):
     """Figures of merit of a design, all over one revolution at constant input speed.
 
     Attributes
@@ -96,6 +108,18 @@ class Evaluation:
     samples: int
     quadrature_error: float
     quadrature_converged: bool
+
+    def _repr_text(self) -> str:
+        return (f"RE {format_number(self.residual_error, 4)}, output "
+                f"{format_number(self.speed_min_rpm)}..{format_number(self.speed_max_rpm)} rpm "
+                f"at {format_number(self.input_speed_rpm)} rpm, fluctuation "
+                f"{format_number(self.fluctuation, 4)}, max output accel "
+                f"{format_number(self.max_output_accel_rad_s2, 4)} rad/s^2")
+
+    def _summary_parts(self) -> list[Part]:
+        rows = tuple((label, format_number(getattr(self, name))) for name, label in SUMMARY_FIGURES)
+        return [f"Evaluation at {format_number(self.input_speed_rpm)} rpm input speed",
+                TextTable(("figure", "value"), rows)]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""

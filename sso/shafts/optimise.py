@@ -5,11 +5,12 @@ from __future__ import annotations
 import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from sso.deprecation import renamed_keywords
+from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -45,7 +46,7 @@ PROGRESS_MIN_RUNS = 100
 """Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, repr=False)
 class OptimisationResult(DesignResult):
     """Everything one optimisation found; reports are rendered from it alone.
 
@@ -94,6 +95,28 @@ class OptimisationResult(DesignResult):
     quadrature_error: float
     starts: int
     warnings: tuple[str, ...]
+
+    report_kind: ClassVar[str] = "optimisation"
+
+    def _repr_text(self) -> str:
+        verdict = "success" if self.success else "FAILED"
+        return (f"option {self.option} ({self.option_name}), {self.model} model, "
+                f"{verdict}: RE {format_number(self.initial.residual_error, 4)} -> "
+                f"{format_number(self.fun, 4)} by {self.best.solver}; "
+                f"beta_deg [{format_numbers(self.best.series.beta_deg, 6)}], "
+                f"phase_deg [{format_numbers(self.best.series.phase_deg, 6)}]")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = "success" if self.success else "FAILED"
+        designs = TextTable(("design", "beta (deg)", "phase (deg)", "RE"), (
+            ("initial", format_numbers(self.initial_series.beta_deg),
+             format_numbers(self.initial_series.phase_deg),
+             format_number(self.initial.residual_error)),
+            (f"optimum ({self.best.solver})", format_numbers(self.best.series.beta_deg),
+             format_numbers(self.best.series.phase_deg), format_number(self.fun))))
+        title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
+                 f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
+        return [title, designs, *self._solver_parts("RE", "KKT (1/rad)")]
 
     @property
     def success(self) -> bool:

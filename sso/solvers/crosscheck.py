@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from sso.display import format_number
 from sso.solvers.solution import CrossCheck, Solution
 
 DEFAULT_OBJECTIVE_RTOL = 1e-6
@@ -52,13 +53,14 @@ def crosscheck(
     if not objectives_agree:
         problems.append(
             "objectives differ by "
-            f"{gap:.3g} (allowed {allowed_gap:.3g}): "
-            + ", ".join(f"{name} RE = {value:.6g}" for name, value in objective.items())
+            f"{format_number(gap, 3)} (allowed {format_number(allowed_gap, 3)}): "
+            + ", ".join(f"{name} RE = {format_number(value)}" for name, value in objective.items())
             + f"; {better} is better"
         )
     if not_stationary:
         problems.append(
-            ", ".join(f"{name} projected gradient {kkt[name]:.3g}" for name in not_stationary)
+            ", ".join(f"{name} projected gradient {format_number(kkt[name], 3)}"
+                      for name in not_stationary)
             + f" exceeds {kkt_tolerance:g}"
         )
     if infeasible:
@@ -68,8 +70,9 @@ def crosscheck(
     if problems:
         message = "solvers disagree: " + "; ".join(problems)
     else:
-        message = (f"solvers agree: objectives within {gap:.3g}, stationarity errors "
-                   + ", ".join(f"{name} {value:.2g}" for name, value in kkt.items()))
+        message = (f"solvers agree: objectives within {format_number(gap, 3)}, stationarity "
+                   "errors " + ", ".join(f"{name} {format_number(value, 2)}"
+                                         for name, value in kkt.items()))
     return CrossCheck(
         agree=not problems,
         objective_gap=float(gap),

@@ -11,15 +11,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from sso.display import Part, Readable, TextTable, format_number
 from sso.solvers.solution import CrossCheck, Solution
 
 
-@dataclass(frozen=True, kw_only=True)
-class DesignResult:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class DesignResult(Readable):
     """What the solvers found for one design problem.
 
     ``x``, ``fun``, ``nit``, ``nfev``, ``status``, ``message`` and ``success`` read
-    as in :class:`scipy.optimize.OptimizeResult`, for the best answer.
+    as in :class:`scipy.optimize.OptimizeResult`, for the best answer. ``summary()``,
+    ``_repr_html_`` and the one-line ``repr`` come from :class:`sso.display.Readable`:
+    each problem lists its design in ``_summary_parts`` and adds
+    :meth:`_solver_parts`.
 
     Attributes
     ----------
@@ -91,4 +95,19 @@ class DesignResult:
         """JSON-ready dictionary of every field (subclasses add their problem's part)."""
         return self.solver_dict()
 
-    # summary() and _repr_html_() belong here too, for every result at once.
+    def _solver_parts(self, objective: str, kkt: str) -> list[Part]:
+        """The solvers table and the cross-check line of a summary.
+
+        Parameters
+        ----------
+        objective, kkt : str
+            Column labels (with units) of the objective and the KKT residual.
+        """
+        solvers = TextTable(("solver", "converged", objective, kkt, "iterations", "message"),
+                            tuple((name, "yes" if solution.success else "no",
+                                   format_number(solution.fun), format_number(solution.kkt, 2),
+                                   str(solution.nit), solution.message)
+                                  for name, solution in self.solutions.items()))
+        check = ("cross-check: one solver, none made" if self.crosscheck is None
+                 else f"cross-check: {self.crosscheck.message}")
+        return [solvers, check]

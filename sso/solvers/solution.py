@@ -6,6 +6,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
+
 
 class SeriesDesign(Protocol):
     """What a solution needs of a shaft-series design (:class:`sso.ShaftSeries` is one).
@@ -20,8 +22,8 @@ class SeriesDesign(Protocol):
     def phase_deg(self) -> Sequence[float]: ...
 
 
-@dataclass(frozen=True)
-class Solution:
+@dataclass(frozen=True, repr=False)
+class Solution(Readable):
     """One solver's answer, named after :class:`scipy.optimize.OptimizeResult`.
 
     Attributes
@@ -76,6 +78,24 @@ class Solution:
     total_nfev: int = 0
     constraint_violation: float = 0.0
 
+    def _repr_text(self) -> str:
+        state = "converged" if self.success else "not converged"
+        return (f"{self.solver}, {state}, fun {format_number(self.fun, 4)}, kkt "
+                f"{format_number(self.kkt, 2)}, nit {self.nit}, start {self.start_index}, "
+                f"x [{format_numbers(self.x, 6)}]")
+
+    def _summary_parts(self) -> list[Part]:
+        rows = [("converged", "yes" if self.success else "no"),
+                ("objective", format_number(self.fun)),
+                ("KKT residual", format_number(self.kkt, 2)),
+                ("iterations", str(self.nit)), ("evaluations", str(self.nfev)),
+                ("start", str(self.start_index)), ("x", format_numbers(self.x)),
+                ("message", self.message)]
+        if self.series is not None:
+            rows[6:7] = [("beta (deg)", format_numbers(self.series.beta_deg)),
+                         ("phase (deg)", format_numbers(self.series.phase_deg))]
+        return [f"Solution by {self.solver}", TextTable(("item", "value"), tuple(rows))]
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (a shaft series' design as ``beta_deg``/``phase_deg``)."""
         design = {} if self.series is None else {"beta_deg": list(self.series.beta_deg),
@@ -98,8 +118,8 @@ class Solution:
         }
 
 
-@dataclass(frozen=True)
-class CrossCheck:
+@dataclass(frozen=True, repr=False)
+class CrossCheck(Readable):
     """Verdict of comparing solvers by objective value and first-order optimality.
 
     Design vectors are never compared: optima are often not unique.
@@ -134,6 +154,12 @@ class CrossCheck:
     objective_atol: float
     objective_rtol: float
     kkt_tolerance: float
+
+    def _repr_text(self) -> str:
+        return f"agree={self.agree}, {self.message}"
+
+    def _summary_parts(self) -> list[Part]:
+        return [f"Cross-check: {self.message}"]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""

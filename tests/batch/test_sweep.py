@@ -3,6 +3,7 @@
 import csv
 import json
 import math
+import struct
 
 import numpy as np
 import pytest
@@ -15,6 +16,12 @@ TWO_JOINTS = {"design": {"beta_deg": [30.0, 30.0], "phase_deg": [90.0]},
               "option": 2, "bounds": {"beta_deg": [10.0, 40.0]},
               "solver": {"starts": 1}}
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_size(path):
+    data = path.read_bytes()
+    assert data[:8] == PNG_SIGNATURE
+    return struct.unpack(">II", data[16:24])
 
 
 def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
@@ -64,19 +71,36 @@ def test_a_failing_point_is_recorded_with_its_error_and_the_sweep_goes_on(tmp_pa
     assert "point 1 failed" in (tmp_path / "report.md").read_text()
 
 
-def test_one_axis_plots_re_and_two_axes_a_heat_map(tmp_path):
+def test_one_panel_per_axis_and_a_small_multiples_grid_for_two(tmp_path):
     one = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate",
                     out_dir=tmp_path / "one", workers=1)
     two = sso.sweep({"design": {"beta_deg": [20.0, 20.0], "phase_deg": [90.0]}},
                     {"design.beta_deg[0]": [10.0, 20.0], "design.phase_deg[0]": [0.0, 45.0, 90.0]},
                     action="evaluate", out_dir=tmp_path / "two", workers=1)
     assert {path.name for path in one.files} == {"sweep.csv", "sweep.json", "report.md",
-                                                 "sweep_re.png"}
-    assert (tmp_path / "two" / "sweep_heatmap.png").read_bytes()[:8] == PNG_SIGNATURE
-    assert (tmp_path / "one" / "sweep_re.png").read_bytes()[:8] == PNG_SIGNATURE
-    # Equal joints at 90 deg cancel exactly: the lowest RE is that point.
+                                                 "report.html", "sweep_re.png"}
+    assert png_size(tmp_path / "one" / "sweep_re.png") == (840, 540)  # one panel, 7 x 4.5 in
+    assert png_size(tmp_path / "two" / "sweep_re.png") == (864, 396)  # 2 panels side by side
+    # Equal joints at 90 deg cancel exactly: the lowest RE is that point, round-off.
     assert two.best["point"] == 5
     assert two.best["residual_error"] < 1e-28
+    report = (tmp_path / "two" / "report.md").read_text()
+    assert "lowest RE < 1e-15 at point 5" in report
+    assert "| 5 | 20 | 90 | ok | < 1e-15 |" in report
+
+
+def test_a_sweep_of_three_axes_draws_three_panels(tmp_path):
+    sso.sweep({"design": {"beta_deg": [20.0, 20.0], "phase_deg": [90.0]}},
+              {"design.beta_deg[0]": [10.0, 20.0], "design.beta_deg[1]": [15.0, 20.0],
+               "design.phase_deg[0]": [0.0, 90.0]},
+              action="evaluate", out_dir=tmp_path, workers=1)
+    assert png_size(tmp_path / "sweep_re.png") == (1296, 396)  # 3 panels in one row
+
+
+def test_a_mechanism_case_cannot_be_swept():
+    with pytest.raises(ValueError, match="kind = 'fourbar': sso sweep and sso tolerance work on "
+                                         "shaft_series cases only"):
+        sso.sweep("cases/mechanisms/fourbar_crank2.toml", {"input_speed_rpm": [1.0, 2.0]})
 
 
 def test_progress_is_quiet_off_a_terminal_and_drawn_when_asked(capsys):

@@ -61,14 +61,17 @@ def test_one_joint_and_a_case_file_as_the_design(tmp_path):
     np.testing.assert_allclose(one_joint.fluctuation, 1 / cos_beta - cos_beta, rtol=1e-9)
     result = sso.tolerance("cases/paper_option3_exact.toml", samples=200, out_dir=tmp_path)
     assert {path.name for path in result.files} == {
-        "tolerance.csv", "tolerance.json", "tolerance.md", "tolerance_histogram.png"}
+        "tolerance.csv", "tolerance.json", "report.md", "report.html",
+        "tolerance_histogram.png"}
     summary = json.loads((tmp_path / "tolerance.json").read_text())
     assert summary["samples"] == 200
     assert summary["percentiles"]["residual_error"]["50"] == pytest.approx(
         float(np.percentile(result.residual_error, 50)), rel=1e-15)
     lines = (tmp_path / "tolerance.csv").read_text().splitlines()
     assert len(lines) == 201
-    assert float(lines[1].split(",")[-3]) == result.residual_error[0]
+    # tolerance.csv holds six significant digits; tolerance.json the full value.
+    assert float(lines[1].split(",")[-3]) == pytest.approx(result.residual_error[0], rel=5e-6)
+    assert lines[1].split(",")[-3] == f"{result.residual_error[0]:.6g}"
 
 
 @pytest.mark.parametrize("keywords, message", [
@@ -101,3 +104,29 @@ def test_a_case_tolerance_table_sets_the_study_and_arguments_override_it():
     assert np.all(np.max(np.abs(from_table.beta_deg - [20.0, 30.0]), axis=0) <= [0.1, 0.2])
     overridden = sso.tolerance(case, samples=12, seed=6)
     assert (overridden.samples, overridden.seed) == (12, 6)
+
+
+def test_a_study_of_an_optimisation_result_perturbs_its_optimum(tmp_path):
+    # Two equal joints: the optimum phase is 90 deg and cancels exactly (docs/model.md).
+    optimum = sso.optimise(sso.ShaftSeries([20.0, 20.0], [40.0], "exact"), 1, starts=1)
+    result = sso.tolerance(optimum, samples=400, beta_tolerance_deg=0.5,
+                           phase_tolerance_deg=1.0, out_dir=tmp_path / "study", plots=False)
+    assert result.design == optimum.best.series
+    assert result.study_of.startswith("the optimum (")
+    assert result.nominal.residual_error < 1e-20
+    # Every perturbed sample is worse than the exact cancellation.
+    assert np.all(result.residual_error > result.nominal.residual_error)
+    report = (tmp_path / "study" / "report.md").read_text()
+    assert "Design studied: the optimum (" in report
+    assert "| residual error RE (dimensionless) | < 1e-15 |" in report
+    assert len(repr(result)) <= 400 and "<table>" in result._repr_html_()
+    assert "design studied: the optimum" in result.summary()
+
+
+def test_samples_below_zero_degrees_are_reflected_and_counted():
+    # A joint at 0.2 deg with a 0.5 deg standard deviation: P(beta + d < 0) =
+    # Phi(-0.4) = 0.3446, so about 34 % of the samples go below 0 and are reflected.
+    result = sso.tolerance(sso.ShaftSeries([0.2]), samples=4000, beta_tolerance_deg=0.5, seed=1)
+    assert result.reflected_samples / result.samples == pytest.approx(0.3446, abs=0.025)
+    assert np.all(result.beta_deg >= 0.0)
+    assert "reflected to |beta|: " + str(result.reflected_samples) in result.summary()

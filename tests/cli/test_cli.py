@@ -2,6 +2,7 @@
 
 import json
 import re
+import shutil
 import struct
 import subprocess
 import sys
@@ -75,7 +76,7 @@ def test_run_writes_every_file_and_exits_0(option3_run):
     assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
     summary = completed.stdout.splitlines()[-2:]
     assert summary[0].startswith("--------")
-    assert re.match(r"paper_option3_exact\s+solved\s+0\.0514\s+\S+\s+0\.00193\s", summary[1])
+    assert re.match(r"paper_option3_exact\s+solved\s+0\.0514\s+< 1e-15\s+0\.00193\s", summary[1])
 
 
 def test_result_json_holds_the_whole_story(option3_run):
@@ -149,7 +150,29 @@ def test_report_rerenders_the_same_files_from_result_json(option3_run, tmp_path)
                       for folder in (tmp_path, report)]
     assert without_images[0] == without_images[1]
     assert png_size(tmp_path / "polar.png") == (1000, 700)
-    assert not (tmp_path / "result.json").exists()
+    # The folder is written afresh, so the result it was rendered from goes into it too.
+    assert (tmp_path / "result.json").read_bytes() == (report / "result.json").read_bytes()
+
+
+def test_report_in_place_keeps_result_json_and_drops_files_of_the_earlier_run(option3_run,
+                                                                              tmp_path):
+    _, report = option3_run
+    folder = tmp_path / "copy"
+    shutil.copytree(report, folder)
+    completed = sso("report", folder / "result.json", "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert (folder / "result.json").read_bytes() == (report / "result.json").read_bytes()
+    assert not list(folder.glob("*.png"))  # the earlier run's plots are gone
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["copy"]  # no temporary left
+
+
+def test_a_folder_with_files_that_are_not_a_report_is_refused(option3_run, tmp_path):
+    _, report = option3_run
+    (tmp_path / "notes.txt").write_text("mine")
+    completed = sso("report", report / "result.json", "--out", tmp_path, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "notes.txt, which is not a report file" in completed.stderr
+    assert (tmp_path / "notes.txt").read_text() == "mine"
 
 
 @pytest.mark.parametrize("model, low_rpm, high_rpm", [("paper", 18.17, 34.40)])
@@ -312,11 +335,12 @@ def test_case_strings_are_escaped_in_html_and_markdown(tmp_path):
                       'beta_deg = [25.0, 25.0]\n')
     completed = sso("run", case, "--out", tmp_path, "--formats", "html,md", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    for name in ("report.html", "report.md"):
+    # Markdown keeps an "&" that cannot start an entity as it is.
+    for name, ampersand in (("report.html", "&amp;"), ("report.md", "&")):
         page = (tmp_path / "escaped" / name).read_text()
         assert "<script>" not in page
         assert "<img src=x" not in page
-        assert "&lt;script&gt;alert(1)&lt;/script&gt; &amp; more" in page
+        assert f"&lt;script&gt;alert(1)&lt;/script&gt; {ampersand} more" in page
         assert "&lt;img src=x onerror=alert(2)&gt;" in page
 
 
@@ -338,4 +362,24 @@ def test_report_refuses_a_bad_result_file(tmp_path):
     completed = sso("report", bad, cwd=tmp_path)
     assert completed.returncode == 2
     assert "not a JSON result file" in completed.stderr
+    assert "Traceback" not in completed.stderr
+
+
+def test_a_rerun_without_plots_leaves_no_plot_of_the_earlier_run(tmp_path):
+    case = CASES / "steering_column.toml"
+    first = sso("evaluate", case, "--out", tmp_path / "out", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    folder = tmp_path / "out" / "steering_column"
+    assert (folder / "polar.png").exists()
+    again = sso("evaluate", case, "--out", tmp_path / "out", "--no-plots", cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert not list(folder.glob("*.png"))
+    assert sorted(path.name for path in (tmp_path / "out").iterdir()) == ["steering_column"]
+
+
+def test_a_tolerance_study_of_a_mechanism_case_is_refused_naming_the_kind(tmp_path):
+    completed = sso("tolerance", CASES / "mechanisms" / "fourbar_crank2.toml", cwd=tmp_path)
+    assert completed.returncode == 2
+    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series cases only"
+            in completed.stderr)
     assert "Traceback" not in completed.stderr

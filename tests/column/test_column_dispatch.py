@@ -58,3 +58,15 @@ def test_positions_and_tolerances_go_to_the_robust_optimisers():
     geometry = sso.ColumnGeometry(TRUCK)
     result = sso.optimise({"up": geometry, "down": geometry}, positions_objective="worst")
     assert result.fun == pytest.approx(sso.optimise(geometry).fun, rel=1e-6)
+
+
+def test_a_joint_position_result_reads_well():
+    points = np.asarray(TRUCK)
+    boxes = [[list(point - 5.0), list(point + 5.0)] for point in points[1:-1]]
+    result = sso.optimise(sso.ColumnGeometry(TRUCK), joint_boxes_mm=boxes,
+                          yoke_phase_deg=[0.0, 0.0], starts=2)
+    assert len(repr(result)) <= 400 and "\n" not in repr(result)
+    assert repr(result).startswith("JointPositionResult(")
+    summary = result.summary()
+    assert "Joint positions: " in summary and "P0" in summary and "ipopt" in summary
+    assert "<table>" in result._repr_html_()

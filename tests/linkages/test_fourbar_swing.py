@@ -82,3 +82,24 @@ def test_bad_bounds_are_refused():
         design_fourbar(START, crank_bounds=(1, 6), coupler_bounds=(5, 20), rocker_bounds=(0, 15))
     with pytest.raises(ValueError, match=r"transmission_angle_bounds_deg = \(0, 120\)"):
         design_fourbar(START, **BOUNDS, transmission_angle_bounds_deg=(0, 120))
+
+
+def test_the_design_reads_well_and_writes_the_report_sso_run_writes(result, tmp_path):
+    import json
+
+    import sso
+
+    text = repr(result)
+    assert len(text) <= 400 and "\n" not in text
+    assert text.startswith("FourBarDesignResult(success: swing ")
+    summary = result.summary()
+    assert "transmission angle of the optimum: 40 .. 120 deg" in summary
+    assert "cross-check: solvers agree" in summary and "<table>" in result._repr_html_()
+    written = sso.write_report(result, tmp_path / "design", formats=("json", "csv", "md"))
+    assert sorted(path.name for path in written) == ["report.md", "result.json", "table.csv",
+                                                     "table_initial.csv"]
+    document = json.loads((tmp_path / "design" / "result.json").read_text())
+    assert document["kind"] == "fourbar_design" and document["mode"] == "optimise"
+    assert document["linkages"]["optimum"]["parameters"]["crank"] == result.optimum.crank
+    header = (tmp_path / "design" / "table.csv").read_text().splitlines()[0]
+    assert "joint_a_x_length_units" in header.split(",")

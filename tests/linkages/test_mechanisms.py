@@ -325,3 +325,28 @@ def test_importing_mechanisms_loads_neither_casadi_nor_matplotlib():
     ).stdout
     assert output.strip() == "[]"
 
+
+
+def test_an_analysis_table_reads_well_and_writes_its_report(tmp_path):
+    import sso
+
+    table = sso.FourBar(ground=12, crank=2, coupler=15, rocker=9).analyse(
+        np.arange(0.0, 360.0, 30.0), crank_speed=5.0)
+    text = repr(table)
+    assert len(text) <= 400 and "\n" not in text and text.startswith("MechanismTable('")
+    summary = table.summary()
+    # The transmission angle of this linkage spans about 42..120 deg (the design test's
+    # start lies inside [40, 120]); the summary shows each column's range.
+    row = next(line for line in summary.splitlines() if line.startswith("transmission_angle"))
+    low, high = (float(value) for value in row.split()[2:4])
+    assert 40.0 < low < high < 130.0
+    written = sso.write_report(table, tmp_path / "table", formats=("csv", "json", "md", "html"))
+    assert sorted(path.name for path in written) == ["report.html", "report.md", "table.csv",
+                                                     "table.json"]
+    lines = (tmp_path / "table" / "table.csv").read_text().splitlines()
+    assert "joint_b_y_length" in lines[0].split(",")
+    assert len(lines) == 13
+    cells = lines[2].split(",")
+    assert all(len(cell.replace("-", "").replace(".", "").lstrip("0")) <= 6
+               for cell in cells if "e" not in cell)
+    assert 'class="table"' in (tmp_path / "table" / "report.html").read_text()

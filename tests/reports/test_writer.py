@@ -7,12 +7,12 @@ import pytest
 from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
+from sso.reports.kinds import write_report
 from sso.reports.writer import (
     ResultFileError,
     read_result,
     render,
     result_json,
-    write_report,
 )
 from sso.run.document import evaluate_case
 
@@ -24,13 +24,14 @@ def test_result_json_is_strict_json():
 
 def test_evaluation_document_round_trips_through_result_json(tmp_path):
     document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
-    write_report(document, tmp_path, ["json", "csv"])
-    assert read_result(tmp_path / "result.json") == json.loads(result_json(document))
+    write_report(document, tmp_path / "report", ["json", "csv"])
+    assert read_result(tmp_path / "report" / "result.json") == json.loads(result_json(document))
     evaluation = document["designs"]["initial"]["evaluation"]
     # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
     assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
     assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
-    assert render(document, ["csv"]) == {"speeds.csv": (tmp_path / "speeds.csv").read_bytes()}
+    assert render(document, ["csv"]) == {"speeds.csv":
+                                         (tmp_path / "report" / "speeds.csv").read_bytes()}
 
 
 @pytest.mark.parametrize("content, message", [
@@ -43,3 +44,17 @@ def test_read_result_refuses_what_it_cannot_render(tmp_path, content, message):
     path.write_text(content, encoding="latin-1")
     with pytest.raises(ResultFileError, match=message):
         read_result(path)
+
+
+@pytest.mark.parametrize("text, written", [
+    ("< 1e-15", "< 1e-15"),                      # cannot start a tag: stays readable
+    ("a <b>bold</b> try", "a &lt;b&gt;bold&lt;/b&gt; try"),
+    ("<!-- hidden -->", "&lt;!-- hidden --&gt;"),
+    ("R&D &amp; &#60;", "R&amp;D &amp;amp; &amp;#60;"),
+    ("5 & 6", "5 & 6"),
+])
+def test_markdown_escapes_only_what_could_start_markup(text, written):
+    from sso.reports.markdown import render_markdown
+    from sso.reports.summary import Paragraph
+
+    assert render_markdown([Paragraph(text)]) == written + "\n"

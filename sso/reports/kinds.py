@@ -1,0 +1,165 @@
+"""``sso.write_report``: one way to write the report of any result, by a registry of kinds.
+
+A report kind renders one kind of result into the contents of its report files
+(nothing is written while rendering); :func:`write_report` then swaps them in as
+the whole report folder (:func:`sso.files.replace_folder`). The command line calls
+the same function, so a report written from Python is the one ``sso`` writes.
+
+Kinds of this layer and below are registered here: ``"document"`` (a result
+document, e.g. read from ``result.json``), ``"optimisation"``
+(:class:`sso.OptimisationResult`), ``"fourbar_design"``
+(:class:`sso.FourBarDesignResult`) and ``"mechanism_table"`` (a
+:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns). The studies
+above this layer register their own (``"sweep"``, ``"tolerance"`` in
+:mod:`sso.batch.report`) when their result module is imported, so any result that
+exists has its kind registered. A result names its kind in its ``report_kind``
+class attribute.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from sso.files import replace_folder
+from sso.limits import OUTPUT_FORMATS
+
+Renderer = Callable[[Any, tuple[str, ...]], dict[str, bytes]]
+
+
+@dataclass(frozen=True)
+class ReportKind:
+    """How one kind of result becomes report files.
+
+    Attributes
+    ----------
+    name : str
+        The kind, as results name it in ``report_kind``.
+    render : callable
+        ``render(result, formats) -> {file name: bytes}``.
+    """
+
+    name: str
+    render: Renderer
+
+
+REPORT_KINDS: dict[str, ReportKind] = {}
+
+
+def register_report_kind(name: str, render: Renderer) -> None:
+    """Add (or replace) the report kind ``name``."""
+    REPORT_KINDS[name] = ReportKind(name, render)
+
+
+def report_kind_of(result: Any) -> ReportKind:
+    """The report kind of ``result`` (a mapping is a result document).
+
+    Raises
+    ------
+    TypeError
+        If ``result`` is no result sso can report.
+    """
+    name = "document" if isinstance(result, Mapping) else getattr(result, "report_kind", None)
+    if not isinstance(name, str) or name not in REPORT_KINDS:
+        raise TypeError(f"result must be an sso result (OptimisationResult, "
+                        "FourBarDesignResult, SweepResult, ToleranceResult, a mechanism "
+                        f"analysis) or a result document, not {type(result).__name__}")
+    return REPORT_KINDS[name]
+
+
+def validate_formats(formats: Any) -> tuple[str, ...]:
+    """``formats`` as a tuple of known format names (None: every format).
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown format and the allowed ones.
+    """
+    if formats is None:
+        return OUTPUT_FORMATS
+    if isinstance(formats, str):
+        formats = (formats,)
+    chosen = tuple(dict.fromkeys(formats))
+    unknown = [name for name in chosen if name not in OUTPUT_FORMATS]
+    if unknown or not chosen:
+        raise ValueError(f"formats = {list(chosen)!r}: each must be one of "
+                         f"{', '.join(OUTPUT_FORMATS)} (at least one)")
+    return chosen
+
+
+def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str, bytes]:
+    """Contents of the report files of ``result`` (nothing is written)."""
+    kind = report_kind_of(result)
+    return kind.render(result, validate_formats(formats))
+
+
+def write_report(result: Any, folder: str | Path,
+                 formats: Sequence[str] | None = None) -> list[Path]:
+    """Write the report of a result into ``folder``, as the ``sso`` command does.
+
+    Parameters
+    ----------
+    result : sso result or mapping
+        An :class:`sso.OptimisationResult`, :class:`sso.FourBarDesignResult`,
+        :class:`sso.SweepResult`, :class:`sso.ToleranceResult`, a mechanism
+        analysis, or a result document (``result.json`` as read by
+        :func:`sso.reports.writer.read_result`).
+    folder : str or pathlib.Path
+        The report folder. It is written afresh: the new files go into a
+        temporary folder beside it, which replaces it only when complete, so
+        nothing of an earlier report survives beside the new one and a failure
+        leaves the earlier report whole.
+    formats : sequence of {"json", "csv", "md", "html", "png"}, optional
+        Files to write (default: all). Without ``"png"`` matplotlib is never
+        imported.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+
+    Raises
+    ------
+    TypeError
+        If ``result`` is not a result sso can report.
+    ValueError
+        For an unknown format, or a ``folder`` that holds files other than a
+        report's (see :func:`sso.files.replace_folder`).
+    """
+    if not isinstance(folder, (str, Path)):
+        raise TypeError(f"folder must be a str or pathlib.Path, not {type(folder).__name__}")
+    return replace_folder(folder, render_report(result, formats))
+
+
+def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.writer import render
+
+    return render(document, formats)
+
+
+def _render_optimisation(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.writer import render
+    from sso.run.document import optimisation_document
+
+    return render(optimisation_document(result), formats)
+
+
+def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.writer import render
+    from sso.run.mechanism_document import fourbar_design_document
+
+    return render(fourbar_design_document(result), formats)
+
+
+def _render_mechanism_table(table: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.mechanism_report import table_report
+
+    return table_report(table, formats)
+
+
+register_report_kind("document", _render_document)
+register_report_kind("optimisation", _render_optimisation)
+register_report_kind("fourbar_design", _render_fourbar_design)
+register_report_kind("mechanism_table", _render_mechanism_table)
