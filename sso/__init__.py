@@ -21,6 +21,7 @@ _EXPORTS = {
     "Evaluation": "sso.shafts.evaluation",
     "optimise": "sso.shafts.optimise",
     "OptimisationResult": "sso.shafts.optimise",
+    "SOLVERS": "sso.validation",
     "optimise_batch": "sso.shafts.batch",
     "BatchResult": "sso.shafts.batch",
     "Solution": "sso.solvers.solution",

@@ -168,17 +168,20 @@ def _is_pair_of_numbers(value: Any) -> bool:
     )
 
 
-SOLVERS = ("ipopt", "slsqp")
+SOLVERS = ("ipopt", "slsqp", "lm")
+"""Solver names :func:`sso.optimise` accepts (``"lm"``: the least-squares solver of
+the exact model; problems without residuals accept the first two only)."""
 
 
-def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
-    """Solver names as a tuple, or raise naming the bad entry and the choices."""
+def validate_solvers(solvers: Iterable[str] | str,
+                     allowed: tuple[str, ...] = SOLVERS) -> tuple[str, ...]:
+    """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
-        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVERS)}")
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(allowed)}")
     for index, name in enumerate(names):
-        if name not in SOLVERS:
-            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(SOLVERS)}")
+        if name not in allowed:
+            raise ValueError(f"solvers[{index}] = {name!r} is not one of {', '.join(allowed)}")
     if len(set(names)) != len(names):
         raise ValueError(f"solvers = {list(names)} names a solver twice")
     return names

@@ -4,8 +4,10 @@ In the exact model each joint maps the direction ``(cos a, sin a)`` of its input
 yoke to ``(cos a, cos(beta) sin a)`` up to length and a phase is a rotation, so the
 chain is ``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` with ``D_k = diag(1, cos beta_k)``,
 and ``RE = |M|_F^2 / (2 det M) - 1``. The column modules use it to scan thousands of
-phasings (brute force, spline teeth) in one array operation; the tests check it
-against :meth:`sso.ShaftSeries.evaluate`.
+phasings (brute force, spline teeth) in one array operation. The closed form
+itself lives once in :mod:`sso.kinematics.hooke_matrix`; this module gives it the
+array layout the column modules use (``(..., 2, 2)`` matrices, angles along the
+last axis).
 """
 
 from __future__ import annotations
@@ -13,6 +15,8 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+
+from sso.kinematics import hooke_matrix
 
 
 def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
@@ -29,27 +33,20 @@ def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (..., 2, 2)
     """
-    cosines = np.cos(np.asarray(beta_rad, dtype=float))
+    beta = np.asarray(beta_rad, dtype=float)
     phases = np.asarray(phase_rad, dtype=float)
-    batch = np.broadcast_shapes(cosines.shape[:-1], phases.shape[:-1])
-    matrix = np.zeros((*batch, 2, 2))
-    matrix[..., 0, 0] = 1.0
-    matrix[..., 1, 1] = cosines[..., 0]
-    for k in range(1, cosines.shape[-1]):
-        cos_phase = np.cos(phases[..., k - 1])[..., None]
-        sin_phase = np.sin(phases[..., k - 1])[..., None]
-        top = cos_phase * matrix[..., 0, :] - sin_phase * matrix[..., 1, :]
-        bottom = sin_phase * matrix[..., 0, :] + cos_phase * matrix[..., 1, :]
-        matrix[..., 0, :] = top
-        matrix[..., 1, :] = cosines[..., k, None] * bottom
-    return matrix
+    batch = np.broadcast_shapes(beta.shape[:-1], phases.shape[:-1])
+    entries = hooke_matrix.chain_matrix(np, [beta[..., k] for k in range(beta.shape[-1])],
+                                        [phases[..., k] for k in range(phases.shape[-1])])
+    m11, m12, m21, m22 = (np.broadcast_to(np.asarray(entry, dtype=float), batch)
+                          for entry in entries)
+    return np.stack([np.stack([m11, m12], axis=-1), np.stack([m21, m22], axis=-1)], axis=-2)
 
 
 def matrix_residual_error(matrix: np.ndarray) -> np.ndarray:
     """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` of each matrix."""
-    m11, m12 = matrix[..., 0, 0], matrix[..., 0, 1]
-    m21, m22 = matrix[..., 1, 0], matrix[..., 1, 1]
-    residual: np.ndarray = ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    residual: np.ndarray = hooke_matrix.matrix_residual_error(
+        (matrix[..., 0, 0], matrix[..., 0, 1], matrix[..., 1, 0], matrix[..., 1, 1]))
     return residual
 
 

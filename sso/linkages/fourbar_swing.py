@@ -170,7 +170,7 @@ def design_fourbar(
     """
     from sso.linkages.mechanisms import FourBar
 
-    solver_names = validate_solvers(solvers)
+    solver_names = validate_solvers(solvers, ("ipopt", "slsqp"))
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     tolerance = validate_tolerance(tolerance)

@@ -18,7 +18,7 @@ from sso.limits import (
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
@@ -42,6 +42,10 @@ from sso.validation import (
     validate_speed,
     validate_tolerance,
 )
+
+
+# The exact model's RE is a closed form: no quadrature angles, no quadrature error.
+CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
 
 
 @dataclass(frozen=True)
@@ -77,9 +81,11 @@ class OptimisationResult:
     local_minima : tuple of float
         Distinct RE values the successful runs stopped at, ascending.
     samples : int
-        Quadrature angles of the NLP (chosen for the bounds).
+        Quadrature angles of the NLP (chosen for the bounds); 0 for the exact
+        model, whose RE is evaluated in closed form (no quadrature).
     quadrature_error : float
-        Estimated RE error of that rule at the worst design in the bounds.
+        Estimated RE error of that rule at the worst design in the bounds; 0 for
+        the exact model (closed form, exact to round-off).
     starts : int
         Starts per solver.
     warnings : tuple of str
@@ -184,8 +190,10 @@ def optimise(
         joints or one per joint. An equal pair pins that joint.
     phase_bounds_deg : (float, float) or sequence of pairs
         Bounds on the relative phases, deg, inside ``[-360, 360]``.
-    solvers : sequence of {"ipopt", "slsqp"}
-        Solvers to run; with two, their answers are cross-checked.
+    solvers : sequence of names in ``sso.SOLVERS``
+        Solvers to run (``"ipopt"``, ``"slsqp"``; ``"lm"``, the least-squares
+        solver, for the exact model only); with two or more, their answers are
+        cross-checked.
     starts : int
         Starts per solver, ``1..10000``: the user's start plus space-filling points.
     input_speed_rpm : float
@@ -217,6 +225,10 @@ def optimise(
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
     solver_names = validate_solvers(solvers)
+    if "lm" in solver_names and series.model != "exact":
+        raise ValueError(f"solvers = {list(solver_names)} includes 'lm', which needs the exact "
+                         f"model's closed form; series.model = {series.model!r} allows "
+                         "'ipopt' and 'slsqp'")
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
@@ -228,8 +240,9 @@ def optimise(
         warnings.simplefilter("always")
         problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
                                 beta_bounds_deg, phase_bounds_deg)
-        rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
-                               quadrature_atol)
+        rule = (rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
+                                quadrature_atol)
+                if series.model == "paper" else CLOSED_FORM_RULE)
         result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance,

@@ -65,7 +65,7 @@ def run_starts(
         Fixed parameters of the graph.
     limits : RunLimits
         Bounds of ``x`` and of the constraints.
-    solver_names : sequence of {"ipopt", "slsqp"}
+    solver_names : sequence of {"ipopt", "slsqp", "lm"}
     tolerance : float
         Solver tolerance.
     max_iterations : int
@@ -146,6 +146,10 @@ def _backend(name: str) -> Any:
         from sso.solvers import ipopt
 
         return ipopt
+    if name == "lm":
+        from sso.solvers import lm
+
+        return lm
     from sso.solvers import slsqp
 
     return slsqp
