@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import functools
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterable
 
 import numpy as np
@@ -18,7 +19,12 @@ from sso.limits import (
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
+from sso.shafts.quadrature import (
+    DEFAULT_ATOL,
+    DEFAULT_RTOL,
+    QuadratureRule,
+    rule_for_bounds,
+)
 from sso.shafts.series import ShaftSeries
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
@@ -34,6 +40,7 @@ from sso.solvers.multistart import (
     solution_from_run,
 )
 from sso.solvers.run import RunLimits
+from sso.solvers.saddle import ZERO_OBJECTIVE
 from sso.solvers.solution import CrossCheck, Solution
 from sso.solvers.starts import DEFAULT_SEED, start_points
 from sso.validation import (
@@ -42,7 +49,6 @@ from sso.validation import (
     validate_speed,
     validate_tolerance,
 )
-
 
 # The exact model's RE is a closed form: no quadrature angles, no quadrature error.
 CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
@@ -69,13 +75,17 @@ class OptimisationResult:
     start_series : sso.ShaftSeries
         The user's start after moving it onto the bounds.
     initial, optimum : sso.Evaluation
-        Evaluations of ``initial_series`` and of the best design.
+        Evaluations of ``initial_series`` and of the best design, at
+        ``input_speed_rpm``; computed on first access (a caller that reads only
+        RE and the design does not pay for them).
     best : sso.Solution
         Lowest RE among successful answers (among all, if none succeeded).
     solutions : dict of str to Solution
         Best answer of each solver.
     runs : tuple of Solution
-        Every run, each solver from each start.
+        Every run: each solver from each start; with ``screen_starts``, the
+        screening runs of ``"lm"`` from each start, then each solver's run from
+        the best of them (its ``start_index`` is that start's).
     crosscheck : sso.CrossCheck or None
         The solvers' verdict; None when one solver was asked for.
     local_minima : tuple of float
@@ -90,6 +100,8 @@ class OptimisationResult:
         Starts per solver.
     warnings : tuple of str
         Warnings raised while setting up and solving.
+    quadrature_rtol, quadrature_atol : float
+        Quadrature tolerance of the evaluations (paper model).
     """
 
     option: int
@@ -100,8 +112,6 @@ class OptimisationResult:
     phase_bounds_deg: tuple[tuple[float, float], ...]
     initial_series: ShaftSeries
     start_series: ShaftSeries
-    initial: Evaluation
-    optimum: Evaluation
     best: Solution
     solutions: dict[str, Solution]
     runs: tuple[Solution, ...]
@@ -111,6 +121,24 @@ class OptimisationResult:
     quadrature_error: float
     starts: int
     warnings: tuple[str, ...]
+    quadrature_rtol: float = DEFAULT_RTOL
+    quadrature_atol: float = DEFAULT_ATOL
+
+    @functools.cached_property
+    def initial(self) -> Evaluation:
+        """Figures of ``initial_series`` at ``input_speed_rpm``."""
+        return self.initial_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @functools.cached_property
+    def optimum(self) -> Evaluation:
+        """Figures of the best design at ``input_speed_rpm``."""
+        series = self.best.series
+        assert isinstance(series, ShaftSeries)
+        return series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @property
+    def _evaluation_options(self) -> dict[str, float]:
+        return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
 
     @property
     def success(self) -> bool:
@@ -170,6 +198,7 @@ def optimise(
     objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+    screen_starts: bool = True,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
@@ -209,6 +238,16 @@ def optimise(
         Tolerance of the adaptive quadrature (relative, absolute floor).
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check.
+    screen_starts : bool
+        Exact model with ``starts > 1``: solve every start first with the
+        least-squares solver ``"lm"`` (cheap: the closed form in plain floats),
+        then run each of ``solvers`` once, from the lowest RE found, and
+        cross-check them there. Screening stops at the first start that reaches
+        RE <= 1e-20 (round-off zero): RE is never negative, so that is a global
+        minimum and the other starts cannot improve on it. The search over starts is then the least-squares
+        solver's; the verdict (objective agreement, the same first-order measure
+        for every solver) is the requested solvers'. False runs every solver from
+        every start. The paper model always does the latter.
 
     Returns
     -------
@@ -245,7 +284,7 @@ def optimise(
                 if series.model == "paper" else CLOSED_FORM_RULE)
         result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
-                        objective_rtol, objective_atol, kkt_tolerance,
+                        objective_rtol, objective_atol, kkt_tolerance, screen_starts,
                         tuple(str(warning.message) for warning in caught))
     for warning in caught:
         warnings.warn(warning.message, warning.category, stacklevel=2)
@@ -255,25 +294,40 @@ def optimise(
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
            starts: int, speed_rpm: float, tolerance: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
-           objective_atol: float, kkt_tolerance: float,
+           objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
     from sso.shafts.problem import compiled_nlp
 
     nlp = compiled_nlp(problem, rule.samples)
     points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
     limits = RunLimits(problem.lower_rad, problem.upper_rad)
-    measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names, tolerance,
-                          max_iterations)
+    screening: list[Solution] = []
+    if screen_starts and problem.model == "exact" and len(points) > 1:
+        screened = []
+        for index, point in enumerate(points):
+            run = run_starts(nlp, point[np.newaxis, :], problem.parameters_rad, limits, ("lm",),
+                             tolerance, max_iterations)["lm"][0]
+            screened.append(replace(run, start_index=index))
+            if run.outcome.success and run.fun <= ZERO_OBJECTIVE:
+                break  # RE >= 0: a start at round-off zero is a global minimum
+        screening = [_to_solution(run, problem, series.model, screened) for run in screened]
+        chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
+        measured = {name: [replace(run, start_index=chosen.start_index) for run in runs]
+                    for name, runs in run_starts(nlp, chosen.outcome.x[np.newaxis, :],
+                                                 problem.parameters_rad, limits, solver_names,
+                                                 tolerance, max_iterations).items()}
+    else:
+        measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names,
+                              tolerance, max_iterations)
     solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
                    for name, runs in measured.items()}
     solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
+    all_runs = screening + [run for runs in solver_runs.values() for run in runs]
     best = best_solution(solutions.values())
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
     start_beta, start_phase = problem.design_deg(problem.start_deg)
-    evaluation_options = {"quadrature_rtol": quadrature_rtol, "quadrature_atol": quadrature_atol}
     return OptimisationResult(
         option=problem.option,
         option_name=problem.option_name,
@@ -283,8 +337,6 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         phase_bounds_deg=problem.phase_bounds_deg,
         initial_series=initial_series,
         start_series=ShaftSeries(start_beta, start_phase, series.model),
-        initial=initial_series.evaluate(speed_rpm, **evaluation_options),
-        optimum=best.series.evaluate(speed_rpm, **evaluation_options),
         best=best,
         solutions=solutions,
         runs=tuple(all_runs),
@@ -295,6 +347,8 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         quadrature_error=rule.error_estimate,
         starts=starts,
         warnings=setup_warnings,
+        quadrature_rtol=quadrature_rtol,
+        quadrature_atol=quadrature_atol,
     )
 
 

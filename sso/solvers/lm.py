@@ -46,8 +46,10 @@ _ACCEPT_RATIO = 1e-4
 _INITIAL_DAMPING = 1e-3
 _MAX_DAMPING = 1e16
 _ZERO_RESIDUAL = 1e-30
-_ROUND_OFF = 4.0 * np.finfo(float).eps
+_ROUND_OFF = 4.0 * 2.0**-52
 _SLOW_LEVEL = 1e-20
+_SLOW_STEPS = 3
+_NEWTON_DAMPING = 1e-8
 _HESSIAN_STEP = 1e-6
 
 
@@ -108,6 +110,7 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
     damping, growth = _INITIAL_DAMPING, 2.0
     newton = False
     previous_norm = math.inf
+    slow_steps = 0
     for nit in range(max_iterations):
         if not (math.isfinite(fun) and all(map(math.isfinite, row1))
                 and all(map(math.isfinite, row2))):
@@ -145,13 +148,19 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
                 x, fun, r1, r2, row1, row2 = trial, trial_fun, t1, t2, trial_row1, trial_row2
                 return x, fun, nit + 1, nfev, 2
             x, fun, r1, r2, row1, row2 = trial, trial_fun, t1, t2, trial_row1, trial_row2
-            # Gauss-Newton is only linear at a nonzero residual: take Newton steps there.
-            newton = newton or (fun > _SLOW_LEVEL and norm > 0.5 * previous_norm)
+            # Gauss-Newton is only linear at a nonzero residual: take Newton steps once
+            # the projected gradient has fallen by less than half in _SLOW_STEPS
+            # accepted steps.
+            slow_steps += fun > _SLOW_LEVEL and norm > 0.5 * previous_norm
+            if not newton and slow_steps >= _SLOW_STEPS:
+                # Plain Newton first (shifted only to be positive definite), so
+                # convergence is quadratic; damping returns on a rejected step.
+                newton, damping = True, 0.0
             previous_norm = norm
         else:
             if predicted <= _ROUND_OFF * fun and abs(actual) <= _ROUND_OFF * fun:
                 return x, fun, nit + 1, nfev, 2
-            damping *= growth
+            damping = max(damping * growth, _NEWTON_DAMPING if newton else 0.0)
             growth *= 2.0
             if damping > _MAX_DAMPING:
                 return x, fun, nit + 1, nfev, -1
@@ -181,31 +190,63 @@ def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], fr
                  damping: float) -> tuple[list[float], float]:
     """Damped Newton step on the free variables, Hessian from central differences of the gradient.
 
-    The Hessian is shifted to be positive definite; returns the step and the
-    decrease the quadratic model predicts for it.
+    The Hessian is shifted by ``damping`` times its largest diagonal magnitude, and
+    further until its Cholesky factorisation succeeds (positive definite); returns
+    the step and the decrease the quadratic model predicts for it. Plain floats:
+    the free variables are few, and a numpy call costs more than this arithmetic.
     """
     index = [i for i, is_free in enumerate(free) if is_free]
-    columns = []
-    for i in index:
+    size = len(index)
+    hessian = [[0.0] * size for _ in range(size)]
+    for column, i in enumerate(index):
         ahead, behind = list(x), list(x)
         ahead[i] += _HESSIAN_STEP
         behind[i] -= _HESSIAN_STEP
         a1, a2, a_row1, a_row2 = residuals(ahead)
         b1, b2, b_row1, b_row2 = residuals(behind)
-        columns.append([(2.0 * (a_row1[j] * a1 + a_row2[j] * a2)
-                         - 2.0 * (b_row1[j] * b1 + b_row2[j] * b2)) / (2.0 * _HESSIAN_STEP)
-                        for j in index])
-    hessian = np.array(columns, dtype=float).reshape(len(index), len(index))
-    hessian = 0.5 * (hessian + hessian.T)
-    g = np.array([gradient[i] for i in index])
+        for row, j in enumerate(index):
+            hessian[row][column] = ((a_row1[j] * a1 + a_row2[j] * a2)
+                                    - (b_row1[j] * b1 + b_row2[j] * b2)) / _HESSIAN_STEP
     step = [0.0] * len(x)
-    if not index or not np.all(np.isfinite(hessian)):
+    values = [value for row in hessian for value in row]
+    if not index or not all(map(math.isfinite, values)):
         return step, 0.0
-    eigenvalues = np.linalg.eigvalsh(hessian)
-    scale = max(float(np.max(np.abs(eigenvalues))), 1e-30)
-    shift = max(0.0, -float(eigenvalues[0])) * 1.01 + damping * scale
-    free_step = -np.linalg.solve(hessian + shift * np.eye(len(index)), g)
+    hessian = [[0.5 * (hessian[r][c] + hessian[c][r]) for c in range(size)] for r in range(size)]
+    g = [gradient[i] for i in index]
+    scale = max(max(abs(value) for value in values), 1e-30)
+    shift = damping * scale
+    factor = _cholesky(hessian, shift)
+    while factor is None:
+        shift = max(2.0 * shift, 1e-12 * scale)
+        factor = _cholesky(hessian, shift)
+    # Solve L L^T d = -g.
+    forward = [0.0] * size
+    for r in range(size):
+        forward[r] = (-g[r] - sum(factor[r][c] * forward[c] for c in range(r))) / factor[r][r]
+    free_step = [0.0] * size
+    for r in range(size - 1, -1, -1):
+        free_step[r] = ((forward[r] - sum(factor[c][r] * free_step[c] for c in range(r + 1, size)))
+                        / factor[r][r])
     for position, i in enumerate(index):
-        step[i] = float(free_step[position])
-    predicted = -float(g @ free_step + 0.5 * free_step @ hessian @ free_step)
+        step[i] = free_step[position]
+    curvature = sum(free_step[r] * hessian[r][c] * free_step[c]
+                    for r in range(size) for c in range(size))
+    predicted = -(sum(a * b for a, b in zip(g, free_step)) + 0.5 * curvature)
     return step, predicted
+
+
+def _cholesky(matrix: list[list[float]], shift: float) -> list[list[float]] | None:
+    """Lower Cholesky factor of ``matrix + shift I``, or None if it is not positive definite."""
+    size = len(matrix)
+    factor = [[0.0] * size for _ in range(size)]
+    for r in range(size):
+        for c in range(r + 1):
+            total = matrix[r][c] + (shift if r == c else 0.0)
+            total -= sum(factor[r][k] * factor[c][k] for k in range(c))
+            if r == c:
+                if not total > 0.0:
+                    return None
+                factor[r][r] = math.sqrt(total)
+            else:
+                factor[r][c] = total / factor[c][c]
+    return factor

@@ -139,3 +139,26 @@ def test_import_is_light():
     output = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
                             text=True).stdout.splitlines()
     assert output == ["[]", "[]"]
+
+
+def test_screened_starts_find_what_every_solver_from_every_start_finds():
+    # Exact model, option 1 (a nonzero minimum, so every start is screened): the
+    # least-squares screen then one run per solver from its best start reaches the RE
+    # that IPOPT and SLSQP reach from all eight starts (within 1e-12 absolute).
+    series = sso.ShaftSeries([15.0, 20.0, 9.0], [30.0, 40.0])
+    screened = sso.optimise(series, 1)
+    exhaustive = sso.optimise(series, 1, screen_starts=False)
+    assert [run.solver for run in screened.runs] == ["lm"] * 8 + ["ipopt", "slsqp"]
+    assert len(exhaustive.runs) == 16
+    assert screened.crosscheck.agree and exhaustive.crosscheck.agree
+    assert abs(screened.fun - exhaustive.fun) <= 1e-12
+    best_start = min(screened.runs[:8], key=lambda run: run.fun).start_index
+    assert all(run.start_index == best_start for run in screened.runs[8:])
+
+
+def test_screening_stops_at_a_global_minimum():
+    # Option 3 can cancel (RE = 0): the user's start already reaches round-off zero.
+    result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 50.0], [90.0, 90.0]), 3,
+                          beta_bounds_deg=(10, 40))
+    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
+    assert result.fun <= 1e-20 and result.crosscheck.agree
