@@ -40,10 +40,6 @@ class CompiledNLP:
         For a least-squares objective ``f = r1^2 + r2^2``: ``(x, p) -> (r1, r2,
         row1, row2)`` in plain floats (lists in, floats and lists out), used by
         the ``"lm"`` solver; None otherwise.
-    hessian_of_lagrangian : casadi.Function or None
-        IPOPT's ``hess_lag`` (upper triangle of ``lam_f * H``) when the problem
-        supplies a cheaper Hessian than the exact one (Gauss-Newton); None for
-        the exact Hessian.
     nonnegative_objective : bool
         True when the objective is never negative (a sum of squares): a point at
         round-off zero is then a global minimum and needs no second-order check.
@@ -55,27 +51,25 @@ class CompiledNLP:
     constraints_and_jacobian: Any = None
     ipopt_solvers: dict[tuple, Any] = field(default_factory=dict)
     residuals_and_jacobian: Any = None
-    hessian_of_lagrangian: Any = None
     nonnegative_objective: bool = False
 
     def ipopt(self, options: dict[str, Any]) -> Any:
-        """The IPOPT ``nlpsol`` for these options, built once.
-
-        Its Hessian is :attr:`hessian_of_lagrangian` when set, else CasADi's exact one.
-        """
+        """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""
         import casadi
 
         options_key = tuple(sorted(options.items()))
         solver = self.ipopt_solvers.get(options_key)
         if solver is None:
-            settings: dict[str, Any] = {
-                "print_time": False,
-                "error_on_fail": False,
-                "ipopt": {"print_level": 0, "sb": "yes", **options},
-            }
-            if self.hessian_of_lagrangian is not None:
-                settings["hess_lag"] = self.hessian_of_lagrangian
-            solver = casadi.nlpsol(f"{self.name}_ipopt", "ipopt", self.symbols, settings)
+            solver = casadi.nlpsol(
+                f"{self.name}_ipopt",
+                "ipopt",
+                self.symbols,
+                {
+                    "print_time": False,
+                    "error_on_fail": False,
+                    "ipopt": {"print_level": 0, "sb": "yes", **options},
+                },
+            )
             self.ipopt_solvers[options_key] = solver
         return solver
 

@@ -158,7 +158,7 @@ def test_screened_starts_find_what_every_solver_from_every_start_finds():
 
 def test_screening_stops_at_a_global_minimum():
     # Option 3 can cancel (RE = 0): the user's start already reaches round-off zero.
-    result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 50.0], [90.0, 90.0]), 3,
+    result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0]), 3,
                           beta_bounds_deg=(10, 40))
     assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
     assert result.fun <= 1e-20 and result.crosscheck.agree

@@ -63,24 +63,6 @@ def test_lm_is_refused_for_the_paper_model():
         sso.optimise(sso.ShaftSeries([15.0, 20.0], [5.0], "paper"), solvers=("lm",))
 
 
-def test_ipopt_uses_the_gauss_newton_hessian_for_option_three():
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
-
-    both = build_problem([15.0, 20.0, 9.0], [5.0, 50.0], "exact", 3, (7, 25), (0, 180))
-    phases = build_problem([15.0, 20.0, 9.0], [5.0, 50.0], "exact", 1, (7, 25), (0, 180))
-    nlp = compiled_nlp(both, 0)
-    assert nlp.hessian_of_lagrangian is not None
-    assert compiled_nlp(phases, 0).hessian_of_lagrangian is None
-    # Its Hessian is 2 J^T J of the float Jacobian (upper triangle), at a random point.
-    x = np.radians([12.0, 18.0, 10.0, 30.0, 70.0])
-    hessian = np.array(nlp.hessian_of_lagrangian(x, [], 1.0, []))
-    _, _, row1, row2 = nlp.residuals_and_jacobian(list(x), [])
-    jacobian = np.array([row1, row2])
-    np.testing.assert_allclose(hessian, np.triu(2 * jacobian.T @ jacobian), rtol=1e-12,
-                               atol=1e-15)
-
-
 def test_exact_shape_does_not_depend_on_bounds():
     from sso.shafts.options import build_problem
     from sso.shafts.problem import compiled_nlp
