@@ -21,6 +21,8 @@ from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
 from sso.batch.results import METRICS, ToleranceResult
 from sso.kinematics.hooke import chain_kinematics
+from sso.kinematics.hooke_matrix import ratio_extremes
+from sso.kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
@@ -158,10 +160,13 @@ def tolerance(
                                        samples, seed)
     beta_rad = np.radians(beta_deg)
     phase_rad = np.radians(phase_deg)
-    rule = rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model, *quadrature)
+    # The exact model's RE is the closed form of the chain matrix (0 quadrature angles).
+    quadrature_samples = (rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model,
+                                          *quadrature).samples
+                          if series.model == "paper" else 0)
     chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
-                             phase_rad[start:start + chunk_size], series.model, rule.samples,
-                             speed_rpm)
+                             phase_rad[start:start + chunk_size], series.model,
+                             quadrature_samples, speed_rpm)
               for start in range(0, samples, chunk_size)]
     metrics = np.empty((len(METRICS), samples))
     bar = ProgressBar(samples, "samples", interactive() if progress is None else progress)
@@ -179,7 +184,7 @@ def tolerance(
                                                quadrature_atol=quadrature[1]),
         distribution=distribution, beta_tolerance_deg=beta_tolerance,
         phase_tolerance_deg=phase_tolerance, seed=int(seed), input_speed_rpm=speed_rpm,
-        quadrature_samples=rule.samples, percentiles=quantiles, beta_deg=beta_deg,
+        quadrature_samples=quadrature_samples, percentiles=quantiles, beta_deg=beta_deg,
         phase_deg=phase_deg, residual_error=metrics[0], fluctuation=metrics[1],
         max_output_accel_rad_s2=metrics[2], elapsed_s=time.perf_counter() - started)
     if out_dir is None:
@@ -228,13 +233,19 @@ def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
         block = slice(start, start + BLOCK_SAMPLES)
         beta = [column[:, None] for column in chunk.beta_rad[block].T]
         phase = [column[:, None] for column in chunk.phase_rad[block].T]
-        values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
         figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
         theta_rad = np.pi * np.arange(figure_samples) / figure_samples
         kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
                                       chunk.model)
         ratio = kinematics.speed_ratio
-        values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
+        if chunk.model == "exact":
+            least, greatest = ratio_extremes(np, beta, phase)
+            values[0, block] = closed_form_residual_error(np, beta, phase).ravel()
+            values[1, block] = (greatest - least).ravel()
+        else:
+            values[0, block] = residual_error(beta, phase, chunk.model,
+                                              chunk.quadrature_samples)
+            values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
         ratio_slope = np.abs(ratio * kinematics.log_ratio_slope)
         values[2, block] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * periodic_peaks(ratio_slope)
     return values
