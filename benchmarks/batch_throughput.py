@@ -200,14 +200,16 @@ def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[s
         "",
         (f"- optimise_batch: {batch['designs_per_s']:,.0f} designs/s "
         f"({batch['batch_time_s'] * 1e3:.1f} ms, best of {len(batch['batch_times_s'])}); "
-        f"target {TARGET_DESIGNS_PER_S:,.0f}: {met[batch['designs_per_s'] >= TARGET_DESIGNS_PER_S]}"),
+        f"target {TARGET_DESIGNS_PER_S:,.0f}: "
+        f"{met[batch['designs_per_s'] >= TARGET_DESIGNS_PER_S]}"),
         (f"- skilled baseline: {batch['baseline_solves_per_s']:,.0f} solves/s; ratio "
         f"{batch['ratio']:.1f}x, target {TARGET_BATCH_RATIO:.0f}x: "
         f"{met[batch['ratio'] >= TARGET_BATCH_RATIO]}"),
         (f"- RE <= {REACHED:g}: batch {batch['batch_fraction_reached']:.2%}, baseline "
         f"{batch['baseline_fraction_reached']:.2%}; batch where the baseline reached it "
         f"{batch['batch_reached_where_baseline_did']:.2%}"),
-        (f"- iterations: batch median {batch['batch_nit_median']:g} (max {batch['batch_nit_max']}), "
+        (f"- iterations: batch median {batch['batch_nit_median']:g} "
+         f"(max {batch['batch_nit_max']}), "
         f"baseline median {batch['baseline_nit_median']:g}"),
         "",
         "## optimise_batch by shape (beta in [5, 35] deg, phase in [0, 180] deg)",
@@ -259,7 +261,8 @@ def main(argv: list[str] | None = None) -> None:
     print(text)
     arguments.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(arguments.out / "batch_throughput.json",
-                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency}, indent=2) + "\n")
+                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency},
+                                 indent=2) + "\n")
     write_text_atomic(arguments.out / "batch_throughput.md", text)
 
 

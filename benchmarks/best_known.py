@@ -18,6 +18,7 @@ from typing import Any
 
 import sso
 from benchmarks.cases import CASES, accurate_residual_error
+from sso.solvers.starts import DEFAULT_SEED
 
 BEST_KNOWN_PATH = Path(__file__).with_name("best_known.json")
 STARTS = 128
@@ -38,7 +39,7 @@ def compute_best_known() -> dict[str, Any]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             result = sso.optimise(sso.ShaftSeries(case.beta_deg, case.phase_deg, case.model),
-                                  starts=STARTS, tolerance=TOLERANCE,
+                                  starts=STARTS, solver_tol=TOLERANCE,
                                   max_iterations=MAX_ITERATIONS, **case.optimise_arguments())
         scored = [(accurate_residual_error(run.series.beta_deg, run.series.phase_deg,
                                            case.model), run) for run in result.runs]
@@ -54,9 +55,10 @@ def compute_best_known() -> dict[str, Any]:
         print(f"{case.key}: RE = {residual_error:.6g} ({run.solver}, start {run.start_index})")
     return {
         "how": (f"sso.optimise with solvers ipopt and slsqp, starts = {STARTS} (the case's "
-                f"start plus scrambled Halton points, seed {sso.optimise.__kwdefaults__['seed']}), "
+                f"start plus scrambled Halton points, seed {DEFAULT_SEED}), "
                 f"tolerance = {TOLERANCE:g}, max_iterations = {MAX_ITERATIONS}; every run's "
-                "design re-evaluated by the adaptive quadrature (rtol 1e-13, absolute floor at the round-off of RE); "
+                "design re-evaluated by the adaptive quadrature (rtol 1e-13, absolute floor "
+                "at the round-off of RE); "
                 "the lowest RE kept"),
         "computed_with": {"sso": sso.__version__, "python": platform.python_version()},
         "cases": cases,

@@ -142,7 +142,7 @@ def baseline_residual_error(beta_rad: np.ndarray, phase_rad: np.ndarray, model: 
     cumulative_phase = np.concatenate([[0.0], np.cumsum(phase_rad)])
     shaft_angle = theta
     ratio = np.ones_like(theta)
-    for beta, phase in zip(beta_rad, cumulative_phase):
+    for beta, phase in zip(beta_rad, cumulative_phase, strict=True):
         joint_angle = (theta if model == "paper" else shaft_angle) + phase
         sin_a = np.sin(joint_angle)
         ratio = ratio * np.cos(beta) / (1.0 - np.sin(beta) ** 2 * sin_a**2)
@@ -180,7 +180,7 @@ def baseline_solve(case: BenchmarkCase, tolerance: float, max_iterations: int = 
     x0 = problem.start_rad if start_rad is None else start_rad
     started = time.perf_counter()
     answer = minimize(objective, x0, method="SLSQP",
-                      bounds=list(zip(problem.lower_rad, problem.upper_rad)),
+                      bounds=list(zip(problem.lower_rad, problem.upper_rad, strict=True)),
                       options={"ftol": tolerance, "maxiter": max_iterations})
     elapsed = time.perf_counter() - started
     x = np.clip(answer.x, problem.lower_rad, problem.upper_rad)

@@ -95,7 +95,7 @@ def solve(beta_deg: np.ndarray, phase_deg: np.ndarray, option: int,
         return float(values[0].real), values.imag / COMPLEX_STEP
 
     answer = minimize(value_and_gradient, x0, jac=True, method="SLSQP",
-                      bounds=list(zip(lower, upper)),
+                      bounds=list(zip(lower, upper, strict=True)),
                       options={"ftol": ftol, "maxiter": max_iterations})
     x = np.clip(answer.x, lower, upper)
     elapsed = time.perf_counter() - started

@@ -2,8 +2,9 @@
 
 ``python -m benchmarks.stress [--out DIR]`` writes ``stress.json`` and ``stress.md`` into
 ``DIR`` (default ``results/benchmarks/``, ignored by git): one line per check with what
-was measured and whether it held. The quick versions of these checks are in ``tests/test_stress.py``;
-this run goes further than a test suite should (minutes, not seconds).
+was measured and whether it held. The quick versions of these checks are in
+``tests/test_stress.py``; this run goes further than a test suite should (minutes, not
+seconds).
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ import json
 import math
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 

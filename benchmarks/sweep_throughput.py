@@ -90,7 +90,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             "local pool": timed_sweep(base, axes, cores)}
     cluster_started = time.perf_counter()
     with LocalCluster(n_workers=cores, threads_per_worker=1, processes=True,
-                      host="127.0.0.1", dashboard_address=":0") as cluster, Client(cluster) as client:
+                      host="127.0.0.1", dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
         client.wait_for_workers(cores)
         cluster_s = time.perf_counter() - cluster_started
         runs["Dask, cold workers"] = timed_sweep(base, axes, cores, client=client)
@@ -108,8 +109,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "points": points, "cores": cores, "starts_per_solver": args.starts, "runs": runs,
         "dask_cluster_start_s": cluster_s,
         "dask_minus_pool_overhead_per_point_ms": {
-            "cold": runs["Dask, cold workers"]["overhead_per_point_ms"] - pool["overhead_per_point_ms"],
-            "warm": runs["Dask, warm workers"]["overhead_per_point_ms"] - pool["overhead_per_point_ms"],
+            "cold": (runs["Dask, cold workers"]["overhead_per_point_ms"]
+                     - pool["overhead_per_point_ms"]),
+            "warm": (runs["Dask, warm workers"]["overhead_per_point_ms"]
+                     - pool["overhead_per_point_ms"]),
             "1 point per task": (runs["Dask warm, 1 point per task"]["overhead_per_point_ms"]
                                  - runs["local pool, 1 point per task"]["overhead_per_point_ms"]),
         },

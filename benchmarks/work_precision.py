@@ -40,21 +40,22 @@ import sys
 import tempfile
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 import sso
 from benchmarks.best_known import load_best_known
-from benchmarks.skilled_baseline import solve as skilled_solve
 from benchmarks.cases import (
     CASES,
     BenchmarkCase,
     accurate_residual_error,
     baseline_solve,
 )
+from benchmarks.skilled_baseline import solve as skilled_solve
 
 METHODS = ("sso-ipopt", "sso-slsqp", "sso-lm", "skilled", "baseline")
 SSO_METHODS = ("sso-ipopt", "sso-slsqp", "sso-lm")
@@ -118,7 +119,7 @@ def sso_solver(case: BenchmarkCase, solver: str, tolerance: float,
     def solve() -> Any:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return sso.optimise(series, solvers=solver, starts=1, tolerance=tolerance,
+            return sso.optimise(series, solvers=solver, starts=1, solver_tol=tolerance,
                                 **arguments)
 
     return solve
@@ -154,7 +155,7 @@ def measure(case: BenchmarkCase, method: str, tolerance: float, repeats: int,
 
 
 def speedup_at_baseline_error(rows: list[Measurement]) -> dict[str, Any]:
-    """Ratios for one case: reference time over each sso method's time at the reference's best error.
+    """Ratios for one case: reference time over each sso method's time at the reference's error.
 
     The reference is the skilled baseline where the case has it (exact model), else
     the finite-difference port. Its best error is the lowest it reaches over the
@@ -220,7 +221,8 @@ def batch_of_solves(count: int, best_known: dict[str, Any]) -> dict[str, Any]:
                 calls.append(lambda start=start: baseline_solve(case, BATCH_TOLERANCE,
                                                                 start_rad=start))
             elif method == "skilled":
-                calls.append(lambda beta=np.degrees(beta_rad), phase=np.degrees(phase_rad):
+                beta_deg, phase_deg = np.degrees(beta_rad), np.degrees(phase_rad)
+                calls.append(lambda beta=beta_deg, phase=phase_deg:
                              skilled_solve(beta, phase, case.option, case.beta_bounds_deg,
                                            case.phase_bounds_deg, ftol=BATCH_TOLERANCE))
             else:
@@ -242,7 +244,8 @@ def batch_of_solves(count: int, best_known: dict[str, Any]) -> dict[str, Any]:
         }
     skilled_total = outcome["methods"]["skilled"]["total_s"]
     for method in SSO_METHODS:
-        outcome["methods"][method]["speedup"] = skilled_total / outcome["methods"][method]["total_s"]
+        method_total = outcome["methods"][method]["total_s"]
+        outcome["methods"][method]["speedup"] = skilled_total / method_total
     return outcome
 
 
@@ -322,11 +325,10 @@ def random_single_solves(per_shape: int) -> dict[str, Any]:
     for joints in range(3, 7):
         starts = [(rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1))
                   for _ in range(per_shape)]
-        bounds: dict[str, Any] = {"beta_bounds_deg": (5.0, 35.0), "phase_bounds_deg": (0.0, 180.0)}
-
         def sso_lm(beta: np.ndarray, phase: np.ndarray) -> float:
             return float(sso.optimise(sso.ShaftSeries(beta, phase), 3, solvers=("lm",), starts=1,
-                                      **bounds).fun)
+                                      beta_bounds_deg=(5.0, 35.0),
+                                      phase_bounds_deg=(0.0, 180.0)).fun)
 
         def skilled(beta: np.ndarray, phase: np.ndarray) -> float:
             return skilled_solve(beta, phase, 3, (5.0, 35.0), (0.0, 180.0)).fun
@@ -339,7 +341,7 @@ def random_single_solves(per_shape: int) -> dict[str, Any]:
             results[name] = [call(beta, phase) for beta, phase in starts]
             timings[name] = time.perf_counter() - started
         worse = sum(lm > max(base, 1e-20) for lm, base in zip(results["sso-lm"],
-                                                                 results["skilled"]))
+                                                                 results["skilled"], strict=True))
         rows.append({"joints": joints, "starts": per_shape,
                      "skilled_ms_per_solve": 1e3 * timings["skilled"] / per_shape,
                      "lm_ms_per_solve": 1e3 * timings["sso-lm"] / per_shape,
@@ -349,8 +351,9 @@ def random_single_solves(per_shape: int) -> dict[str, Any]:
 
 
 def issue_12_targets(quick: bool) -> dict[str, Any]:
-    """Every acceptance target of issue 12, measured in this run, each met or missed with its ratio."""
-    from benchmarks import batch_throughput, cold_start as cold_module, scaling
+    """Every acceptance target of issue 12 measured in this run, met or missed, with its ratio."""
+    from benchmarks import batch_throughput, scaling
+    from benchmarks import cold_start as cold_module
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -425,7 +428,8 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
              "path: sso's solver runs with their second-order checks against the "
              "reference's `minimize` call. "
              "Errors are RE - best known RE (benchmarks/best_known.json).", "",
-             "| case | reference | reference best error | reference time (ms) | method | best error "
+             "| case | reference | reference best error | reference time (ms) | method "
+             "| best error "
              "| time at baseline error (ms) | speedup | solver-path speedup | nfev at tol 1e-12 |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for key, summary in ratios.items():
@@ -437,7 +441,8 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                 f"| {1e3 * summary['baseline_time_s']:.2f} | {method} "
                 f"| {figures['best_error']:.3g} | {_format(time_ms, '.2f')} "
                 f"| {_format(figures['speedup'], '.2f')} "
-                f"| {_format(figures['solver_speedup'], '.2f')} | {figures['nfev_at_default_tol']} |")
+                f"| {_format(figures['solver_speedup'], '.2f')} "
+                f"| {figures['nfev_at_default_tol']} |")
     lines += ["", f"## Batch: {batch['solves']} solves of {batch['case']} in one process "
               f"(tolerance {batch['tolerance']:g})", "",
               "| method | total (s) | per solve (ms) | within 1e-10 of best | speedup |",
@@ -486,10 +491,10 @@ def plot(out: Path, rows: list[Measurement]) -> None:
 
     keys = list(dict.fromkeys((row.case, row.model) for row in rows))
     columns = 3
-    figure, axes = plt.subplots((len(keys) + columns - 1) // columns, columns,
-                                figsize=(4.2 * columns, 3.2 * ((len(keys) + columns - 1) // columns)),
+    rows = (len(keys) + columns - 1) // columns
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.2 * rows),
                                 squeeze=False)
-    for axis, (case, model) in zip(axes.flat, keys):
+    for axis, (case, model) in zip(axes.flat, keys, strict=False):
         for method in METHODS:
             own = sorted((row for row in rows if (row.case, row.model, row.method)
                           == (case, model, method)), key=lambda row: row.tol, reverse=True)

@@ -16,19 +16,21 @@ __version__ = "0.1.0"
 
 _moved.install()
 
-_EXPORTS = {
+# Public name -> module that defines it, or (module, name there) for an alias.
+_EXPORTS: dict[str, str | tuple[str, str]] = {
     "ShaftSeries": "sso.shafts.series",
     "Evaluation": "sso.shafts.evaluation",
     "optimise": "sso.shafts.optimise",
     "OptimisationResult": "sso.shafts.optimise",
-    "SOLVERS": "sso.validation",
+    "SOLVERS": "sso.limits",
     "optimise_batch": "sso.shafts.batch",
     "BatchResult": "sso.shafts.batch",
     "Solution": "sso.solvers.solution",
     "CrossCheck": "sso.solvers.solution",
     "sweep": "sso.batch.sweep",
     "SweepResult": "sso.batch.results",
-    "tolerance": "sso.batch.tolerance",
+    "tolerance_study": "sso.batch.tolerance_study",
+    "tolerance": ("sso.batch.tolerance_study", "tolerance_study"),
     "ToleranceResult": "sso.batch.results",
     "design_fourbar": "sso.linkages.fourbar_swing",
     "FourBarDesignResult": "sso.linkages.fourbar_swing",
@@ -58,10 +60,11 @@ __all__ = sorted([*_EXPORTS, "__version__"])
 
 
 def __getattr__(name: str) -> Any:
-    module_name = _EXPORTS.get(name)
-    if module_name is None:
+    where = _EXPORTS.get(name)
+    if where is None:
         raise AttributeError(f"module 'sso' has no attribute {name!r}")
-    value = getattr(import_module(module_name), name)
+    module_name, attribute = (where, name) if isinstance(where, str) else where
+    value = getattr(import_module(module_name), attribute)
     globals()[name] = value
     return value
 

@@ -13,8 +13,9 @@ import importlib.machinery
 import sys
 import types
 import warnings
+from collections.abc import Sequence
 from importlib import import_module
-from typing import Any, Sequence
+from typing import Any
 
 # Old module path -> new module path; None marks a former package (its modules moved).
 MOVED: dict[str, str | None] = {
@@ -46,7 +47,13 @@ MOVED: dict[str, str | None] = {
     "sso.io.speeds": "sso.reports.speeds",
     "sso.io.summary": "sso.reports.summary",
     "sso.batch.command": "sso.cli.batch_commands",
+    "sso.batch.tolerance": "sso.batch.tolerance_study",
 }
+# Names that changed with their module: old path -> {old name: new name}.
+RENAMED = {"sso.batch.tolerance": {"tolerance": "tolerance_study"}}
+# Names that left the module the old path now points to: old path -> {name: module}.
+SPLIT = {"sso.io.case": {name: "sso.cases.shaft_series" for name in (
+    "Case", "SHAFT_SERIES_KEYS", "TOLERANCE_ARGUMENTS", "option_value")}}
 
 
 class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -68,9 +75,13 @@ class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         _warn(f"{spec.name} is deprecated and will be removed in the next release; "
               f"import from {new_name} (or the names exported by sso)")
         target = import_module(new_name)
+        renamed = RENAMED.get(spec.name, {})
+        split = SPLIT.get(spec.name, {})
 
         def forward(name: str) -> Any:
-            return getattr(target, name)
+            if name in split:
+                return getattr(import_module(split[name]), name)
+            return getattr(target, renamed.get(name, name))
 
         module.__getattr__ = forward  # type: ignore[method-assign]
         module.__all__ = list(getattr(target, "__all__", [name for name in vars(target)

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable, Sequence
+from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
+
+from sso.limits import SOLVER_NAMES
 
 
 def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
@@ -168,13 +171,10 @@ def _is_pair_of_numbers(value: Any) -> bool:
     )
 
 
-SOLVERS = ("ipopt", "slsqp", "lm")
-"""Solver names :func:`sso.optimise` accepts (``"lm"``: the least-squares solver of
-the exact model; problems without residuals accept the first two only)."""
 
 
 def validate_solvers(solvers: Iterable[str] | str,
-                     allowed: tuple[str, ...] = SOLVERS) -> tuple[str, ...]:
+                     allowed: tuple[str, ...] = SOLVER_NAMES) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
@@ -187,9 +187,9 @@ def validate_solvers(solvers: Iterable[str] | str,
     return names
 
 
-def validate_tolerance(value: Any) -> float:
-    """A solver tolerance in ``(0, 1)``, or raise naming the field and range."""
-    return finite_in_range("tolerance", value, 0.0, 1.0, lower_open=True, upper_open=True)
+def validate_solver_tol(value: Any) -> float:
+    """The solvers' stopping tolerance in ``(0, 1)``, or raise naming the field and range."""
+    return finite_in_range("solver_tol", value, 0.0, 1.0, lower_open=True, upper_open=True)
 
 
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:

@@ -38,3 +38,19 @@ def test_an_unknown_name_of_an_old_path_is_still_an_error():
         module = _fresh_import("sso.series")
     with pytest.raises(AttributeError):
         module.NoSuchName  # noqa: B018
+
+
+def test_the_old_tolerance_module_hands_on_the_renamed_study():
+    with pytest.warns(DeprecationWarning, match="sso.batch.tolerance is deprecated"):
+        module = _fresh_import("sso.batch.tolerance")
+    assert module.tolerance is sso.tolerance_study
+    assert sso.tolerance is sso.tolerance_study
+
+
+def test_the_old_case_module_still_hands_on_the_shaft_series_case():
+    from sso.cases.shaft_series import Case
+
+    with pytest.warns(DeprecationWarning, match="sso.io.case is deprecated"):
+        module = _fresh_import("sso.io.case")
+    assert module.Case is Case
+    assert module.load_case is importlib.import_module("sso.cases.schema").load_case

@@ -97,7 +97,8 @@ def test_the_scan_finds_paths_planted_in_a_copy(tmp_path):
     assert outside_references(copy) == []
 
     planted = {
-        "tests/planted_neighbour.py": "TABLE = 'tests/" + PARENT + "/" + PARENT + "/shared/x.csv'\n",
+        "tests/planted_neighbour.py":
+            "TABLE = 'tests/" + PARENT + "/" + PARENT + "/shared/x.csv'\n",
         "docs/planted_absolute.md": "See /" + "work/shared/spec/model.md for details.\n",
         "planted_climb.toml": 'case = "' + PARENT + '/elsewhere/case.toml"\n',
         "sso/planted_join.py": "FOLDER = HERE / '" + PARENT + "' / 'data'\n",

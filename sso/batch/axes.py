@@ -1,6 +1,6 @@
 """Sweep axes: which case keys vary, over which values, and the points they span.
 
-A sweep starts from a base case (a case file, a :class:`sso.cases.schema.Case`, or a
+A sweep starts from a base case (a case file, a :class:`sso.cases.shaft_series.Case`, or a
 mapping laid out like a case file) and names the keys to vary as a user writes
 them in a case file, optionally with indices into a list-valued key:
 ``"design.beta_deg[1]"`` is the second joint's operating angle,
@@ -16,9 +16,10 @@ import difflib
 import itertools
 import math
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from sso.validation import finite_float
 
@@ -46,11 +47,11 @@ class Axis:
 
 
 def base_case(base: Any) -> Any:
-    """The base case as an :class:`sso.cases.schema.Case` (every default filled in).
+    """The base case as an :class:`sso.cases.shaft_series.Case` (every default filled in).
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.cases.schema.Case or mapping
+    base : str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         A case file, a case read from one, or a mapping laid out like a case file.
 
     Raises
@@ -58,7 +59,8 @@ def base_case(base: Any) -> Any:
     ValueError
         (:class:`sso.cases.schema.CaseError`) if the case breaks the case-file schema.
     """
-    from sso.cases.schema import Case, load_case, parse_case
+    from sso.cases.schema import load_case, parse_case
+    from sso.cases.shaft_series import Case
 
     if isinstance(base, (str, Path)):
         case = load_case(base)
@@ -67,8 +69,8 @@ def base_case(base: Any) -> Any:
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base = {base!r} must be a case file path, an sso.cases.schema.Case or "
-                         "a mapping laid out like a case file")
+        raise ValueError(f"base = {base!r} must be a case file path, an "
+                         "sso.cases.shaft_series.Case or a mapping laid out like a case file")
     return case
 
 
@@ -139,14 +141,14 @@ def expand_points(axes: Sequence[Axis], mode: str = "product") -> list[dict[str,
         lengths = {axis.path: len(axis.values) for axis in axes}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"mode 'listed' needs axes of equal length; got {lengths}")
-        combinations: Any = zip(*(axis.values for axis in axes))
+        combinations: Any = zip(*(axis.values for axis in axes), strict=True)
     else:
         count = math.prod(len(axis.values) for axis in axes)
         if count > MAX_POINTS:
             raise ValueError(f"the sweep has {count} points, outside the allowed range "
                              f"[1, {MAX_POINTS}]")
         combinations = itertools.product(*(axis.values for axis in axes))
-    return [dict(zip(paths, values)) for values in combinations]
+    return [dict(zip(paths, values, strict=True)) for values in combinations]
 
 
 def point_document(document: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:

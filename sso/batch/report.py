@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import io
 import json
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,7 +26,7 @@ FIGURE_SIZE_IN = (7.0, 4.5)
 FIGURE_DPI = 120
 
 
-def write_sweep_report(result: "SweepResult", out_dir: Path, plots: bool) -> list[Path]:
+def write_sweep_report(result: SweepResult, out_dir: Path, plots: bool) -> list[Path]:
     """Write ``report.md`` and, with ``plots``, the sweep's plot; return the paths."""
     paths = []
     plot_name = None
@@ -36,7 +37,7 @@ def write_sweep_report(result: "SweepResult", out_dir: Path, plots: bool) -> lis
     return paths
 
 
-def write_tolerance_report(result: "ToleranceResult", out_dir: Path, plots: bool) -> list[Path]:
+def write_tolerance_report(result: ToleranceResult, out_dir: Path, plots: bool) -> list[Path]:
     """Write ``tolerance.csv``, ``tolerance.json``, ``tolerance.md`` and the histogram."""
     from sso.batch.table import format_cell
 
@@ -62,7 +63,7 @@ def write_tolerance_report(result: "ToleranceResult", out_dir: Path, plots: bool
     return paths
 
 
-def _sweep_markdown(result: "SweepResult", plot_name: str | None) -> str:
+def _sweep_markdown(result: SweepResult, plot_name: str | None) -> str:
     axes_lines = [f"- `{axis.path}`: {len(axis.values)} values, "
                   f"{_cell(axis.values[0])} .. {_cell(axis.values[-1])}" for axis in result.axes]
     lines = ["# Sweep", "", f"Action: {result.action}; mode: {result.mode}; "
@@ -85,7 +86,7 @@ def _sweep_markdown(result: "SweepResult", plot_name: str | None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _tolerance_markdown(result: "ToleranceResult", plot_name: str | None) -> str:
+def _tolerance_markdown(result: ToleranceResult, plot_name: str | None) -> str:
     percentiles = list(result.percentiles)
     header = ["figure", "nominal", *(f"p{q:g}" for q in percentiles)]
     lines = ["# Tolerance study", "",
@@ -106,7 +107,7 @@ def _tolerance_markdown(result: "ToleranceResult", plot_name: str | None) -> str
     return "\n".join(lines) + "\n"
 
 
-def _sweep_figure(result: "SweepResult") -> tuple[str, Any]:
+def _sweep_figure(result: SweepResult) -> tuple[str, Any]:
     """``sweep_heatmap.png`` for a two-axis product, else RE against the first axis."""
     from matplotlib.colors import LogNorm
 
@@ -148,7 +149,7 @@ def _sweep_figure(result: "SweepResult") -> tuple[str, Any]:
     return "sweep_re.png", figure
 
 
-def _tolerance_figure(result: "ToleranceResult") -> Any:
+def _tolerance_figure(result: ToleranceResult) -> Any:
     figure = _figure(width_scale=1.6)
     labels = {"residual_error": "residual error RE", "fluctuation": "fluctuation (p-p / input)",
               "max_output_accel_rad_s2": "peak output accel, rad/s^2"}

@@ -2,7 +2,7 @@
 
 Kept apart from the code that computes them, so the report writers
 (:mod:`sso.batch.report`) and the studies (:mod:`sso.batch.sweep`,
-:mod:`sso.batch.tolerance`) both import them without a circle.
+:mod:`sso.batch.tolerance_study`) both import them without a circle.
 """
 
 from __future__ import annotations
@@ -16,9 +16,8 @@ import numpy as np
 from sso.batch.axes import Axis
 from sso.batch.table import CSV_NAME
 from sso.shafts.evaluation import Evaluation
+from sso.shafts.perturbed import METRICS
 from sso.shafts.series import ShaftSeries
-
-METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
 
 
 @dataclass(frozen=True)
@@ -166,7 +165,8 @@ class ToleranceResult:
     def percentile_table(self) -> dict[str, dict[float, float]]:
         """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
         return {metric: dict(zip(self.percentiles,
-                                 np.percentile(getattr(self, metric), self.percentiles).tolist()))
+                                 np.percentile(getattr(self, metric), self.percentiles).tolist(),
+                                 strict=True))
                 for metric in METRICS}
 
     def summary(self) -> str:

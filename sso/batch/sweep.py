@@ -5,9 +5,10 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from sso.batch.axes import base_case, expand_points, parse_axes
 from sso.batch.execution import run_tasks, validate_workers
@@ -51,7 +52,7 @@ def sweep(
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.cases.schema.Case or mapping
+    base : str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         The base case: a case file, a case read from one, or a mapping laid out
         like a case file (``{"design": {"beta_deg": [...]}, "option": 3, ...}``).
     axes : mapping of str to list or range

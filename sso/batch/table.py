@@ -12,11 +12,12 @@ from __future__ import annotations
 import csv
 import io
 import json
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
-from sso.batch.worker import SOLVER_NAMES
 from sso.files import write_text_atomic
+from sso.limits import SOLVER_NAMES
 
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"

@@ -16,7 +16,6 @@ from typing import Any
 from sso.batch.axes import point_document
 
 ACTIONS = ("optimise", "evaluate")
-SOLVER_NAMES = ("ipopt", "slsqp")
 
 
 @dataclass(frozen=True)

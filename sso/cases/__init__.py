@@ -1,15 +1,15 @@
-"""Case files: the TOML schema and one module per case kind.
+"""Case files: the TOML schema engine and one module per case kind.
 
-One module per job:
+* :mod:`sso.cases.schema` reads a TOML case file and checks every key against the
+  schema of its ``kind`` (messages with line numbers and "did you mean");
+* :mod:`sso.cases.shaft_series` is the shaft-series kind (:class:`Case`);
+* :mod:`sso.cases.mechanism` is the planar-mechanism kinds, one per registered
+  linkage, and the four-bar design.
 
-* :mod:`sso.cases.schema` reads and validates TOML case files into :class:`Case`;
-* :mod:`sso.run.document` runs a case through the public API into a result document
-  (the dictionary saved as ``result.json``);
-* :mod:`sso.reports.writer` renders every other format from that document alone;
-* :mod:`sso.files` writes files atomically.
-
-Nothing here imports CasADi, SciPy or matplotlib at module level.
+Importing this package registers every kind. Nothing here imports CasADi, SciPy or
+matplotlib at module level.
 """
 
-# The planar-mechanism case kinds register themselves with sso.cases.schema on import.
-from sso.cases import mechanism as _mechanism  # noqa: E402,F401
+# Each kind registers itself with sso.cases.schema when its module is imported.
+from sso.cases import mechanism as _mechanism  # noqa: F401
+from sso.cases import shaft_series as _shaft_series  # noqa: F401

@@ -13,14 +13,14 @@ message names the angles where it does not).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from sso.cases.schema import (
     REQUIRED,
-    SHAFT_SERIES_KEYS,
     Key,
     choice,
     number,
@@ -28,26 +28,31 @@ from sso.cases.schema import (
     register_case_kind,
     text,
 )
+from sso.cases.shaft_series import SHAFT_SERIES_KEYS
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.mechanisms import CrankDriven
+from sso.linkages.registry import Linkage, linkage_of_kind, linkages
 from sso.validation import per_item_bounds
 
-ANALYSIS_KINDS = ("fourbar", "slider_crank", "quick_return")
+# Analysis kinds come from the linkage registry: one per registered mechanism.
+ANALYSIS_KINDS = tuple(linkages())
 DESIGN_KIND = "fourbar_design"
 MECHANISM_KINDS = (*ANALYSIS_KINDS, DESIGN_KIND)
 MAX_ROWS = 10_000
 MAX_PLOTTED_POSITIONS = 12
 DEFAULT_PLOTTED_POSITIONS = 8
-MECHANISM_TYPES = {"fourbar": FourBar, "slider_crank": SliderCrank, "quick_return": QuickReturn,
-                   DESIGN_KIND: FourBar}
-# Link lengths of each analysis kind, in the order of the class's constructor.
-LINK_NAMES = {
-    "fourbar": ("ground", "crank", "coupler", "rocker"),
-    "slider_crank": ("crank", "rod"),
-    "quick_return": ("crank", "coupler", "rocker", "slider_link", "ground"),
-}
+# A four-bar design case describes its start linkage as a four-bar analysis case does.
+DESIGN_LINKAGE_KIND = "fourbar"
 DESIGN_LINKS = ("crank", "coupler", "rocker", "ground")
 POSITIVE = "(0, inf)"
+
+
+def _linkage(kind: str) -> Linkage:
+    return linkage_of_kind(DESIGN_LINKAGE_KIND if kind == DESIGN_KIND else kind)
+
+
+def _link_names(kind: str) -> tuple[str, ...]:
+    return DESIGN_LINKS if kind == DESIGN_KIND else _linkage(kind).links
 
 
 def _positive_length() -> Callable[[str, Any], float]:
@@ -90,16 +95,16 @@ def _default_ground_bounds(values: dict[str, Any], path: str) -> tuple[float, fl
 
 
 def _link_keys(table: str, kind: str) -> tuple[Key, ...]:
-    names = DESIGN_LINKS if kind == DESIGN_KIND else LINK_NAMES[kind]
-    keys = [Key(table, name, _positive_length(), REQUIRED, "length", POSITIVE) for name in names]
-    if kind == "slider_crank":
+    linkage = _linkage(kind)
+    keys = [Key(table, name, _positive_length(), REQUIRED, "length", POSITIVE)
+            for name in _link_names(kind)]
+    if linkage.extra == "offset":
         keys.append(Key(table, "offset", number(-math.inf, math.inf, "length units",
                                                 lower_open=True, upper_open=True),
                         0.0, "length",
                         "any finite number (slider line height above the crank pivot)"))
     else:
-        default_branch = "crossed" if kind == "quick_return" else "open"
-        keys.append(Key(table, "branch", choice(("open", "crossed")), default_branch, "",
+        keys.append(Key(table, "branch", choice(("open", "crossed")), linkage.default_branch, "",
                         "'open' or 'crossed'"))
     keys.append(Key(table, "length_unit", text(20), "", "",
                     "free text, at most 20 characters (e.g. 'mm'; labels only)"))
@@ -129,7 +134,7 @@ COUPLER_POINT_KEY = Key("plots", "coupler_point",
                         number_list(-10.0, 10.0, "", max_length=2), (0.5, 0.0), "coupler lengths",
                         "[along A->B, to the left of A->B], each in [-10, 10] coupler lengths")
 # The shaft series' [solver] keys, with sso.design_fourbar's defaults.
-DESIGN_SOLVER_DEFAULTS = {"tolerance": DEFAULT_FOURBAR_SOLVER_TOL}
+DESIGN_SOLVER_DEFAULTS = {"solver_tol": DEFAULT_FOURBAR_SOLVER_TOL}
 SOLVER_KEYS: tuple[Key, ...] = tuple(
     replace(key, default=DESIGN_SOLVER_DEFAULTS.get(key.name, key.default))
     for key in SHAFT_SERIES_KEYS if key.table == "solver"
@@ -153,7 +158,8 @@ def kind_keys(kind: str) -> tuple[Key, ...]:
     """The keys of one mechanism kind (without the common keys)."""
     if kind == DESIGN_KIND:
         return DESIGN_KEYS
-    plot_keys = (PLOT_ANGLE_KEY, COUPLER_POINT_KEY) if kind == "fourbar" else (PLOT_ANGLE_KEY,)
+    plot_keys = ((PLOT_ANGLE_KEY, COUPLER_POINT_KEY) if _linkage(kind).coupler_point
+                 else (PLOT_ANGLE_KEY,))
     return (*_link_keys("linkage", kind), *DRIVE_KEYS, *plot_keys)
 
 
@@ -209,7 +215,7 @@ class MechanismCase:
 
     @property
     def on_unassembled(self) -> str:
-        """``"raise"`` or ``"mark"``, as :meth:`sso.linkages.mechanisms.FourBar.analyse` takes it."""
+        """``"raise"`` or ``"mark"``, as :meth:`sso.FourBar.analyse` takes it."""
         return self.values["drive.on_unassembled"]
 
     def crank_angles_deg(self) -> np.ndarray:
@@ -217,7 +223,7 @@ class MechanismCase:
         return angle_grid(self.values["drive.start_deg"], self.values["drive.stop_deg"],
                           self.values["drive.step_deg"])
 
-    def mechanism(self) -> FourBar | SliderCrank | QuickReturn:
+    def mechanism(self) -> CrankDriven:
         """The linkage as given (the start linkage of a design case)."""
         return build_mechanism(self.kind, self.values, self.link_table)
 
@@ -225,7 +231,7 @@ class MechanismCase:
         """Keyword arguments of :func:`sso.design_fourbar` for a ``fourbar_design`` case."""
         bounds = {f"{name}_bounds": self.values[f"bounds.{name}"] for name in DESIGN_LINKS}
         solver = {name: self.values[f"solver.{name}"]
-                  for name in ("solvers", "starts", "tolerance", "max_iterations", "seed")}
+                  for name in ("solvers", "starts", "solver_tol", "max_iterations", "seed")}
         return {**bounds, "transmission_angle_bounds_deg":
                 self.values["bounds.transmission_angle_deg"], **solver}
 
@@ -237,7 +243,7 @@ class MechanismCase:
         return f"{self.kind}: {lengths} {self.length_unit}; {rows} crank angles"
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
-                       formats: tuple[str, ...] | None = None) -> "MechanismCase":
+                       formats: tuple[str, ...] | None = None) -> MechanismCase:
         """A copy with the solvers (design cases only) and/or report formats replaced."""
         values = dict(self.values)
         if solvers is not None and self.kind == DESIGN_KIND:
@@ -269,15 +275,11 @@ def angle_grid(start_deg: float, stop_deg: float, step_deg: float) -> np.ndarray
 
 
 def build_mechanism(kind: str, values: dict[str, Any],
-                    table: str) -> FourBar | SliderCrank | QuickReturn:
+                    table: str) -> CrankDriven:
     """The mechanism of ``kind`` from checked values keyed by dotted label."""
-    extra = "offset" if kind == "slider_crank" else "branch"
-    arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), extra)}
-    return MECHANISM_TYPES[kind](**arguments)
-
-
-def _link_names(kind: str) -> tuple[str, ...]:
-    return DESIGN_LINKS if kind == DESIGN_KIND else LINK_NAMES[kind]
+    linkage = _linkage(kind)
+    arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), linkage.extra)}
+    return linkage.mechanism(**arguments)  # type: ignore[no-any-return]
 
 
 def _plain(value: Any) -> Any:
@@ -295,7 +297,7 @@ def _build(values: dict[str, Any], path: str) -> MechanismCase:
         raise ValueError(f"drive.step_deg = {step:g} gives {rows} crank angles from "
                          f"drive.start_deg = {start:g} to drive.stop_deg = {stop:g}; "
                          f"at most {MAX_ROWS} are allowed")
-    if kind == "fourbar" or kind == DESIGN_KIND:
+    if _linkage(kind).coupler_point:
         if len(values["plots.coupler_point"]) != 2:
             raise ValueError(f"plots.coupler_point = {list(values['plots.coupler_point'])} must "
                              "have 2 entries: [along A->B, to the left of A->B]")

@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
+
+from sso.cli.common import Command
 
 
 def configure_sweep(parser: argparse.ArgumentParser) -> None:
@@ -62,15 +65,16 @@ def run_sweep(args: argparse.Namespace) -> int:
 def run_tolerance(args: argparse.Namespace) -> int:
     """Run ``sso tolerance``; exit 0 on success, 2 for bad input."""
     from sso.batch.axes import base_case
-    from sso.batch.tolerance import tolerance
+    from sso.batch.tolerance_study import tolerance_study
     from sso.cli.common import DEFAULT_OUT, EXIT_OK
 
     def work(client: Any) -> int:
         case = base_case(args.case)
-        result = tolerance(case, samples=args.samples, seed=args.seed,
-                           out_dir=Path(args.out or DEFAULT_OUT) / case.name, client=client,
-                           workers=args.workers, progress=False if args.quiet else None,
-                           plots=not args.no_plots)
+        result = tolerance_study(case, samples=args.samples, seed=args.seed,
+                                 out_dir=Path(args.out or DEFAULT_OUT) / case.name,
+                                 client=client, workers=args.workers,
+                                 progress=False if args.quiet else None,
+                                 plots=not args.no_plots)
         print(result.summary(), flush=True)
         return EXIT_OK
 
@@ -106,3 +110,19 @@ def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], in
     finally:
         if client is not None:
             client.close()
+
+
+COMMANDS = (
+    Command("sweep", "optimise or evaluate a base case over a grid of key values",
+            "Run a sweep file: a base case, the [axes] to vary (any case key, e.g. "
+            "design.beta_deg[1], option, model, input_speed_rpm) and the action. Writes "
+            "sweep.csv as chunks finish, report.md and a plot into DIR/<name>/; --resume "
+            "computes only the missing points. Exit 0: every point finished (and converged); "
+            "1: some did not; 2: bad input.",
+            configure_sweep, run_sweep),
+    Command("tolerance", "Monte Carlo tolerance study of a case's design",
+            "Perturb the case's angles and phases as its [tolerance] table says (normal or "
+            "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
+            "and output acceleration with a histogram into DIR/<case name>/.",
+            configure_tolerance, run_tolerance),
+)

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sso.limits import BETA_LIMIT_DEG
+from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG
 from sso.validation import as_float_tuple, finite_float
 
 if TYPE_CHECKING:
@@ -43,7 +43,6 @@ STRAIGHT_SINE = 1e-12
 ROUND_OFF_SINE = 1e-13
 # Consecutive points closer than this fraction of the column's extent coincide.
 COINCIDENT_RELATIVE = 1e-9
-CONVENTIONAL_PHASE_DEG = 90.0
 
 
 @dataclass(frozen=True)
@@ -244,14 +243,16 @@ def _validated_points(points_mm: Any) -> np.ndarray:
     try:
         rows = [list(row) for row in points_mm]
     except TypeError:
-        raise TypeError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points in mm") from None
+        raise TypeError(f"points_mm = {points_mm!r} must be a list of [x, y, z] points "
+                        "in mm") from None
     if len(rows) < 3:
         raise ValueError(f"points_mm has {len(rows)} points; a column needs at least 3 "
                          "(input point, one joint centre, output point: 2 shafts)")
     points = np.empty((len(rows), 3))
     for index, row in enumerate(rows):
         if len(row) != 3:
-            raise ValueError(f"points_mm[{index}] = {row!r} must have 3 coordinates [x, y, z] in mm")
+            raise ValueError(f"points_mm[{index}] = {row!r} must have 3 coordinates "
+                             "[x, y, z] in mm")
         for axis, value in enumerate(row):
             points[index, axis] = finite_float(f"points_mm[{index}][{axis}]", value)
     extent = float(np.ptp(points, axis=0).max())

@@ -10,6 +10,13 @@ import numpy as np
 from sso.column.cancel import CancelVerdict, can_cancel, minimising_phases_deg
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.limits import (
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_STARTS,
+    SOLVER_NAMES,
+)
 
 if TYPE_CHECKING:
     from sso.shafts.optimise import OptimisationResult
@@ -79,10 +86,12 @@ class PhasingResult:
         return self.x
 
 
-def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
-                     solvers: tuple[str, ...] = ("ipopt", "slsqp"),
-                     input_speed_rpm: float = 25.0, tolerance: float = 1e-12,
-                     max_iterations: int = 500, seed: int = 0) -> PhasingResult:
+def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
+                     solvers: tuple[str, ...] = SOLVER_NAMES,
+                     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+                     solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
+                     max_iterations: int = DEFAULT_MAX_ITERATIONS,
+                     seed: int = 0) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every
@@ -99,8 +108,8 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
         Solvers; with two they are cross-checked.
     input_speed_rpm : float
         Input speed for the reported figures, rpm.
-    tolerance, max_iterations
-        Solver tolerance and iteration limit of each run (as :func:`sso.optimise`).
+    solver_tol, max_iterations
+        The solvers' stopping tolerance and iteration limit of each run (as :func:`sso.optimise`).
     seed : int
         Seed of the space-filling starts and of the search for representatives of
         a continuum of optima.
@@ -128,7 +137,7 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = 8,
     in_phase = geometry.series()
     run = sso.optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
                        solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
-                       tolerance=tolerance, max_iterations=max_iterations, seed=seed)
+                       solver_tol=solver_tol, max_iterations=max_iterations, seed=seed)
     best_phase = np.mod(np.asarray(run.best.series.phase_deg), 180.0)
     verdict = can_cancel(geometry.beta_deg)
     closed = minimising_phases_deg(geometry.beta_deg)

@@ -154,7 +154,8 @@ def best_spline_teeth(geometry: ColumnGeometry, teeth: int | Sequence[int] = 36,
     offsets = [_distinct_offsets(count) for count in counts]
     phase_choices = [np.radians(np.mod(CONVENTIONAL_PHASE_DEG + offset * 360.0 / count - gamma,
                                        180.0))
-                     for offset, count, gamma in zip(offsets, counts, geometry.plane_angle_deg)]
+                     for offset, count, gamma in zip(offsets, counts, geometry.plane_angle_deg,
+                                                      strict=True)]
     beta_rad = np.radians(geometry.beta_deg)
     total = math.prod(len(choice) for choice in offsets)
     if method == "auto":
@@ -169,13 +170,14 @@ def best_spline_teeth(geometry: ColumnGeometry, teeth: int | Sequence[int] = 36,
     return SplineResult(
         teeth=counts,
         tooth_offset=chosen,
-        yoke_phase_deg=tuple(offset * 360.0 / count for offset, count in zip(chosen, counts)),
+        yoke_phase_deg=tuple(offset * 360.0 / count for offset, count in zip(chosen, counts,
+                                                                              strict=True)),
         residual_error=best_re,
         continuous_residual_error=continuous,
         loss=max(0.0, best_re - continuous),
         ties=tuple(best_offsets),
         instructions=tuple(_instruction(k + 1, count, offset)
-                           for k, (count, offset) in enumerate(zip(counts, chosen))),
+                           for k, (count, offset) in enumerate(zip(counts, chosen, strict=True))),
         method=method,
         assemblies_evaluated=evaluated,
     )

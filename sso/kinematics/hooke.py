@@ -17,8 +17,9 @@ instead of the angle itself, so it is branch-free and smooth for CasADi.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 MODELS = ("exact", "paper")
 
@@ -144,7 +145,8 @@ def chain_kinematics(
             )
             # Angle from the joint's input to its output: atan2 of the cross and dot
             # products of the two unit vectors; the dot product stays positive.
-            lag = lag + _atan(xp, cos_a * sin_a * (cos_b - 1), cos_a * cos_a + cos_b * sin_a * sin_a)
+            lag = lag + _atan(xp, cos_a * sin_a * (cos_b - 1),
+                              cos_a * cos_a + cos_b * sin_a * sin_a)
         if model == "exact":
             norm = xp.sqrt(norm_squared)
             cos_g = cos_a / norm
@@ -158,5 +160,5 @@ def chain_kinematics(
 
 def _atan(xp: Any, numerator: Any, positive_denominator: Any) -> Any:
     """``atan2(y, x)`` for ``x > 0``, from whichever name the namespace uses."""
-    atan2 = getattr(xp, "arctan2", None) or getattr(xp, "atan2")
+    atan2 = getattr(xp, "arctan2", None) or xp.atan2
     return atan2(numerator, positive_denominator)

@@ -291,7 +291,8 @@ def residuals_and_jacobian_floats(
     before.append((a11, a12, a21, a22))
     for k in range(1, count):
         c, s = cos_phase[k - 1], sin_phase[k - 1]
-        a11, a12, a21, a22 = c * a11 - s * a21, c * a12 - s * a22, s * a11 + c * a21, s * a12 + c * a22
+        a11, a12, a21, a22 = (c * a11 - s * a21, c * a12 - s * a22,
+                              s * a11 + c * a21, s * a12 + c * a22)
         a21, a22 = cos_beta[k] * a21, cos_beta[k] * a22
         before.append((a11, a12, a21, a22))
     determinant = 1.0
@@ -309,7 +310,8 @@ def residuals_and_jacobian_floats(
         cb = cos_beta[k]
         b12, b22 = b12 * cb, b22 * cb
         c, s = cos_phase[k - 1], sin_phase[k - 1]
-        b11, b12, b21, b22 = b11 * c + b12 * s, -b11 * s + b12 * c, b21 * c + b22 * s, -b21 * s + b22 * c
+        b11, b12, b21, b22 = (b11 * c + b12 * s, -b11 * s + b12 * c,
+                              b21 * c + b22 * s, -b21 * s + b22 * c)
     after[0] = (b11, b12, b21, b22)
     row1: list[float] = []
     row2: list[float] = []

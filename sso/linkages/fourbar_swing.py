@@ -21,11 +21,13 @@ real equality and inequality constraints:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from sso.deprecation import renamed_keywords
 from sso.limits import (
     DEFAULT_FOURBAR_SOLVER_TOL,
     DEFAULT_MAX_ITERATIONS,
@@ -38,22 +40,16 @@ from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
 )
-from sso.solvers.multistart import (
-    best_solution,
-    distinct_minima,
-    run_starts,
-    solution_from_run,
-)
+from sso.solvers.multistart import solution_from_run, solve_from_starts
+from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.solution import CrossCheck, Solution
-from sso.solvers.starts import DEFAULT_SEED, start_points
+from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     per_item_bounds,
     validate_count,
+    validate_solver_tol,
     validate_solvers,
-    validate_tolerance,
 )
 
 if TYPE_CHECKING:
@@ -62,8 +58,8 @@ if TYPE_CHECKING:
 LINKS = ("crank", "coupler", "rocker", "ground")
 
 
-@dataclass(frozen=True)
-class FourBarDesignResult:
+@dataclass(frozen=True, kw_only=True)
+class FourBarDesignResult(DesignResult):
     """Outcome of :func:`design_fourbar`.
 
     Attributes
@@ -78,37 +74,23 @@ class FourBarDesignResult:
         The limits imposed, deg.
     link_bounds : dict of str to (float, float)
         Bounds of each link length (length units).
-    best : sso.Solution
-        ``x`` = (crank, coupler, rocker, ground, extended and folded rocker
-        angles at the pivot in rad); ``fun`` = minus the swing, rad.
-    solutions : dict of str to Solution
-    runs : tuple of Solution
-    crosscheck : sso.CrossCheck or None
-    local_minima : tuple of float
-        Distinct objective values (minus swing, rad) the successful runs stopped at.
+    best, solutions, runs, crosscheck, local_minima
+        As in :class:`sso.solvers.result.DesignResult`: ``x`` = (crank, coupler,
+        rocker, ground, extended and folded rocker angles at the pivot in rad);
+        ``fun`` = minus the swing, rad.
     """
 
-    initial: "FourBar"
-    optimum: "FourBar"
+    initial: FourBar
+    optimum: FourBar
     initial_swing_deg: float | None
     optimum_swing_deg: float
     optimum_transmission_angle_deg: tuple[float, float]
     transmission_angle_bounds_deg: tuple[float, float]
     link_bounds: dict[str, tuple[float, float]]
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-    local_minima: tuple[float, ...]
-
-    @property
-    def success(self) -> bool:
-        """True when the best answer converged, is feasible and the solvers agree."""
-        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
-        def linkage(fourbar: "FourBar") -> dict[str, float]:
+        def linkage(fourbar: FourBar) -> dict[str, float]:
             return {name: getattr(fourbar, name) for name in LINKS}
 
         return {
@@ -119,17 +101,13 @@ class FourBarDesignResult:
             "optimum_transmission_angle_deg": list(self.optimum_transmission_angle_deg),
             "transmission_angle_bounds_deg": list(self.transmission_angle_bounds_deg),
             "link_bounds": {name: list(pair) for name, pair in self.link_bounds.items()},
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
-            "success": self.success,
+            **self.solver_dict(),
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def design_fourbar(
-    start: "FourBar",
+    start: FourBar,
     *,
     crank_bounds: tuple[float, float],
     coupler_bounds: tuple[float, float],
@@ -138,7 +116,7 @@ def design_fourbar(
     transmission_angle_bounds_deg: tuple[float, float] = TRANSMISSION_BAND_DEG,
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = DEFAULT_STARTS,
-    tolerance: float = DEFAULT_FOURBAR_SOLVER_TOL,
+    solver_tol: float = DEFAULT_FOURBAR_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
 ) -> FourBarDesignResult:
@@ -155,7 +133,7 @@ def design_fourbar(
         and transmission angle do not change with scale, so one length must be held).
     transmission_angle_bounds_deg : (float, float)
         Allowed transmission angle over the whole revolution, deg, inside (0, 180).
-    solvers, starts, tolerance, max_iterations, seed
+    solvers, starts, solver_tol, max_iterations, seed
         As in :func:`sso.optimise`.
 
     Returns
@@ -170,15 +148,16 @@ def design_fourbar(
     """
     from sso.linkages.mechanisms import FourBar
 
-    solver_names = validate_solvers(solvers, ("ipopt", "slsqp"))
+    solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
-    tolerance = validate_tolerance(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     if ground_bounds is None:
         ground_bounds = (start.ground, start.ground)
     link_bounds = {
         name: per_item_bounds(f"{name}_bounds", pair, 1, 0.0, math.inf, "length units")[0]
-        for name, pair in zip(LINKS, (crank_bounds, coupler_bounds, rocker_bounds, ground_bounds))
+        for name, pair in zip(LINKS, (crank_bounds, coupler_bounds, rocker_bounds, ground_bounds),
+                               strict=True)
     }
     for name, (lower, _) in link_bounds.items():
         if lower <= 0:
@@ -198,19 +177,16 @@ def design_fourbar(
         constraint_lower=np.array([0.0, 0.0, -inf, math.cos(math.radians(mu_high))] + [-inf] * 6),
         constraint_upper=np.array([0.0, 0.0, math.cos(math.radians(mu_low)), inf] + [0.0] * 6),
     )
-    nlp = _compiled()
     lengths = np.clip([start.crank, start.coupler, start.rocker, start.ground], lower[:4],
                       upper[:4])
     user_start = np.concatenate([lengths, _limit_angles(*lengths)])
-    points = start_points(user_start, lower, upper, starts, seed)
-    measured = run_starts(nlp, points, np.zeros(0), limits, solver_names, tolerance,
-                          max_iterations)
-    solver_runs = {name: [solution_from_run(run, runs) for run in runs]
-                   for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
-    best = best_solution(solutions.values())
-    optimum = FourBar(**dict(zip(LINKS, best.x[:4])), branch=start.branch)
+    solved = solve_from_starts(
+        _compiled(), user_start, limits, np.zeros(0), solver_names=solver_names,
+        starts=starts, seed=seed, solver_tol=solver_tol, max_iterations=max_iterations,
+        to_solution=solution_from_run, objective_rtol=DEFAULT_OBJECTIVE_RTOL,
+        objective_atol=DEFAULT_OBJECTIVE_ATOL, kkt_tolerance=DEFAULT_KKT_TOLERANCE)
+    best = solved["best"]
+    optimum = FourBar(**dict(zip(LINKS, best.x[:4], strict=True)), branch=start.branch)
     return FourBarDesignResult(
         initial=start,
         optimum=optimum,
@@ -219,16 +195,11 @@ def design_fourbar(
         optimum_transmission_angle_deg=transmission_angle_range_deg(optimum),
         transmission_angle_bounds_deg=(mu_low, mu_high),
         link_bounds=link_bounds,
-        best=best,
-        solutions=solutions,
-        runs=tuple(all_runs),
-        crosscheck=(crosscheck(solutions, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL,
-                               DEFAULT_KKT_TOLERANCE) if len(solutions) > 1 else None),
-        local_minima=distinct_minima(all_runs, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL),
+        **solved,
     )
 
 
-def transmission_angle_range_deg(fourbar: "FourBar") -> tuple[float, float]:
+def transmission_angle_range_deg(fourbar: FourBar) -> tuple[float, float]:
     """Smallest and largest transmission angle over a crank revolution, deg.
 
     They occur with the crank along the ground line (0 and 180 deg).
@@ -249,7 +220,8 @@ def _limit_angles(crank: float, coupler: float, rocker: float, ground: float) ->
     return np.array([angle(coupler + crank), angle(coupler - crank)])
 
 
-def _transmission_cosines(xp: Any, crank: Any, coupler: Any, rocker: Any, ground: Any) -> tuple[Any, Any]:
+def _transmission_cosines(xp: Any, crank: Any, coupler: Any, rocker: Any,
+                          ground: Any) -> tuple[Any, Any]:
     common = coupler * coupler + rocker * rocker
     return ((common - (ground - crank) ** 2) / (2 * coupler * rocker),
             (common - (ground + crank) ** 2) / (2 * coupler * rocker))

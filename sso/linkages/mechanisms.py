@@ -26,6 +26,7 @@ from sso.kinematics.fourbar import (
 from sso.kinematics.quick_return import solve_quick_return
 from sso.kinematics.slider_crank import series_piston_motion, solve_slider_crank
 from sso.kinematics.vector_loop import BoolArray, ComplexArray, FloatArray
+from sso.linkages.registry import Linkage, register
 from sso.linkages.table import MechanismTable
 from sso.validation import check_choice, check_in_range, finite_float
 
@@ -42,7 +43,7 @@ Column = tuple[str, str, np.ndarray]
 """A table column as (name, unit, values)."""
 
 
-class _CrankDriven(ABC):
+class CrankDriven(ABC):
     """What the mechanisms share: ``analyse`` over crank angles into a table."""
 
     table_name: ClassVar[str]
@@ -99,7 +100,7 @@ class _CrankDriven(ABC):
 
 
 @dataclass(frozen=True)
-class FourBar(_CrankDriven):
+class FourBar(CrankDriven):
     """Four-bar linkage O_A-A-B-O_B driven by the crank O_A-A.
 
     O_A is the origin and O_B is at ``(ground, 0)``.
@@ -194,7 +195,7 @@ class FourBar(_CrankDriven):
 
 
 @dataclass(frozen=True)
-class SliderCrank(_CrankDriven):
+class SliderCrank(CrankDriven):
     """Slider-crank: crank O-A, connecting rod A-B, piston pin B on a line.
 
     O is the origin; B slides along ``y = offset`` on the +x side of the crank.
@@ -259,7 +260,7 @@ class SliderCrank(_CrankDriven):
 
 
 @dataclass(frozen=True)
-class QuickReturn(_CrankDriven):
+class QuickReturn(CrankDriven):
     """Quick-return mechanism: four-bar O2-A-B-O4 driving slider C through link B-C.
 
     O2 is the origin, O4 is at ``(ground, 0)`` and C slides on ``y = 0`` on the
@@ -517,3 +518,210 @@ def _validate_finite(mechanism: object, field: str) -> None:
 
 def _validate_choice(mechanism: object, field: str, allowed: Sequence[str]) -> None:
     check_choice(f"{type(mechanism).__name__}.{field}", getattr(mechanism, field), allowed)
+
+
+# ---------------------------------------------------------------- registry entries
+
+register(
+    Linkage(
+        kind="fourbar",
+        mechanism=FourBar,
+        links=("ground", "crank", "coupler", "rocker"),
+        extra="branch",
+        report_columns=(
+            "crank_angle_deg",
+            "coupler_angle_deg",
+            "rocker_angle_deg",
+            "transmission_angle_deg",
+            "joint_a_x",
+            "joint_a_y",
+            "joint_b_x",
+            "joint_b_y",
+            "coupler_angular_velocity_rad_s",
+            "rocker_angular_velocity_rad_s",
+            "coupler_angular_accel_rad_s2",
+            "rocker_angular_accel_rad_s2",
+        ),
+        extreme_columns=(
+            "transmission_angle_deg",
+            "rocker_angle_deg",
+            "coupler_angular_velocity_rad_s",
+            "rocker_angular_velocity_rad_s",
+            "coupler_angular_accel_rad_s2",
+            "rocker_angular_accel_rad_s2",
+        ),
+        series_plots=(
+            (
+                "angular_motion.png",
+                "coupler and rocker angular velocity and acceleration",
+                (
+                    (
+                        "angular velocity (rad/s)",
+                        (
+                            ("coupler_angular_velocity_rad_s", "coupler"),
+                            ("rocker_angular_velocity_rad_s", "rocker"),
+                        ),
+                    ),
+                    (
+                        "angular acceleration (rad/s$^2$)",
+                        (
+                            ("coupler_angular_accel_rad_s2", "coupler"),
+                            ("rocker_angular_accel_rad_s2", "rocker"),
+                        ),
+                    ),
+                ),
+            ),
+        ),
+        coupler_point=True,
+        transmission_plot=True,
+        drawing="fourbar_like",
+    )
+)
+register(
+    Linkage(
+        kind="slider_crank",
+        mechanism=SliderCrank,
+        links=("crank", "rod"),
+        extra="offset",
+        report_columns=(
+            "crank_angle_deg",
+            "rod_angle_deg",
+            "piston_position",
+            "rod_angular_velocity_rad_s",
+            "rod_angular_accel_rad_s2",
+            "piston_velocity",
+            "piston_velocity_approximate",
+            "piston_accel",
+            "piston_accel_approximate",
+        ),
+        extreme_columns=(
+            "piston_position",
+            "piston_velocity",
+            "piston_velocity_approximate",
+            "piston_accel",
+            "piston_accel_approximate",
+            "rod_angular_velocity_rad_s",
+            "rod_angular_accel_rad_s2",
+        ),
+        series_plots=(
+            (
+                "piston_motion.png",
+                "piston velocity and acceleration, exact vs series (Holowenko)",
+                (
+                    (
+                        "piston velocity ({length}/s)",
+                        (
+                            ("piston_velocity", "exact"),
+                            ("piston_velocity_approximate", "series approximation", "--"),
+                        ),
+                    ),
+                    (
+                        "velocity, series - exact\n({length}/s)",
+                        (("piston_velocity_approximate-piston_velocity", "series - exact"),),
+                    ),
+                    (
+                        "piston acceleration ({length}/s$^2$)",
+                        (
+                            ("piston_accel", "exact"),
+                            ("piston_accel_approximate", "series approximation", "--"),
+                        ),
+                    ),
+                    (
+                        "acceleration, series - exact\n({length}/s$^2$)",
+                        (("piston_accel_approximate-piston_accel", "series - exact"),),
+                    ),
+                ),
+            ),
+            (
+                "rod_motion.png",
+                "connecting-rod angle, angular velocity and acceleration",
+                (
+                    ("rod angle (deg)", (("rod_angle_deg", "rod A->B"),)),
+                    ("angular velocity (rad/s)", (("rod_angular_velocity_rad_s", "rod"),)),
+                    ("angular acceleration (rad/s$^2$)", (("rod_angular_accel_rad_s2", "rod"),)),
+                ),
+            ),
+        ),
+        drawing="slider_crank",
+    )
+)
+register(
+    Linkage(
+        kind="quick_return",
+        mechanism=QuickReturn,
+        links=("crank", "coupler", "rocker", "slider_link", "ground"),
+        extra="branch",
+        report_columns=(
+            "crank_angle_deg",
+            "joint_a_x",
+            "joint_a_y",
+            "joint_b_x",
+            "joint_b_y",
+            "joint_c_x",
+            "joint_b_speed",
+            "joint_c_velocity_x",
+            "joint_b_accel_magnitude",
+            "joint_c_accel_x",
+            "rocker_angular_velocity_rad_s",
+        ),
+        extreme_columns=(
+            "rocker_angle_deg",
+            "transmission_angle_deg",
+            "joint_c_x",
+            "joint_c_velocity_x",
+            "joint_c_accel_x",
+            "joint_b_speed",
+            "joint_b_accel_magnitude",
+            "rocker_angular_velocity_rad_s",
+            "slider_link_angular_velocity_rad_s",
+        ),
+        series_plots=(
+            (
+                "angular_motion.png",
+                "angular velocity and acceleration of the links",
+                (
+                    (
+                        "angular velocity (rad/s)",
+                        (
+                            ("coupler_angular_velocity_rad_s", "coupler AB"),
+                            ("rocker_angular_velocity_rad_s", "rocker O4B"),
+                            ("slider_link_angular_velocity_rad_s", "slider link BC"),
+                        ),
+                    ),
+                    (
+                        "angular acceleration (rad/s$^2$)",
+                        (
+                            ("coupler_angular_accel_rad_s2", "coupler AB"),
+                            ("rocker_angular_accel_rad_s2", "rocker O4B"),
+                            ("slider_link_angular_accel_rad_s2", "slider link BC"),
+                        ),
+                    ),
+                ),
+            ),
+            (
+                "slider_motion.png",
+                "slider C and joint B: position, velocity, acceleration",
+                (
+                    ("slider position x$_C$ ({length})", (("joint_c_x", "slider C"),)),
+                    (
+                        "velocity ({length}/s)",
+                        (
+                            ("joint_c_velocity_x", "slider C, along x"),
+                            ("joint_b_speed", "joint B, magnitude"),
+                        ),
+                    ),
+                    (
+                        "acceleration ({length}/s$^2$)",
+                        (
+                            ("joint_c_accel_x", "slider C, along x"),
+                            ("joint_b_accel_magnitude", "joint B, magnitude"),
+                        ),
+                    ),
+                ),
+            ),
+        ),
+        default_branch="crossed",
+        transmission_plot=True,
+        drawing="fourbar_like",
+    )
+)

@@ -123,7 +123,7 @@ class MechanismTable:
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
         writer.writerow(self.columns)
-        for row in zip(*self.columns.values()):
+        for row in zip(*self.columns.values(), strict=True):
             writer.writerow(_csv_cell(value) for value in row)
         return buffer.getvalue()
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import base64
 import html
-from typing import Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table
 

@@ -7,7 +7,7 @@ have their pipes escaped and line breaks folded.
 from __future__ import annotations
 
 import html
-from typing import Sequence
+from collections.abc import Sequence
 
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table
 

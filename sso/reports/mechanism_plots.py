@@ -8,14 +8,16 @@ is imported inside :func:`render_mechanism_plots` only (through
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
 from sso.cases.mechanism import MechanismCase, angle_grid
 from sso.limits import TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.mechanisms import CrankDriven, QuickReturn
+from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
 from sso.run.mechanism_document import (
@@ -40,57 +42,9 @@ BAND_TOLERANCE_DEG = 1e-6
 class Curves:
     """One linkage's tables: dense for lines, as tabulated for markers."""
 
-    mechanism: FourBar | SliderCrank | QuickReturn
+    mechanism: CrankDriven
     dense: MechanismTable
     tabulated: MechanismTable
-
-
-# (file name, title, panels); a panel is (y label with {length} for the unit, columns)
-# and a column is (table column, legend label).
-SERIES_PLOTS: dict[str, tuple[tuple[str, str, tuple], ...]] = {
-    "FourBar": (
-        ("angular_motion.png", "coupler and rocker angular velocity and acceleration", (
-            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler"),
-                                          ("rocker_angular_velocity_rad_s", "rocker"))),
-            ("angular acceleration (rad/s$^2$)", (("coupler_angular_accel_rad_s2", "coupler"),
-                                                  ("rocker_angular_accel_rad_s2", "rocker"))))),
-    ),
-    "SliderCrank": (
-        ("piston_motion.png", "piston velocity and acceleration, exact vs series (Holowenko)", (
-            ("piston velocity ({length}/s)", (("piston_velocity", "exact"),
-                                              ("piston_velocity_approximate",
-                                               "series approximation", "--"))),
-            ("velocity, series - exact\n({length}/s)",
-             (("piston_velocity_approximate-piston_velocity", "series - exact"),)),
-            ("piston acceleration ({length}/s$^2$)", (("piston_accel", "exact"),
-                                                      ("piston_accel_approximate",
-                                                       "series approximation", "--"))),
-            ("acceleration, series - exact\n({length}/s$^2$)",
-             (("piston_accel_approximate-piston_accel", "series - exact"),)))),
-        ("rod_motion.png", "connecting-rod angle, angular velocity and acceleration", (
-            ("rod angle (deg)", (("rod_angle_deg", "rod A->B"),)),
-            ("angular velocity (rad/s)", (("rod_angular_velocity_rad_s", "rod"),)),
-            ("angular acceleration (rad/s$^2$)", (("rod_angular_accel_rad_s2", "rod"),)))),
-    ),
-    "QuickReturn": (
-        ("angular_motion.png", "angular velocity and acceleration of the links", (
-            ("angular velocity (rad/s)", (("coupler_angular_velocity_rad_s", "coupler AB"),
-                                          ("rocker_angular_velocity_rad_s", "rocker O4B"),
-                                          ("slider_link_angular_velocity_rad_s",
-                                           "slider link BC"))),
-            ("angular acceleration (rad/s$^2$)", (
-                ("coupler_angular_accel_rad_s2", "coupler AB"),
-                ("rocker_angular_accel_rad_s2", "rocker O4B"),
-                ("slider_link_angular_accel_rad_s2", "slider link BC"))))),
-        ("slider_motion.png", "slider C and joint B: position, velocity, acceleration", (
-            ("slider position x$_C$ ({length})", (("joint_c_x", "slider C"),)),
-            ("velocity ({length}/s)", (("joint_c_velocity_x", "slider C, along x"),
-                                       ("joint_b_speed", "joint B, magnitude"))),
-            ("acceleration ({length}/s$^2$)", (("joint_c_accel_x", "slider C, along x"),
-                                               ("joint_b_accel_magnitude",
-                                                "joint B, magnitude"))))),
-    ),
-}
 
 
 def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
@@ -110,11 +64,11 @@ def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     """
     case = case_from_document(document)
     curves = {role: _curves(document, case, role) for role in document["linkages"]}
-    kind = next(iter(curves.values())).mechanism.__class__.__name__
+    linkage = linkage_of(next(iter(curves.values())).mechanism)
     images = {"linkage.png": _linkage_plot(document, case, curves)}
-    for file_name, title, panels in SERIES_PLOTS[kind]:
+    for file_name, title, panels in linkage.series_plots:
         images[file_name] = _series_plot(document, curves, title, panels)
-    if kind in ("FourBar", "QuickReturn"):
+    if linkage.transmission_plot:
         images["transmission_angle.png"] = _transmission_plot(document, case, curves)
     return images
 
@@ -177,8 +131,8 @@ def _series_plot(document: Mapping[str, Any], curves: Mapping[str, Curves], titl
         figure.set_size_inches(figure.get_size_inches()[0], 9.0)
     axes_list = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     case = case_from_document(document)
-    for axes, (y_label, columns) in zip(axes_list, panels):
-        for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns):
+    for axes, (y_label, columns) in zip(axes_list, panels, strict=True):
+        for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns, strict=False):
             for role, curve in curves.items():
                 dense, tabulated = _column(curve.dense, column), _column(curve.tabulated, column)
                 if dense is None:
@@ -212,7 +166,7 @@ def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
                  label=f"recommended band [{low:g}, {high:g}] deg")
     for bound in (low, high):
         axes.axhline(bound, color=BAND_COLOUR, linewidth=1.0)
-    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items()):
+    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items(), strict=False):
         angle = curve.dense["crank_angle_deg"]
         values = curve.dense["transmission_angle_deg"]
         lowest = int(np.nanargmin(values))
@@ -246,12 +200,9 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     figure = _new_figure()
     axes_list = figure.subplots(1, len(curves), squeeze=False)[0]
     plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
-    for axes, (role, curve) in zip(axes_list, curves.items()):
+    for axes, (role, curve) in zip(axes_list, curves.items(), strict=True):
         snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
-        if isinstance(curve.mechanism, SliderCrank):
-            _draw_slider_crank(axes, curve, snapshots)
-        else:
-            _draw_fourbar_like(axes, curve, snapshots)
+        DRAWINGS[linkage_of(curve.mechanism).drawing](axes, curve, snapshots)
         for index, angle in enumerate(plotted):
             if _assembled(snapshots, index):
                 axes.annotate(f"{angle:g}°", (snapshots["joint_a_x"][index],
@@ -275,7 +226,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     return _png(figure)
 
 
-def _lengths(mechanism: FourBar | SliderCrank | QuickReturn) -> str:
+def _lengths(mechanism: CrankDriven) -> str:
     return ", ".join(f"{name} {value:.4g}" for name, value in vars(mechanism).items()
                      if not isinstance(value, str))
 
@@ -354,6 +305,26 @@ def _draw_block(axes: Any, centre: complex, size: float, alpha: float, first: bo
                              label="slider" if first else None))
 
 
+def _draw_joints(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+    """Any mechanism: the crank, and the path and positions of every tabulated joint."""
+    columns = curve.dense.columns
+    joints = sorted(name[:-2] for name in columns
+                    if name.startswith("joint_") and name.endswith("_x")
+                    and f"{name[:-2]}_y" in columns)
+    _draw_pivot(axes, 0j, "O")
+    for joint in joints:
+        axes.plot(curve.dense[f"{joint}_x"], curve.dense[f"{joint}_y"], color="grey",
+                  linewidth=0.8, linestyle="--", label=f"path of {joint[6:].upper()}")
+    for index, alpha in enumerate(_alphas(len(snapshots))):
+        if not _assembled(snapshots, index):
+            continue
+        _draw_link(axes, 0j, _point(snapshots, "joint_a", index), "crank", alpha,
+                   "crank" if index == 0 else None)
+        for joint in joints:
+            point = _point(snapshots, joint, index)
+            axes.plot(point.real, point.imag, "o", color="black", alpha=alpha, markersize=4)
+
+
 def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
     _draw_pivot(axes, 0j, "O")
@@ -371,3 +342,11 @@ def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> N
         _draw_link(axes, 0j, joint_a, "crank", alpha, "crank" if first else None)
         _draw_link(axes, joint_a, piston, "rod", alpha, "connecting rod" if first else None)
         _draw_block(axes, piston, 0.06 * mechanism.rod, alpha, first)
+
+
+# How linkage.png draws each registry entry's ``drawing``.
+DRAWINGS: dict[str, Callable[[Any, Curves, MechanismTable], None]] = {
+    "joints": _draw_joints,
+    "fourbar_like": _draw_fourbar_like,
+    "slider_crank": _draw_slider_crank,
+}

@@ -8,25 +8,14 @@ same thing and every string is escaped for its format.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping, Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
+from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
 
 TABLE_FILE = "table.csv"
-# Columns shown in the report's table, by mechanism type (every column is in the CSV).
-REPORT_COLUMNS = {
-    "FourBar": ("crank_angle_deg", "coupler_angle_deg", "rocker_angle_deg",
-                "transmission_angle_deg", "joint_a_x", "joint_a_y", "joint_b_x", "joint_b_y",
-                "coupler_angular_velocity_rad_s", "rocker_angular_velocity_rad_s",
-                "coupler_angular_accel_rad_s2", "rocker_angular_accel_rad_s2"),
-    "SliderCrank": ("crank_angle_deg", "rod_angle_deg", "piston_position",
-                    "rod_angular_velocity_rad_s", "rod_angular_accel_rad_s2", "piston_velocity",
-                    "piston_velocity_approximate", "piston_accel", "piston_accel_approximate"),
-    "QuickReturn": ("crank_angle_deg", "joint_a_x", "joint_a_y", "joint_b_x", "joint_b_y",
-                    "joint_c_x", "joint_b_speed", "joint_c_velocity_x", "joint_b_accel_magnitude",
-                    "joint_c_accel_x", "rocker_angular_velocity_rad_s"),
-}
 CAPTIONS = {
     "linkage.png": "Link positions at the case's plot angles (plots.crank_angles_deg), with "
                    "the paths of the joints and, for a four-bar, the coupler curve.",
@@ -135,7 +124,7 @@ def _case_table(document: Mapping[str, Any]) -> Table:
         solver = case["solver"]
         rows += [("solvers", ", ".join(solver["solvers"])),
                  ("starts per solver", str(solver["starts"])),
-                 ("solver tolerance", number(solver["tolerance"], "g"))]
+                 ("solver tolerance", number(solver["solver_tol"], "g"))]
     rows.append(("created (UTC)", document["created_utc"]))
     return Table(("item", "value"), tuple(rows))
 
@@ -177,7 +166,7 @@ def _method_difference_table(document: Mapping[str, Any]) -> Table:
                   number(accel, ".2f"))
                  for crank, rod, velocity, accel in zip(
                      columns["crank"], columns["rod"], columns["velocity_difference_pct"],
-                     columns["acceleration_difference_pct"]))
+                     columns["acceleration_difference_pct"], strict=True))
     return Table((f"crank ({unit})", f"rod ({unit})", "velocity difference (%)",
                   "acceleration difference (%)"), rows)
 
@@ -205,7 +194,8 @@ def _crosscheck_text(document: Mapping[str, Any]) -> str:
 def _rows_table(document: Mapping[str, Any], role: str) -> Table:
     table = document["tables"][role]
     linkage_type = document["linkages"][role]["type"]
-    columns = [name for name in REPORT_COLUMNS[linkage_type] if name in table["columns"]]
+    columns = [name for name in linkage_of(linkage_type).report_columns
+               if name in table["columns"]]
     if "assembled" in table["columns"]:
         columns.append("assembled")
     header = tuple(f"{name} ({unit_text(table['units'][name], document['length_unit'])})"

@@ -7,7 +7,8 @@ state), so a run without plots never loads it.
 from __future__ import annotations
 
 import io
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -129,7 +130,8 @@ def _polar(document: Mapping[str, Any], curves: SpeedCurves) -> bytes:
     inner = max(0.0, low - margin)
     axes.set_rlim(inner, high + margin)
     axes.set_rorigin(inner - 0.35 * (high + margin - inner))
-    axes.set_thetagrids(np.arange(0, 360, 45), labels=[f"{angle} deg" for angle in range(0, 360, 45)])
+    axes.set_thetagrids(np.arange(0, 360, 45),
+                        labels=[f"{angle} deg" for angle in range(0, 360, 45)])
     axes.set_rlabel_position(22.5)
     axes.tick_params(axis="y", labelsize="small")
     axes.grid(True, alpha=0.5)

@@ -7,8 +7,9 @@ the same thing. Every string is kept raw here; each writer escapes for its forma
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Mapping, Sequence, Union
+from typing import Any
 
 from sso.run.document import DESIGN_ROLES
 
@@ -44,7 +45,7 @@ class Image:
     caption: str
 
 
-Block = Union[Heading, Paragraph, Table, Image]
+Block = Heading | Paragraph | Table | Image
 
 # (evaluation field, row label with unit, format)
 FIGURES = (
@@ -124,7 +125,7 @@ def _case_table(document: Mapping[str, Any]) -> Table:
     if document["mode"] == "optimise":
         rows += [("solvers", ", ".join(case["solver"]["solvers"])),
                  ("starts per solver", str(document["starts"])),
-                 ("solver tolerance", number(case["solver"]["tolerance"], "g"))]
+                 ("solver tolerance", number(case["solver"]["solver_tol"], "g"))]
     quadrature = document["quadrature"]
     rows += [("quadrature angles (objective)", str(quadrature["samples"])),
              ("quadrature error estimate", number(quadrature["error_estimate"], ".2g")),

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from sso.cases.mechanism import MECHANISM_KINDS
+from sso.cases.schema import rename_old_keys
 from sso.files import write_bytes_atomic
 from sso.run.document import SCHEMA_VERSION
 
@@ -126,6 +128,9 @@ def read_result(path: str | Path) -> dict[str, Any]:
     missing = [key for key in required if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")
+    if isinstance(document["case"], dict):
+        # A result saved by v0.1 names its case's keys as v0.1 did.
+        document["case"], _ = rename_old_keys(document["case"], str(path), "")
     return document
 
 

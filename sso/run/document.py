@@ -22,11 +22,11 @@ import importlib.util
 import platform
 import re
 import warnings
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from sso.cases.schema import Case
+from sso.cases.shaft_series import Case
 from sso.distribution import installed_version
 from sso.shafts.options import OPTION_NAMES
 
@@ -130,7 +130,8 @@ def bundled_ipopt_version() -> str:
     folder = Path(list(spec.submodule_search_locations)[0])
     header = folder / "include" / "coin-or" / "IpoptConfig.h"
     if header.is_file():
-        found = re.search(r'#define\s+IPOPT_VERSION\s+"([^"]+)"', header.read_text(errors="replace"))
+        found = re.search(r'#define\s+IPOPT_VERSION\s+"([^"]+)"',
+                          header.read_text(errors="replace"))
         if found:
             return found.group(1)
     for library in sorted(folder.glob("libipopt*")):
@@ -145,7 +146,7 @@ def _common(case: Case, mode: str) -> dict[str, Any]:
         "schema_version": SCHEMA_VERSION,
         "kind": case.kind,
         "mode": mode,
-        "created_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
         "case": case.to_dict(),
         "case_file": case.source,
         "model": case.model,

@@ -18,37 +18,26 @@ so :mod:`sso.reports.mechanism_report` needs nothing but this document.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import asdict
-from datetime import datetime, timezone
-from typing import Any, Mapping
+from datetime import UTC, datetime
+from typing import Any
 
 import numpy as np
 
 from sso.cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
 from sso.linkages.mechanisms import (
+    CrankDriven,
     FourBar,
-    QuickReturn,
     SliderCrank,
     slider_crank_method_difference,
 )
+from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.run.document import SCHEMA_VERSION, _verdict, package_versions
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""
-MECHANISM_CLASSES = {"FourBar": FourBar, "SliderCrank": SliderCrank, "QuickReturn": QuickReturn}
-EXTREME_COLUMNS = {
-    "FourBar": ("transmission_angle_deg", "rocker_angle_deg", "coupler_angular_velocity_rad_s",
-                "rocker_angular_velocity_rad_s", "coupler_angular_accel_rad_s2",
-                "rocker_angular_accel_rad_s2"),
-    "SliderCrank": ("piston_position", "piston_velocity", "piston_velocity_approximate",
-                    "piston_accel", "piston_accel_approximate", "rod_angular_velocity_rad_s",
-                    "rod_angular_accel_rad_s2"),
-    "QuickReturn": ("rocker_angle_deg", "transmission_angle_deg", "joint_c_x",
-                    "joint_c_velocity_x", "joint_c_accel_x", "joint_b_speed",
-                    "joint_b_accel_magnitude", "rocker_angular_velocity_rad_s",
-                    "slider_link_angular_velocity_rad_s"),
-}
 
 
 def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
@@ -77,7 +66,7 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
         "schema_version": SCHEMA_VERSION,
         "kind": case.kind,
         "mode": "analyse",
-        "created_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
         "case": case.to_dict(),
         "case_file": case.source,
         "length_unit": case.length_unit,
@@ -115,7 +104,7 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     return document
 
 
-def linkage_dict(mechanism: FourBar | SliderCrank | QuickReturn) -> dict[str, Any]:
+def linkage_dict(mechanism: CrankDriven) -> dict[str, Any]:
     """JSON-ready description of a linkage; :func:`mechanism_from_dict` reads it back."""
     entry: dict[str, Any] = {"type": type(mechanism).__name__, "parameters": asdict(mechanism)}
     if isinstance(mechanism, FourBar):
@@ -125,12 +114,12 @@ def linkage_dict(mechanism: FourBar | SliderCrank | QuickReturn) -> dict[str, An
     return entry
 
 
-def mechanism_from_dict(entry: Mapping[str, Any]) -> FourBar | SliderCrank | QuickReturn:
+def mechanism_from_dict(entry: Mapping[str, Any]) -> CrankDriven:
     """The linkage described by :func:`linkage_dict` (e.g. read from ``result.json``)."""
-    return MECHANISM_CLASSES[entry["type"]](**entry["parameters"])
+    return linkage_of(entry["type"]).mechanism(**entry["parameters"])
 
 
-def analysis_table(mechanism: FourBar | SliderCrank | QuickReturn, case: MechanismCase,
+def analysis_table(mechanism: CrankDriven, case: MechanismCase,
                    crank_angles_deg: np.ndarray | None = None,
                    on_unassembled: str | None = None) -> MechanismTable:
     """The mechanism's table over the case's crank angles (or ``crank_angles_deg``).
@@ -143,7 +132,7 @@ def analysis_table(mechanism: FourBar | SliderCrank | QuickReturn, case: Mechani
     table = mechanism.analyse(angles, crank_speed=case.crank_speed_rad_s,
                               crank_accel=case.crank_accel_rad_s2,
                               on_unassembled=on_unassembled or case.on_unassembled)
-    if not isinstance(mechanism, FourBar):
+    if not linkage_of(mechanism).coupler_point:
         return table
     point = coupler_point(mechanism, table, case.values["plots.coupler_point"])
     columns = {**table.columns, "coupler_point_x": point.real, "coupler_point_y": point.imag}
@@ -187,7 +176,7 @@ def fine_crank_angles_deg(case: MechanismCase) -> np.ndarray:
     return angle_grid(case.values["drive.start_deg"], revolution_stop_deg(case), FINE_STEP_DEG)
 
 
-def extremes(mechanism: FourBar | SliderCrank | QuickReturn,
+def extremes(mechanism: CrankDriven,
              case: MechanismCase) -> list[dict[str, Any]]:
     """Smallest and largest value of the main columns over a whole crank revolution.
 
@@ -198,7 +187,7 @@ def extremes(mechanism: FourBar | SliderCrank | QuickReturn,
     angles = fine_crank_angles_deg(case)
     table = analysis_table(mechanism, case, angles, on_unassembled="mark")
     rows = []
-    for column in EXTREME_COLUMNS[type(mechanism).__name__]:
+    for column in linkage_of(mechanism).extreme_columns:
         if column not in table.columns:
             continue
         values = np.asarray(table[column], dtype=float)

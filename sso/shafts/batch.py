@@ -18,9 +18,16 @@ from typing import Any
 
 import numpy as np
 
+from sso.deprecation import renamed_keywords
 from sso.kinematics.hooke import MODELS
 from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
-from sso.limits import BETA_LIMIT_DEG
+from sso.limits import (
+    BETA_LIMIT_DEG,
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    MAX_ITERATIONS,
+)
 from sso.shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     OPTION_NAMES,
@@ -32,8 +39,8 @@ from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
 from sso.validation import (
     check_choice,
     validate_count,
+    validate_solver_tol,
     validate_speed,
-    validate_tolerance,
 )
 
 
@@ -142,6 +149,7 @@ class BatchResult:
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def optimise_batch(
     beta_deg: Any,
     phase_deg: Any,
@@ -150,9 +158,9 @@ def optimise_batch(
     beta_bounds_deg: Any = (0.0, 40.0),
     phase_bounds_deg: Any = (0.0, 180.0),
     model: str = "exact",
-    input_speed_rpm: float = 25.0,
-    tolerance: float = 1e-12,
-    max_iterations: int = 500,
+    input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
 ) -> BatchResult:
     """Optimise ``m`` start designs of one shape at once (exact model, closed form).
 
@@ -176,7 +184,7 @@ def optimise_batch(
         Only the exact model has the closed form.
     input_speed_rpm : float
         Input speed, rpm (> 0); it scales the reported speeds, not the optimum.
-    tolerance : float
+    solver_tol : float
         In ``(0, 1)``: a start stops when RE's projected gradient (per rad) is at
         most this, as :func:`sso.optimise`'s default cross-check measures it.
     max_iterations : int
@@ -202,8 +210,8 @@ def optimise_batch(
             "model only; use sso.optimise for the paper model"
         )
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
-    gradient_tolerance = validate_tolerance(tolerance)
-    iterations = validate_count("max_iterations", max_iterations, 1, 1_000_000)
+    gradient_tolerance = validate_solver_tol(solver_tol)
+    iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     beta = _design_array("beta_deg", beta_deg, None)
     n_joints = beta.shape[1]
     phase = _design_array("phase_deg", phase_deg, (beta.shape[0], n_joints - 1))

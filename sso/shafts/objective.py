@@ -7,7 +7,8 @@ The integrand is smooth and 180-deg periodic, so the rule converges geometricall
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import functools
 import warnings
-from dataclasses import dataclass, replace
-from typing import Any, Iterable
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from sso.deprecation import renamed_keywords
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
@@ -16,46 +18,35 @@ from sso.limits import (
     DEFAULT_STARTS,
     MAX_ITERATIONS,
     MAX_STARTS,
+    SOLVERS,
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
-from sso.shafts.quadrature import (
-    DEFAULT_ATOL,
-    DEFAULT_RTOL,
-    QuadratureRule,
-    rule_for_bounds,
-)
+from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
 )
-from sso.solvers.multistart import (
-    MeasuredRun,
-    best_solution,
-    distinct_minima,
-    run_starts,
-    solution_from_run,
-)
+from sso.solvers.multistart import MeasuredRun, solution_from_run, solve_from_starts
+from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.saddle import ZERO_OBJECTIVE
-from sso.solvers.solution import CrossCheck, Solution
-from sso.solvers.starts import DEFAULT_SEED, start_points
+from sso.solvers.solution import Solution
+from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     validate_count,
+    validate_solver_tol,
     validate_solvers,
     validate_speed,
-    validate_tolerance,
 )
 
 # The exact model's RE is a closed form: no quadrature angles, no quadrature error.
 CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
 
 
-@dataclass(frozen=True)
-class OptimisationResult:
+@dataclass(frozen=True, kw_only=True)
+class OptimisationResult(DesignResult):
     """Everything one optimisation found; reports are rendered from it alone.
 
     Attributes
@@ -78,18 +69,12 @@ class OptimisationResult:
         Evaluations of ``initial_series`` and of the best design, at
         ``input_speed_rpm``; computed on first access (a caller that reads only
         RE and the design does not pay for them).
-    best : sso.Solution
-        Lowest RE among successful answers (among all, if none succeeded).
-    solutions : dict of str to Solution
-        Best answer of each solver.
-    runs : tuple of Solution
-        Every run: each solver from each start; with ``screen_starts``, the
-        screening runs of ``"lm"`` from each start, then each solver's run from
-        the best of them (its ``start_index`` is that start's).
-    crosscheck : sso.CrossCheck or None
-        The solvers' verdict; None when one solver was asked for.
-    local_minima : tuple of float
-        Distinct RE values the successful runs stopped at, ascending.
+    best, solutions, runs, crosscheck, local_minima
+        As in :class:`sso.solvers.result.DesignResult`; ``fun`` is the residual
+        error RE and ``x`` is in deg. With ``screen_starts`` (exact model, more
+        than one start), ``runs`` holds the screening runs of ``"lm"`` from each
+        start, then each solver's run from the best of them (its
+        ``start_index`` is that start's).
     samples : int
         Quadrature angles of the NLP (chosen for the bounds); 0 for the exact
         model, whose RE is evaluated in closed form (no quadrature).
@@ -112,11 +97,6 @@ class OptimisationResult:
     phase_bounds_deg: tuple[tuple[float, float], ...]
     initial_series: ShaftSeries
     start_series: ShaftSeries
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-    local_minima: tuple[float, ...]
     samples: int
     quadrature_error: float
     starts: int
@@ -140,21 +120,6 @@ class OptimisationResult:
     def _evaluation_options(self) -> dict[str, float]:
         return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
 
-    @property
-    def success(self) -> bool:
-        """True when the best answer converged and the solvers agree."""
-        return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
-
-    @property
-    def x(self) -> tuple[float, ...]:
-        """Design vector of the best answer, deg."""
-        return self.best.x
-
-    @property
-    def fun(self) -> float:
-        """Residual error of the best answer (dimensionless)."""
-        return self.best.fun
-
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
@@ -168,19 +133,15 @@ class OptimisationResult:
             "start_series": self.start_series.to_dict(),
             "initial": self.initial.to_dict(),
             "optimum": self.optimum.to_dict(),
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
             "samples": self.samples,
             "quadrature_error": self.quadrature_error,
             "starts": self.starts,
-            "success": self.success,
             "warnings": list(self.warnings),
+            **self.solver_dict(),
         }
 
 
+@renamed_keywords(tolerance="solver_tol")
 def optimise(
     series: ShaftSeries,
     option: int | str = 3,
@@ -190,7 +151,7 @@ def optimise(
     solvers: Iterable[str] | str = ("ipopt", "slsqp"),
     starts: int = DEFAULT_STARTS,
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
-    tolerance: float = DEFAULT_SHAFT_SOLVER_TOL,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
     quadrature_rtol: float = DEFAULT_RTOL,
@@ -205,7 +166,8 @@ def optimise(
     Minimises the residual error ``RE`` (mean square of ``w_out/w_in - 1`` over a
     revolution) under bounds, with IPOPT (exact Hessian) and SLSQP (exact
     gradient) on the same CasADi graph, from several starts, and cross-checks
-    the solvers.
+    the solvers. The exact model's RE is the closed form of the chain matrix
+    (:mod:`sso.kinematics.hooke_matrix`); the paper model's, a quadrature.
 
     Parameters
     ----------
@@ -222,14 +184,15 @@ def optimise(
     solvers : sequence of names in ``sso.SOLVERS``
         Solvers to run (``"ipopt"``, ``"slsqp"``; ``"lm"``, the least-squares
         solver, for the exact model only); with two or more, their answers are
-        cross-checked.
+        cross-checked with the same first-order measure for each.
     starts : int
         Starts per solver, ``1..10000``: the user's start plus space-filling points.
     input_speed_rpm : float
         Input speed, rpm (> 0); it scales the reported figures, not the optimum.
-    tolerance : float
-        Solver tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's ``ftol`` relative
-        to the starting objective.
+    solver_tol : float
+        The solvers' stopping tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's
+        ``ftol`` relative to the starting objective. (Its name until v0.1,
+        ``tolerance``, still works with a DeprecationWarning.)
     max_iterations : int
         Iteration limit of each run, >= 1.
     seed : int
@@ -239,15 +202,16 @@ def optimise(
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check.
     screen_starts : bool
-        Exact model with ``starts > 1``: solve every start first with the
+        Exact model with ``starts > 1``: solve the starts first with the
         least-squares solver ``"lm"`` (cheap: the closed form in plain floats),
         then run each of ``solvers`` once, from the lowest RE found, and
         cross-check them there. Screening stops at the first start that reaches
         RE <= 1e-20 (round-off zero): RE is never negative, so that is a global
-        minimum and the other starts cannot improve on it. The search over starts is then the least-squares
-        solver's; the verdict (objective agreement, the same first-order measure
-        for every solver) is the requested solvers'. False runs every solver from
-        every start. The paper model always does the latter.
+        minimum and the other starts cannot improve on it. The search over
+        starts is then the least-squares solver's; the verdict (objective
+        agreement, the same first-order measure for every solver) is the
+        requested solvers'. False runs every solver from every start, as the
+        paper model always does.
 
     Returns
     -------
@@ -263,7 +227,7 @@ def optimise(
     """
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
-    solver_names = validate_solvers(solvers)
+    solver_names = validate_solvers(solvers, SOLVERS)
     if "lm" in solver_names and series.model != "exact":
         raise ValueError(f"solvers = {list(solver_names)} includes 'lm', which needs the exact "
                          f"model's closed form; series.model = {series.model!r} allows "
@@ -271,7 +235,7 @@ def optimise(
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
-    tolerance = validate_tolerance(tolerance)
+    solver_tol = validate_solver_tol(solver_tol)
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
                                                                      quadrature_atol)
 
@@ -282,7 +246,7 @@ def optimise(
         rule = (rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
                                 quadrature_atol)
                 if series.model == "paper" else CLOSED_FORM_RULE)
-        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, tolerance,
+        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance, screen_starts,
                         tuple(str(warning.message) for warning in caught))
@@ -292,38 +256,20 @@ def optimise(
 
 
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
-           starts: int, speed_rpm: float, tolerance: float, max_iterations: int, seed: int,
+           starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
     from sso.shafts.problem import compiled_nlp
 
-    nlp = compiled_nlp(problem, rule.samples)
-    points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts, seed)
-    limits = RunLimits(problem.lower_rad, problem.upper_rad)
-    screening: list[Solution] = []
-    if screen_starts and problem.model == "exact" and len(points) > 1:
-        screened = []
-        for index, point in enumerate(points):
-            run = run_starts(nlp, point[np.newaxis, :], problem.parameters_rad, limits, ("lm",),
-                             tolerance, max_iterations)["lm"][0]
-            screened.append(replace(run, start_index=index))
-            if run.outcome.success and run.fun <= ZERO_OBJECTIVE:
-                break  # RE >= 0: a start at round-off zero is a global minimum
-        screening = [_to_solution(run, problem, series.model, screened) for run in screened]
-        chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
-        measured = {name: [replace(run, start_index=chosen.start_index) for run in runs]
-                    for name, runs in run_starts(nlp, chosen.outcome.x[np.newaxis, :],
-                                                 problem.parameters_rad, limits, solver_names,
-                                                 tolerance, max_iterations).items()}
-    else:
-        measured = run_starts(nlp, points, problem.parameters_rad, limits, solver_names,
-                              tolerance, max_iterations)
-    solver_runs = {name: [_to_solution(run, problem, series.model, runs) for run in runs]
-                   for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = screening + [run for runs in solver_runs.values() for run in runs]
-    best = best_solution(solutions.values())
+    solved = solve_from_starts(
+        compiled_nlp(problem, rule.samples), problem.start_rad,
+        RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
+        solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
+        max_iterations=max_iterations,
+        to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
+        objective_rtol=objective_rtol, objective_atol=objective_atol,
+        kkt_tolerance=kkt_tolerance, screen_starts=screen_starts)
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
@@ -337,18 +283,13 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         phase_bounds_deg=problem.phase_bounds_deg,
         initial_series=initial_series,
         start_series=ShaftSeries(start_beta, start_phase, series.model),
-        best=best,
-        solutions=solutions,
-        runs=tuple(all_runs),
-        crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
-                    if len(solutions) > 1 else None),
-        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,
         warnings=setup_warnings,
         quadrature_rtol=quadrature_rtol,
         quadrature_atol=quadrature_atol,
+        **solved,
     )
 
 

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -31,7 +32,8 @@ def parse_option(option: Any) -> int:
     if isinstance(option, str) and option.strip().lower() in OPTION_NAMES.values():
         name = option.strip().lower()
         return next(number for number, known in OPTION_NAMES.items() if known == name)
-    if isinstance(option, (int, np.integer)) and not isinstance(option, bool) and option in OPTION_NAMES:
+    if (isinstance(option, (int, np.integer)) and not isinstance(option, bool)
+            and option in OPTION_NAMES):
         return int(option)
     raise ValueError(
         f"option = {option!r} is not one of 1, 2, 3, 'phase', 'angle', 'both'"

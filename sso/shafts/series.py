@@ -3,20 +3,20 @@
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from sso.kinematics.hooke import MODELS, chain_kinematics
 from sso.kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
-from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
+from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.validation import as_float_tuple, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso.shafts.evaluation import Evaluation
 
-CONVENTIONAL_PHASE_DEG = 90.0
 
 
 class InertPhaseWarning(UserWarning):
@@ -103,7 +103,7 @@ class ShaftSeries:
         self,
         beta_deg: Sequence[float] | None = None,
         phase_deg: Sequence[float] | None = None,
-    ) -> "ShaftSeries":
+    ) -> ShaftSeries:
         """A copy with new operating angles and/or phases (deg), same model."""
         return ShaftSeries(
             beta_deg=self.beta_deg if beta_deg is None else tuple(beta_deg),
@@ -145,7 +145,8 @@ class ShaftSeries:
         theta = _finite_angles(theta_deg)
         return theta + np.degrees(self._kinematics(theta).angle_lag_rad)
 
-    def evaluate(self, input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM, **quadrature: Any) -> "Evaluation":
+    def evaluate(self, input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+                 **quadrature: Any) -> Evaluation:
         """Figures of merit of this design at a constant input speed.
 
         Parameters
@@ -185,6 +186,7 @@ def _finite_angles(theta_deg: Any) -> np.ndarray:
     theta = np.asarray(theta_deg, dtype=float)
     if not np.all(np.isfinite(theta)):
         bad = theta[~np.isfinite(theta)].ravel()[:3]
-        raise ValueError(f"theta_deg contains non-finite angles {bad.tolist()}; angles must be finite")
+        raise ValueError(f"theta_deg contains non-finite angles {bad.tolist()}; "
+                         "angles must be finite")
     return theta
 

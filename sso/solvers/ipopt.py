@@ -41,7 +41,7 @@ def solve(
     start: np.ndarray,
     parameters: np.ndarray,
     limits: RunLimits,
-    tolerance: float,
+    solver_tol: float,
     max_iterations: int,
 ) -> RunOutcome:
     """Run IPOPT once from ``start``; failures come back in the outcome.
@@ -54,15 +54,15 @@ def solve(
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
         Bounds of the design vector and of the constraints.
-    tolerance : float
+    solver_tol : float
         IPOPT's ``tol`` (scaled NLP error).
     max_iterations : int
         IPOPT's ``max_iter``.
     """
-    options = {"tol": tolerance, "max_iter": max_iterations}
+    options = {"tol": solver_tol, "max_iter": max_iterations}
     if limits.constrained:
         # IPOPT's default accepts a constraint violation of 1e-4 at convergence.
-        options["constr_viol_tol"] = tolerance
+        options["constr_viol_tol"] = solver_tol
     solver = nlp.ipopt(options)
     arguments = {"x0": start, "p": parameters, "lbx": limits.lower, "ubx": limits.upper}
     if limits.constrained:

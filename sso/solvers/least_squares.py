@@ -299,7 +299,8 @@ def _levenberg_marquardt(fun: ResidualFunction, state: _State, rows: np.ndarray,
         in_newton = np.flatnonzero(newton[live])
         if in_newton.size:
             exact = 0.5 * _hessian(fun, state, live[in_newton])
-            free_part = np.where(pinned[in_newton], 0.0, exact) + held[in_newton][:, :, None] * identity
+            free_part = (np.where(pinned[in_newton], 0.0, exact)
+                         + held[in_newton][:, :, None] * identity)
             lowest = np.linalg.eigvalsh(free_part)[:, 0]
             shift = np.maximum(0.0, -2.0 * lowest)
             model[in_newton] = exact + shift[:, None, None] * identity
@@ -380,9 +381,9 @@ def _leave_saddles(fun: ResidualFunction, state: _State, rows: np.ndarray) -> np
     """Move the stationary points among ``rows`` that are saddles downhill; return those moved.
 
     The Hessian of ``|r|^2`` (:func:`_hessian`; not the Gauss-Newton one, which
-    cannot be indefinite) is taken over the variables not held by a bound. Along its most negative eigenvector, both ways where the
-    bounds allow, the lowest of a ladder of step lengths is taken if it lowers the
-    sum of squares.
+    cannot be indefinite) is taken over the variables not held by a bound. Along its
+    most negative eigenvector, both ways where the bounds allow, the lowest of a
+    ladder of step lengths is taken if it lowers the sum of squares.
     """
     if rows.size == 0:
         return rows

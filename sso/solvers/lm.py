@@ -58,7 +58,7 @@ def solve(
     start: np.ndarray,
     parameters: np.ndarray,
     limits: RunLimits,
-    tolerance: float,
+    solver_tol: float,
     max_iterations: int,
 ) -> RunOutcome:
     """Run the bounded Levenberg-Marquardt once from ``start``; failures come back in the outcome.
@@ -72,7 +72,7 @@ def solve(
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
         Bounds of the design vector (constraint functions are not supported).
-    tolerance : float
+    solver_tol : float
         Stop when the projected gradient of ``f`` (infinity norm) is at most this.
     max_iterations : int
         Trial steps, at most.
@@ -87,7 +87,7 @@ def solve(
     x, fun, nit, nfev, status = minimise(
         lambda point: residuals(point, fixed), [float(value) for value in start],
         [float(value) for value in limits.lower], [float(value) for value in limits.upper],
-        tolerance, max_iterations)
+        solver_tol, max_iterations)
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 
@@ -103,7 +103,7 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
         :data:`MESSAGES`.
     """
     size = len(start)
-    x = [min(max(value, low), high) for value, low, high in zip(start, lower, upper)]
+    x = [min(max(value, low), high) for value, low, high in zip(start, lower, upper, strict=True)]
     r1, r2, row1, row2 = residuals(x)
     nfev = 1
     fun = r1 * r1 + r2 * r2
@@ -115,7 +115,7 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
         if not (math.isfinite(fun) and all(map(math.isfinite, row1))
                 and all(map(math.isfinite, row2))):
             return x, fun, nit, nfev, -2
-        gradient = [2.0 * (a * r1 + b * r2) for a, b in zip(row1, row2)]
+        gradient = [2.0 * (a * r1 + b * r2) for a, b in zip(row1, row2, strict=True)]
         free = [upper[i] > lower[i]
                 and not (x[i] <= lower[i] and gradient[i] > 0.0)
                 and not (x[i] >= upper[i] and gradient[i] < 0.0) for i in range(size)]
@@ -133,8 +133,8 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
         trial = [min(max(x[i] + step[i], lower[i]), upper[i]) for i in range(size)]
         if not newton:
             # The model's decrease for the projected step actually taken.
-            model1 = r1 + sum(a * (t - v) for a, t, v in zip(row1, trial, x))
-            model2 = r2 + sum(b * (t - v) for b, t, v in zip(row2, trial, x))
+            model1 = r1 + sum(a * (t - v) for a, t, v in zip(row1, trial, x, strict=True))
+            model2 = r2 + sum(b * (t - v) for b, t, v in zip(row2, trial, x, strict=True))
             predicted = fun - (model1 * model1 + model2 * model2)
         t1, t2, trial_row1, trial_row2 = residuals(trial)
         nfev += 1
@@ -171,7 +171,7 @@ def _gauss_newton_step(r1: float, r2: float, row1: list[float], row2: list[float
                        free: list[bool], damping: float) -> tuple[list[float], float]:
     """``-J^T (J J^T + mu I)^-1 r`` over the free variables, ``mu = damping * trace / 2``."""
     a11 = a12 = a22 = 0.0
-    for a, b, is_free in zip(row1, row2, free):
+    for a, b, is_free in zip(row1, row2, free, strict=True):
         if is_free:
             a11 += a * a
             a12 += a * b
@@ -183,7 +183,7 @@ def _gauss_newton_step(r1: float, r2: float, row1: list[float], row2: list[float
     y1 = (a22 * r1 - a12 * r2) / determinant
     y2 = (a11 * r2 - a12 * r1) / determinant
     return [-(a * y1 + b * y2) if is_free else 0.0
-            for a, b, is_free in zip(row1, row2, free)], 0.0
+            for a, b, is_free in zip(row1, row2, free, strict=True)], 0.0
 
 
 def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], free: list[bool],
@@ -231,7 +231,7 @@ def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], fr
         step[i] = free_step[position]
     curvature = sum(free_step[r] * hessian[r][c] * free_step[c]
                     for r in range(size) for c in range(size))
-    predicted = -(sum(a * b for a, b in zip(g, free_step)) + 0.5 * curvature)
+    predicted = -(sum(a * b for a, b in zip(g, free_step, strict=True)) + 0.5 * curvature)
     return step, predicted
 
 

@@ -1,16 +1,20 @@
-"""Run each solver from each start and measure every answer on the same graph."""
+"""The one multi-start driver: each solver from each start, every answer measured on
+the same graph, the best kept and the solvers cross-checked."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, TypedDict
 
 import numpy as np
 
+from sso.solvers.crosscheck import crosscheck
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
-from sso.solvers.saddle import solve_with_second_order_care
-from sso.solvers.solution import SeriesDesign, Solution
+from sso.solvers.saddle import ZERO_OBJECTIVE, solve_with_second_order_care
+from sso.solvers.solution import CrossCheck, SeriesDesign, Solution
+from sso.solvers.starts import start_points
 
 
 @dataclass(frozen=True)
@@ -41,13 +45,110 @@ class MeasuredRun:
     violation: float
 
 
+class SolverFields(TypedDict):
+    """The solver part of a :class:`sso.solvers.result.DesignResult`."""
+
+    best: Solution
+    solutions: dict[str, Solution]
+    runs: tuple[Solution, ...]
+    crosscheck: CrossCheck | None
+    local_minima: tuple[float, ...]
+
+
+def solve_from_starts(
+    nlp: Any,
+    user_start: np.ndarray,
+    limits: RunLimits,
+    parameters: np.ndarray,
+    *,
+    solver_names: Sequence[str],
+    starts: int,
+    seed: int,
+    solver_tol: float,
+    max_iterations: int,
+    to_solution: Callable[[MeasuredRun, list[MeasuredRun]], Solution],
+    objective_rtol: float,
+    objective_atol: float,
+    kkt_tolerance: float,
+    screen_starts: bool = False,
+) -> SolverFields:
+    """Solve one design problem from ``starts`` points with every solver.
+
+    Parameters
+    ----------
+    nlp : sso.solvers.nlp.CompiledNLP
+        The problem graph.
+    user_start : numpy.ndarray
+        The user's start (inside ``limits``); the other starts fill the bounds.
+    limits : RunLimits
+        Bounds of ``x`` and of the constraints.
+    parameters : numpy.ndarray
+        Fixed parameters of the graph.
+    solver_names, starts, seed, solver_tol, max_iterations
+        As in :func:`sso.optimise`.
+    to_solution : callable
+        ``(run, runs of its solver) -> Solution`` in the problem's own units.
+    objective_rtol, objective_atol, kkt_tolerance : float
+        Tolerances of the cross-check and of merging equal minima.
+    screen_starts : bool
+        For a least-squares problem (``nlp.residuals_and_jacobian``) with more
+        than one start: solve the starts with ``"lm"`` first, stopping at the
+        first that reaches a nonnegative objective's round-off zero (a global
+        minimum), then run each of ``solver_names`` once from the best of them.
+        The screening runs come first in ``runs``.
+
+    Returns
+    -------
+    SolverFields
+        The fields every :class:`sso.solvers.result.DesignResult` carries.
+    """
+    points = start_points(user_start, limits.lower, limits.upper, starts, seed)
+    screening: list[Solution] = []
+    if screen_starts and nlp.residuals_and_jacobian is not None and len(points) > 1:
+        screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
+        screening = [to_solution(run, screened) for run in screened]
+        chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
+        measured = {name: [replace(run, start_index=chosen.start_index) for run in runs]
+                    for name, runs in run_starts(nlp, chosen.outcome.x[np.newaxis, :],
+                                                 parameters, limits, solver_names, solver_tol,
+                                                 max_iterations).items()}
+    else:
+        measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
+                              max_iterations)
+    solver_runs = {name: [to_solution(run, runs) for run in runs]
+                   for name, runs in measured.items()}
+    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
+    all_runs = screening + [run for runs in solver_runs.values() for run in runs]
+    return SolverFields(
+        best=best_solution(solutions.values()),
+        solutions=solutions,
+        runs=tuple(all_runs),
+        crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
+                    if len(solutions) > 1 else None),
+        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
+    )
+
+
+def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+            solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
+    """``"lm"`` from each start in turn, until one reaches a global minimum (round-off zero)."""
+    screened = []
+    for index, point in enumerate(points):
+        run = run_starts(nlp, point[np.newaxis, :], parameters, limits, ("lm",), solver_tol,
+                         max_iterations)["lm"][0]
+        screened.append(replace(run, start_index=index))
+        if nlp.nonnegative_objective and run.outcome.success and run.fun <= ZERO_OBJECTIVE:
+            break
+    return screened
+
+
 def run_starts(
     nlp: Any,
     points: np.ndarray,
     parameters: np.ndarray,
     limits: RunLimits,
     solver_names: Sequence[str],
-    tolerance: float,
+    solver_tol: float,
     max_iterations: int,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
@@ -66,7 +167,7 @@ def run_starts(
     limits : RunLimits
         Bounds of ``x`` and of the constraints.
     solver_names : sequence of {"ipopt", "slsqp", "lm"}
-    tolerance : float
+    solver_tol : float
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
@@ -79,12 +180,12 @@ def run_starts(
     for name in solver_names:
         backend = _backend(name)
 
-        def solve(start: np.ndarray) -> RunOutcome:
-            return backend.solve(nlp, start, parameters, limits, tolerance, max_iterations)
+        def solve(start: np.ndarray, backend: Any = backend) -> RunOutcome:
+            return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
 
         runs[name] = [
             _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
-                                                               limits, tolerance),
+                                                               limits, solver_tol),
                      nlp, parameters, limits)
             for index, point in enumerate(points)
         ]

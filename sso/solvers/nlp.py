@@ -10,8 +10,9 @@ never shared between threads.
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
-from typing import Any, Callable, Hashable
+from typing import Any
 
 import numpy as np
 
@@ -116,11 +117,11 @@ class BufferedFunction:
 
     def __call__(self, *arguments: Any) -> tuple[Any, ...]:
         """Evaluate at ``arguments`` (array-likes); returns fresh numpy arrays."""
-        for destination, value in zip(self._inputs, arguments):
+        for destination, value in zip(self._inputs, arguments, strict=True):
             destination[:] = np.ravel(value)
         self._evaluate()
         results: list[Any] = []
-        for array, (rows, columns) in zip(self._outputs, self._shapes):
+        for array, (rows, columns) in zip(self._outputs, self._shapes, strict=True):
             # CasADi stores dense matrices column by column.
             results.append(array.reshape((rows, columns), order="F").squeeze(axis=1).copy()
                            if columns == 1 else array.reshape((rows, columns), order="F").copy())

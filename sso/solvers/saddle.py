@@ -20,8 +20,9 @@ below ``ZERO_OBJECTIVE`` (round-off), so no check is made there.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -52,7 +53,7 @@ def solve_with_second_order_care(
     start: np.ndarray,
     parameters: np.ndarray,
     limits: RunLimits,
-    tolerance: float,
+    solver_tol: float,
 ) -> RunOutcome:
     """Run ``solve(start)``, skipping it at a minimum and restarting it off saddle points.
 
@@ -66,7 +67,7 @@ def solve_with_second_order_care(
         Start and fixed parameters (NLP units).
     limits : RunLimits
         Bounds; with constraint functions the solver is simply run.
-    tolerance : float
+    solver_tol : float
         The solver tolerance; the start counts as stationary when its projected
         gradient is below it and below ``STATIONARY_START``.
 
@@ -78,18 +79,18 @@ def solve_with_second_order_care(
     if limits.constrained:
         return solve(start)
     started = time.perf_counter()
-    outcome = _solve_with_checks(solve, nlp, start, parameters, limits, tolerance)
+    outcome = _solve_with_checks(solve, nlp, start, parameters, limits, solver_tol)
     return replace(outcome, time_s=time.perf_counter() - started)
 
 
 def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, start: np.ndarray,
-                       parameters: np.ndarray, limits: RunLimits, tolerance: float) -> RunOutcome:
+                       parameters: np.ndarray, limits: RunLimits, solver_tol: float) -> RunOutcome:
     """The checks' own calls are counted: objective values they compare as ``nfev``,
     gradients the difference Hessian uses as ``njev``."""
     counts = _Counts()
     start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
     value, gradient = _value_and_gradient(nlp, start, parameters, counts)
-    stationary = min(tolerance, STATIONARY_START)
+    stationary = min(solver_tol, STATIONARY_START)
     global_floor = ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -np.inf
     if value <= global_floor:
         return counts.add_to(RunOutcome(

@@ -15,15 +15,15 @@ def solve(
     start: np.ndarray,
     parameters: np.ndarray,
     limits: RunLimits,
-    tolerance: float,
+    solver_tol: float,
     max_iterations: int,
 ) -> RunOutcome:
     """Run SLSQP once from ``start``; failures come back in the outcome.
 
     SLSQP stops when the objective changes by less than ``ftol`` in absolute
     terms; near a zero residual error a fixed ``ftol`` would stop it far from the
-    optimum. ``ftol`` is therefore ``tolerance`` times the objective at the start,
-    floored at ``tolerance**2 * eps`` so it is never zero.
+    optimum. ``ftol`` is therefore ``solver_tol`` times the objective at the start,
+    floored at ``solver_tol**2 * eps`` so it is never zero.
 
     Parameters
     ----------
@@ -34,7 +34,7 @@ def solve(
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
         Bounds of the design vector and of the constraints.
-    tolerance : float
+    solver_tol : float
         Relative tolerance on the objective.
     max_iterations : int
         SLSQP's ``maxiter``.
@@ -49,7 +49,7 @@ def solve(
 
     start = np.array(start, dtype=float)
     start_value, _ = fun(start)
-    ftol = max(tolerance * abs(start_value), tolerance * tolerance * np.finfo(float).eps)
+    ftol = max(solver_tol * abs(start_value), solver_tol * solver_tol * np.finfo(float).eps)
     started = time.perf_counter()
     try:
         answer = minimize(fun, start, jac=True, method="SLSQP",

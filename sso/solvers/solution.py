@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, Sequence
+from typing import Any, Protocol
 
 
 class SeriesDesign(Protocol):
@@ -61,7 +62,7 @@ class Solution:
     """
 
     solver: str
-    series: "SeriesDesign | None"
+    series: SeriesDesign | None
     x: tuple[float, ...]
     fun: float
     nit: int

@@ -22,7 +22,7 @@ def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
     result = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0, 35.0]},
                        action="evaluate", out_dir=tmp_path, workers=1, plots=False)
     assert [row["status"] for row in result.rows] == ["ok", "ok", "ok"]
-    for row, beta_deg in zip(result.rows, [10.0, 20.0, 35.0]):
+    for row, beta_deg in zip(result.rows, [10.0, 20.0, 35.0], strict=True):
         cos_beta = math.cos(math.radians(beta_deg))
         assert row["fluctuation"] == pytest.approx(1 / cos_beta - cos_beta, rel=1e-9)
         evaluation = sso.ShaftSeries([beta_deg]).evaluate(30.0)

@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from sso.cases.schema import CASE_KINDS, Case, CaseError, load_case, parse_case, schema
+from sso.cases.schema import CASE_KINDS, CaseError, load_case, parse_case, schema
+from sso.cases.shaft_series import Case
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 SHIPPED = sorted(CASES.glob("*.toml"))
@@ -98,7 +99,8 @@ def test_syntax_error_names_the_line(tmp_path):
 
 
 @pytest.mark.parametrize("text, line, message", [
-    (MINIMAL + '[solver]\nstrats = 4\n', 4, "unknown key solver.strats; did you mean solver.starts?"),
+    (MINIMAL + '[solver]\nstrats = 4\n', 4,
+     "unknown key solver.strats; did you mean solver.starts?"),
     ('starts = 4\n' + MINIMAL, 1, "unknown key starts; did you mean solver.starts?"),
     ('modle = "exact"\n' + MINIMAL, 1, "unknown key modle; did you mean model?"),
     ('[desing]\nbeta_deg = [10]\n', 1, "unknown table [desing]; did you mean [design]?"),
@@ -116,8 +118,10 @@ def test_unknown_key_suggests_the_nearest(tmp_path, text, line, message):
      "input_speed_rpm = 'fast' must be a number in (0, inf) rpm"),
     ('[design]\nbeta_deg = [10, 95]\n', 2,
      "design.beta_deg[1] = 95 is outside the allowed range [0, 90) deg"),
-    (MINIMAL + '[solver]\nstarts = 0\n', 4, "solver.starts = 0 is outside the allowed range [1, 10000]"),
-    (MINIMAL + '[solver]\nstarts = 2.5\n', 4, "solver.starts = 2.5 must be a whole number in [1, 10000]"),
+    (MINIMAL + '[solver]\nstarts = 0\n', 4,
+     "solver.starts = 0 is outside the allowed range [1, 10000]"),
+    (MINIMAL + '[solver]\nstarts = 2.5\n', 4,
+     "solver.starts = 2.5 must be a whole number in [1, 10000]"),
     (MINIMAL + '[solver]\nsolvers = ["ipopt", "cobyla"]\n', 4,
      "solver.solvers[1] = 'cobyla' is not one of 'ipopt', 'slsqp'"),
     ('model = "exakt"\n' + MINIMAL, 1, "model = 'exakt' is not one of 'exact', 'paper'"),

@@ -16,16 +16,16 @@ ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases"
 HEAVY = ("casadi", "scipy", "matplotlib")
 # Runs the real command in-process and reports which heavy modules it loaded.
-WRAPPER = """
+WRAPPER = f"""
 import json, sys
 from sso.cli import main
 try:
     code = main(sys.argv[1:])
 except SystemExit as stop:
     code = stop.code
-print("LOADED=" + json.dumps(sorted(name for name in {heavy!r} if name in sys.modules)))
+print("LOADED=" + json.dumps(sorted(name for name in {HEAVY!r} if name in sys.modules)))
 sys.exit(code)
-""".format(heavy=HEAVY)
+"""
 # docs/model.md, "The paper's three cases".
 PAPER_REFERENCE_BETA_DEG = {3: [15.8362, 10.0, 15.8387]}
 MINIMAL = '[design]\nbeta_deg = [20.0, 30.0]\n[solver]\nstarts = 1\n'
@@ -84,7 +84,8 @@ def test_result_json_holds_the_whole_story(option3_run):
     assert document["schema_version"] == 1
     assert document["model"] == "exact"
     assert document["option"] == 3 and document["option_name"] == "both"
-    assert document["case"] == load_case(report.parent.parent / "paper_option3_exact.toml").to_dict()
+    shipped = load_case(report.parent.parent / "paper_option3_exact.toml")
+    assert document["case"] == shipped.to_dict()
     designs = document["designs"]
     initial = designs["initial"]["evaluation"]["residual_error"]
     optimum = designs["optimum"]["evaluation"]["residual_error"]
@@ -270,7 +271,8 @@ def test_one_broken_case_does_not_stop_the_others(tmp_path):
                     cwd=tmp_path)
     assert completed.returncode == 2
     assert (tmp_path / "out" / "good" / "result.json").is_file()
-    assert f"error: {missing}: cannot read the case file: No such file or directory" in completed.stderr
+    assert (f"error: {missing}: cannot read the case file: No such file or directory"
+            in completed.stderr)
     table = completed.stdout.splitlines()[-4:]
     assert re.match(rf"{re.escape(str(broken))}\s+bad input", table[1])
     assert re.match(r"good\s+solved\s", table[2])
@@ -307,7 +309,8 @@ def test_failing_case_keeps_earlier_results_and_leaves_no_temporary_files(tmp_pa
 
 
 def test_case_strings_are_escaped_in_html_and_markdown(tmp_path):
-    case = write_case(tmp_path, 'name = "escaped"\ndescription = "<script>alert(1)</script> & more"\n'
+    case = write_case(tmp_path, 'name = "escaped"\n'
+                      'description = "<script>alert(1)</script> & more"\n'
                       + MINIMAL + '[reference]\nlabel = "<img src=x onerror=alert(2)>"\n'
                       'beta_deg = [25.0, 25.0]\n')
     completed = sso("run", case, "--out", tmp_path, "--formats", "html,md", cwd=tmp_path)

@@ -37,7 +37,8 @@ def _polish(beta_rad: np.ndarray, phase_rad: np.ndarray, iterations: int = 30) -
                                     - objective(phase + shift_i - shift_j)
                                     - objective(phase - shift_i + shift_j)
                                     + objective(phase - shift_i - shift_j)) / (4 * hessian_step**2)
-        shifted = hessian + (damping * (1.0 + np.abs(hessian).max(axis=(1, 2))))[:, None, None] * unit
+        scale = damping * (1.0 + np.abs(hessian).max(axis=(1, 2)))
+        shifted = hessian + scale[:, None, None] * unit
         trial = phase - np.linalg.solve(shifted, gradient[..., None])[..., 0]
         better = objective(trial) < value
         phase[better] = trial[better]
@@ -70,7 +71,7 @@ def test_can_cancel_agrees_with_brute_force_on_300_random_angle_sets():
     for count, grid in grids.items():
         beta_deg = rng.uniform(1.0, 45.0, (int(np.sum(joints == count)), count))
         brute = _brute_force_minima(np.radians(beta_deg), grid)
-        for row, minimum in zip(beta_deg, brute):
+        for row, minimum in zip(beta_deg, brute, strict=True):
             verdict = can_cancel(row)
             assert verdict.possible == (minimum < 1e-18), (row, verdict, minimum)
             assert minimum == pytest.approx(verdict.minimum_residual_error, rel=1e-8, abs=1e-18)

@@ -49,7 +49,8 @@ def test_exact_output_acceleration_matches_the_3d_simulation():
     reference = geometry.bend_normals[0]
 
     def slope(angles):
-        return (simulated_speed_ratio(CALIBRATION_POINTS, CALIBRATION_YOKES, angles + step, reference)
+        return (simulated_speed_ratio(CALIBRATION_POINTS, CALIBRATION_YOKES, angles + step,
+                                      reference)
                 - simulated_speed_ratio(CALIBRATION_POINTS, CALIBRATION_YOKES, angles - step,
                                         reference)) / (2 * step)
 

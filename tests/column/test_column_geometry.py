@@ -17,11 +17,11 @@ mpmath.mp.dps = 40
 
 
 def _mp_vector(point_a, point_b):
-    return [mpmath.mpf(b) - mpmath.mpf(a) for a, b in zip(point_a, point_b)]
+    return [mpmath.mpf(b) - mpmath.mpf(a) for a, b in zip(point_a, point_b, strict=True)]
 
 
 def _mp_dot(a, b):
-    return sum(x * y for x, y in zip(a, b))
+    return sum(x * y for x, y in zip(a, b, strict=True))
 
 
 def _mp_beta_deg(points, joint):
@@ -41,8 +41,8 @@ def _mp_gamma_deg(points, k):
     axis = [x / length for x in axis]
     back = _mp_vector(points[k], points[k - 1])
     ahead = _mp_vector(points[k + 1], points[k + 2])
-    back = [x - _mp_dot(back, axis) * a for x, a in zip(back, axis)]
-    ahead = [x - _mp_dot(ahead, axis) * a for x, a in zip(ahead, axis)]
+    back = [x - _mp_dot(back, axis) * a for x, a in zip(back, axis, strict=True)]
+    ahead = [x - _mp_dot(ahead, axis) * a for x, a in zip(ahead, axis, strict=True)]
     cross = [back[1] * ahead[2] - back[2] * ahead[1], back[2] * ahead[0] - back[0] * ahead[2],
              back[0] * ahead[1] - back[1] * ahead[0]]
     return float(mpmath.degrees(mpmath.atan2(_mp_dot(cross, axis), _mp_dot(back, ahead))))
@@ -202,7 +202,8 @@ def test_leading_straight_joint_borrows_the_plane_downstream():
     ([[0, 0, 0], [1, 0], [1, 1, 0]], r"points_mm\[1\]"),
     ([[0, 0, 0], [1, 0, 0], [1, float("nan"), 0]], r"points_mm\[2\]\[1\]"),
     ([[0, 0, 0], [1, 0, 0], [1, float("inf"), 0]], "finite"),
-    ([[0, 0, 0], [100, 0, 0], [100, 0, 0], [200, 50, 0]], r"points_mm\[1\] and points_mm\[2\] coincide"),
+    ([[0, 0, 0], [100, 0, 0], [100, 0, 0], [200, 50, 0]],
+     r"points_mm\[1\] and points_mm\[2\] coincide"),
     ([[0, 0, 0], [100, 0, 0], [200, 0, 0], [300, 0, 0]], "collinear"),
     ([[0, 0, 0], [100, 0, 0], [100, 100, 0]], r"beta at joint 1 .* = 90 deg"),
     ([[0, 0, 0], [100, 0, 0], [0, 10, 0]], r"joint 1 .*outside the allowed range \[0, 90\)"),
@@ -220,7 +221,8 @@ def test_points_that_are_not_a_list_are_a_type_error(points):
 
 def test_phasing_with_the_wrong_count_is_refused():
     geometry = ColumnGeometry(load("truck_three_joints")["points_mm"])
-    with pytest.raises(ValueError, match="yoke_phase_deg has 1 entries; a column of 3 joints has 2"):
+    with pytest.raises(ValueError,
+                       match="yoke_phase_deg has 1 entries; a column of 3 joints has 2"):
         geometry.series([10.0])
     with pytest.raises(ValueError, match=r"phase_deg\[1\]"):
         geometry.yoke_phase_deg_from_phase([10.0, float("nan")])
@@ -232,7 +234,7 @@ def test_closed_form_matches_the_package_quadrature():
     phase = rng.uniform(0.0, 180.0, (40, 3))
     closed = closed_form_residual_error(np.radians(beta[0]), np.radians(phase[:1]))
     assert closed.shape == (1,)
-    for row_beta, row_phase in zip(beta, phase):
+    for row_beta, row_phase in zip(beta, phase, strict=True):
         expected = sso.ShaftSeries(row_beta, row_phase).evaluate().residual_error
         got = float(closed_form_residual_error(np.radians(row_beta), np.radians(row_phase)))
         assert got == pytest.approx(expected, rel=1e-9)

@@ -1,4 +1,5 @@
-"""optimise_phasing: sso.optimise option 1 on a column, against closed forms and the 3D simulation."""
+"""optimise_phasing: sso.optimise option 1 on a column, against closed forms and the 3D
+simulation."""
 
 from __future__ import annotations
 
@@ -32,7 +33,8 @@ def test_truck_column_best_phasing_beats_the_textbook_correction_and_in_phase():
     # cos 19.9 < cos 9.2 cos 13.3: phasing cannot cancel; the optimum is unique mod 180.
     assert not result.verdict.possible
     assert len(result.equivalent_yoke_phase_deg) == 1
-    np.testing.assert_allclose(result.equivalent_yoke_phase_deg[0], result.yoke_phase_deg, atol=1e-6)
+    np.testing.assert_allclose(result.equivalent_yoke_phase_deg[0], result.yoke_phase_deg,
+                               atol=1e-6)
     assert result.fun - result.minimum_residual_error <= 1e-12
     assert result.optimisation.option == 1
     assert result.optimisation.crosscheck.agree

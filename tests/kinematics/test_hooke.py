@@ -119,5 +119,6 @@ def test_exact_angle_lag_derivative_is_ratio_minus_one():
     series = sso.ShaftSeries([30.0, 40.0, 50.0], [20.0, 75.0])
     step = 1e-5
     theta = np.linspace(0.0, 180.0, 91)
-    derivative = (series.output_angle_deg(theta + step) - series.output_angle_deg(theta - step)) / (2 * step)
+    derivative = (series.output_angle_deg(theta + step)
+                  - series.output_angle_deg(theta - step)) / (2 * step)
     np.testing.assert_allclose(derivative, series.speed_ratio(theta), rtol=1e-8)

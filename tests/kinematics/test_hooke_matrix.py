@@ -70,7 +70,8 @@ def _mpmath_residual_error(beta_rad, phase_rad, digits=40):
             for k, cosine in enumerate(cosines):
                 driving = psi + cumulative[k]
                 product *= cosine / (1 - mpmath.sin(beta[k]) ** 2 * mpmath.sin(driving) ** 2)
-                psi = mpmath.atan2(cosine * mpmath.sin(driving), mpmath.cos(driving)) - cumulative[k]
+                psi = (mpmath.atan2(cosine * mpmath.sin(driving), mpmath.cos(driving))
+                       - cumulative[k])
             return product
 
         peaks = []
@@ -78,7 +79,8 @@ def _mpmath_residual_error(beta_rad, phase_rad, digits=40):
             psi = mpmath.pi / 2 - cumulative[k]
             for j in range(k - 1, -1, -1):
                 output = psi + cumulative[j]
-                psi = mpmath.atan2(mpmath.sin(output), cosines[j] * mpmath.cos(output)) - cumulative[j]
+                psi = (mpmath.atan2(mpmath.sin(output), cosines[j] * mpmath.cos(output))
+                       - cumulative[j])
             peaks.append(psi % mpmath.pi)
         points = sorted({mpmath.mpf(0), mpmath.pi, *peaks})
         value, error = mpmath.quad(lambda theta: (ratio(theta) - 1) ** 2, points, error=True,

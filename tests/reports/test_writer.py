@@ -1,4 +1,4 @@
-"""Atomic writes and the result-file round trip, without the command line."""
+"""The result-file round trip, without the command line."""
 
 import json
 import math
@@ -7,7 +7,6 @@ import pytest
 from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
-from sso.files import TEMPORARY_PREFIX, write_bytes_atomic, write_text_atomic
 from sso.reports.writer import (
     ResultFileError,
     read_result,
@@ -16,23 +15,6 @@ from sso.reports.writer import (
     write_report,
 )
 from sso.run.document import evaluate_case
-
-
-def test_atomic_write_replaces_whole_files(tmp_path):
-    target = tmp_path / "result.json"
-    write_text_atomic(target, "old")
-    write_text_atomic(target, "new")
-    assert target.read_text() == "new"
-    assert [path.name for path in tmp_path.iterdir()] == ["result.json"]
-
-
-def test_failed_atomic_write_keeps_the_old_file_and_no_temporary(tmp_path):
-    target = tmp_path / "result.json"
-    write_text_atomic(target, "old")
-    with pytest.raises(TypeError):
-        write_bytes_atomic(target, "not bytes")  # type: ignore[arg-type]
-    assert target.read_text() == "old"
-    assert not list(tmp_path.glob(f"{TEMPORARY_PREFIX}*"))
 
 
 def test_result_json_is_strict_json():

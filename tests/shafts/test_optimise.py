@@ -29,13 +29,15 @@ PAPER_OPTION_2 = sso.ShaftSeries([10, 15, 25], [90, 90], model="paper")
          r"beta_bounds_deg upper = 90 is outside the allowed range \[0, 90\) deg"),
         ({"beta_bounds_deg": [(10, 40), (10, 40)]}, ValueError,
          r"beta_bounds_deg = .* must be one \(lower, upper\) pair or 3 pairs"),
-        ({"beta_bounds_deg": (math.nan, 40)}, ValueError, r"beta_bounds_deg lower = nan must be finite"),
+        ({"beta_bounds_deg": (math.nan, 40)}, ValueError,
+         r"beta_bounds_deg lower = nan must be finite"),
         ({"phase_bounds_deg": [(0, 180), (90, 0)]}, ValueError,
          r"phase_bounds_deg\[1\] = \(90, 0\) deg is inverted"),
         ({"starts": 0}, ValueError, r"starts = 0 is outside the allowed range \[1, 10000\]"),
         ({"input_speed_rpm": math.inf}, ValueError, r"input_speed_rpm = inf must be finite"),
-        ({"input_speed_rpm": -25}, ValueError, r"input_speed_rpm = -25 is outside the allowed range"),
-        ({"tolerance": 0}, ValueError, r"tolerance = 0 is outside the allowed range \(0, 1\)"),
+        ({"input_speed_rpm": -25}, ValueError,
+         r"input_speed_rpm = -25 is outside the allowed range"),
+        ({"solver_tol": 0}, ValueError, r"solver_tol = 0 is outside the allowed range \(0, 1\)"),
         ({"max_iterations": 2.5}, ValueError, r"max_iterations = 2.5 must be a whole number"),
         ({"beta_bound_deg": (0, 40)}, TypeError, r"unexpected keyword argument 'beta_bound_deg'"),
     ],
@@ -61,7 +63,8 @@ def test_option_names_are_accepted():
 
 
 def test_start_outside_bounds_is_moved_with_warning():
-    with pytest.warns(sso.StartMovedWarning, match=r"start beta_deg\[2\] = 50 deg .* moved onto 40"):
+    with pytest.warns(sso.StartMovedWarning,
+                      match=r"start beta_deg\[2\] = 50 deg .* moved onto 40"):
         result = sso.optimise(PAPER_OPTION_3, 3, beta_bounds_deg=(10, 40), starts=1)
     assert result.start_series.beta_deg == (30.0, 40.0, 40.0)
 
@@ -162,3 +165,13 @@ def test_screening_stops_at_a_global_minimum():
                           beta_bounds_deg=(10, 40))
     assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
     assert result.fun <= 1e-20 and result.crosscheck.agree
+
+
+def test_the_module_named_optimise_does_not_shadow_the_function():
+    # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function.
+    import importlib
+
+    module = importlib.import_module("sso.shafts.optimise")
+    assert callable(sso.optimise) and sso.optimise is module.optimise
+    result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
+    assert result.success

@@ -140,7 +140,7 @@ def test_result_exports():
      "input_speed_rpm = -1 is outside"),
     (lambda: optimise_batch([[10.0, 20.0]], [[90.0]], max_iterations=0),
      "max_iterations = 0 is outside"),
-    (lambda: optimise_batch([[10.0, 20.0]], [[90.0]], tolerance=2.0), "tolerance = 2 is outside"),
+    (lambda: optimise_batch([[10.0, 20.0]], [[90.0]], solver_tol=2.0), "solver_tol = 2 is outside"),
 ])
 def test_bad_input_names_the_field(call, message):
     with pytest.raises(ValueError, match=message):
@@ -156,4 +156,4 @@ def test_non_numeric_starts_are_type_errors():
 
 def test_unknown_keyword_fails():
     with pytest.raises(TypeError):
-        optimise_batch([[10.0, 20.0]], [[90.0]], solver_tol=1e-9)  # type: ignore[call-arg]
+        optimise_batch([[10.0, 20.0]], [[90.0]], tolerence=1e-9)  # type: ignore[call-arg]

@@ -4,6 +4,7 @@ Reference designs and fmincon counts are the paper's (M. Fajar's SSO paper, resu
 "pilihan" 1, 2 and 3): reported optima and 120 / 135 / 297 objective evaluations.
 """
 
+import itertools
 import warnings
 
 import numpy as np
@@ -55,7 +56,8 @@ def test_beats_the_papers_optimum_and_solvers_agree(option, model):
 
 @pytest.mark.parametrize("option", [2, 3])
 def test_exact_model_cancels_to_round_off(option):
-    # docs/model.md: where the joints can cancel (exact model, options 2 and 3), RE = 0 is reachable.
+    # docs/model.md: where the joints can cancel (exact model, options 2 and 3), RE = 0 is
+    # reachable.
     result = solve(option, "exact")
     assert result.best.fun <= 1e-20
     assert result.optimum.fluctuation <= 1e-9
@@ -109,7 +111,9 @@ def test_multistart_reports_distinct_minima():
     minima = result.local_minima
     assert len(result.runs) == 16
     assert minima[0] == pytest.approx(result.best.fun, rel=1e-6)
-    assert all(later - earlier > 1e-14 + 1e-6 * later for earlier, later in zip(minima, minima[1:]))
+    assert all(later - earlier > 1e-14 + 1e-6 * later
+               for earlier, later in itertools.pairwise(minima))
     for run in result.runs:
         if run.success:
-            assert min(abs(run.fun - value) - (1e-14 + 1e-6 * abs(run.fun)) for value in minima) <= 0
+            assert min(abs(run.fun - value) - (1e-14 + 1e-6 * abs(run.fun))
+                       for value in minima) <= 0

@@ -38,7 +38,8 @@ def test_relative_tolerance_scales_with_objective():
 
 def test_not_stationary_or_failed_disagrees():
     verdict = crosscheck({"ipopt": solution("ipopt", 0.5, kkt=1e-3),
-                          "slsqp": solution("slsqp", 0.5, success=False, message="Iteration limit")})
+                          "slsqp": solution("slsqp", 0.5, success=False,
+                                            message="Iteration limit")})
     assert not verdict.agree
     assert "slsqp failed (Iteration limit)" in verdict.message
     assert "ipopt projected gradient 0.001 exceeds 1e-06" in verdict.message
@@ -49,6 +50,7 @@ def test_projected_gradient_ignores_push_against_active_bound():
     # at the lower bound with a positive gradient (pushing outwards): stationary
     assert projected_gradient_norm(np.array([0.0, 0.5]), np.array([3.0, 0.0]), lower, upper) == 0.0
     # interior: the gradient itself
-    assert projected_gradient_norm(np.array([0.5, 0.5]), np.array([1e-3, -2e-3]), lower, upper) == pytest.approx(2e-3, rel=1e-12)
+    assert projected_gradient_norm(np.array([0.5, 0.5]), np.array([1e-3, -2e-3]), lower,
+                                   upper) == pytest.approx(2e-3, rel=1e-12)
     # at the upper bound pulled inwards: counts, capped by the distance to the other bound
     assert projected_gradient_norm(np.array([1.0, 0.5]), np.array([5.0, 0.0]), lower, upper) == 1.0

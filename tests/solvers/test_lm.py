@@ -6,7 +6,6 @@ chain matrix the solver uses); the paper's option-3 and option-1 cases
 (docs/model.md) and IPOPT's answer on the same problem.
 """
 
-import numpy as np
 import pytest
 
 import sso

@@ -22,7 +22,7 @@ def test_percentiles_equal_numpy_over_directly_evaluated_samples():
     np.testing.assert_array_equal(result.beta_deg, beta_deg)
     np.testing.assert_array_equal(result.phase_deg, phase_deg)
     evaluations = [sso.ShaftSeries(beta, phase).evaluate(25.0)
-                   for beta, phase in zip(beta_deg, phase_deg)]
+                   for beta, phase in zip(beta_deg, phase_deg, strict=True)]
     table = result.percentile_table()
     # RE: the same rule to 1e-10; figures: parabola-refined peaks of the same grid,
     # where two near-equal peaks may swap (1e-8 relative).
@@ -113,7 +113,8 @@ def test_exact_model_samples_agree_with_an_independent_quadrature():
     assert result.quadrature_samples == 0
     theta = np.linspace(0.0, np.pi, 100_001)
     for row in range(0, 40, 7):
-        beta, phase = list(np.radians(result.beta_deg[row])), list(np.radians(result.phase_deg[row]))
+        beta = list(np.radians(result.beta_deg[row]))
+        phase = list(np.radians(result.phase_deg[row]))
         assert result.residual_error[row] == pytest.approx(
             float(residual_error(beta, phase, "exact", 2048)), rel=1e-10, abs=1e-18)
         ratio = chain_kinematics(np, np.cos(theta), np.sin(theta), beta, phase, "exact").speed_ratio

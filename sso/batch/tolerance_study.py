@@ -1,42 +1,44 @@
-"""``sso.tolerance``: how manufacturing tolerances on angles and phases spread the results.
+"""``sso.tolerance_study`` (also ``sso.tolerance``): how manufacturing tolerances on
+angles and phases spread the results.
 
 Every sample perturbs the operating angles and phases of one design by draws from
 a normal or uniform distribution (deg) and is evaluated like
-:meth:`sso.ShaftSeries.evaluate`: residual error, peak-to-peak fluctuation and
-peak output acceleration. The samples are evaluated as arrays (thousands of
-designs per numpy call), drawn once in the calling process from a seeded
-generator, and so are the same for any chunking, executor or worker count.
+:meth:`sso.ShaftSeries.evaluate` (:mod:`sso.shafts.perturbed` holds that kernel):
+residual error, peak-to-peak fluctuation and peak output acceleration. The samples
+are evaluated as arrays (thousands of designs per numpy call), drawn once in the
+calling process from a seeded generator, and so are the same for any chunking,
+executor or worker count.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.progress import ProgressBar, interactive
-from sso.batch.results import METRICS, ToleranceResult
-from sso.kinematics.hooke import chain_kinematics
-from sso.kinematics.hooke_matrix import ratio_extremes
-from sso.kinematics.hooke_matrix import residual_error as closed_form_residual_error
-from sso.limits import BETA_LIMIT_DEG, DEFAULT_INPUT_SPEED_RPM
-from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
-from sso.shafts.objective import residual_error
+from sso.batch.results import ToleranceResult
+from sso.limits import DEFAULT_INPUT_SPEED_RPM
+from sso.shafts.perturbed import METRICS, ToleranceChunk, draw_samples, evaluate_chunk
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
 from sso.shafts.series import ShaftSeries
-from sso.validation import as_float_tuple, check_choice, check_in_range, validate_speed
+from sso.validation import (
+    as_float_tuple,
+    check_choice,
+    check_in_range,
+    validate_count,
+    validate_speed,
+)
 
 DISTRIBUTIONS = ("normal", "uniform")
 DEFAULT_PERCENTILES = (5.0, 50.0, 95.0, 99.0)
 MAX_SAMPLES = 100_000_000
 MAX_TOLERANCE_DEG = 45.0
-# A normal draw further than this many standard deviations out is treated as a
-# broken input (probability ~2e-9 per draw), not as a manufacturing deviation.
-NORMAL_REACH_SIGMAS = 6.0
 DEFAULT_CHUNK_SAMPLES = 20_000
 # Settings of a study when neither the call nor the case's [tolerance] table gives them.
 DEFAULT_SETTINGS: dict[str, Any] = {
@@ -47,22 +49,9 @@ DEFAULT_SETTINGS: dict[str, Any] = {
     "seed": 0,
     "percentiles": DEFAULT_PERCENTILES,
 }
-# Samples evaluated per numpy call inside a task: bounds memory to ~100 MB.
-BLOCK_SAMPLES = 1_000
 
 
-@dataclass(frozen=True)
-class ToleranceChunk:
-    """Samples to evaluate in one task (angles in rad, arrays of shape (m, joints))."""
-
-    beta_rad: np.ndarray
-    phase_rad: np.ndarray
-    model: str
-    quadrature_samples: int
-    input_speed_rpm: float
-
-
-def tolerance(
+def tolerance_study(
     design: Any,
     *,
     beta_tolerance_deg: float | Sequence[float] | None = None,
@@ -90,7 +79,7 @@ def tolerance(
 
     Parameters
     ----------
-    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.schema.Case or mapping
+    design : sso.ShaftSeries, str, pathlib.Path, sso.cases.shaft_series.Case or mapping
         The nominal design, or a case whose design (as given) is perturbed; a
         case also gives the input speed and, in its ``[tolerance]`` table, the
         defaults of the settings below.
@@ -141,8 +130,8 @@ def tolerance(
     distribution = check_choice("distribution", settings["distribution"], DISTRIBUTIONS)
     samples = settings["samples"]
     seed = settings["seed"]
-    samples = _count("samples", samples)
-    chunk_size = _count("chunk_size", chunk_size)
+    samples = validate_count("samples", samples, 1, MAX_SAMPLES)
+    chunk_size = validate_count("chunk_size", chunk_size, 1, MAX_SAMPLES)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed = {seed!r} must be a whole number >= 0")
     quantiles = tuple(check_in_range(f"percentiles[{index}]", value, 0.0, 100.0)
@@ -165,15 +154,15 @@ def tolerance(
                                           *quadrature).samples
                           if series.model == "paper" else 0)
     chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
-                             phase_rad[start:start + chunk_size], series.model,
-                             quadrature_samples, speed_rpm)
+                             phase_rad[start:start + chunk_size], series.model, quadrature_samples,
+                             speed_rpm)
               for start in range(0, samples, chunk_size)]
     metrics = np.empty((len(METRICS), samples))
     bar = ProgressBar(samples, "samples", interactive() if progress is None else progress)
     try:
         for index, values, error in run_tasks(evaluate_chunk, chunks, client, worker_count):
             if error is not None:
-                raise RuntimeError(f"tolerance: chunk {index} failed: {error}") from error
+                raise RuntimeError(f"tolerance study: chunk {index} failed: {error}") from error
             metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
             bar.advance(values.shape[1])
     finally:
@@ -192,81 +181,6 @@ def tolerance(
     from sso.batch.report import write_tolerance_report
 
     return replace(result, files=tuple(write_tolerance_report(result, Path(out_dir), plots)))
-
-
-def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
-                 phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
-                 seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Perturbed operating angles and phases (deg), as documented in :func:`tolerance`.
-
-    Raises
-    ------
-    ValueError
-        If a sampled operating angle reaches 90 deg (the joint locks).
-    """
-    generator = np.random.default_rng(seed)
-    joints = series.n_joints
-    if distribution == "normal":
-        beta_offsets = generator.normal(0.0, beta_tolerance_deg, (samples, joints))
-        phase_offsets = generator.normal(0.0, phase_tolerance_deg, (samples, joints - 1))
-    else:
-        beta_offsets = generator.uniform(-np.asarray(beta_tolerance_deg),
-                                         beta_tolerance_deg, (samples, joints))
-        phase_offsets = generator.uniform(-np.asarray(phase_tolerance_deg),
-                                          phase_tolerance_deg, (samples, joints - 1))
-    beta_deg = np.asarray(series.beta_deg) + beta_offsets
-    reach = NORMAL_REACH_SIGMAS if distribution == "normal" else 1.0
-    largest = np.asarray(series.beta_deg) + reach * np.asarray(beta_tolerance_deg)
-    if np.any(np.abs(beta_deg) >= BETA_LIMIT_DEG) or np.any(largest >= BETA_LIMIT_DEG):
-        joint = int(np.argmax(largest))
-        raise ValueError(
-            f"beta_tolerance_deg[{joint}] = {beta_tolerance_deg[joint]:g} deg lets joint "
-            f"{joint} (beta {series.beta_deg[joint]:g} deg) reach 90 deg, where it locks; "
-            f"the allowed range is beta + {reach:g} * tolerance < 90 deg")
-    return beta_deg, np.asarray(series.phase_deg) + phase_offsets
-
-
-def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
-    """RE, fluctuation and peak output acceleration of each sample, shape (3, m)."""
-    values = np.empty((len(METRICS), len(chunk.beta_rad)))
-    for start in range(0, len(chunk.beta_rad), BLOCK_SAMPLES):
-        block = slice(start, start + BLOCK_SAMPLES)
-        beta = [column[:, None] for column in chunk.beta_rad[block].T]
-        phase = [column[:, None] for column in chunk.phase_rad[block].T]
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
-        theta_rad = np.pi * np.arange(figure_samples) / figure_samples
-        kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
-                                      chunk.model)
-        ratio = kinematics.speed_ratio
-        if chunk.model == "exact":
-            least, greatest = ratio_extremes(np, beta, phase)
-            values[0, block] = closed_form_residual_error(np, beta, phase).ravel()
-            values[1, block] = (greatest - least).ravel()
-        else:
-            values[0, block] = residual_error(beta, phase, chunk.model,
-                                              chunk.quadrature_samples)
-            values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
-        ratio_slope = np.abs(ratio * kinematics.log_ratio_slope)
-        values[2, block] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * periodic_peaks(ratio_slope)
-    return values
-
-
-def periodic_peaks(values: np.ndarray) -> np.ndarray:
-    """Maximum of each row of a periodic sampled function, refined by a parabola.
-
-    The row-wise form of the refinement :meth:`sso.ShaftSeries.evaluate` uses, so
-    both give the same figures.
-    """
-    rows = np.arange(values.shape[0])
-    index = np.argmax(values, axis=1)
-    left = values[rows, index - 1]
-    centre = values[rows, index]
-    right = values[rows, (index + 1) % values.shape[1]]
-    curvature = left - 2.0 * centre + right
-    concave = curvature < 0.0
-    offset = np.divide(0.5 * (left - right), curvature, out=np.zeros_like(centre),
-                       where=concave)
-    return np.where(concave, centre - 0.25 * (left - right) * offset, centre)
 
 
 def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float,
@@ -293,10 +207,3 @@ def _tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:
     return tuple(check_in_range(f"{field_name}[{index}]", item, 0.0, MAX_TOLERANCE_DEG, "deg")
                  for index, item in enumerate(values))
 
-
-def _count(field_name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{field_name} = {value!r} must be a whole number in [1, {MAX_SAMPLES}]")
-    if not 1 <= value <= MAX_SAMPLES:
-        raise ValueError(f"{field_name} = {value} is outside the allowed range [1, {MAX_SAMPLES}]")
-    return int(value)

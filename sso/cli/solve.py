@@ -1,0 +1,165 @@
+"""``sso run`` and ``sso evaluate``: solve (or evaluate) case files and write their reports."""
+
+from __future__ import annotations
+
+import argparse
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from sso.cli.common import (
+    DEFAULT_OUT,
+    EXIT_BAD_INPUT,
+    EXIT_FAILED,
+    EXIT_OK,
+    REPORT_FOLDER_HELP,
+    Command,
+    add_report_arguments,
+    list_argument,
+    print_error,
+    print_warnings,
+    report_formats,
+    say,
+)
+from sso.limits import SOLVER_NAMES
+
+
+@dataclass
+class Outcome:
+    """What happened to one case, for the closing summary table."""
+
+    case: str
+    status: str
+    exit_code: int
+    residual_errors: tuple[str, str, str] = ("", "", "")
+    seconds: float = 0.0
+    folder: str = ""
+
+
+def _configure_run(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("cases", nargs="+", metavar="CASE.toml", help="case files to solve")
+    parser.add_argument("--solvers", type=list_argument(SOLVER_NAMES, "solvers"),
+                        metavar="LIST", help="solvers to run, comma-separated from ipopt,slsqp "
+                        "(default: the case's [solver] solvers)")
+    add_report_arguments(parser, REPORT_FOLDER_HELP)
+
+
+def _configure_evaluate(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("cases", nargs="+", metavar="CASE.toml", help="case files to evaluate")
+    add_report_arguments(parser, REPORT_FOLDER_HELP)
+
+
+def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
+    from sso.cases.schema import CaseError, load_case
+
+    outcomes: list[Outcome] = []
+    folders: dict[str, str] = {}
+    for path in args.cases:
+        started = time.perf_counter()
+        try:
+            case = load_case(path)
+        except CaseError as error:
+            print_error(str(error))
+            outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
+            continue
+        if case.name in folders:
+            print_error(f"{path}: name = {case.name!r} is already used by {folders[case.name]} "
+                        "in this run; its report would overwrite that one")
+            outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
+            continue
+        folders[case.name] = path
+        case = case.with_overrides(solvers=getattr(args, "solvers", None),
+                                   formats=report_formats(args, case.formats))
+        folder = Path(args.out or DEFAULT_OUT) / case.name
+        outcomes.append(_solve_one(args, case, folder, optimising, started))
+    _print_summary(outcomes, optimising)
+    return max(outcome.exit_code for outcome in outcomes)
+
+
+def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
+               started: float) -> Outcome:
+    from sso.cases.mechanism import MECHANISM_KINDS
+    from sso.reports.writer import write_report
+    from sso.run.document import evaluate_case, optimise_case
+    from sso.run.mechanism_document import mechanism_document
+
+    say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
+    try:
+        if case.kind in MECHANISM_KINDS:
+            document = mechanism_document(case, optimising)
+        else:
+            document = optimise_case(case) if optimising else evaluate_case(case)
+    except ValueError as error:
+        print_error(f"{case.source}: {error}")
+        return Outcome(case.name, "bad input", EXIT_BAD_INPUT)
+    except Exception:
+        print_error(f"{case.source}: internal error while solving; please report it:\n"
+                    + traceback.format_exc())
+        return Outcome(case.name, "internal error", EXIT_FAILED)
+    print_warnings(case.name, document["warnings"])
+    try:
+        written = write_report(document, folder, case.formats)
+    except OSError as error:
+        print_error(f"{case.name}: cannot write the report into {folder}: "
+                    f"{error.strerror or error}")
+        return Outcome(case.name, "cannot write", EXIT_BAD_INPUT)
+    status, code = _status(document)
+    if not document["success"]:
+        print_error(f"{case.name}: {document['verdict']}")
+    say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
+         f"in {folder}")
+    designs = document.get("designs", {})
+    errors = tuple(f"{designs[role]['evaluation']['residual_error']:.3g}"
+                   if role in designs else "-" for role in ("initial", "optimum", "reference"))
+    return Outcome(case.name, status, code, errors, time.perf_counter() - started, str(folder))
+
+
+def _status(document: dict[str, Any]) -> tuple[str, int]:
+    if document["mode"] == "evaluate":
+        return "evaluated", EXIT_OK
+    if document["mode"] == "analyse":
+        return "analysed", EXIT_OK
+    if document["success"]:
+        return "solved", EXIT_OK
+    if document["verdict"].startswith("solver failed"):
+        return "solver failed", EXIT_FAILED
+    return "solvers disagree", EXIT_FAILED
+
+
+def _print_summary(outcomes: list[Outcome], optimising: bool) -> None:
+    header = ("case", "status", "RE initial", "RE optimum" if optimising else "-",
+              "RE reference", "time (s)", "report")
+    rows = [header] + [(outcome.case, outcome.status, *outcome.residual_errors,
+                        f"{outcome.seconds:.2f}" if outcome.folder else "", outcome.folder)
+                       for outcome in outcomes]
+    if not optimising:
+        rows = [row[:3] + row[4:] for row in rows]
+    widths = [max(len(row[column]) for row in rows) for column in range(len(rows[0]))]
+    lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip()
+             for row in rows]
+    lines.insert(1, "  ".join("-" * width for width in widths))
+    print("\n" + "\n".join(lines), flush=True)
+
+
+def _run(args: argparse.Namespace) -> int:
+    return _solve_cases(args, optimising=True)
+
+
+def _evaluate(args: argparse.Namespace) -> int:
+    return _solve_cases(args, optimising=False)
+
+
+COMMANDS = (
+    Command("run", "solve case files and write their reports",
+            "Solve each case (IPOPT and SLSQP, several starts, cross-checked) and write its "
+            "report into DIR/<case name>/. One failing case does not stop the others; a "
+            "summary table closes the run. Exit 0: all solved and the solvers agree; 1: a "
+            "solver failed or the solvers disagreed; 2: bad input.",
+            _configure_run, _run),
+    Command("evaluate", "evaluate the designs as given, without optimising",
+            "Evaluate each case's design as given (and its reference design), with no "
+            "optimisation and no NLP, and write the same report without the optimum.",
+            _configure_evaluate, _evaluate),
+)
