@@ -40,6 +40,7 @@ MESSAGES = {
     0: "iteration limit reached",
     1: "projected gradient below the tolerance",
     2: "actual and predicted relative reductions at round-off",
+    3: "step at round-off",
     4: "sum of squares at round-off zero",
 }
 _ACCEPT_RATIO = 1e-4
@@ -50,7 +51,9 @@ _ROUND_OFF = 4.0 * 2.0**-52
 _SLOW_LEVEL = 1e-20
 _SLOW_STEPS = 3
 _NEWTON_DAMPING = 1e-8
-_HESSIAN_STEP = 1e-6
+# Forward differences: truncation ~ step, round-off ~ eps / step; 1e-7 balances them
+# well enough for Newton's superlinear convergence.
+_HESSIAN_STEP = 1e-7
 
 
 def solve(
@@ -127,10 +130,13 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
             return x, fun, nit, nfev, 4
         if newton:
             step, predicted = _newton_step(residuals, x, gradient, free, damping)
-            nfev += 2 * sum(free)
+            nfev += sum(free)
         else:
             step, predicted = _gauss_newton_step(r1, r2, row1, row2, free, damping)
         trial = [min(max(x[i] + step[i], lower[i]), upper[i]) for i in range(size)]
+        if max(abs(t - v) for t, v in zip(trial, x, strict=True)) <= _ROUND_OFF * (
+                1.0 + max(abs(v) for v in x)):
+            return x, fun, nit, nfev, 3
         if not newton:
             # The model's decrease for the projected step actually taken.
             model1 = r1 + sum(a * (t - v) for a, t, v in zip(row1, trial, x, strict=True))
@@ -188,7 +194,7 @@ def _gauss_newton_step(r1: float, r2: float, row1: list[float], row2: list[float
 
 def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], free: list[bool],
                  damping: float) -> tuple[list[float], float]:
-    """Damped Newton step on the free variables, Hessian from central differences of the gradient.
+    """Damped Newton step on the free variables, Hessian from forward differences of the gradient.
 
     The Hessian is shifted by ``damping`` times its largest diagonal magnitude, and
     further until its Cholesky factorisation succeeds (positive definite); returns
@@ -199,14 +205,12 @@ def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], fr
     size = len(index)
     hessian = [[0.0] * size for _ in range(size)]
     for column, i in enumerate(index):
-        ahead, behind = list(x), list(x)
+        ahead = list(x)
         ahead[i] += _HESSIAN_STEP
-        behind[i] -= _HESSIAN_STEP
         a1, a2, a_row1, a_row2 = residuals(ahead)
-        b1, b2, b_row1, b_row2 = residuals(behind)
         for row, j in enumerate(index):
-            hessian[row][column] = ((a_row1[j] * a1 + a_row2[j] * a2)
-                                    - (b_row1[j] * b1 + b_row2[j] * b2)) / _HESSIAN_STEP
+            hessian[row][column] = (2.0 * (a_row1[j] * a1 + a_row2[j] * a2)
+                                    - gradient[j]) / _HESSIAN_STEP
     step = [0.0] * len(x)
     values = [value for row in hessian for value in row]
     if not index or not all(map(math.isfinite, values)):
@@ -216,8 +220,15 @@ def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], fr
     scale = max(max(abs(value) for value in values), 1e-30)
     shift = damping * scale
     factor = _cholesky(hessian, shift)
+    if factor is None:
+        # Indefinite (near a saddle): shift just past the most negative eigenvalue,
+        # so the step is long along the direction of negative curvature (Moré and
+        # Sorensen); a rejected step raises ``damping`` and shortens it.
+        smallest = float(np.linalg.eigvalsh(np.array(hessian))[0])
+        shift = 1.01 * max(-smallest, 0.0) + max(damping, 1e-8) * scale
+        factor = _cholesky(hessian, shift)
     while factor is None:
-        shift = max(2.0 * shift, 1e-12 * scale)
+        shift = max(10.0 * shift, 1e-6 * scale)
         factor = _cholesky(hessian, shift)
     # Solve L L^T d = -g.
     forward = [0.0] * size

@@ -131,11 +131,15 @@ def solve_from_starts(
 
 def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
             solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
-    """``"lm"`` from each start in turn, until one reaches a global minimum (round-off zero)."""
+    """``"lm"`` from each start in turn, until one reaches a global minimum (round-off zero).
+
+    Without second-order checks: a run that stops on a saddle point is only a worse
+    candidate, and the best candidate is checked when the solvers run from it.
+    """
     screened = []
     for index, point in enumerate(points):
         run = run_starts(nlp, point[np.newaxis, :], parameters, limits, ("lm",), solver_tol,
-                         max_iterations)["lm"][0]
+                         max_iterations, second_order=False)["lm"][0]
         screened.append(replace(run, start_index=index))
         if nlp.nonnegative_objective and run.outcome.success and run.fun <= ZERO_OBJECTIVE:
             break
@@ -150,11 +154,12 @@ def run_starts(
     solver_names: Sequence[str],
     solver_tol: float,
     max_iterations: int,
+    second_order: bool = True,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
-    Each run skips the solver at a start that is already a minimum and restarts
-    it off saddle points (:mod:`sso.solvers.saddle`).
+    With ``second_order``, each run skips the solver at a start that is already a
+    minimum and restarts it off saddle points (:mod:`sso.solvers.saddle`).
 
     Parameters
     ----------
@@ -171,6 +176,10 @@ def run_starts(
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
+    second_order : bool
+        Check for minima and saddle points around each run (False: the solver
+        alone, as the least-squares screening does; the runs from its best point
+        are checked).
 
     Returns
     -------
@@ -185,8 +194,8 @@ def run_starts(
 
         runs[name] = [
             _measure(name, index, solve_with_second_order_care(solve, nlp, point, parameters,
-                                                               limits, solver_tol),
-                     nlp, parameters, limits)
+                                                               limits, solver_tol)
+                     if second_order else solve(point), nlp, parameters, limits)
             for index, point in enumerate(points)
         ]
     return runs
