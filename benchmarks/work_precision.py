@@ -491,8 +491,8 @@ def plot(out: Path, rows: list[Measurement]) -> None:
 
     keys = list(dict.fromkeys((row.case, row.model) for row in rows))
     columns = 3
-    rows = (len(keys) + columns - 1) // columns
-    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.2 * rows),
+    panel_rows = (len(keys) + columns - 1) // columns
+    figure, axes = plt.subplots(panel_rows, columns, figsize=(4.2 * columns, 3.2 * panel_rows),
                                 squeeze=False)
     for axis, (case, model) in zip(axes.flat, keys, strict=False):
         for method in METHODS:
