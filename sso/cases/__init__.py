@@ -11,5 +11,6 @@ matplotlib at module level.
 """
 
 # Each kind registers itself with sso.cases.schema when its module is imported.
+from sso.cases import column as _column  # noqa: F401
 from sso.cases import mechanism as _mechanism  # noqa: F401
 from sso.cases import shaft_series as _shaft_series  # noqa: F401

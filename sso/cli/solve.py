@@ -80,14 +80,18 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
 
 def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
                started: float) -> Outcome:
+    from sso.cases.column import COLUMN_KIND
     from sso.cases.mechanism import MECHANISM_KINDS
     from sso.reports.writer import write_report
+    from sso.run.column_document import column_document
     from sso.run.document import evaluate_case, optimise_case
     from sso.run.mechanism_document import mechanism_document
 
     say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
     try:
-        if case.kind in MECHANISM_KINDS:
+        if case.kind == COLUMN_KIND:
+            document = column_document(case, optimising)
+        elif case.kind in MECHANISM_KINDS:
             document = mechanism_document(case, optimising)
         else:
             document = optimise_case(case) if optimising else evaluate_case(case)

@@ -7,7 +7,15 @@ One job per module:
 * :mod:`sso.column.cancel`: :func:`can_cancel` and the closed-form optimal phasings;
 * :mod:`sso.column.phasing`: :func:`optimise_phasing` with :func:`sso.optimise`;
 * :mod:`sso.column.splines`: :func:`best_spline_teeth`, fitter's instructions;
-* :mod:`sso.column.excitation`: SAE AE-7 figures and the exact model over rpm.
+* :mod:`sso.column.excitation`: SAE AE-7 figures and the exact model over rpm;
+* :mod:`sso.column.scenarios`: one yoke phasing for many fixed columns (the NLP);
+* :mod:`sso.column.positions`: :func:`optimise_positions` (tilt, telescope);
+* :mod:`sso.column.tolerances`, :mod:`sso.column.robust_phasing`: tolerances in the
+  objective (:class:`Tolerances`, :func:`optimise_robust`);
+* :mod:`sso.column.band`: :func:`tolerance_band`;
+* :mod:`sso.column.feel`: steering feel on-centre and at lock;
+* :mod:`sso.column.design`: a column and its phasing, given either way;
+* :mod:`sso.column.robust`: the robust API in one import.
 
-Conventions: ``docs/column.md``.
+Conventions: ``docs/column.md``; robust phasing: ``docs/robust.md``.
 """

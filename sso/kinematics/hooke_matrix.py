@@ -47,8 +47,8 @@ def _product(left: Matrix, right: Matrix) -> Matrix:
             a21 * b11 + a22 * b21, a21 * b12 + a22 * b22)
 
 
-def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list[Matrix]:
-    """The chain's factors from the input side: ``D_1, R(phi_1), D_2, ..., D_n``."""
+def _check_counts(beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> None:
+    """Raise ValueError unless there is a joint and one phase fewer than joints."""
     if len(beta_rad) < 1:
         raise ValueError("beta_rad is empty: a chain needs at least 1 joint")
     if len(phase_rad) != len(beta_rad) - 1:
@@ -56,6 +56,11 @@ def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list
             f"phase_rad has {len(phase_rad)} entries; {len(beta_rad)} joints need "
             f"{len(beta_rad) - 1}"
         )
+
+
+def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list[Matrix]:
+    """The chain's factors from the input side: ``D_1, R(phi_1), D_2, ..., D_n``."""
+    _check_counts(beta_rad, phase_rad)
     factors: list[Matrix] = []
     for k, beta in enumerate(beta_rad):
         if k > 0:
@@ -72,7 +77,7 @@ def chain_matrix(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> 
     Parameters
     ----------
     xp : module
-        ``numpy`` or ``casadi``: supplies ``sin`` and ``cos``.
+        ``numpy``, ``casadi`` or ``math``: supplies ``sin`` and ``cos``.
     beta_rad : sequence
         Operating angle of each joint (rad), ``n >= 1`` entries: numbers, numpy
         arrays that broadcast against each other, or CasADi symbols.
@@ -89,11 +94,36 @@ def chain_matrix(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> 
     ValueError
         If there is no joint or the phase count is not ``len(beta_rad) - 1``.
     """
-    factors = _factors(xp, beta_rad, phase_rad)
-    matrix = factors[0]
-    for factor in factors[1:]:
-        matrix = _product(factor, matrix)
-    return matrix
+    _check_counts(beta_rad, phase_rad)
+    return chain_entries([xp.cos(beta) for beta in beta_rad],
+                         [xp.cos(phase) for phase in phase_rad],
+                         [xp.sin(phase) for phase in phase_rad])
+
+
+def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
+                  sin_phase: Sequence[Any]) -> Matrix:
+    """Entries ``(m11, m12, m21, m22)`` of ``M`` from the cosines and sines alone.
+
+    Nothing but ``+ - *``, so any arithmetic works (floats, numpy, CasADi). RE does
+    not change when ``M`` is scaled, so a rotation may be given scaled
+    (``lambda (cos phi, sin phi)``, any ``lambda != 0``).
+
+    Parameters
+    ----------
+    cos_beta : sequence
+        ``cos beta_k`` of each joint (``n`` entries).
+    cos_phase, sin_phase : sequence
+        ``cos phi_k`` and ``sin phi_k`` of each phase (``n - 1`` entries each).
+    """
+    m11: Any = 1.0
+    m12: Any = 0.0
+    m21: Any = 0.0
+    m22: Any = cos_beta[0]
+    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=True):
+        top_left, top_right = c * m11 - s * m21, c * m12 - s * m22
+        m21, m22 = cosine * (s * m11 + c * m21), cosine * (s * m12 + c * m22)
+        m11, m12 = top_left, top_right
+    return m11, m12, m21, m22
 
 
 def chain_determinant(xp: Any, beta_rad: Sequence[Any]) -> Any:

@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
 from sso.cases.schema import rename_old_keys
 from sso.files import write_bytes_atomic
@@ -24,6 +25,9 @@ REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "o
 MECHANISM_REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "case_file", "length_unit",
                            "crank_speed_rad_s", "crank_accel_rad_s2", "linkages", "tables",
                            "extremes", "success", "verdict", "warnings", "versions")
+COLUMN_REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "case_file", "geometry",
+                        "cancel", "assemblies", "excitation", "recommended", "success",
+                        "verdict", "warnings", "versions")
 
 
 class ResultFileError(ValueError):
@@ -41,6 +45,8 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
         Files to render. Without ``"png"`` matplotlib is never imported and the
         reports carry no plots.
     """
+    if document.get("kind") == COLUMN_KIND:
+        return _render_column(document, formats)
     files: dict[str, bytes] = {}
     mechanism = document.get("kind") in MECHANISM_KINDS
     if "json" in formats:
@@ -69,6 +75,34 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
         from sso.reports.summary import report_blocks
 
         blocks = (mechanism_blocks if mechanism else report_blocks)(document, tuple(images))
+        if "md" in formats:
+            from sso.reports.markdown import render_markdown
+
+            files["report.md"] = render_markdown(blocks).encode("utf-8")
+        if "html" in formats:
+            from sso.reports.html import render_html
+
+            files["report.html"] = render_html(blocks, images).encode("utf-8")
+    return files
+
+
+def _render_column(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, bytes]:
+    """The files of a 3D-column result (:mod:`sso.reports.column_report`)."""
+    from sso.reports.column_report import EXCITATION_FILE, column_blocks, excitation_csv
+
+    files: dict[str, bytes] = {}
+    if "json" in formats:
+        files[RESULT_FILE] = result_json(document).encode("utf-8")
+    if "csv" in formats:
+        files[EXCITATION_FILE] = excitation_csv(document).encode("utf-8")
+    images: dict[str, bytes] = {}
+    if "png" in formats:
+        from sso.reports.column_plots import render_column_plots
+
+        images = render_column_plots(document)
+        files.update(images)
+    if "md" in formats or "html" in formats:
+        blocks = column_blocks(document, tuple(images))
         if "md" in formats:
             from sso.reports.markdown import render_markdown
 
@@ -124,7 +158,9 @@ def read_result(path: str | Path) -> dict[str, Any]:
     if version != SCHEMA_VERSION:
         raise ResultFileError(f"{path}: schema_version = {version!r}; this sso reads "
                               f"schema_version {SCHEMA_VERSION}")
-    required = MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS else REQUIRED_KEYS
+    required = (COLUMN_REQUIRED_KEYS if document.get("kind") == COLUMN_KIND
+                else MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS
+                else REQUIRED_KEYS)
     missing = [key for key in required if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")

@@ -168,10 +168,12 @@ def test_screening_stops_at_a_global_minimum():
 
 
 def test_the_module_named_optimise_does_not_shadow_the_function():
-    # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function.
+    # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function
+    # (the dispatcher that sends a shaft series on to sso.shafts.optimise.optimise).
     import importlib
 
-    module = importlib.import_module("sso.shafts.optimise")
-    assert callable(sso.optimise) and sso.optimise is module.optimise
+    importlib.import_module("sso.shafts.optimise")
+    dispatcher = importlib.import_module("sso.column.dispatch")
+    assert callable(sso.optimise) and sso.optimise is dispatcher.optimise
     result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
     assert result.success

@@ -1,0 +1,240 @@
+"""Report of a column result: ``report.md``/``.html`` blocks and ``excitation.csv``.
+
+Rendered from the result document alone (:mod:`sso.run.column_document`), with
+the same Markdown and HTML writers as every other report.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
+
+EXCITATION_FILE = "excitation.csv"
+EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsional_rad_s2",
+                      "exact_torsional_rad_s2", "exact_output_accel_rad_s2",
+                      "inertial_limit_rad_s2", "torsional_limit_rad_s2", "within_limits")
+CAPTIONS = {
+    "column_3d.png": "The column in vehicle coordinates: shafts, joints (dots), the end points "
+                     "on the input and output axes (squares) and each joint's bend plane "
+                     "(orange patch, spanned by the shafts before and after the joint); with "
+                     "joint boxes, the moved column (dashed) and the boxes.",
+    "excitation.png": "SAE AE-7 small-angle excitations and the exact output acceleration over "
+                      "the rpm range (solid: recommended assembly, dashed: as built), with the "
+                      "published limits.",
+}
+CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
+              "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
+              "yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
+              "joint k to that of its yoke at joint k+1, 0 = in phase (pin axes parallel); the "
+              "model phase is phi_k = 90 + delta_k - gamma_k (mod 180). phi = 90 deg means yokes "
+              "in phase only for a planar column (gamma = 0 or 180); here it means each yoke "
+              "turned by its bend-plane angle (the textbook correction).")
+
+
+def excitation_csv(document: Mapping[str, Any]) -> str:
+    """``excitation.csv``: one row per speed and assembly (as built, recommended)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(("assembly", *EXCITATION_COLUMNS))
+    for role, rows in document["excitation"]["rows"].items():
+        for row in rows:
+            writer.writerow((role, *(repr(row[name]) if isinstance(row[name], float)
+                                     else row[name] for name in EXCITATION_COLUMNS)))
+    return buffer.getvalue()
+
+
+def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> list[Block]:
+    """Blocks of the whole report of a column result."""
+    case = document["case"]
+    blocks: list[Block] = [Heading(1, f"SSO report: {case['name']}")]
+    if case.get("description"):
+        blocks.append(Paragraph(case["description"]))
+    status = "OK" if document["success"] else "FAILED"
+    blocks += [_case_table(document), Heading(2, "Verdict"),
+               Paragraph(f"{status}: {document['verdict']}"),
+               Heading(2, "Geometry from the hardpoints"), _geometry_table(document),
+               _shaft_table(document), Paragraph(CONVENTION),
+               Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
+               Heading(2, "Assemblies compared"), _assembly_table(document),
+               Heading(2, "Yoke phasing for the fitter"), _phasing_table(document)]
+    if "splines" in document:
+        splines = document["splines"]
+        blocks += [Paragraph(f"Best on the splines: RE {number(splines['residual_error'], '.6g')}"
+                             f", against {number(splines['continuous_residual_error'], '.6g')} "
+                             f"for the best continuous phasing (loss "
+                             f"{number(splines['loss'], '.3g')}; {splines['method']}, "
+                             f"{splines['assemblies_evaluated']} assemblies evaluated, "
+                             f"{len(splines['ties'])} tied)."),
+                   Heading(3, "Assembly instructions"),
+                   *[Paragraph(item["text"]) for item in document["splines"]["instructions"]]]
+    if "joint_positions" in document:
+        blocks += [Heading(2, "Joint positions moved within their boxes"),
+                   *_joint_blocks(document)]
+    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
+    if document["warnings"]:
+        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
+    blocks.append(Heading(2, "Plots"))
+    if image_files:
+        blocks += [Image(name, CAPTIONS[name]) for name in image_files]
+    else:
+        blocks.append(Paragraph("Plots were not written (png not among the formats)."))
+    blocks += [Heading(2, "Versions"),
+               Table(("package", "version"), tuple((name, str(version)) for name, version
+                                                   in document["versions"].items()))]
+    return blocks
+
+
+def _case_table(document: Mapping[str, Any]) -> Table:
+    case = document["case"]
+    geometry = document["geometry"]
+    rows = [("case file", str(document["case_file"])), ("kind", document["kind"]),
+            ("run", {"optimise": "phasing, spline teeth and joint-position optimisation",
+                     "evaluate": "analysis of the assembly as built"}[document["mode"]]),
+            ("joints", str(len(geometry["beta_deg"]))),
+            ("vehicle (limits)", document["excitation"]["vehicle"]),
+            ("spline teeth", ", ".join(str(t) for t in case.get("splines", {}).get("teeth", []))
+             or "not given")]
+    return Table(("item", "value"), tuple(rows))
+
+
+def _geometry_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    points = geometry["points_mm"]
+    rows = []
+    for index, point in enumerate(points):
+        coordinates = ", ".join(f"{value:.1f}" for value in point)
+        if index in (0, len(points) - 1):
+            role = "input shaft point" if index == 0 else "output shaft point"
+            rows.append((f"P{index}", role, coordinates, "-"))
+        else:
+            straight = " (straight)" if geometry["straight_joints"][index - 1] else ""
+            rows.append((f"P{index}", f"joint {index}", coordinates,
+                         number(geometry["beta_deg"][index - 1], ".4f") + straight))
+    return Table(("point", "role", "x, y, z (mm)", "operating angle beta (deg)"), tuple(rows))
+
+
+def _shaft_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    lengths = geometry["shaft_length_mm"]
+    gammas = geometry["plane_angle_deg"]
+    rows = []
+    for shaft, length in enumerate(lengths):
+        gamma = number(gammas[shaft - 1], ".4f") if 1 <= shaft <= len(gammas) else "-"
+        rows.append((str(shaft), f"P{shaft} to P{shaft + 1}", number(length, ".1f"), gamma))
+    return Table(("shaft", "from, to", "length (mm)", "bend-plane angle gamma (deg)"),
+                 tuple(rows))
+
+
+def _cancel_blocks(document: Mapping[str, Any]) -> list[Block]:
+    verdict = document["cancel"]
+    answer = "yes" if verdict["possible"] else "no"
+    rows = (("rule", verdict["rule"]),
+            ("RE = 0 reachable", answer),
+            ("margin cos(beta_max) - prod cos(beta_other)", number(verdict["margin"], ".6g")),
+            ("limiting joint", str(verdict["limiting_joint"])),
+            ("Spicer small-angle margin sum beta_other^2 - beta_max^2 (deg^2)",
+             number(verdict["small_angle_margin_deg2"], ".4g")),
+            ("least RE any phasing reaches", number(verdict["minimum_residual_error"], ".6g")))
+    return [Table(("criterion", "value"), rows)]
+
+
+def _assembly_table(document: Mapping[str, Any]) -> Table:
+    rows = []
+    for entry in document["assemblies"]:
+        rows.append((entry["label"], _angles(entry["yoke_phase_deg"]),
+                     _angles(entry["phase_deg"]), number(entry["residual_error"], ".6g")))
+    return Table(("assembly", "yoke phasing delta (deg)", "model phase phi (deg)", "RE"),
+                 tuple(rows))
+
+
+def _phasing_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    phasing = document.get("phasing")
+    splines = document.get("splines")
+    as_built = next(entry for entry in document["assemblies"] if entry["role"] == "as_built")
+    header = ["intermediate shaft", "gamma (deg)", "delta as built (deg)"]
+    if phasing is not None:
+        header += ["best delta (deg)", "all optimal delta, mod 180 (deg)"]
+    if splines is not None:
+        header += ["teeth", "tooth offset", "delta on the splines (deg)", "direction"]
+    rows = []
+    for shaft, gamma in enumerate(geometry["plane_angle_deg"]):
+        row = [f"{shaft + 1} (joint {shaft + 1} to {shaft + 2})", number(gamma, ".3f"),
+               number(as_built["yoke_phase_deg"][shaft], ".3f")]
+        if phasing is not None:
+            row += [number(phasing["yoke_phase_deg"][shaft], ".3f"),
+                    "; ".join(number(optimum[shaft], ".3f")
+                              for optimum in phasing["equivalent_yoke_phase_deg"])]
+        if splines is not None:
+            offset = splines["tooth_offset"][shaft]
+            direction = ("in phase" if offset == 0 else
+                         "clockwise" if offset > 0 else "anticlockwise")
+            row += [str(splines["teeth"][shaft]), f"{offset:+d}",
+                    number(splines["yoke_phase_deg"][shaft], ".3f"),
+                    f"{direction}, looking from joint {shaft + 1} to joint {shaft + 2}"
+                    if offset else direction]
+        rows.append(tuple(row))
+    return Table(tuple(header), tuple(rows))
+
+
+def _joint_blocks(document: Mapping[str, Any]) -> list[Block]:
+    moved = document["joint_positions"]
+    given = moved["initial"]["points_mm"]
+    rows = []
+    for joint in range(1, len(given) - 1):
+        before, after = given[joint], moved["points_mm"][joint]
+        travel = sum((a - b) ** 2 for a, b in zip(after, before, strict=False)) ** 0.5
+        rows.append((str(joint), ", ".join(f"{value:.2f}" for value in before),
+                     ", ".join(f"{value:.2f}" for value in after), number(travel, ".3f"),
+                     number(moved["initial"]["beta_deg"][joint - 1], ".3f"),
+                     number(moved["geometry"]["beta_deg"][joint - 1], ".3f")))
+    phasing = "free" if moved["phasing_free"] else "fixed"
+    summary = (("yoke phasing", f"{phasing}: {_angles(moved['yoke_phase_deg'])} deg"),
+               ("RE at the given points (start phasing)", number(moved["initial_re"], ".6g")),
+               ("least RE over phasing at the given points",
+                number(moved["fixed_points_re"], ".6g")),
+               ("RE with the joints moved", number(moved["fun"], ".6g")),
+               ("largest bound violation", number(moved["constraint_violation"], ".3g")),
+               ("cross-check", moved["crosscheck"]["message"] if moved["crosscheck"] else
+                "one solver, no cross-check"))
+    return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
+                   "beta given (deg)", "beta moved (deg)"), tuple(rows)),
+            Table(("item", "value"), summary)]
+
+
+def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
+    excitation = document["excitation"]
+    labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
+    angle_rows = tuple((labels[role], number(angles["drive_deg"], ".4f"),
+                        number(angles["coast_deg"], ".4f"), number(angles["torsional_deg"], ".4f"),
+                        number(angles["exact_deg"], ".4f"))
+                       for role, angles in excitation["angles"].items())
+    blocks: list[Block] = [
+        Paragraph("Equivalent angles (deg): SAE AE-7 small-angle figures, and the exact chain "
+                  "as one joint (beta_eq). Excitation = omega^2 sin^2(angle), rad/s^2; the "
+                  "exact output acceleration is the largest |d w_out/dt| at constant input "
+                  f"speed. Limits ({excitation['vehicle']}): inertial (drive, coast) and "
+                  "torsional, as used by driveline makers."),
+        Table(("assembly", "drive", "coast", "torsional", "exact beta_eq"), angle_rows)]
+    for role, rows in excitation["rows"].items():
+        table_rows = tuple((number(row["input_speed_rpm"], ".4g"),
+                            number(row["drive_rad_s2"], ".4g"), number(row["coast_rad_s2"], ".4g"),
+                            number(row["torsional_rad_s2"], ".4g"),
+                            number(row["exact_torsional_rad_s2"], ".4g"),
+                            number(row["exact_output_accel_rad_s2"], ".4g"),
+                            f"{row['inertial_limit_rad_s2']:g} / {row['torsional_limit_rad_s2']:g}",
+                            "yes" if row["within_limits"] else "NO")
+                           for row in rows)
+        blocks += [Heading(3, labels[role]),
+                   Table(("rpm", "drive", "coast", "torsional", "exact torsional",
+                          "exact output accel", "limits inertial / torsional", "within"),
+                         table_rows)]
+    return blocks
+
+
+def _angles(values: Sequence[float]) -> str:
+    return ", ".join(number(value, ".3f") for value in values)

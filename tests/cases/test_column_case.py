@@ -1,0 +1,86 @@
+"""Case kind ``column``: the schema, the cross-key checks, and the shipped column cases.
+
+Reference values: tests/data/columns/*.json (the hardpoints the shipped cases copy).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from sso.cases.column import ColumnCase
+from sso.cases.schema import CaseError, load_case, parse_case, schema
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "tests" / "data" / "columns"
+SHIPPED = {"column_car_intermediate_shaft": "car_intermediate_shaft",
+           "column_truck_three_joints": "truck_three_joints"}
+TRUCK = json.loads((DATA / "truck_three_joints.json").read_text())["points_mm"]
+
+
+def truck(**tables) -> dict:
+    document = {"kind": "column", "name": "truck", "hardpoints": {"points_mm": TRUCK}}
+    document.update(tables)
+    return document
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED))
+def test_shipped_case_copies_its_hardpoints_and_round_trips(name):
+    case = load_case(ROOT / "cases" / f"{name}.toml")
+    assert isinstance(case, ColumnCase)
+    points = json.loads((DATA / f"{SHIPPED[name]}.json").read_text())["points_mm"]
+    assert [list(point) for point in case.values["hardpoints.points_mm"]] == points
+    assert parse_case(case.to_dict(), case.source) == case
+
+
+def test_defaults_fill_a_minimal_case():
+    case = parse_case(truck(), "truck.toml")
+    assert case.values["phasing.yoke_phase_deg"] == (0.0, 0.0)
+    assert case.values["phasing.mode"] == "free"
+    assert case.teeth is None and not case.has_joint_boxes
+    assert case.excitation_speeds_rpm() == pytest.approx(
+        [20.0 + 100.0 * index / 11 for index in range(12)])
+    assert case.values["excitation.vehicle"] == "car"
+    assert case.geometry().beta_deg == pytest.approx((9.2, 13.3, 19.9), abs=0.03)
+
+
+def test_joint_position_options_carry_boxes_bounds_and_fixed_phasing():
+    boxes = {"min_mm": [[c - 5.0 for c in p] for p in TRUCK[1:-1]],
+             "max_mm": [[c + 5.0 for c in p] for p in TRUCK[1:-1]]}
+    case = parse_case(truck(joint_boxes=boxes, bounds={"beta_deg": [5.0, 25.0]},
+                            phasing={"mode": "fixed", "yoke_phase_deg": [10.0, -80.0]}))
+    options = case.joint_position_options()
+    assert options["joint_boxes_mm"][0] == [boxes["min_mm"][0], boxes["max_mm"][0]]
+    assert options["beta_bounds_deg"] == (5.0, 25.0)
+    assert options["yoke_phase_deg"] == (10.0, -80.0)
+    assert options["shaft_length_bounds_mm"] is None
+
+
+@pytest.mark.parametrize("tables, message", [
+    ({"hardpoints": {"points_mm": TRUCK[:2]}}, "at least 3"),
+    ({"hardpoints": {"points_mm": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}},
+     "hardpoints.points_mm are collinear"),
+    ({"hardpoints": {"points_mm": [[0, 0, 0], [1, 0]]}}, r"hardpoints.points_mm\[1\]"),
+    ({"splines": {"teeth": [36]}}, "splines.teeth has 1 entries; the column has 2"),
+    ({"splines": {"teeth": [36, 0]}}, r"splines.teeth\[1\] = 0 is outside"),
+    ({"phasing": {"yoke_phase_deg": [0.0]}}, "phasing.yoke_phase_deg has 1 entries"),
+    ({"phasing": {"mode": "loose"}}, "phasing.mode = 'loose' is not one of"),
+    ({"excitation": {"rpm": [100.0, 20.0]}}, r"excitation.rpm"),
+    ({"excitation": {"vehicle": "bus"}}, "excitation.vehicle = 'bus'"),
+    ({"bounds": {"beta_deg": [0.0, 20.0]}}, "bounds.beta_deg lower = 0 must be > 0"),
+    ({"joint_boxes": {"min_mm": [[0, 0, 0]] * 3, "max_mm": [[1, 1, 1]] * 3}},
+     r"hardpoints.points_mm\[1\] x = -1690.3 mm lies outside joint 1's box"),
+    ({"joint_boxes": {"min_mm": [[0, 0, 0]] * 3}}, "joint_boxes.max_mm is missing"),
+    ({"splines": {"tooth": [36, 36]}}, "unknown key splines.tooth; did you mean splines.teeth"),
+])
+def test_bad_column_case_names_the_key(tables, message):
+    with pytest.raises(CaseError, match=message):
+        parse_case(truck(**tables), "truck.toml")
+
+
+def test_every_column_key_is_documented_in_the_readme():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    for key in schema("column"):
+        assert f"| `{key.label}` |" in readme, key.label

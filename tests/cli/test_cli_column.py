@@ -1,0 +1,102 @@
+"""The ``sso`` command on the 3D-column cases, run for real in a subprocess.
+
+Reference values: issue 14's truck column (in phase 4.9e-3, textbook correction
+1.1e-3, best 2.27e-4, from the independent 3D simulation in
+tests/column/test_column_phasing.py) and the closed-form least RE of ``sso.can_cancel``.
+"""
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+from test_cli import png_size, sso, sso_loading, write_case
+
+ROOT = Path(__file__).resolve().parents[2]
+CASES = [ROOT / "cases" / "column_car_intermediate_shaft.toml",
+         ROOT / "cases" / "column_truck_three_joints.toml"]
+FILES = ("result.json", "excitation.csv", "column_3d.png", "excitation.png", "report.md",
+         "report.html")
+
+
+@pytest.fixture(scope="module")
+def column_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("columns")
+    completed = sso("run", *CASES, "--out", folder, cwd=folder)
+    return completed, folder
+
+
+def test_run_writes_every_file_without_a_warning(column_run):
+    completed, folder = column_run
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stderr == ""
+    for case in ("column_car_intermediate_shaft", "column_truck_three_joints"):
+        for name in FILES:
+            assert (folder / case / name).is_file(), (case, name)
+        assert png_size(folder / case / "column_3d.png") == (1000, 700)
+        assert png_size(folder / case / "excitation.png") == (1000, 700)
+
+
+def test_truck_report_compares_in_phase_textbook_and_best(column_run):
+    _, folder = column_run
+    document = json.loads((folder / "column_truck_three_joints" / "result.json").read_text())
+    assert document["success"]
+    by_role = {entry["role"]: entry["residual_error"] for entry in document["assemblies"]}
+    assert by_role["in_phase"] == pytest.approx(4.86e-3, rel=1e-2)
+    assert by_role["textbook"] == pytest.approx(1.11e-3, rel=1e-2)
+    assert by_role["best"] == pytest.approx(2.268e-4, rel=1e-3)
+    assert by_role["best"] == pytest.approx(document["cancel"]["minimum_residual_error"],
+                                            rel=1e-9)
+    assert not document["cancel"]["possible"]
+    # 36 teeth come within 2e-6 relative of the continuous optimum (about 10 and -80
+    # deg, whole teeth; the hardpoints are rounded to 0.1 mm).
+    assert document["splines"]["tooth_offset"] == [1, -8]
+    assert document["splines"]["loss"] < 1e-5 * by_role["best"]
+    moved = document["joint_positions"]
+    assert moved["fun"] < moved["initial_re"] and moved["constraint_violation"] <= 1e-8
+    assert moved["yoke_phase_deg"] == [10.0, -80.0]  # phasing.mode = "fixed"
+    report = (folder / "column_truck_three_joints" / "report.md").read_text()
+    for text in ("phi_k = 90 + delta_k - gamma_k", "margin cos(beta_max)",
+                 "fit the yoke at joint 3 8 teeth (80.0 deg) anticlockwise",
+                 "Joint positions moved within their boxes", "limits inertial / torsional"):
+        assert text in report, text
+
+
+def test_excitation_csv_has_both_assemblies_over_the_rpm_range(column_run):
+    _, folder = column_run
+    with (folder / "column_car_intermediate_shaft" / "excitation.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert {row["assembly"] for row in rows} == {"as_built", "splines"}
+    speeds = sorted({float(row["input_speed_rpm"]) for row in rows})
+    assert speeds[0] == 20.0 and speeds[-1] == 120.0 and len(speeds) == 11
+    assert all(row["inertial_limit_rad_s2"] == "1000.0" for row in rows)
+
+
+def test_report_renders_again_from_result_json(column_run, tmp_path):
+    _, folder = column_run
+    source = folder / "column_car_intermediate_shaft"
+    completed = sso("report", source / "result.json", "--out", tmp_path, "--no-plots",
+                    cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    original = (source / "report.md").read_text()
+    again = (tmp_path / "report.md").read_text()
+    assert again.split("## Plots")[0] == original.split("## Plots")[0]
+
+
+def test_evaluate_loads_no_casadi(tmp_path):
+    completed, loaded = sso_loading("evaluate", CASES[1], "--out", tmp_path, "--no-plots",
+                                    cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert "casadi" not in loaded
+    document = json.loads((tmp_path / "column_truck_three_joints" / "result.json").read_text())
+    assert "phasing" not in document and "joint_positions" not in document
+    assert document["assemblies"][0]["residual_error"] == pytest.approx(2.268e-4, rel=1e-3)
+
+
+def test_bad_column_case_exits_2_naming_the_key(tmp_path):
+    path = write_case(tmp_path, 'kind = "column"\n[hardpoints]\npoints_mm = [[0, 0, 0], '
+                      '[100, 0, 0], [200, 30, 0], [300, 30, 40]]\n[splines]\nteeth = [36, 36]\n')
+    completed = sso("run", path, "--out", tmp_path, cwd=tmp_path)
+    assert completed.returncode == 2
+    assert "splines.teeth has 2 entries; the column has 1 intermediate shaft" in completed.stderr
+    assert "Traceback" not in completed.stderr

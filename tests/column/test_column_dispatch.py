@@ -1,0 +1,60 @@
+"""sso.optimise sends a column to the column optimisers and a shaft series where it always went."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from column_cases import load
+
+import sso
+from sso.column.joint_positions import JointPositionResult
+from sso.column.phasing import PhasingResult
+
+TRUCK = load("truck_three_joints")["points_mm"]
+
+
+def test_a_geometry_gets_its_best_yoke_phasing():
+    # Issue 14's truck column: best phasing 2.27e-4, in phase 4.9e-3 (3D simulation,
+    # tests/column/test_column_phasing.py).
+    result = sso.optimise(sso.ColumnGeometry(TRUCK))
+    assert isinstance(result, PhasingResult)
+    assert result.success, result.message
+    assert result.fun == pytest.approx(2.268e-4, rel=1e-3)
+    assert result.in_phase_re == pytest.approx(4.86e-3, rel=1e-2)
+    assert len(result.yoke_phase_deg) == 2
+    assert any(np.allclose(result.yoke_phase_deg, optimum, atol=1e-5)
+               for optimum in result.equivalent_yoke_phase_deg)
+
+
+def test_joint_boxes_send_a_geometry_to_the_joint_position_design():
+    points = np.asarray(TRUCK)
+    boxes = [[list(point - 5.0), list(point + 5.0)] for point in points[1:-1]]
+    result = sso.optimise(sso.ColumnGeometry(TRUCK), joint_boxes_mm=boxes,
+                          yoke_phase_deg=[0.0, 0.0], starts=2)
+    assert isinstance(result, JointPositionResult)
+    assert result.fun < result.initial_re
+
+
+def test_a_series_still_goes_to_the_shaft_optimiser():
+    series = sso.ShaftSeries([20.0, 20.0], [0.0])
+    result = sso.optimise(series, 1, starts=2)
+    assert isinstance(result, sso.OptimisationResult)
+    assert result.fun < 1e-12  # equal angles cancel at phi = 90 deg
+
+
+def test_unknown_keyword_and_positional_options_fail():
+    geometry = sso.ColumnGeometry(TRUCK)
+    with pytest.raises(TypeError, match="unknown_option"):
+        sso.optimise(geometry, unknown_option=1)
+    with pytest.raises(TypeError, match="keyword options only"):
+        sso.optimise(geometry, 1)
+    with pytest.raises(TypeError, match="ShaftSeries"):
+        sso.optimise([20.0, 20.0])
+
+
+def test_positions_and_tolerances_go_to_the_robust_optimisers():
+    robust = pytest.importorskip("sso.column.robust")
+    assert callable(robust.optimise_positions) and callable(robust.optimise_robust)
+    geometry = sso.ColumnGeometry(TRUCK)
+    result = sso.optimise({"up": geometry, "down": geometry}, positions_objective="worst")
+    assert result.fun == pytest.approx(sso.optimise(geometry).fun, rel=1e-6)
