@@ -458,7 +458,7 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                      f"(median of {cold['repeats']}).")
     else:
         lines.append(cold["note"])
-    lines += ["", "## Targets of v0.1 (against the finite-difference port)", ""]
+    lines += ["", "## Targets of v0.1 (against each case's reference above)", ""]
     for name, target in verdict.items():
         lines.append(f"- {name}: {'met' if target['met'] else 'MISSED'}")
         lines.extend(f"  - {miss}" for miss in target["misses"])
