@@ -1,27 +1,44 @@
-"""Start points: reproducible, inside the bounds, space-filling, without scipy.stats.
+"""Start points: the user's start, then rotated Halton points inside the bounds.
 
-Reference: scipy's own discrepancy measure (``scipy.stats.qmc.discrepancy``, the
-centred L2 discrepancy) of the points against that of uniform random points.
+Reference for the space filling: scipy's own discrepancy measure
+(``scipy.stats.qmc.discrepancy``, the centred L2 discrepancy) of the points against
+that of uniform random points.
 """
+
+from __future__ import annotations
 
 import subprocess
 import sys
 
 import numpy as np
 
-from sso.solvers.starts import rotated_halton, start_points
+from sso.solvers.starts import DEFAULT_SEED, rotated_halton, start_points
+
+LOWER, UPPER = np.array([0.0, -10.0, 5.0]), np.array([1.0, 10.0, 5.0])
+USER = np.array([0.5, 3.0, 5.0])
 
 
-def test_starts_repeat_for_a_seed_and_stay_in_bounds():
-    lower, upper = np.array([0.1, -1.0, 2.0]), np.array([0.5, 1.0, 9.0])
-    first = start_points(np.array([0.2, 0.0, 3.0]), lower, upper, 50, seed=7)
-    again = start_points(np.array([0.2, 0.0, 3.0]), lower, upper, 50, seed=7)
-    other = start_points(np.array([0.2, 0.0, 3.0]), lower, upper, 50, seed=8)
-    assert first.shape == (50, 3)
-    np.testing.assert_array_equal(first, again)
-    assert not np.array_equal(first[1:], other[1:])
-    np.testing.assert_array_equal(first[0], [0.2, 0.0, 3.0])
-    assert np.all(first >= lower) and np.all(first < upper)
+def test_one_start_is_the_users_own():
+    points = start_points(USER, LOWER, UPPER, 1)
+    np.testing.assert_array_equal(points, USER[np.newaxis, :])
+
+
+def test_starts_fill_the_box_and_repeat_with_the_seed():
+    points = start_points(USER, LOWER, UPPER, 9)
+    assert points.shape == (9, 3)
+    np.testing.assert_array_equal(points[0], USER)
+    assert np.all(points[1:] >= LOWER) and np.all(points[1:] <= UPPER)
+    np.testing.assert_array_equal(points[1:, 2], 5.0)  # a pinned variable stays pinned
+    np.testing.assert_array_equal(points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED))
+    assert not np.array_equal(points, start_points(USER, LOWER, UPPER, 9, DEFAULT_SEED + 1))
+
+
+def test_first_coordinate_is_stratified():
+    """Halton's first coordinate is the base-2 van der Corput sequence; the rotation keeps its
+    stratification, so 8 points put exactly one in each eighth of the range."""
+    points = start_points(USER, LOWER, UPPER, 9)[1:, 0]
+    counts = np.histogram(points, bins=8, range=(0.0, 1.0))[0]
+    np.testing.assert_array_equal(counts, np.ones(8))
 
 
 def test_halton_points_fill_the_box_better_than_random_points():

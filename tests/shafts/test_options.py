@@ -1,0 +1,85 @@
+"""The three design options: which angles are free, the design vector and its bounds.
+
+Reference: the paper's options (README "Case files": 1 phases, 2 operating angles with
+phases fixed at 90 deg, 3 both), and the layout documented in DesignProblem.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sso.shafts.options import StartMovedWarning, build_problem, parse_option
+
+BETA, PHASE = [30.0, 40.0, 20.0], [80.0, 100.0]
+
+
+@pytest.mark.parametrize(
+    "given, number",
+    [(1, 1), (np.int64(2), 2), (3, 3), ("phase", 1), (" Angle ", 2), ("BOTH", 3)],
+)
+def test_parse_option(given, number):
+    assert parse_option(given) == number
+
+
+@pytest.mark.parametrize("given", [0, 4, True, 2.0, "all", None])
+def test_parse_option_refuses(given):
+    with pytest.raises(ValueError) as caught:
+        parse_option(given)
+    assert str(caught.value) == (
+        f"option = {given!r} is not one of 1, 2, 3, 'phase', 'angle', 'both'"
+    )
+
+
+def test_option_1_frees_the_phases_and_fixes_the_angles():
+    problem = build_problem(BETA, PHASE, "exact", "phase", (0, 40), (0, 180))
+    assert (problem.beta_free, problem.phase_free, problem.n_free) == (False, True, 2)
+    np.testing.assert_array_equal(problem.start_deg, PHASE)
+    np.testing.assert_array_equal(problem.parameters_deg, BETA)
+    np.testing.assert_allclose(problem.upper_rad, [math.pi, math.pi], rtol=1e-15)
+    assert problem.design_deg([85.0, 95.0]) == (tuple(BETA), (85.0, 95.0))
+    assert problem.beta_upper_rad == pytest.approx(np.radians(BETA).tolist(), rel=1e-15)
+
+
+def test_option_2_fixes_every_phase_at_90_whatever_is_given():
+    problem = build_problem(BETA, PHASE, "exact", 2, (10, 40), (0, 180))
+    assert problem.option_name == "angle" and problem.n_free == 3
+    np.testing.assert_array_equal(problem.parameters_deg, [90.0, 90.0])
+    assert problem.design_deg([11.0, 12.0, 13.0]) == ((11.0, 12.0, 13.0), (90.0, 90.0))
+    assert problem.beta_upper_rad == pytest.approx([math.radians(40.0)] * 3, rel=1e-15)
+
+
+def test_option_3_lays_out_angles_first_then_phases():
+    problem = build_problem(BETA, PHASE, "paper", 3, [(0, 35), (0, 45), (0, 25)], (0, 180))
+    np.testing.assert_array_equal(problem.start_deg, BETA + PHASE)
+    assert problem.parameters_deg.size == 0
+    np.testing.assert_allclose(np.degrees(problem.upper_rad), [35, 45, 25, 180, 180], rtol=1e-15)
+    beta, phase = problem.split([1, 2, 3, 4, 5], [])
+    assert (beta, phase) == ([1, 2, 3], [4, 5])
+    np.testing.assert_allclose(problem.start_rad, np.radians(BETA + PHASE), rtol=1e-15)
+
+
+def test_a_start_outside_its_bounds_is_moved_with_a_warning():
+    with pytest.warns(StartMovedWarning) as caught:
+        problem = build_problem(BETA, PHASE, "exact", 3, (0, 35), (0, 90))
+    assert problem.start_deg.tolist() == [30.0, 35.0, 20.0, 80.0, 90.0]
+    messages = [str(warning.message) for warning in caught]
+    assert messages == [
+        "start beta_deg[1] = 40 deg lies outside its bounds [0, 35] deg; moved onto 35 deg",
+        "start phase_deg[1] = 100 deg lies outside its bounds [0, 90] deg; moved onto 90 deg",
+    ]
+
+
+def test_option_1_needs_two_joints_and_bounds_are_checked():
+    with pytest.raises(ValueError, match=r"^option = 1 \(phases\) needs at least 2 joints"):
+        build_problem([30.0], [], "exact", 1, (0, 40), (0, 180))
+    with pytest.raises(
+        ValueError,
+        match=r"beta_bounds_deg upper = 90 is outside the allowed "
+        r"range \[0, 90\) deg",
+    ):
+        build_problem(BETA, PHASE, "exact", 3, (0, 90), (0, 180))
+    with pytest.raises(ValueError, match=r"phase_bounds_deg lower = -400 is outside"):
+        build_problem(BETA, PHASE, "exact", 3, (0, 40), (-400, 180))

@@ -1,0 +1,48 @@
+"""The shaft-series NLP graph: its objective is the residual error, one graph per shape.
+
+Reference: one joint's RE = (1 - cos b)^2 / (2 cos b) (derived in tests/shafts/test_objective.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sso.shafts.objective import residual_error
+from sso.shafts.options import build_problem
+from sso.shafts.problem import compiled_nlp
+
+
+def test_one_joint_graph_gives_the_closed_form_re():
+    problem = build_problem([30.0], [], "exact", 2, (0, 40), (0, 180))
+    nlp = compiled_nlp(problem, 256)
+    beta = math.radians(25.0)
+    value, gradient = nlp.objective_and_gradient(np.array([beta]), problem.parameters_rad)
+    c = math.cos(beta)
+    assert value == pytest.approx((1 - c) ** 2 / (2 * c), rel=1e-13)
+    # d/db of (1 - c)^2 / (2 c) = s (1 - c)(1 + c) / (2 c^2), by hand.
+    expected = math.sin(beta) * (1 - c) * (1 + c) / (2 * c * c)
+    assert gradient[0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_fixed_angles_enter_as_parameters_in_order():
+    problem = build_problem([30.0, 20.0, 10.0], [70.0, 110.0], "paper", 1, (0, 40), (0, 180))
+    nlp = compiled_nlp(problem, 64)
+    phases = np.radians([50.0, 130.0])
+    value, _ = nlp.objective_and_gradient(phases, problem.parameters_rad)
+    assert value == pytest.approx(
+        residual_error(np.radians([30.0, 20.0, 10.0]), phases, "paper", 64), rel=1e-13
+    )
+
+
+def test_one_graph_per_shape():
+    first = build_problem([30.0, 40.0], [90.0], "exact", 3, (0, 40), (0, 180))
+    other_design = build_problem([10.0, 20.0], [45.0], "exact", 3, (5, 30), (0, 90))
+    assert compiled_nlp(first, 64) is compiled_nlp(other_design, 64)
+    # The exact model's graph is the closed form: no quadrature angles in its shape.
+    assert compiled_nlp(first, 64) is compiled_nlp(first, 32)
+    paper = build_problem([30.0, 40.0], [90.0], "paper", 3, (0, 40), (0, 180))
+    assert compiled_nlp(paper, 64) is not compiled_nlp(paper, 32)
+    assert compiled_nlp(paper, 64) is not compiled_nlp(first, 64)

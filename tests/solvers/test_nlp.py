@@ -1,0 +1,73 @@
+"""The CasADi NLP wrapper: exact derivatives through buffers, one graph per shape and thread."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+from solvers.problems import (
+    PARAMETERS,
+    rosenbrock,
+    rosenbrock_gradient,
+    two_constraints,
+)
+
+from sso.solvers.nlp import CompiledNLP, cached_nlp
+
+
+def test_objective_and_gradient_match_the_hand_derivative():
+    nlp = rosenbrock()
+    for point in ([0.3, 0.7], [-1.2, 1.0], [1.0, 1.0]):
+        x = np.array(point)
+        value, gradient = nlp.objective_and_gradient(x, PARAMETERS)
+        assert isinstance(value, float)
+        assert value == pytest.approx((1 - x[0]) ** 2 + 100 * (x[1] - x[0] ** 2) ** 2, rel=1e-15)
+        np.testing.assert_allclose(gradient, rosenbrock_gradient(x), rtol=1e-14, atol=1e-14)
+    # The parameter enters: p = 3 triples both.
+    value, gradient = nlp.objective_and_gradient(np.array([0.3, 0.7]), 3.0 * PARAMETERS)
+    assert value == pytest.approx(3 * 37.7, rel=1e-14)
+    np.testing.assert_allclose(gradient, 3 * rosenbrock_gradient(np.array([0.3, 0.7])), rtol=1e-14)
+
+
+def test_constraints_and_jacobian():
+    nlp, _ = two_constraints()
+    values, jacobian = nlp.constraints_and_jacobian(np.array([0.5, 2.0]), PARAMETERS)
+    np.testing.assert_allclose(values, [0.25 - 2.0, 2.5], rtol=1e-15)
+    np.testing.assert_allclose(jacobian, [[1.0, -1.0], [1.0, 1.0]], rtol=1e-15)  # (2 x0, -1)
+    assert rosenbrock().constraints_and_jacobian is None
+    assert set(nlp.symbols) == {"x", "p", "f", "g"}
+
+
+def test_results_are_fresh_arrays_not_the_buffers():
+    nlp = rosenbrock()
+    _, first = nlp.objective_and_gradient(np.array([0.3, 0.7]), PARAMETERS)
+    kept = first.copy()
+    nlp.objective_and_gradient(np.array([-1.2, 1.0]), PARAMETERS)
+    np.testing.assert_array_equal(first, kept)
+
+
+def test_ipopt_solver_is_built_once_per_option_set():
+    nlp = rosenbrock()
+    solver = nlp.ipopt({"tol": 1e-8, "max_iter": 10})
+    assert nlp.ipopt({"max_iter": 10, "tol": 1e-8}) is solver
+    assert nlp.ipopt({"tol": 1e-9, "max_iter": 10}) is not solver
+    assert len(nlp.ipopt_solvers) == 2
+
+
+def test_cache_builds_once_per_key_and_per_thread():
+    builds: list[str] = []
+
+    def build() -> CompiledNLP:
+        builds.append(threading.current_thread().name)
+        return rosenbrock()
+
+    key = ("test_nlp_cache", 2)
+    first = cached_nlp(key, build)
+    assert cached_nlp(key, build) is first
+    other: list[CompiledNLP] = []
+    thread = threading.Thread(target=lambda: other.append(cached_nlp(key, build)), name="other")
+    thread.start()
+    thread.join()
+    assert other[0] is not first
+    assert builds == [threading.current_thread().name, "other"]

@@ -1,0 +1,116 @@
+"""Every source module has a test module beside the others of its part.
+
+``sso/<part>/<name>.py`` is tested in ``tests/<part>/test_<name>.py`` (or
+``tests/<part>/test_<part>_<name>.py``, the column's naming), and ``sso/<name>.py``
+in ``tests/test_<name>.py``. Not counted: ``__init__.py`` (re-exports, exercised
+through every import of the package) and ``__main__.py`` (``python -m`` entry
+points, run by tests/test_packaging.py), and ``sso/_moved.py`` (the old v0.1 module
+paths, tested by tests/test_moved_modules.py).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "sso"
+NOT_COUNTED = {"__init__.py", "__main__.py"}
+TESTED_ELSEWHERE = {
+    "sso/_moved.py": "tests/test_moved_modules.py",
+    "sso/distribution.py": "tests/test_packaging.py",
+}
+
+# Modules that have no test module of their own yet. Tests of many of them exist under
+# other names (tests/cli/test_cli.py, tests/shafts/test_paper_cases.py, ...); each line
+# goes when its module gets tests/<part>/test_<name>.py, so this list only shrinks.
+STILL_WITHOUT_TEST_MODULE = {
+    "sso/batch/progress.py",
+    "sso/batch/report.py",
+    "sso/batch/results.py",
+    "sso/cases/column.py",
+    "sso/cases/mechanism.py",
+    "sso/cases/shaft_series.py",
+    "sso/cli/app.py",
+    "sso/cli/report.py",
+    "sso/cli/solve.py",
+    "sso/cli/validate.py",
+    "sso/column/chain_matrix.py",
+    "sso/column/design.py",
+    "sso/column/robust_phasing.py",
+    "sso/column/scenarios.py",
+    "sso/column/tolerances.py",
+    "sso/deprecation.py",
+    "sso/linkages/table.py",
+    "sso/reports/column_plots.py",
+    "sso/reports/column_report.py",
+    "sso/reports/curves.py",
+    "sso/reports/html.py",
+    "sso/reports/markdown.py",
+    "sso/reports/mechanism_plots.py",
+    "sso/reports/mechanism_report.py",
+    "sso/reports/plots.py",
+    "sso/reports/speeds.py",
+    "sso/reports/summary.py",
+    "sso/run/column_document.py",
+    "sso/run/document.py",
+    "sso/run/mechanism_document.py",
+    "sso/shafts/batch.py",
+    "sso/shafts/perturbed.py",
+    "sso/solvers/solution.py",
+}
+
+
+def source_modules() -> list[str]:
+    return sorted(
+        path.relative_to(ROOT).as_posix()
+        for path in PACKAGE.rglob("*.py")
+        if path.name not in NOT_COUNTED
+    )
+
+
+def candidate_test_modules(module: str) -> list[Path]:
+    """Where the test module of ``module`` may be."""
+    parts = Path(module).relative_to("sso").parts
+    name = Path(parts[-1]).stem
+    folder = ROOT / "tests" / Path(*parts[:-1])
+    candidates = [folder / f"test_{name}.py"]
+    if len(parts) > 1:
+        candidates.append(folder / f"test_{parts[0]}_{name}.py")
+    return candidates
+
+
+def missing_test_modules() -> set[str]:
+    return {
+        module
+        for module in source_modules()
+        if module not in TESTED_ELSEWHERE
+        and not any(path.is_file() for path in candidate_test_modules(module))
+    }
+
+
+def test_every_module_has_a_test_module():
+    missing = missing_test_modules() - STILL_WITHOUT_TEST_MODULE
+    assert missing == set(), "add tests/<part>/test_<name>.py for each"
+
+
+def test_the_list_of_modules_still_without_tests_only_shrinks():
+    done = STILL_WITHOUT_TEST_MODULE - missing_test_modules()
+    assert done == set(), "these now have a test module: delete them from the list"
+
+
+def test_modules_tested_elsewhere_are_tested_there():
+    for module, test in TESTED_ELSEWHERE.items():
+        assert (ROOT / module).is_file() and (ROOT / test).is_file()
+        stem = Path(module).stem.lstrip("_")
+        assert stem in (ROOT / test).read_text(encoding="utf-8")
+
+
+def test_the_walk_sees_the_package():
+    modules = source_modules()
+    assert "sso/limits.py" in modules and "sso/solvers/kkt.py" in modules
+    assert len(modules) > 50
+    assert not any(module.endswith("__init__.py") for module in modules)
+    assert (
+        candidate_test_modules("sso/solvers/kkt.py")[0]
+        == ROOT / "tests" / "solvers" / "test_kkt.py"
+    )
