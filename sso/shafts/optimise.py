@@ -202,7 +202,8 @@ def optimise(
     objective_rtol, objective_atol, kkt_tolerance : float
         Tolerances of the cross-check.
     screen_starts : bool
-        Exact model with ``starts > 1``: solve the starts first with the
+        Exact model with more than one start or more than one solver (one solver
+        from one start always runs alone): solve the starts first with the
         least-squares solver ``"lm"`` (cheap: the closed form in plain floats),
         then run each of ``solvers`` once, from the lowest RE found, and
         cross-check them there. Screening stops at the first start that reaches

@@ -92,7 +92,8 @@ def solve_from_starts(
         Tolerances of the cross-check and of merging equal minima.
     screen_starts : bool
         For a least-squares problem (``nlp.residuals_and_jacobian``) with more
-        than one start: solve the starts with ``"lm"`` first, stopping at the
+        than one start or more than one solver (a single solver from a single
+        start always runs alone): solve the starts with ``"lm"`` first, stopping at the
         first that reaches a nonnegative objective's round-off zero (a global
         minimum), then run each of ``solver_names`` once from the best of them.
         The screening runs come first in ``runs``.
@@ -104,7 +105,8 @@ def solve_from_starts(
     """
     points = start_points(user_start, limits.lower, limits.upper, starts, seed)
     screening: list[Solution] = []
-    if screen_starts and nlp.residuals_and_jacobian is not None and len(points) > 1:
+    if (screen_starts and nlp.residuals_and_jacobian is not None
+            and (len(points) > 1 or len(solver_names) > 1)):
         screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
         screening = [to_solution(run, screened) for run in screened]
         chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))

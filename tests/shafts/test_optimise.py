@@ -177,3 +177,14 @@ def test_the_module_named_optimise_does_not_shadow_the_function():
     assert callable(sso.optimise) and sso.optimise is dispatcher.optimise
     result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
     assert result.success
+
+
+def test_one_solver_from_one_start_runs_alone_and_a_pair_is_screened():
+    # A single solver from a single start is that solver's own run (the per-solver
+    # benchmarks rely on it); the cross-checked pair from one start is screened too.
+    series = sso.ShaftSeries([20.0, 30.0, 25.0], [10.0, 80.0])
+    alone = sso.optimise(series, 3, solvers=("ipopt",), starts=1)
+    pair = sso.optimise(series, 3, starts=1)
+    assert [run.solver for run in alone.runs] == ["ipopt"]
+    assert [run.solver for run in pair.runs] == ["lm", "ipopt", "slsqp"]
+    assert alone.fun <= 1e-20 and pair.fun <= 1e-20 and pair.crosscheck.agree
