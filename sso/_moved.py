@@ -83,9 +83,12 @@ class MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
                 return getattr(import_module(split[name]), name)
             return getattr(target, renamed.get(name, name))
 
-        module.__getattr__ = forward  # type: ignore[method-assign]
-        module.__all__ = list(getattr(target, "__all__", [name for name in vars(target)
-                                                          if not name.startswith("_")]))
+        # Through the module's namespace: ModuleType declares neither attribute (PEP 562
+        # looks ``__getattr__`` up there).
+        namespace = vars(module)
+        namespace["__getattr__"] = forward
+        namespace["__all__"] = list(getattr(target, "__all__", [name for name in vars(target)
+                                                                if not name.startswith("_")]))
         return module
 
     def exec_module(self, module: types.ModuleType) -> None:

@@ -71,6 +71,11 @@ def base_case(base: Any) -> Any:
     else:
         raise ValueError(f"base = {base!r} must be a case file path, an "
                          "sso.cases.shaft_series.Case or a mapping laid out like a case file")
+    if not isinstance(case, Case):
+        # Name the kind, not the whole case (its repr holds every value).
+        raise ValueError(f"kind = {case.kind!r}: sso sweep and sso tolerance work on "
+                         "shaft_series cases only (a column case's tolerance study is its "
+                         "[tolerances] table, run by sso run)")
     return case
 
 

@@ -13,7 +13,10 @@ Tables (every key is listed in the README):
 * ``[joint_boxes] min_mm / max_mm``: a box per joint centre (optional table);
   with it ``sso run`` also moves the joints, within ``[bounds]`` on every
   operating angle and shaft length;
-* ``[solver]``: as for a shaft series.
+* ``[solver]``: as for a shaft series;
+* robust phasing (:mod:`sso.cases.column_robust`): ``[hardpoints.positions]``,
+  ``phasing.positions_objective`` / ``position_weights``, ``[tolerances]``,
+  ``[band]``, ``[feel]``.
 
 The builder checks the keys against each other: the points make a column
 (:class:`sso.ColumnGeometry`), counts match the joints and shafts, every joint
@@ -26,6 +29,8 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from sso.cases.column_points import point_list
+from sso.cases.column_robust import ROBUST_KEYS, ROBUST_TABLES, check_robust
 from sso.cases.schema import (
     REQUIRED,
     Key,
@@ -39,35 +44,14 @@ from sso.cases.shaft_series import SHAFT_SERIES_KEYS
 from sso.column.excitation import INERTIAL_LIMIT_RAD_S2
 from sso.column.geometry import ColumnGeometry
 from sso.column.splines import MAX_TEETH
+from sso.column.tolerances import Tolerances
 from sso.limits import BETA_LIMIT_DEG
-from sso.validation import finite_float
 
 COLUMN_KIND = "column"
-MAX_POINTS = 66
 MAX_EXCITATION_ROWS = 1000
 PHASING_MODES = ("free", "fixed")
 DEFAULT_RPM = (20.0, 120.0)
 DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
-POINT_LIST = "a list of [x, y, z] points in mm, each coordinate finite"
-
-
-def point_list(label: str, value: Any) -> tuple[tuple[float, float, float], ...]:
-    """Parser of a list of ``[x, y, z]`` points (mm, finite)."""
-    if not isinstance(value, list) or not 1 <= len(value) <= MAX_POINTS:
-        raise ValueError(f"{label} = {value!r} must be {POINT_LIST} (1 to {MAX_POINTS} points)")
-    points = []
-    for index, point in enumerate(value):
-        if not isinstance(point, list) or len(point) != 3:
-            raise ValueError(f"{label}[{index}] = {point!r} must be [x, y, z] in mm")
-        coordinates = []
-        for axis, item in enumerate(point):
-            if isinstance(item, bool) or not isinstance(item, (int, float)):
-                # The schema's parsers raise ValueError for every bad value (CaseError).
-                raise ValueError(  # noqa: TRY004
-                    f"{label}[{index}][{axis}] = {item!r} must be a number (mm)")
-            coordinates.append(finite_float(f"{label}[{index}][{axis}]", item))
-        points.append((coordinates[0], coordinates[1], coordinates[2]))
-    return tuple(points)
 
 
 def teeth_list(label: str, value: Any) -> tuple[int, ...]:
@@ -122,6 +106,7 @@ COLUMN_KEYS: tuple[Key, ...] = (
     Key("bounds", "shaft_length_mm", bounds_list(0.0, math.inf, "mm"), None, "mm",
         "[lower, upper] or one pair per shaft, lower > 0 (default: each shaft at least half "
         "its given length)"),
+    *ROBUST_KEYS,
     *(replace(key, default=COLUMN_SOLVER_DEFAULTS.get(key.name, key.default))
       for key in SHAFT_SERIES_KEYS if key.table == "solver"),
 )
@@ -167,6 +152,28 @@ class ColumnCase:
         """True when the case moves the joints (``[joint_boxes]`` given)."""
         return "joint_boxes.min_mm" in self.values
 
+    def positions(self) -> dict[str, ColumnGeometry] | None:
+        """The named positions (``[hardpoints.positions]``), or None."""
+        positions = self.values.get("hardpoints.positions")
+        if positions is None:
+            return None
+        return {name: ColumnGeometry(points) for name, points in positions.items()}
+
+    def tolerances(self) -> Tolerances | None:
+        """The ``[tolerances]`` as :class:`sso.column.tolerances.Tolerances`, or None."""
+        if self.values.get("tolerances.hardpoint_mm") is None:
+            return None
+        return Tolerances(**{name: self.values[f"tolerances.{name}"]
+                             for name in ("hardpoint_mm", "yoke_phase_deg", "samples", "seed",
+                                          "distribution")})
+
+    def feel_options(self) -> dict[str, float] | None:
+        """Keyword arguments of :func:`sso.column.feel.steering_feel` (``[feel]``), or None."""
+        if self.values.get("feel.lock_deg") is None:
+            return None
+        return {name: self.values[f"feel.{name}"]
+                for name in ("straight_ahead_deg", "window_deg", "lock_deg", "on_centre_weight")}
+
     def excitation_speeds_rpm(self) -> tuple[float, ...]:
         """The excitation table's speeds, evenly spaced, rpm."""
         low, high = self.values["excitation.rpm"]
@@ -199,6 +206,16 @@ class ColumnCase:
         extras = ([f"spline teeth {', '.join(str(count) for count in self.teeth)}"]
                   if self.teeth else [])
         extras += ["joint boxes"] if self.has_joint_boxes else []
+        positions = self.values.get("hardpoints.positions")
+        if positions is not None:
+            extras.append(f"positions {', '.join(positions)} "
+                          f"({self.values['phasing.positions_objective']})")
+        if self.values.get("tolerances.hardpoint_mm") is not None:
+            extras.append(f"tolerances ({self.values['tolerances.robust_objective']}, "
+                          f"{self.values['tolerances.samples']} samples)")
+        extras += [name for name, label in (("band", "band.re_limit"),
+                                            ("steering feel", "feel.lock_deg"))
+                   if self.values.get(label) is not None]
         return (f"column: {geometry.joint_count} joints, operating angles {angles} deg"
                 + "".join(f"; {extra}" for extra in extras))
 
@@ -228,6 +245,8 @@ class ColumnCase:
 
 
 def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {name: _plain(item) for name, item in value.items()}
     return [_plain(item) for item in value] if isinstance(value, tuple) else value
 
 
@@ -251,6 +270,7 @@ def _build(values: dict[str, Any], path: str) -> ColumnCase:
     if "joint_boxes.min_mm" in values:
         _check_boxes(values, geometry)
     _check_bounds(values, joints)
+    check_robust(values, geometry)
     return ColumnCase(kind=values["kind"], name=values["name"],
                       description=values["description"],
                       values={label: value for label, value in values.items()
@@ -299,4 +319,4 @@ def _check_bounds(values: dict[str, Any], joints: int) -> None:
 
 
 register_case_kind(COLUMN_KIND, COLUMN_KEYS, _build,
-                   optional_tables=frozenset({"splines", "joint_boxes"}))
+                   optional_tables=frozenset({"splines", "joint_boxes", *ROBUST_TABLES}))

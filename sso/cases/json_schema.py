@@ -36,7 +36,8 @@ from collections.abc import Callable, Sequence
 from importlib import resources
 from typing import Any
 
-from sso.cases.column import MAX_POINTS
+from sso.cases.column_points import MAX_POINTS
+from sso.cases.column_robust import MAX_POSITIONS
 from sso.cases.schema import (
     CASE_KINDS,
     COMMON_KEYS,
@@ -228,6 +229,9 @@ def _pair(item: JsonSchema) -> JsonSchema:
 
 # Parsers written as named functions, by module and name: what each accepts, built from
 # the constants they check against.
+# "mean" or a percentile "pNN" with 50 <= NN < 100 (sso.column.robust_phasing.LOWEST_PERCENTILE).
+ROBUST_OBJECTIVE_PATTERN = r"^(mean|p[5-9][0-9](\.[0-9]+)?)$"
+
 NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
     "sso.cases.schema.case_name": lambda: {
         "type": "string",
@@ -243,7 +247,7 @@ NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
     "sso.cases.mechanism.angle_pair": lambda: _pair(
         {"type": "number", "exclusiveMinimum": 0.0, "exclusiveMaximum": 180.0}
     ),
-    "sso.cases.column.point_list": lambda: {
+    "sso.cases.column_points.point_list": lambda: {
         "type": "array",
         "items": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
         "minItems": 1,
@@ -255,6 +259,21 @@ NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
         "minItems": 1,
     },
     "sso.cases.column._rpm_range": lambda: _pair({"type": "number", "exclusiveMinimum": 0.0}),
+    "sso.cases.column_robust.positions_table": lambda: {
+        "type": "object",
+        "minProperties": 2,
+        "maxProperties": MAX_POSITIONS,
+        "additionalProperties": NAMED_PARSERS["sso.cases.column_points.point_list"](),
+    },
+    "sso.cases.column_robust.position_weights": lambda: {
+        "type": "object",
+        "minProperties": 1,
+        "additionalProperties": {"type": "number", "minimum": 0.0},
+    },
+    "sso.cases.column_robust.robust_objective": lambda: {
+        "type": "string",
+        "pattern": ROBUST_OBJECTIVE_PATTERN,
+    },
 }
 
 

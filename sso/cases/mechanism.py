@@ -30,8 +30,7 @@ from sso.cases.schema import (
 )
 from sso.cases.shaft_series import SHAFT_SERIES_KEYS
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import CrankDriven
-from sso.linkages.registry import Linkage, linkage_of_kind, linkages
+from sso.linkages.registry import Linkage, Mechanism, OnUnassembled, linkage_of_kind, linkages
 from sso.validation import per_item_bounds
 
 # Analysis kinds come from the linkage registry: one per registered mechanism.
@@ -201,29 +200,30 @@ class MechanismCase:
     @property
     def length_unit(self) -> str:
         """Unit of the lengths for labels (``"length units"`` when the case names none)."""
-        return self.values[f"{self.link_table}.length_unit"] or "length units"
+        return str(self.values[f"{self.link_table}.length_unit"] or "length units")
 
     @property
     def crank_speed_rad_s(self) -> float:
         """Crank angular velocity, rad/s."""
-        return self.values["drive.crank_speed_rad_s"]
+        return float(self.values["drive.crank_speed_rad_s"])
 
     @property
     def crank_accel_rad_s2(self) -> float:
         """Crank angular acceleration, rad/s^2."""
-        return self.values["drive.crank_accel_rad_s2"]
+        return float(self.values["drive.crank_accel_rad_s2"])
 
     @property
-    def on_unassembled(self) -> str:
+    def on_unassembled(self) -> OnUnassembled:
         """``"raise"`` or ``"mark"``, as :meth:`sso.FourBar.analyse` takes it."""
-        return self.values["drive.on_unassembled"]
+        # The schema admits only these two (DRIVE_KEYS); the comparison narrows the type.
+        return "mark" if self.values["drive.on_unassembled"] == "mark" else "raise"
 
     def crank_angles_deg(self) -> np.ndarray:
         """The tabulated crank angles: start to stop (inclusive when on the grid) by step, deg."""
         return angle_grid(self.values["drive.start_deg"], self.values["drive.stop_deg"],
                           self.values["drive.step_deg"])
 
-    def mechanism(self) -> CrankDriven:
+    def mechanism(self) -> Mechanism:
         """The linkage as given (the start linkage of a design case)."""
         return build_mechanism(self.kind, self.values, self.link_table)
 
@@ -275,11 +275,11 @@ def angle_grid(start_deg: float, stop_deg: float, step_deg: float) -> np.ndarray
 
 
 def build_mechanism(kind: str, values: dict[str, Any],
-                    table: str) -> CrankDriven:
+                    table: str) -> Mechanism:
     """The mechanism of ``kind`` from checked values keyed by dotted label."""
     linkage = _linkage(kind)
     arguments = {name: values[f"{table}.{name}"] for name in (*_link_names(kind), linkage.extra)}
-    return linkage.mechanism(**arguments)  # type: ignore[no-any-return]
+    return linkage.mechanism(**arguments)
 
 
 def _plain(value: Any) -> Any:

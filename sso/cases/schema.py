@@ -498,4 +498,5 @@ def _line_of_key(source: str, table: str, name: str) -> int | None:
             return number_of_line
         elif current == "" and dotted is not None and dotted.match(line):
             return number_of_line
-    return None
+    # A key whose value is a table of its own ([hardpoints.positions]).
+    return _line_of_table(source, f"{table}.{name}") if table else None

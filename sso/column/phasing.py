@@ -176,7 +176,7 @@ def _local_minima_deg(beta_rad: np.ndarray, verdict: CancelVerdict, seed: int,
                       count: int = 16) -> np.ndarray:
     """Representatives of a continuum of optimal phasings (deg): least-squares polishes
     of the closed-form chain from random starts, kept where they reach the least RE."""
-    from scipy.optimize import least_squares  # type: ignore[import-untyped]
+    from scipy.optimize import least_squares
 
     from sso.column.chain_matrix import chain_matrix
 

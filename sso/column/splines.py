@@ -33,7 +33,8 @@ from sso.column.chain_matrix import (
     distortion_distance,
     matrix_residual_error,
 )
-from sso.column.geometry import CONVENTIONAL_PHASE_DEG, ColumnGeometry, wrap_half_turn
+from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.limits import CONVENTIONAL_PHASE_DEG
 
 ENUMERATION_LIMIT = 200_000
 CHUNK_ROWS = 65_536

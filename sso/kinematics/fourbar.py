@@ -93,7 +93,8 @@ def solve_fourbar(
     """
     crank_angle = np.asarray(crank_angle, dtype=float)
     rocker_pivot = complex(ground, 0.0)
-    joint_a = crank * np.exp(1j * crank_angle)
+    crank_direction: ComplexArray = np.exp(1j * crank_angle)
+    joint_a = crank * crank_direction
     joint_b, assembled = circle_circle_intersection(joint_a, coupler, rocker_pivot, rocker, side)
     coupler_vector = joint_b - joint_a
     rocker_vector = joint_b - rocker_pivot

@@ -82,7 +82,8 @@ def solve_slider_crank(
     SliderCrankMotion
         NaN and ``assembled == False`` at the angles where the loop does not close.
     """
-    crank_pin = crank * np.exp(1j * np.asarray(crank_angle, dtype=float))
+    crank_direction: ComplexArray = np.exp(1j * np.asarray(crank_angle, dtype=float))
+    crank_pin = crank * crank_direction
     piston, assembled = circle_horizontal_line_intersection(crank_pin, rod, offset)
     rod_vector = piston - crank_pin
 

@@ -159,9 +159,9 @@ def design_fourbar(
         for name, pair in zip(LINKS, (crank_bounds, coupler_bounds, rocker_bounds, ground_bounds),
                                strict=True)
     }
-    for name, (lower, _) in link_bounds.items():
-        if lower <= 0:
-            raise ValueError(f"{name}_bounds lower = {lower:g} is outside the allowed range "
+    for name, (lower_length, _) in link_bounds.items():
+        if lower_length <= 0:
+            raise ValueError(f"{name}_bounds lower = {lower_length:g} is outside the allowed range "
                              "(0, inf) length units")
     mu_low, mu_high = per_item_bounds("transmission_angle_bounds_deg",
                                       transmission_angle_bounds_deg, 1, 0.0, 180.0, "deg")[0]

@@ -10,12 +10,12 @@ are in any consistent unit (``"length"`` in the table's units).
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import ClassVar, Literal
+from collections.abc import Iterable, Sequence
+from dataclasses import Field, dataclass
+from typing import Any, ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from sso.kinematics.fourbar import (
     BRANCH_SIDES,
@@ -26,7 +26,7 @@ from sso.kinematics.fourbar import (
 from sso.kinematics.quick_return import solve_quick_return
 from sso.kinematics.slider_crank import series_piston_motion, solve_slider_crank
 from sso.kinematics.vector_loop import BoolArray, ComplexArray, FloatArray
-from sso.linkages.registry import Linkage, register
+from sso.linkages.registry import Linkage, OnUnassembled, register
 from sso.linkages.table import MechanismTable
 from sso.validation import check_choice, check_in_range, finite_float
 
@@ -38,14 +38,17 @@ __all__ = [
     "slider_crank_method_difference",
 ]
 
-OnUnassembled = Literal["raise", "mark"]
 Column = tuple[str, str, np.ndarray]
 """A table column as (name, unit, values)."""
 
 
 class CrankDriven(ABC):
-    """What the mechanisms share: ``analyse`` over crank angles into a table."""
+    """What the mechanisms share: ``analyse`` over crank angles into a table.
 
+    Every subclass is a frozen dataclass (:class:`sso.linkages.registry.Mechanism`).
+    """
+
+    __dataclass_fields__: ClassVar[dict[str, Field[Any]]]
     table_name: ClassVar[str]
 
     def analyse(
@@ -417,7 +420,9 @@ _VECTOR_QUANTITIES = {"velocity": ("speed", "length/s"), "accel": ("accel_magnit
 """Vector quantity of a joint -> (name of its magnitude, unit)."""
 
 
-def _vector_columns(joint: str, quantity: str, vector: ComplexArray) -> list[Column]:
+def _vector_columns(
+    joint: str, quantity: str, vector: NDArray[np.complexfloating[Any, Any]]
+) -> list[Column]:
     magnitude, unit = _VECTOR_QUANTITIES[quantity]
     return [
         (f"{joint}_{quantity}_x", unit, vector.real),
@@ -516,7 +521,7 @@ def _validate_finite(mechanism: object, field: str) -> None:
     object.__setattr__(mechanism, field, finite_float(name, getattr(mechanism, field)))
 
 
-def _validate_choice(mechanism: object, field: str, allowed: Sequence[str]) -> None:
+def _validate_choice(mechanism: object, field: str, allowed: Iterable[str]) -> None:
     check_choice(f"{type(mechanism).__name__}.{field}", getattr(mechanism, field), allowed)
 
 

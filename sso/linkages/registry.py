@@ -11,13 +11,38 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
-from dataclasses import dataclass
-from typing import Any, Literal
+from dataclasses import Field, dataclass
+from typing import Any, ClassVar, Literal, Protocol
 
+from numpy.typing import ArrayLike
+
+from sso.linkages.table import MechanismTable
+
+OnUnassembled = Literal["raise", "mark"]
 # Each panel of a series plot: (y label, with {length} for the length unit, curves);
 # each curve: (table column or "left-right" difference, legend label[, line style]).
 Panel = tuple[str, tuple[tuple[str, ...], ...]]
 SeriesPlot = tuple[str, str, tuple[Panel, ...]]
+
+
+class Mechanism(Protocol):
+    """What the case, run and report layers use of a registered mechanism's instances.
+
+    A frozen dataclass of link lengths (so :func:`dataclasses.asdict` gives its
+    parameters) whose ``analyse`` tabulates its kinematics over crank angles, as
+    :class:`sso.linkages.mechanisms.CrankDriven` does.
+    """
+
+    __dataclass_fields__: ClassVar[dict[str, Field[Any]]]
+
+    def analyse(
+        self,
+        crank_angle_deg: ArrayLike,
+        *,
+        crank_speed: float,
+        crank_accel: float = 0.0,
+        on_unassembled: OnUnassembled = "raise",
+    ) -> MechanismTable: ...
 
 
 @dataclass(frozen=True)
@@ -28,7 +53,7 @@ class Linkage:
     ----------
     kind : str
         Case-file ``kind`` of its analysis cases, e.g. ``"fourbar"``.
-    mechanism : type
+    mechanism : type of Mechanism
         Its class: a frozen dataclass of link lengths with ``analyse``; its name is
         the ``type`` written in result documents.
     links : tuple of str
@@ -56,7 +81,7 @@ class Linkage:
     """
 
     kind: str
-    mechanism: type
+    mechanism: type[Mechanism]
     links: tuple[str, ...]
     extra: Literal["branch", "offset"]
     report_columns: tuple[str, ...]
@@ -103,7 +128,7 @@ def linkage_of_kind(kind: str) -> Linkage:
     return linkages()[kind]
 
 
-def linkage_of(mechanism: Any) -> Linkage:
+def linkage_of(mechanism: Mechanism | str) -> Linkage:
     """The entry of a mechanism instance, or of a type name from a result document."""
     name = mechanism if isinstance(mechanism, str) else type(mechanism).__name__
     for linkage in linkages().values():

@@ -67,7 +67,7 @@ class MechanismTable:
 
     def __getattr__(self, column: str) -> np.ndarray:
         # Only called when normal lookup fails; "columns" may be missing while unpickling.
-        columns = self.__dict__.get("columns", {})
+        columns: dict[str, np.ndarray] = self.__dict__.get("columns", {})
         if column in columns:
             return columns[column]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {column!r}")

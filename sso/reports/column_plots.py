@@ -30,9 +30,13 @@ def render_column_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     Returns
     -------
     dict of str to bytes
-        ``"column_3d.png"`` and ``"excitation.png"``.
+        ``"column_3d.png"`` and ``"excitation.png"``, and the robust part's plots
+        (:mod:`sso.reports.column_robust_plots`) when the document has one.
     """
-    return {"column_3d.png": _column_3d(document), "excitation.png": _excitation(document)}
+    from sso.reports.column_robust_plots import render_robust_plots
+
+    return {"column_3d.png": _column_3d(document), "excitation.png": _excitation(document),
+            **render_robust_plots(document)}
 
 
 def _column_3d(document: Mapping[str, Any]) -> bytes:

@@ -11,6 +11,7 @@ import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from sso.reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
 
 EXCITATION_FILE = "excitation.csv"
@@ -25,6 +26,7 @@ CAPTIONS = {
     "excitation.png": "SAE AE-7 small-angle excitations and the exact output acceleration over "
                       "the rpm range (solid: recommended assembly, dashed: as built), with the "
                       "published limits.",
+    **ROBUST_CAPTIONS,
 }
 CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
               "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
@@ -74,6 +76,7 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     if "joint_positions" in document:
         blocks += [Heading(2, "Joint positions moved within their boxes"),
                    *_joint_blocks(document)]
+    blocks += robust_blocks(document)
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
     if document["warnings"]:
         blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]

@@ -16,8 +16,8 @@ import numpy as np
 
 from sso.cases.mechanism import MechanismCase, angle_grid
 from sso.limits import TRANSMISSION_BAND_DEG
-from sso.linkages.mechanisms import CrankDriven, QuickReturn
-from sso.linkages.registry import linkage_of
+from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
+from sso.linkages.registry import Mechanism, Panel, linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
 from sso.run.mechanism_document import (
@@ -42,7 +42,7 @@ BAND_TOLERANCE_DEG = 1e-6
 class Curves:
     """One linkage's tables: dense for lines, as tabulated for markers."""
 
-    mechanism: CrankDriven
+    mechanism: Mechanism
     dense: MechanismTable
     tabulated: MechanismTable
 
@@ -91,7 +91,7 @@ def _column(table: MechanismTable, column: str) -> np.ndarray | None:
 
 
 def _unit(document: Mapping[str, Any]) -> str:
-    return document["length_unit"]
+    return str(document["length_unit"])
 
 
 def _title(document: Mapping[str, Any], what: str) -> str:
@@ -125,7 +125,7 @@ def _angle_axis(axes: Any, case: MechanismCase) -> None:
 
 
 def _series_plot(document: Mapping[str, Any], curves: Mapping[str, Curves], title: str,
-                 panels: tuple) -> bytes:
+                 panels: tuple[Panel, ...]) -> bytes:
     figure = _new_figure()
     if len(panels) > 3:
         figure.set_size_inches(figure.get_size_inches()[0], 9.0)
@@ -226,7 +226,7 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
     return _png(figure)
 
 
-def _lengths(mechanism: CrankDriven) -> str:
+def _lengths(mechanism: Mechanism) -> str:
     return ", ".join(f"{name} {value:.4g}" for name, value in vars(mechanism).items()
                      if not isinstance(value, str))
 
@@ -259,6 +259,8 @@ def _point(table: MechanismTable, joint: str, index: int) -> complex:
 
 def _draw_fourbar_like(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
+    if not isinstance(mechanism, FourBar | QuickReturn):
+        raise TypeError(f"the four-bar drawing needs a FourBar or QuickReturn, not {mechanism!r}")
     quick_return = isinstance(mechanism, QuickReturn)
     ground_pivot = complex(mechanism.ground, 0.0)
     _draw_pivot(axes, 0j, "O$_2$" if quick_return else "O$_A$")
@@ -290,7 +292,7 @@ def _draw_fourbar_like(axes: Any, curve: Curves, snapshots: MechanismTable) -> N
                       alpha=0.12 * alpha)
             axes.plot(point.real, point.imag, "s", color="#ff7f0e", alpha=alpha, markersize=5,
                       label="coupler point P" if first else None)
-        if quick_return:
+        if isinstance(mechanism, QuickReturn):
             joint_c = _point(snapshots, "joint_c", index)
             _draw_link(axes, joint_b, joint_c, "slider_link", alpha,
                        "slider link BC" if first else None)
@@ -327,6 +329,8 @@ def _draw_joints(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
 
 def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
+    if not isinstance(mechanism, SliderCrank):
+        raise TypeError(f"the slider-crank drawing needs a SliderCrank, not {mechanism!r}")
     _draw_pivot(axes, 0j, "O")
     axes.axhline(mechanism.offset, color="black", linewidth=0.8,
                  label=f"slider line y = {mechanism.offset:g}")

@@ -11,6 +11,8 @@ Layout (``schema_version`` as :data:`sso.run.document.SCHEMA_VERSION`)::
     phasing? (optimise): best continuous phasing, its optima and the cross-check,
     splines? ([splines] given): best teeth, loss, fitter's instructions,
     joint_positions? (optimise with [joint_boxes]): JointPositionResult.to_dict(),
+    robust? (positions, tolerances, band or feel given):
+        :mod:`sso.run.column_robust_document`,
     excitation: {vehicle, rows: {role -> [ExcitationRow]}, angles: {role -> ...}},
     designs: {initial, optimum?} -> {label, evaluation: {residual_error}},
     success, verdict, warnings, versions
@@ -36,6 +38,7 @@ from sso.column.cancel import can_cancel
 from sso.column.chain_matrix import residual_error
 from sso.column.excitation import equivalent_angles, excitation_table
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.run.column_robust_document import has_robust_part, robust_part
 from sso.run.document import SCHEMA_VERSION, package_versions
 
 
@@ -83,6 +86,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
     verdicts: list[str] = []
     success = True
     recommended = "as_built"
+    phasing: Any = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if optimising:
@@ -111,6 +115,12 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             document["joint_positions"] = moved.to_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")
+        if has_robust_part(case):
+            robust, robust_success, robust_verdicts = robust_part(
+                case, optimising, list(as_built), phasing)
+            document["robust"] = robust
+            success = success and robust_success
+            verdicts += robust_verdicts
         excitation = _excitation(geometry, case, {entry["role"]: entry for entry in assemblies},
                                  ("as_built", recommended))
     document["assemblies"] = assemblies

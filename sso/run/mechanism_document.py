@@ -24,15 +24,15 @@ from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from sso.cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
 from sso.linkages.mechanisms import (
-    CrankDriven,
     FourBar,
     SliderCrank,
     slider_crank_method_difference,
 )
-from sso.linkages.registry import linkage_of
+from sso.linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso.linkages.table import MechanismTable
 from sso.run.document import SCHEMA_VERSION, _verdict, package_versions
 
@@ -74,12 +74,15 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
         "crank_accel_rad_s2": case.crank_accel_rad_s2,
     }
     caught_messages: list[str] = []
+    linkages: dict[str, Mechanism]
     if case.kind != DESIGN_KIND:
         linkages = {"given": start}
         document.update(success=True, verdict=_analysis_verdict(case))
     elif optimising:
         from sso.linkages.fourbar_swing import design_fourbar
 
+        if not isinstance(start, FourBar):
+            raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             result = design_fourbar(start, **case.design_options())
@@ -104,7 +107,7 @@ def mechanism_document(case: MechanismCase, optimising: bool) -> dict[str, Any]:
     return document
 
 
-def linkage_dict(mechanism: CrankDriven) -> dict[str, Any]:
+def linkage_dict(mechanism: Mechanism) -> dict[str, Any]:
     """JSON-ready description of a linkage; :func:`mechanism_from_dict` reads it back."""
     entry: dict[str, Any] = {"type": type(mechanism).__name__, "parameters": asdict(mechanism)}
     if isinstance(mechanism, FourBar):
@@ -114,14 +117,14 @@ def linkage_dict(mechanism: CrankDriven) -> dict[str, Any]:
     return entry
 
 
-def mechanism_from_dict(entry: Mapping[str, Any]) -> CrankDriven:
+def mechanism_from_dict(entry: Mapping[str, Any]) -> Mechanism:
     """The linkage described by :func:`linkage_dict` (e.g. read from ``result.json``)."""
     return linkage_of(entry["type"]).mechanism(**entry["parameters"])
 
 
-def analysis_table(mechanism: CrankDriven, case: MechanismCase,
+def analysis_table(mechanism: Mechanism, case: MechanismCase,
                    crank_angles_deg: np.ndarray | None = None,
-                   on_unassembled: str | None = None) -> MechanismTable:
+                   on_unassembled: OnUnassembled | None = None) -> MechanismTable:
     """The mechanism's table over the case's crank angles (or ``crank_angles_deg``).
 
     A four-bar's table gains ``coupler_point_x`` and ``coupler_point_y``: the path
@@ -134,6 +137,8 @@ def analysis_table(mechanism: CrankDriven, case: MechanismCase,
                               on_unassembled=on_unassembled or case.on_unassembled)
     if not linkage_of(mechanism).coupler_point:
         return table
+    if not isinstance(mechanism, FourBar):
+        raise TypeError(f"coupler points are computed for a FourBar, not {mechanism!r}")
     point = coupler_point(mechanism, table, case.values["plots.coupler_point"])
     columns = {**table.columns, "coupler_point_x": point.real, "coupler_point_y": point.imag}
     units = {**table.units, "coupler_point_x": "length", "coupler_point_y": "length"}
@@ -141,7 +146,7 @@ def analysis_table(mechanism: CrankDriven, case: MechanismCase,
 
 
 def coupler_point(fourbar: FourBar, table: MechanismTable,
-                  point_in_coupler_lengths: tuple[float, float]) -> np.ndarray:
+                  point_in_coupler_lengths: tuple[float, float]) -> NDArray[np.complex128]:
     """Positions of a point fixed to the coupler, as complex numbers (length units).
 
     Parameters
@@ -154,7 +159,7 @@ def coupler_point(fourbar: FourBar, table: MechanismTable,
     """
     along, across = point_in_coupler_lengths
     joint_a = table["joint_a_x"] + 1j * table["joint_a_y"]
-    direction = np.exp(1j * np.radians(table["coupler_angle_deg"]))
+    direction: NDArray[np.complex128] = np.exp(1j * np.radians(table["coupler_angle_deg"]))
     return joint_a + fourbar.coupler * (along + 1j * across) * direction
 
 
@@ -162,13 +167,17 @@ def case_from_document(document: Mapping[str, Any]) -> MechanismCase:
     """The case stored in a result document, checked again."""
     from sso.cases.schema import parse_case
 
-    return parse_case(document["case"], document["case_file"])
+    case = parse_case(document["case"], document["case_file"])
+    if not isinstance(case, MechanismCase):
+        raise ValueError(f"the document's case kind {document['case'].get('kind')!r} is not "
+                         "a mechanism kind")
+    return case
 
 
 def revolution_stop_deg(case: MechanismCase) -> float:
     """End of the curves and extremes: at least one revolution from the case's start (deg)."""
     start, stop = case.values["drive.start_deg"], case.values["drive.stop_deg"]
-    return max(stop, start + 360.0)
+    return float(max(stop, start + 360.0))
 
 
 def fine_crank_angles_deg(case: MechanismCase) -> np.ndarray:
@@ -176,7 +185,7 @@ def fine_crank_angles_deg(case: MechanismCase) -> np.ndarray:
     return angle_grid(case.values["drive.start_deg"], revolution_stop_deg(case), FINE_STEP_DEG)
 
 
-def extremes(mechanism: CrankDriven,
+def extremes(mechanism: Mechanism,
              case: MechanismCase) -> list[dict[str, Any]]:
     """Smallest and largest value of the main columns over a whole crank revolution.
 

@@ -84,3 +84,72 @@ def test_every_column_key_is_documented_in_the_readme():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     for key in schema("column"):
         assert f"| `{key.label}` |" in readme, key.label
+
+
+POSITIONS = json.loads((DATA / "truck_three_positions.json").read_text())["positions"]
+
+
+def test_shipped_positions_case_copies_its_positions_and_round_trips():
+    case = load_case(ROOT / "cases" / "column_truck_three_positions.toml")
+    positions = case.values["hardpoints.positions"]
+    assert {name: [list(point) for point in points] for name, points in positions.items()} == {
+        name: entry["points_mm"] for name, entry in POSITIONS.items()}
+    assert [list(point) for point in case.values["hardpoints.points_mm"]] == \
+        POSITIONS["tilt_down"]["points_mm"]
+    assert parse_case(case.to_dict(), case.source) == case
+    assert case.tolerances().samples == 200 and case.feel_options()["lock_deg"] == 600.0
+
+
+def test_a_case_without_robust_tables_has_none_and_round_trips():
+    case = parse_case(truck(), "truck.toml")
+    assert case.positions() is None and case.tolerances() is None
+    assert case.feel_options() is None
+    assert "tolerances" not in case.to_dict() and "feel" not in case.to_dict()
+    assert parse_case(case.to_dict(), "truck.toml") == case
+
+
+FOUR_JOINTS = [*TRUCK[:-1], [-1427.0, 280.0, 312.8], TRUCK[-1]]
+
+
+@pytest.mark.parametrize("tables, message", [
+    ({"hardpoints": {"points_mm": TRUCK, "positions": {"up": TRUCK, "down": FOUR_JOINTS}}},
+     r"hardpoints.positions.down has 4 joints \(6 points\) but hardpoints.points_mm has 3"),
+    ({"hardpoints": {"points_mm": TRUCK, "positions": {"up": TRUCK}}},
+     "hardpoints.positions must be a table of 2 to 20"),
+    ({"hardpoints": {"points_mm": TRUCK, "positions": {"up": TRUCK, "down": [[0, 0, 0]] * 5}}},
+     "hardpoints.positions.down: "),
+    ({"phasing": {"position_weights": {"up": 1.0}}},
+     "phasing.position_weights needs"),
+    ({"hardpoints": {"points_mm": TRUCK, "positions": {"up": TRUCK, "down": TRUCK}},
+      "phasing": {"positions_objective": "mean", "position_weights": {"up": 1.0}}},
+     r"phasing.position_weights names \['up'\]; it must name exactly"),
+    ({"hardpoints": {"points_mm": TRUCK, "positions": {"up": TRUCK, "down": TRUCK}},
+      "phasing": {"position_weights": {"up": 1.0, "down": 1.0}}},
+     "phasing.position_weights applies to phasing.positions_objective = 'mean'"),
+    ({"tolerances": {"hardpoint_mm": -1.0, "yoke_phase_deg": 1.0}},
+     r"tolerances.hardpoint_mm = -1 is outside the allowed range \[0, 100\] mm"),
+    ({"tolerances": {"hardpoint_mm": 1.0, "yoke_phase_deg": -0.5}},
+     "tolerances.yoke_phase_deg = -0.5 is outside"),
+    ({"tolerances": {"hardpoint_mm": 1.0}}, "tolerances.yoke_phase_deg is missing"),
+    ({"tolerances": {"hardpoint_mm": 1.0, "yoke_phase_deg": 1.0, "robust_objective": "p100"}},
+     "tolerances.robust_objective = 'p100' is not 'mean' or a percentile"),
+    ({"tolerances": {"hardpoint_mm": 1.0, "yoke_phase_deg": 1.0, "samples": 10}},
+     "tolerances.robust_objective = 'p95' needs at least 20 samples"),
+    # The truck column cannot cancel: its least RE is 2.268e-4 (can_cancel, closed form).
+    ({"band": {"re_limit": 1e-4}}, r"band.re_limit = 0.0001 is below the least RE .*0.000226"),
+    ({"band": {"re_limit": 0.0}}, "band.re_limit = 0 is outside"),
+    ({"feel": {"straight_ahead_deg": 0.0}}, "feel.lock_deg is missing"),
+    ({"feel": {"straight_ahead_deg": 0.0, "lock_deg": 540.0, "window_deg": 90.0}},
+     "feel.window_deg = 90 is outside"),
+])
+def test_bad_robust_key_names_the_key(tables, message):
+    with pytest.raises(CaseError, match=message):
+        parse_case(truck(**tables), "truck.toml")
+
+
+def test_an_error_inside_the_positions_table_names_its_line(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_text(f'kind = "column"\n[hardpoints]\npoints_mm = {TRUCK}\n'
+                    f'[hardpoints.positions]\nup = {TRUCK}\ndown = [[0, 0, 0], [1, 0, "a"]]\n')
+    with pytest.raises(CaseError, match=r"line 4: hardpoints.positions.down\[1\]\[2\] = 'a'"):
+        load_case(path)

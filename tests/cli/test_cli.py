@@ -194,7 +194,7 @@ def test_validate_and_help_import_neither_casadi_nor_scipy(tmp_path):
     completed, loaded = sso_loading("validate", *sorted(CASES.glob("*.toml")), cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert loaded == []
-    assert completed.stdout.count("ok: ") == 10
+    assert completed.stdout.count("ok: ") == len(list(CASES.glob("*.toml")))
     for arguments in (["--help"], ["run", "--help"], ["evaluate", "--help"],
                       ["validate", "--help"], ["report", "--help"]):
         completed, loaded = sso_loading(*arguments, cwd=tmp_path)
