@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -56,12 +57,13 @@ class BaselineSolve:
 
 
 def solve(beta_deg: np.ndarray, phase_deg: np.ndarray, option: int,
-          beta_bounds_deg: tuple[float, float], phase_bounds_deg: tuple[float, float],
+          beta_bounds_deg: Any, phase_bounds_deg: Any,
           ftol: float = 1e-12, max_iterations: int = 500) -> BaselineSolve:
     """Minimise RE from one start with SLSQP and the complex-step gradient.
 
     Option 1 frees the phases, 2 the operating angles (phases at 90 deg), 3 both.
-    The start is clipped onto the bounds.
+    Bounds (deg) are one ``(lower, upper)`` pair for all joints / phases or one pair
+    each. The start is clipped onto the bounds.
     """
     from scipy.optimize import minimize  # type: ignore[import-untyped]
 
@@ -71,9 +73,12 @@ def solve(beta_deg: np.ndarray, phase_deg: np.ndarray, option: int,
     phase = np.radians(np.full(n_joints - 1, 90.0) if option == 2 else
                        np.asarray(phase_deg, dtype=float))
     free_beta, free_phase = option in (2, 3), option in (1, 3)
-    bounds = ([np.radians(beta_bounds_deg)] * n_joints * free_beta
-              + [np.radians(phase_bounds_deg)] * (n_joints - 1) * free_phase)
-    lower, upper = np.array(bounds).T
+    beta_bounds = np.broadcast_to(np.radians(np.asarray(beta_bounds_deg, dtype=float)),
+                                  (n_joints, 2))
+    phase_bounds = np.broadcast_to(np.radians(np.asarray(phase_bounds_deg, dtype=float)),
+                                   (n_joints - 1, 2))
+    bounds = [beta_bounds] * free_beta + [phase_bounds] * free_phase
+    lower, upper = np.concatenate(bounds).T if bounds else (np.zeros(0), np.zeros(0))
     x0 = np.clip(np.concatenate([beta] * free_beta + [phase] * free_phase), lower, upper)
     size = x0.size
     perturbation = 1j * COMPLEX_STEP * np.eye(size)

@@ -22,6 +22,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "Evaluation": "sso.shafts.evaluation",
     "optimise": "sso.column.dispatch",
     "OptimisationResult": "sso.shafts.optimise",
+    "SOLVERS": "sso.limits",
     "optimise_batch": "sso.shafts.batch",
     "BatchResult": "sso.shafts.batch",
     "Solution": "sso.solvers.solution",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import stat
 import tempfile
 from collections.abc import Mapping
@@ -38,6 +39,8 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
         The target path.
     """
     target = Path(path)
+    if not nameless_temporaries(target.parent):
+        return _write_named_temporary(target, data)
     try:
         descriptor = os.open(target.parent, os.O_TMPFILE | os.O_WRONLY, 0o644)
     except (AttributeError, OSError):  # no O_TMPFILE here, or not on this file system
@@ -59,6 +62,45 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     return target
 
 
+_NAMELESS_BY_DEVICE: dict[int, bool] = {}
+
+
+def nameless_temporaries(folder: str | os.PathLike[str]) -> bool:
+    """Whether :func:`write_bytes_atomic` writes into ``folder`` with no temporary name.
+
+    It needs ``O_TMPFILE`` and a link from ``/proc/self/fd``; some kernels and
+    sandboxes refuse the link (EXDEV), and the write then goes through a named
+    ``.sso-tmp-*`` file, which a SIGKILL in that instant leaves behind (a later
+    sweep in the same folder removes it). Probed once per file system.
+
+    Raises
+    ------
+    OSError
+        If ``folder`` does not exist or cannot be read.
+    """
+    device = os.stat(folder).st_dev
+    if device not in _NAMELESS_BY_DEVICE:
+        _NAMELESS_BY_DEVICE[device] = _probe_nameless(folder)
+    return _NAMELESS_BY_DEVICE[device]
+
+
+def _probe_nameless(folder: str | os.PathLike[str]) -> bool:
+    try:
+        descriptor = os.open(folder, os.O_TMPFILE | os.O_WRONLY, 0o644)
+    except (AttributeError, OSError):
+        return False
+    probe = Path(folder) / f"{TEMPORARY_PREFIX}{os.urandom(6).hex()}-probe"
+    try:
+        os.link(f"/proc/self/fd/{descriptor}", probe, follow_symlinks=True)
+    except OSError:
+        return False
+    else:
+        probe.unlink()
+        return True
+    finally:
+        os.close(descriptor)
+
+
 def _write_all(descriptor: int, data: bytes) -> None:
     os.fchmod(descriptor, 0o644)
     view = memoryview(data)
@@ -68,18 +110,34 @@ def _write_all(descriptor: int, data: bytes) -> None:
 
 
 def _write_named_temporary(target: Path, data: bytes) -> Path:
-    descriptor, temporary_name = tempfile.mkstemp(prefix=TEMPORARY_PREFIX,
-                                                  suffix=f"-{target.name}", dir=target.parent)
+    # Ctrl-C and SIGTERM wait until the named temporary file is renamed or removed, so
+    # an interrupted run never leaves one (only SIGKILL can).
+    held = _hold_interrupts()
     try:
+        descriptor, temporary_name = tempfile.mkstemp(prefix=TEMPORARY_PREFIX,
+                                                      suffix=f"-{target.name}",
+                                                      dir=target.parent)
         try:
-            _write_all(descriptor, data)
-        finally:
-            os.close(descriptor)
-        os.replace(temporary_name, target)
-    except BaseException:
-        Path(temporary_name).unlink(missing_ok=True)
-        raise
+            try:
+                _write_all(descriptor, data)
+            finally:
+                os.close(descriptor)
+            os.replace(temporary_name, target)
+        except BaseException:
+            Path(temporary_name).unlink(missing_ok=True)
+            raise
+    finally:
+        if held is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
     return target
+
+
+def _hold_interrupts() -> set[signal.Signals] | None:
+    """Block SIGINT and SIGTERM in this thread; the previous mask, or None where the
+    system cannot block signals."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
 
 
 def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:

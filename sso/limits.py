@@ -55,6 +55,10 @@ summaries; ``result.json`` keeps full precision."""
 SOLVER_NAMES = ("ipopt", "slsqp")
 """The solvers every design problem can run (and cross-check when both run)."""
 
+SOLVERS = (*SOLVER_NAMES, "lm")
+"""Solver names :func:`sso.optimise` accepts: the two above and ``"lm"``, the
+least-squares solver of the exact model's two residuals (``sso.SOLVERS``)."""
+
 CONVENTIONAL_PHASE_DEG = 90.0
 """Relative phase of successive joints when none is given, deg (the in-line
 cancelling phasing of a planar column; see docs/model.md for non-planar ones)."""

@@ -209,15 +209,16 @@ def _is_pair_of_numbers(value: Any) -> bool:
 
 
 
-def validate_solvers(solvers: Iterable[str] | str) -> tuple[str, ...]:
-    """Solver names as a tuple, or raise naming the bad entry and the choices."""
+def validate_solvers(solvers: Iterable[str] | str,
+                     allowed: tuple[str, ...] = SOLVER_NAMES) -> tuple[str, ...]:
+    """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
-        raise ValueError(f"solvers is empty; choose one or more of {', '.join(SOLVER_NAMES)}")
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(allowed)}")
     for index, name in enumerate(names):
-        if name not in SOLVER_NAMES:
+        if name not in allowed:
             raise ValueError(f"solvers[{index}] = {shown(name)} is not one of "
-                             f"{', '.join(SOLVER_NAMES)}")
+                             f"{', '.join(allowed)}")
     if len(set(names)) != len(names):
         raise ValueError(f"solvers = {list(names)} names a solver twice")
     return names

@@ -16,7 +16,12 @@ from pathlib import Path
 
 import pytest
 
-from sso.files import TEMPORARY_PREFIX, write_bytes_atomic, write_text_atomic
+from sso.files import (
+    TEMPORARY_PREFIX,
+    nameless_temporaries,
+    write_bytes_atomic,
+    write_text_atomic,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 OLD = b"old contents\n"
@@ -69,7 +74,7 @@ def _child_paused_before_rename(target: Path) -> subprocess.Popen[str]:
         def fsync_then_pause(descriptor):
             real_fsync(descriptor)
             print("written", flush=True)
-            time.sleep(60)
+            time.sleep(5)
         sso.files.os.fsync = fsync_then_pause
         sso.files.write_bytes_atomic({str(target)!r}, {NEW_PIECE!r} * {NEW_COPIES})
     """)
@@ -91,14 +96,16 @@ def test_interrupted_write_leaves_the_old_file_and_cleans_up(tmp_path):
     target.write_bytes(OLD)
     child = _child_paused_before_rename(target)
     temporaries = [path for path in tmp_path.iterdir() if path.name.startswith(TEMPORARY_PREFIX)]
-    if _nameless_temporaries(tmp_path):  # caught mid-write: the data have no name yet
+    if nameless_temporaries(tmp_path):  # caught mid-write: the data have no name yet
         assert temporaries == []
     else:  # caught mid-write: the data sit in the one marked temporary file
         assert len(temporaries) == 1 and temporaries[0].read_bytes() == NEW
-    child.send_signal(signal.SIGINT)  # Ctrl-C: KeyboardInterrupt inside the write
+    child.send_signal(signal.SIGINT)  # Ctrl-C
     child.communicate(timeout=30)
     assert child.returncode != 0
-    assert target.read_bytes() == OLD
+    # Nameless: KeyboardInterrupt inside the write, the old file stays. Named: Ctrl-C
+    # waits until the named file is renamed (sso.files holds it), so the new one is whole.
+    assert target.read_bytes() == (OLD if nameless_temporaries(tmp_path) else NEW)
     assert [path.name for path in tmp_path.iterdir()] == ["result.json"]
 
 
@@ -113,17 +120,7 @@ def test_killed_write_leaves_the_old_file(tmp_path):
     # A kill leaves nothing where the temporary file has no name while it is written
     # (O_TMPFILE); elsewhere only the marked temporary file, never a partial target.
     leftovers = sorted(path.name for path in tmp_path.iterdir() if path != target)
-    if _nameless_temporaries(tmp_path):
+    if nameless_temporaries(tmp_path):
         assert leftovers == []
     else:
         assert len(leftovers) == 1 and leftovers[0].startswith(TEMPORARY_PREFIX)
-
-
-def _nameless_temporaries(folder: Path) -> bool:
-    """Whether this system and file system give sso.files a nameless temporary file."""
-    try:
-        descriptor = os.open(folder, os.O_TMPFILE | os.O_WRONLY, 0o644)
-    except (AttributeError, OSError):
-        return False
-    os.close(descriptor)
-    return True

@@ -7,10 +7,13 @@ and ``RE = |M|_F^2 / (2 det M) - 1``. The column modules use it to scan thousand
 phasings (brute force, spline teeth) in one array operation; the tests check it
 against :meth:`sso.ShaftSeries.evaluate`.
 
-:func:`chain_entries` and :func:`entries_residual_error` use nothing but ``+ - * /``,
-so the same source builds numpy arrays here and the CasADi graph of the joint-position
-NLP (:mod:`sso.column.joint_positions`). RE does not change when ``M`` is scaled, so
-a rotation may be given scaled (``lambda (cos phi, sin phi)``, any ``lambda != 0``).
+The closed form itself lives once, in :mod:`sso.kinematics.hooke_matrix`; this module
+gives it the layout the column modules use (``(..., 2, 2)`` arrays, angles along the
+last axis). :func:`chain_entries` and :func:`entries_residual_error` use nothing but
+``+ - * /``, so the same source builds numpy arrays here and the CasADi graph of the
+joint-position NLP (:mod:`sso.column.joint_positions`). RE does not change when ``M``
+is scaled, so a rotation may be given scaled (``lambda (cos phi, sin phi)``, any
+``lambda != 0``).
 """
 
 from __future__ import annotations
@@ -19,6 +22,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
+from sso.kinematics import hooke_matrix
 
 
 def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
@@ -33,20 +38,12 @@ def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
         ``cos phi_k`` and ``sin phi_k`` of each phase (``n - 1`` entries each); the
         pair of one phase may be scaled by a common non-zero factor.
     """
-    m11: Any = 1.0
-    m12: Any = 0.0
-    m21: Any = 0.0
-    m22: Any = cos_beta[0]
-    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=True):
-        top_left, top_right = c * m11 - s * m21, c * m12 - s * m22
-        m21, m22 = cosine * (s * m11 + c * m21), cosine * (s * m12 + c * m22)
-        m11, m12 = top_left, top_right
-    return m11, m12, m21, m22
+    return hooke_matrix.chain_entries(cos_beta, cos_phase, sin_phase)
 
 
 def entries_residual_error(m11: Any, m12: Any, m21: Any, m22: Any) -> Any:
     """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` in any arithmetic."""
-    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
+    return hooke_matrix.matrix_residual_error((m11, m12, m21, m22))
 
 
 def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
@@ -63,12 +60,11 @@ def chain_matrix(beta_rad: Any, phase_rad: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (..., 2, 2)
     """
-    cosines = np.cos(np.asarray(beta_rad, dtype=float))
+    beta = np.asarray(beta_rad, dtype=float)
     phases = np.asarray(phase_rad, dtype=float)
-    batch = np.broadcast_shapes(cosines.shape[:-1], phases.shape[:-1])
-    entries = chain_entries([cosines[..., k] for k in range(cosines.shape[-1])],
-                            [np.cos(phases[..., k]) for k in range(phases.shape[-1])],
-                            [np.sin(phases[..., k]) for k in range(phases.shape[-1])])
+    batch = np.broadcast_shapes(beta.shape[:-1], phases.shape[:-1])
+    entries = hooke_matrix.chain_matrix(np, [beta[..., k] for k in range(beta.shape[-1])],
+                                        [phases[..., k] for k in range(phases.shape[-1])])
     m11, m12, m21, m22 = (np.broadcast_to(entry, batch) for entry in entries)
     matrix: np.ndarray = np.stack([np.stack([m11, m12], axis=-1),
                                    np.stack([m21, m22], axis=-1)], axis=-2)

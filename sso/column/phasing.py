@@ -151,9 +151,12 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
     beta_rad = np.radians(geometry.beta_deg)
     gamma_deg = np.asarray(geometry.plane_angle_deg)
     in_phase = geometry.series()
+    # Every solver from every start (no least-squares screening): where a continuum of
+    # phasings cancels, this keeps the one the position and robust studies measured.
     run = sso.optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
                        solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
-                       solver_tol=solver_tol, max_iterations=max_iterations, seed=seed)
+                       solver_tol=solver_tol, max_iterations=max_iterations, seed=seed,
+                       screen_starts=False)
     best_phase = np.mod(np.asarray(run.best.series.phase_deg), 180.0)
     verdict = can_cancel(geometry.beta_deg)
     closed = minimising_phases_deg(geometry.beta_deg)

@@ -30,6 +30,7 @@ costs ``O(n)`` matrix products (prefix and suffix products of the chain).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -46,8 +47,8 @@ def _product(left: Matrix, right: Matrix) -> Matrix:
             a21 * b11 + a22 * b21, a21 * b12 + a22 * b22)
 
 
-def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list[Matrix]:
-    """The chain's factors from the input side: ``D_1, R(phi_1), D_2, ..., D_n``."""
+def _check_counts(beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> None:
+    """Raise ValueError unless there is a joint and one phase fewer than joints."""
     if len(beta_rad) < 1:
         raise ValueError("beta_rad is empty: a chain needs at least 1 joint")
     if len(phase_rad) != len(beta_rad) - 1:
@@ -55,6 +56,11 @@ def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list
             f"phase_rad has {len(phase_rad)} entries; {len(beta_rad)} joints need "
             f"{len(beta_rad) - 1}"
         )
+
+
+def _factors(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> list[Matrix]:
+    """The chain's factors from the input side: ``D_1, R(phi_1), D_2, ..., D_n``."""
+    _check_counts(beta_rad, phase_rad)
     factors: list[Matrix] = []
     for k, beta in enumerate(beta_rad):
         if k > 0:
@@ -71,7 +77,7 @@ def chain_matrix(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> 
     Parameters
     ----------
     xp : module
-        ``numpy`` or ``casadi``: supplies ``sin`` and ``cos``.
+        ``numpy``, ``casadi`` or ``math``: supplies ``sin`` and ``cos``.
     beta_rad : sequence
         Operating angle of each joint (rad), ``n >= 1`` entries: numbers, numpy
         arrays that broadcast against each other, or CasADi symbols.
@@ -88,11 +94,36 @@ def chain_matrix(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> 
     ValueError
         If there is no joint or the phase count is not ``len(beta_rad) - 1``.
     """
-    factors = _factors(xp, beta_rad, phase_rad)
-    matrix = factors[0]
-    for factor in factors[1:]:
-        matrix = _product(factor, matrix)
-    return matrix
+    _check_counts(beta_rad, phase_rad)
+    return chain_entries([xp.cos(beta) for beta in beta_rad],
+                         [xp.cos(phase) for phase in phase_rad],
+                         [xp.sin(phase) for phase in phase_rad])
+
+
+def chain_entries(cos_beta: Sequence[Any], cos_phase: Sequence[Any],
+                  sin_phase: Sequence[Any]) -> Matrix:
+    """Entries ``(m11, m12, m21, m22)`` of ``M`` from the cosines and sines alone.
+
+    Nothing but ``+ - *``, so any arithmetic works (floats, numpy, CasADi). RE does
+    not change when ``M`` is scaled, so a rotation may be given scaled
+    (``lambda (cos phi, sin phi)``, any ``lambda != 0``).
+
+    Parameters
+    ----------
+    cos_beta : sequence
+        ``cos beta_k`` of each joint (``n`` entries).
+    cos_phase, sin_phase : sequence
+        ``cos phi_k`` and ``sin phi_k`` of each phase (``n - 1`` entries each).
+    """
+    m11: Any = 1.0
+    m12: Any = 0.0
+    m21: Any = 0.0
+    m22: Any = cos_beta[0]
+    for cosine, c, s in zip(cos_beta[1:], cos_phase, sin_phase, strict=True):
+        top_left, top_right = c * m11 - s * m21, c * m12 - s * m22
+        m21, m22 = cosine * (s * m11 + c * m21), cosine * (s * m12 + c * m22)
+        m11, m12 = top_left, top_right
+    return m11, m12, m21, m22
 
 
 def chain_determinant(xp: Any, beta_rad: Sequence[Any]) -> Any:
@@ -101,6 +132,16 @@ def chain_determinant(xp: Any, beta_rad: Sequence[Any]) -> Any:
     for beta in beta_rad:
         determinant = determinant * xp.cos(beta)
     return determinant
+
+
+def matrix_residual_error(matrix: Matrix) -> Any:
+    """``RE = ((m11 - m22)^2 + (m12 + m21)^2) / (2 det M)`` of a chain matrix given by entries.
+
+    For matrices built elsewhere (products of chains, enumerated phasings); the
+    determinant is taken from the entries.
+    """
+    m11, m12, m21, m22 = matrix
+    return ((m11 - m22) ** 2 + (m12 + m21) ** 2) / (2.0 * (m11 * m22 - m12 * m21))
 
 
 def residuals(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> tuple[Any, Any]:
@@ -243,3 +284,92 @@ def residuals_and_jacobian_numpy(beta_rad: Any, phase_rad: Any) -> tuple[np.ndar
                for column in (*d_beta, *d_phase)]
     return (np.broadcast_to(np.stack(residual, axis=-1), (*shape, 2)),
             np.stack(columns, axis=-1))
+
+
+def residuals_and_jacobian_floats(
+    beta_rad: Sequence[float], phase_rad: Sequence[float]
+) -> tuple[float, float, list[float], list[float]]:
+    """Residuals and Jacobian of one design in plain Python floats (no numpy, no CasADi).
+
+    The same prefix/suffix products as :func:`residual_jacobian`, written out on
+    floats: a single design of a few joints costs a few microseconds this way,
+    several times less than one numpy call, which is what a single-design
+    least-squares solve spends its time on.
+
+    Parameters
+    ----------
+    beta_rad : sequence of float
+        Operating angles (rad), ``n >= 1``.
+    phase_rad : sequence of float
+        Relative phases (rad), ``n - 1``.
+
+    Returns
+    -------
+    r1, r2 : float
+        The residuals of :func:`residuals`.
+    row1, row2 : list of float
+        Their derivatives (per rad): ``beta_1 .. beta_n`` then ``phi_1 .. phi_(n-1)``.
+    """
+    count = len(beta_rad)
+    cos_beta = [math.cos(beta) for beta in beta_rad]
+    sin_beta = [math.sin(beta) for beta in beta_rad]
+    cos_phase = [math.cos(phase) for phase in phase_rad]
+    sin_phase = [math.sin(phase) for phase in phase_rad]
+    # before[k]: product of the factors up to and including D_k; its rows.
+    before: list[tuple[float, float, float, float]] = []
+    a11, a12, a21, a22 = 1.0, 0.0, 0.0, cos_beta[0]
+    before.append((a11, a12, a21, a22))
+    for k in range(1, count):
+        c, s = cos_phase[k - 1], sin_phase[k - 1]
+        a11, a12, a21, a22 = (c * a11 - s * a21, c * a12 - s * a22,
+                              s * a11 + c * a21, s * a12 + c * a22)
+        a21, a22 = cos_beta[k] * a21, cos_beta[k] * a22
+        before.append((a11, a12, a21, a22))
+    determinant = 1.0
+    for value in cos_beta:
+        determinant *= value
+    scale = 1.0 / math.sqrt(2.0 * determinant)
+    r1 = (a11 - a22) * scale
+    r2 = (a12 + a21) * scale
+    # after[k]: product of the factors after D_k (R_k D_(k+1) ... D_n).
+    after: list[tuple[float, float, float, float]] = [(1.0, 0.0, 0.0, 1.0)] * count
+    b11, b12, b21, b22 = 1.0, 0.0, 0.0, 1.0
+    for k in range(count - 1, 0, -1):
+        after[k] = (b11, b12, b21, b22)
+        # (b D_k) R_(k-1): first D_k from the right, then the rotation.
+        cb = cos_beta[k]
+        b12, b22 = b12 * cb, b22 * cb
+        c, s = cos_phase[k - 1], sin_phase[k - 1]
+        b11, b12, b21, b22 = (b11 * c + b12 * s, -b11 * s + b12 * c,
+                              b21 * c + b22 * s, -b21 * s + b22 * c)
+    after[0] = (b11, b12, b21, b22)
+    row1: list[float] = []
+    row2: list[float] = []
+    phase_row1: list[float] = []
+    phase_row2: list[float] = []
+    for k in range(count):
+        p11, p12, p21, p22 = before[k - 1] if k else (1.0, 0.0, 0.0, 1.0)
+        q11, q12, q21, q22 = after[k]
+        # dM/d beta_k = after_k diag(0, -sin beta_k) (R_(k-1) before_(k-1)); the row
+        # (0, -sin) picks the second row of what D_k acts on.
+        if k:
+            c, s = cos_phase[k - 1], sin_phase[k - 1]
+            u1, u2 = s * p11 + c * p21, s * p12 + c * p22
+        else:
+            u1, u2 = 0.0, 1.0
+        u1, u2 = -sin_beta[k] * u1, -sin_beta[k] * u2
+        d11, d12, d21, d22 = q12 * u1, q12 * u2, q22 * u1, q22 * u2
+        half_tan = 0.5 * sin_beta[k] / cos_beta[k]
+        row1.append((d11 - d22) * scale + r1 * half_tan)
+        row2.append((d12 + d21) * scale + r2 * half_tan)
+        if k:
+            # dM/d phi_k = after_k D_k R_(k-1) J before_(k-1), J = [[0, -1], [1, 0]].
+            c, s = cos_phase[k - 1], sin_phase[k - 1]
+            v11, v12, v21, v22 = -p21, -p22, p11, p12
+            w11, w12 = c * v11 - s * v21, c * v12 - s * v22
+            w21, w22 = cos_beta[k] * (s * v11 + c * v21), cos_beta[k] * (s * v12 + c * v22)
+            d11, d12 = q11 * w11 + q12 * w21, q11 * w12 + q12 * w22
+            d21, d22 = q21 * w11 + q22 * w21, q21 * w12 + q22 * w22
+            phase_row1.append((d11 - d22) * scale)
+            phase_row2.append((d12 + d21) * scale)
+    return r1, r2, row1 + phase_row1, row2 + phase_row2

@@ -33,7 +33,8 @@ from sso.shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     OPTION_NAMES,
     StartMovedWarning,
-    build_problem,
+    free_angles,
+    validate_option_and_bounds,
 )
 from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
 from sso.validation import (
@@ -239,21 +240,16 @@ def optimise_batch(
         row, column = np.argwhere(out_of_range)[0]
         raise ValueError(f"beta_deg[{row}, {column}] = {beta[row, column]:g} is outside the "
                          f"allowed range [0, {BETA_LIMIT_DEG:g}) deg")
-    with warnings.catch_warnings():
-        # Only the layout and the checks of the option and bounds are used here;
-        # starts outside the bounds are counted below over every row.
-        warnings.simplefilter("ignore", StartMovedWarning)
-        problem = build_problem(beta[0].tolist(), phase[0].tolist(), model, option,
-                                beta_bounds_deg, phase_bounds_deg)
-    option_number = problem.option
-    beta_bounds, phase_bounds = problem.beta_bounds_deg, problem.phase_bounds_deg
+    option_number, beta_bounds, phase_bounds = validate_option_and_bounds(
+        option, n_joints, beta_bounds_deg, phase_bounds_deg)
+    beta_free, phase_free = free_angles(option_number)
     if option_number == 2:
         phase = np.full_like(phase, OPTION_FIXED_PHASE_DEG)
 
     # The full design row is (beta_1 .. beta_n, phi_1 .. phi_(n-1)); the option frees some.
     design_deg = np.hstack([beta, phase])
-    free = np.r_[np.arange(n_joints) if problem.beta_free else [],
-                 n_joints + np.arange(n_joints - 1) if problem.phase_free else []].astype(int)
+    free = np.r_[np.arange(n_joints) if beta_free else [],
+                 n_joints + np.arange(n_joints - 1) if phase_free else []].astype(int)
     lower, upper = np.array([*beta_bounds, *phase_bounds], dtype=float).reshape(-1, 2)[free].T
     start = design_deg[:, free]
     moved = np.count_nonzero((start < lower) | (start > upper))

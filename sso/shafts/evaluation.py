@@ -11,6 +11,7 @@ import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number
 from sso.kinematics.hooke import chain_kinematics
+from sso.kinematics.hooke_matrix import ratio_extremes, residual_error
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.quadrature import (
@@ -44,6 +45,8 @@ RPM_TO_RAD_S = 2.0 * np.pi / 60.0
 # this fine over the 180-deg period (four times the quadrature count when that is
 # more), then refined locally. A power of two, so the quadrature grids are in it.
 MIN_FIGURE_SAMPLES = 1024
+# ``samples`` of an exact-model evaluation: its RE is the closed form, no quadrature.
+CLOSED_FORM_SAMPLES = 0
 
 
 # (field, label with unit) of the figures a summary shows.
@@ -72,7 +75,7 @@ class Evaluation(Readable):
     speed_min_rpm, speed_max_rpm : float
         Extremes of the output speed, rpm.
     mean_speed_ratio : float
-        Mean of ``w_out/w_in`` (1 in the exact model).
+        Mean of ``w_out/w_in`` (exactly 1 in the exact model, reported as 1.0).
     fluctuation : float
         Peak-to-peak output speed over input speed (dimensionless).
     fluctuation_rpm : float
@@ -84,13 +87,16 @@ class Evaluation(Readable):
     torque_ratio_min, torque_ratio_max : float
         Extremes of ``T_out / T_in = w_in / w_out`` for lossless joints.
     samples : int
-        Quadrature angles in ``[0, 180)`` deg used for RE.
+        Quadrature angles in ``[0, 180)`` deg used for RE; 0 for the exact model,
+        whose RE and speed extremes come from the closed form of the chain matrix
+        (:mod:`sso.kinematics.hooke_matrix`), exact to round-off below 90 deg.
     quadrature_error : float
-        Estimated absolute error of RE (dimensionless).
+        Estimated absolute error of RE (dimensionless); 0 for the exact model.
     quadrature_converged : bool
         False if the quadrature hit its cap before its tolerance, or if no count up
         to the cap resolves the speed-ratio peaks of angles near 90 deg (then RE
         and the speed figures are unreliable and a QuadratureWarning is raised).
+        Always True for the exact model: there is no quadrature.
     """
 
     input_speed_rpm: float
@@ -142,7 +148,7 @@ def evaluate(
         Constant input speed, rpm (finite, > 0).
     quadrature_rtol, quadrature_atol : float
         Tolerance of the adaptive residual-error quadrature (dimensionless, > 0
-        and >= 0).
+        and >= 0); validated always, used by the paper model only.
 
     Returns
     -------
@@ -168,6 +174,8 @@ def evaluate(
             "lag": np.abs(chain.angle_lag_rad),
         }
 
+    if series.model == "exact":
+        return _closed_form_evaluation(speed_rpm, beta_rad, phase_rad, figures)
     # One pass over a power-of-two grid serves the figures and, by striding, every
     # quadrature count that divides it.
     figure_samples = MIN_FIGURE_SAMPLES
@@ -189,6 +197,32 @@ def evaluate(
         sampled = figures(theta_rad)
     peaks = _peaks(figures, theta_rad, sampled, np.pi / figure_samples)
     ratio_min, ratio_max = -peaks["negative_ratio"], peaks["ratio"]
+    return _evaluation(speed_rpm, float(residual), ratio_min, ratio_max,
+                       float(np.mean(sampled["ratio"])), peaks, rule.samples,
+                       float(rule.error_estimate), rule.converged)
+
+
+def _closed_form_evaluation(speed_rpm: float, beta_rad: list[float], phase_rad: list[float],
+                            figures: Callable[[np.ndarray], dict[str, np.ndarray]]) -> Evaluation:
+    """The exact model's figures: RE, speed extremes and mean ratio from the chain matrix.
+
+    Only the angle lag and the acceleration, which have no closed form here, are read
+    off a grid of ``MIN_FIGURE_SAMPLES`` angles and refined (:func:`_peaks`).
+    """
+    residual = float(residual_error(math, beta_rad, phase_rad))
+    ratio_min, ratio_max = ratio_extremes(math, beta_rad, phase_rad)
+    theta_rad = np.pi * np.arange(MIN_FIGURE_SAMPLES) / MIN_FIGURE_SAMPLES
+    sampled = figures(theta_rad)
+    peaks = _peaks(figures, theta_rad, {"slope": sampled["slope"], "lag": sampled["lag"]},
+                   np.pi / MIN_FIGURE_SAMPLES)
+    return _evaluation(speed_rpm, residual, float(ratio_min), float(ratio_max), 1.0, peaks,
+                       CLOSED_FORM_SAMPLES, 0.0, True)
+
+
+def _evaluation(speed_rpm: float, residual: float, ratio_min: float, ratio_max: float,
+                mean_ratio: float, peaks: dict[str, float], samples: int,
+                quadrature_error: float, converged: bool) -> Evaluation:
+    """An :class:`Evaluation` from RE, the ratio extremes and the refined peaks."""
     input_speed_rad_s = speed_rpm * RPM_TO_RAD_S
     return Evaluation(
         input_speed_rpm=speed_rpm,
@@ -196,16 +230,16 @@ def evaluate(
         residual_error_rpm2=float(speed_rpm**2 * residual),
         speed_min_rpm=float(speed_rpm * ratio_min),
         speed_max_rpm=float(speed_rpm * ratio_max),
-        mean_speed_ratio=float(np.mean(sampled["ratio"])),
+        mean_speed_ratio=mean_ratio,
         fluctuation=float(ratio_max - ratio_min),
         fluctuation_rpm=float(speed_rpm * (ratio_max - ratio_min)),
         transmission_error_deg=float(np.degrees(peaks["lag"])),
         max_output_accel_rad_s2=float(input_speed_rad_s**2 * peaks["slope"]),
         torque_ratio_min=float(1.0 / ratio_max),
         torque_ratio_max=float(1.0 / ratio_min),
-        samples=rule.samples,
-        quadrature_error=float(rule.error_estimate),
-        quadrature_converged=rule.converged,
+        samples=samples,
+        quadrature_error=quadrature_error,
+        quadrature_converged=converged,
     )
 
 

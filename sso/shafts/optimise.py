@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -18,10 +19,11 @@ from sso.limits import (
     DEFAULT_STARTS,
     MAX_ITERATIONS,
     MAX_STARTS,
+    SOLVERS,
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
@@ -45,6 +47,10 @@ from sso.validation import (
 PROGRESS_MIN_RUNS = 100
 """Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
 
+# The exact model's RE is a closed form: no quadrature angles, no quadrature error.
+CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
+
+
 
 @dataclass(frozen=True, kw_only=True, repr=False)
 class OptimisationResult(DesignResult):
@@ -67,18 +73,27 @@ class OptimisationResult(DesignResult):
     start_series : sso.ShaftSeries
         The user's start after moving it onto the bounds.
     initial, optimum : sso.Evaluation
-        Evaluations of ``initial_series`` and of the best design.
+        Evaluations of ``initial_series`` and of the best design, at
+        ``input_speed_rpm``; computed on first access (a caller that reads only
+        RE and the design does not pay for them).
     best, solutions, runs, crosscheck, local_minima
         As in :class:`sso.solvers.result.DesignResult`; ``fun`` is the residual
-        error RE and ``x`` is in deg.
+        error RE and ``x`` is in deg. With ``screen_starts`` (exact model, more
+        than one start), ``runs`` holds the screening runs of ``"lm"`` from each
+        start, then each solver's run from the best of them (its
+        ``start_index`` is that start's).
     samples : int
-        Quadrature angles of the NLP (chosen for the bounds).
+        Quadrature angles of the NLP (chosen for the bounds); 0 for the exact
+        model, whose RE is evaluated in closed form (no quadrature).
     quadrature_error : float
-        Estimated RE error of that rule at the worst design in the bounds.
+        Estimated RE error of that rule at the worst design in the bounds; 0 for
+        the exact model (closed form, exact to round-off).
     starts : int
         Starts per solver.
     warnings : tuple of str
         Warnings raised while setting up and solving.
+    quadrature_rtol, quadrature_atol : float
+        Quadrature tolerance of the evaluations (paper model).
     """
 
     option: int
@@ -89,12 +104,28 @@ class OptimisationResult(DesignResult):
     phase_bounds_deg: tuple[tuple[float, float], ...]
     initial_series: ShaftSeries
     start_series: ShaftSeries
-    initial: Evaluation
-    optimum: Evaluation
     samples: int
     quadrature_error: float
     starts: int
     warnings: tuple[str, ...]
+    quadrature_rtol: float = DEFAULT_RTOL
+    quadrature_atol: float = DEFAULT_ATOL
+
+    @functools.cached_property
+    def initial(self) -> Evaluation:
+        """Figures of ``initial_series`` at ``input_speed_rpm``."""
+        return self.initial_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @functools.cached_property
+    def optimum(self) -> Evaluation:
+        """Figures of the best design at ``input_speed_rpm``."""
+        series = self.best.series
+        assert isinstance(series, ShaftSeries)
+        return series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @property
+    def _evaluation_options(self) -> dict[str, float]:
+        return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
 
     report_kind: ClassVar[str] = "optimisation"
 
@@ -165,13 +196,15 @@ def optimise(
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
     memory_limit_mb: float | None = None,
+    screen_starts: bool = True,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
     Minimises the residual error ``RE`` (mean square of ``w_out/w_in - 1`` over a
     revolution) under bounds, with IPOPT (exact Hessian) and SLSQP (exact
     gradient) on the same CasADi graph, from several starts, and cross-checks
-    the solvers.
+    the solvers. The exact model's RE is the closed form of the chain matrix
+    (:mod:`sso.kinematics.hooke_matrix`); the paper model's, a quadrature.
 
     Parameters
     ----------
@@ -185,8 +218,10 @@ def optimise(
         joints or one per joint. An equal pair pins that joint.
     phase_bounds_deg : (float, float) or sequence of pairs
         Bounds on the relative phases, deg, inside ``[-360, 360]``.
-    solvers : sequence of {"ipopt", "slsqp"}
-        Solvers to run; with two, their answers are cross-checked.
+    solvers : sequence of names in ``sso.SOLVERS``
+        Solvers to run (``"ipopt"``, ``"slsqp"``; ``"lm"``, the least-squares
+        solver, for the exact model only); with two or more, their answers are
+        cross-checked with the same first-order measure for each.
     starts : int
         Starts per solver, ``1..10000``: the user's start plus space-filling points.
     input_speed_rpm : float
@@ -207,6 +242,18 @@ def optimise(
         Refuse the run if its memory estimate (graph and exact Hessian, kept runs)
         exceeds this, MB (default ``SSO_MEMORY_LIMIT_MB`` or
         :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
+    screen_starts : bool
+        Exact model with more than one start or more than one solver (one solver
+        from one start always runs alone): solve the starts first with the
+        least-squares solver ``"lm"`` (cheap: the closed form in plain floats),
+        then run each of ``solvers`` once, from the lowest RE found, and
+        cross-check them there. Screening stops at the first start that reaches
+        RE <= 1e-20 (round-off zero): RE is never negative, so that is a global
+        minimum and the other starts cannot improve on it. The search over
+        starts is then the least-squares solver's; the verdict (objective
+        agreement, the same first-order measure for every solver) is the
+        requested solvers'. False runs every solver from every start, as the
+        paper model always does.
 
     Returns
     -------
@@ -223,7 +270,11 @@ def optimise(
     """
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
-    solver_names = validate_solvers(solvers)
+    solver_names = validate_solvers(solvers, SOLVERS)
+    if "lm" in solver_names and series.model != "exact":
+        raise ValueError(f"solvers = {list(solver_names)} includes 'lm', which needs the exact "
+                         f"model's closed form; series.model = {series.model!r} allows "
+                         "'ipopt' and 'slsqp'")
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
     speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
@@ -235,13 +286,14 @@ def optimise(
         warnings.simplefilter("always")
         problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
                                 beta_bounds_deg, phase_bounds_deg)
-        rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
-                               quadrature_atol)
+        rule = (rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
+                                quadrature_atol)
+                if series.model == "paper" else CLOSED_FORM_RULE)
         check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
                                          len(solver_names)), memory_limit_mb)
         result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
-                        objective_rtol, objective_atol, kkt_tolerance,
+                        objective_rtol, objective_atol, kkt_tolerance, screen_starts,
                         tuple(str(warning.message) for warning in caught))
     for warning in caught:
         warnings.warn(warning.message, warning.category, stacklevel=2)
@@ -251,11 +303,13 @@ def optimise(
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
            starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
-           objective_atol: float, kkt_tolerance: float,
+           objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
     from sso.shafts.problem import compiled_nlp
 
-    runs = starts * len(solver_names)
+    screened = screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
+    # Screened starts run "lm" only; the bar counts the requested solvers' runs.
+    runs = len(solver_names) if screened else starts * len(solver_names)
     bar = ProgressBar(runs, "runs", interactive() and runs >= PROGRESS_MIN_RUNS)
     try:
         solved = solve_from_starts(
@@ -265,15 +319,14 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
             max_iterations=max_iterations,
             to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
             objective_rtol=objective_rtol, objective_atol=objective_atol,
-            kkt_tolerance=kkt_tolerance, progress=lambda: bar.advance(1))
+            kkt_tolerance=kkt_tolerance, screen_starts=screen_starts,
+            progress=lambda: bar.advance(1))
     finally:
         bar.close()
-    best = solved["best"]
 
     initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
                       if problem.option == 2 else series)
     start_beta, start_phase = problem.design_deg(problem.start_deg)
-    evaluation_options = {"quadrature_rtol": quadrature_rtol, "quadrature_atol": quadrature_atol}
     return OptimisationResult(
         option=problem.option,
         option_name=problem.option_name,
@@ -283,12 +336,12 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         phase_bounds_deg=problem.phase_bounds_deg,
         initial_series=initial_series,
         start_series=ShaftSeries(start_beta, start_phase, series.model),
-        initial=initial_series.evaluate(speed_rpm, **evaluation_options),
-        optimum=best.series.evaluate(speed_rpm, **evaluation_options),
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,
         warnings=setup_warnings,
+        quadrature_rtol=quadrature_rtol,
+        quadrature_atol=quadrature_atol,
         **solved,
     )
 

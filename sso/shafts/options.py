@@ -122,6 +122,37 @@ class DesignProblem:
         return [float(beta) for beta in self.parameters_rad[: self.n_joints]]
 
 
+def free_angles(option_number: int) -> tuple[bool, bool]:
+    """Whether option 1, 2 or 3 frees the operating angles and the phases."""
+    return option_number in (2, 3), option_number in (1, 3)
+
+
+def validate_option_and_bounds(
+    option: Any, n_joints: int, beta_bounds_deg: Any, phase_bounds_deg: Any
+) -> tuple[int, tuple[tuple[float, float], ...], tuple[tuple[float, float], ...]]:
+    """The option number and per-joint / per-phase bounds (deg) of an ``n_joints`` chain.
+
+    The one check of an option and its bounds, for :func:`build_problem` and for
+    :func:`sso.optimise_batch`.
+
+    Raises
+    ------
+    ValueError
+        For an unknown option, option 1 with one joint, or bad bounds (naming the
+        field, the value and the allowed range).
+    """
+    option_number = parse_option(option)
+    if option_number == 1 and n_joints < 2:
+        raise ValueError(
+            "option = 1 (phases) needs at least 2 joints: a single joint has no phase to optimise"
+        )
+    beta_bounds = per_item_bounds("beta_bounds_deg", beta_bounds_deg, n_joints, 0.0,
+                                  BETA_LIMIT_DEG, "deg", upper_open=True)
+    phase_bounds = per_item_bounds("phase_bounds_deg", phase_bounds_deg, n_joints - 1,
+                                   -PHASE_LIMIT_DEG, PHASE_LIMIT_DEG, "deg")
+    return option_number, beta_bounds, phase_bounds
+
+
 def build_problem(
     beta_deg: Sequence[float],
     phase_deg: Sequence[float],
@@ -155,18 +186,10 @@ def build_problem(
     ValueError
         For an unknown option, option 1 with one joint, or bad bounds.
     """
-    option_number = parse_option(option)
     n_joints = len(beta_deg)
-    if option_number == 1 and n_joints < 2:
-        raise ValueError(
-            "option = 1 (phases) needs at least 2 joints: a single joint has no phase to optimise"
-        )
-    beta_bounds = per_item_bounds("beta_bounds_deg", beta_bounds_deg, n_joints, 0.0,
-                                  BETA_LIMIT_DEG, "deg", upper_open=True)
-    phase_bounds = per_item_bounds("phase_bounds_deg", phase_bounds_deg, n_joints - 1,
-                                   -PHASE_LIMIT_DEG, PHASE_LIMIT_DEG, "deg")
-    beta_free = option_number in (2, 3)
-    phase_free = option_number in (1, 3)
+    option_number, beta_bounds, phase_bounds = validate_option_and_bounds(
+        option, n_joints, beta_bounds_deg, phase_bounds_deg)
+    beta_free, phase_free = free_angles(option_number)
     if option_number == 2:
         phase_deg = [OPTION_FIXED_PHASE_DEG] * (n_joints - 1)
 

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from sso.kinematics.hooke import chain_kinematics
+from sso.kinematics.hooke_matrix import ratio_extremes
+from sso.kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso.limits import BETA_LIMIT_DEG
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
@@ -78,12 +80,19 @@ def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
         block = slice(start, start + step)
         beta = [column[:, None] for column in chunk.beta_rad[block].T]
         phase = [column[:, None] for column in chunk.phase_rad[block].T]
-        values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
         theta_rad = np.pi * np.arange(figure_samples) / figure_samples
         kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
                                       chunk.model)
         ratio = kinematics.speed_ratio
-        values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
+        if chunk.model == "exact":
+            # RE and the ratio extremes in closed form (the chain matrix).
+            least, greatest = ratio_extremes(np, beta, phase)
+            values[0, block] = closed_form_residual_error(np, beta, phase).ravel()
+            values[1, block] = (greatest - least).ravel()
+        else:
+            values[0, block] = residual_error(beta, phase, chunk.model,
+                                              chunk.quadrature_samples)
+            values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
         ratio_slope = np.abs(ratio * kinematics.log_ratio_slope)
         values[2, block] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * periodic_peaks(ratio_slope)
     return values

@@ -4,10 +4,25 @@ A shape is ``(joints, option, model, quadrature angles)``; the fixed angles ente
 as parameters ``p`` and the bounds as ``lbx``/``ubx``, so a new design, new
 bounds or a new start reuse the same graph (cached by :func:`sso.solvers.nlp.cached_nlp`).
 
-Up to :data:`sso.limits.QUADRATURE_BLOCK_SAMPLES` angles the objective is one
-expression graph (fastest to evaluate); beyond that a block of that many angles
-is one CasADi function mapped over the grid, so the graph and its build time do
-not grow with the angle count that the bounds call for.
+The exact model's RE has a closed form (:mod:`sso.kinematics.hooke_matrix`), the
+squared norm of two residuals: its graph has no quadrature (``samples = 0`` in the
+shape, so bounds never change the shape), costs ``O(joints)`` to build and
+evaluate, and carries the residuals for the least-squares solver (``"lm"``). The
+paper's model has no closed form and keeps the rectangle rule on ``samples``
+angles (:mod:`sso.shafts.objective`).
+
+IPOPT keeps CasADi's exact Hessian of the closed form: it costs little (a 30-joint
+option-3 solve takes 16 iterations and about 8 ms), and the Gauss-Newton Hessian
+``2 J^T J`` was measured worse. With two residuals it has rank 2 while option 3
+has ``2n - 1 >= 5`` free variables, so IPOPT must regularise it: on a random
+3-joint option-3 case it stopped at the iteration limit (500) with RE 1.8e-15,
+where the exact Hessian converged in 11 iterations to 5e-24; at 30 joints it took
+22 iterations against 16.
+
+The paper model's graph: up to :data:`sso.limits.QUADRATURE_BLOCK_SAMPLES` angles
+the objective is one expression graph (fastest to evaluate); beyond that a block of
+that many angles is one CasADi function mapped over the grid, so the graph and its
+build time do not grow with the angle count that the bounds call for.
 """
 
 from __future__ import annotations
@@ -15,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from sso.kinematics.hooke_matrix import residuals, residuals_and_jacobian_floats
 from sso.limits import QUADRATURE_BLOCK_SAMPLES
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.options import DesignProblem
@@ -23,7 +39,7 @@ from sso.solvers.nlp import CompiledNLP, cached_nlp, compile_nlp
 
 @dataclass(frozen=True)
 class ShapeKey:
-    """What fixes the structure of the NLP graph."""
+    """What fixes the structure of the NLP graph (``samples`` is 0 for the exact model)."""
 
     n_joints: int
     option: int
@@ -32,15 +48,40 @@ class ShapeKey:
 
 
 def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
-    """The cached CasADi NLP for the shape of ``problem`` at ``samples`` angles."""
-    key = ShapeKey(problem.n_joints, problem.option, problem.model, samples)
-    return cached_nlp(key, lambda: _build(problem, key))
+    """The cached CasADi NLP for the shape of ``problem``.
+
+    ``samples`` (quadrature angles) counts for the paper model only; the exact
+    model's closed form needs none, so its shape ignores it.
+    """
+    key = ShapeKey(problem.n_joints, problem.option, problem.model,
+                   samples if problem.model == "paper" else 0)
+    nlp = cached_nlp(key, lambda: _build(problem, key))
+    return nlp
 
 
 def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
     import casadi
 
     name = f"sso_re_{key.n_joints}_{key.option}_{key.model}_{key.samples}"
+    if key.model == "paper":
+        nlp = _quadrature_nlp(problem, key, name)
+    else:
+        x = casadi.SX.sym("x", problem.n_free)
+        p = casadi.SX.sym("p", len(problem.parameters_deg))
+        beta, phase = problem.split([x[i] for i in range(problem.n_free)],
+                                    [p[i] for i in range(p.numel())])
+        first, second = residuals(casadi, beta, phase)
+        residual = casadi.vertcat(first, second)
+        nlp = compile_nlp(name, x, p, casadi.dot(residual, residual))
+        nlp.residuals_and_jacobian = _float_residuals(problem)
+    nlp.nonnegative_objective = True
+    return nlp
+
+
+def _quadrature_nlp(problem: DesignProblem, key: ShapeKey, name: str) -> CompiledNLP:
+    """The rectangle-rule RE of the paper model on ``key.samples`` angles."""
+    import casadi
+
     cos_theta, sin_theta = angle_grid(key.samples)
     if key.samples <= QUADRATURE_BLOCK_SAMPLES:
         x = casadi.SX.sym("x", problem.n_free)
@@ -73,3 +114,21 @@ def _block_sum(problem: DesignProblem, model: str, x: Any, p: Any, cos_theta: An
     beta, phase = problem.split([x[i] for i in range(problem.n_free)],
                                 [p[i] for i in range(p.numel())])
     return casadi.sum1(squared_ratio_error(casadi, cos_theta, sin_theta, beta, phase, model))
+
+def _float_residuals(problem: DesignProblem) -> Any:
+    """``(x, p) -> (r1, r2, row1, row2)`` over the free variables, in plain floats."""
+    n_joints = problem.n_joints
+    beta_free, phase_free = problem.beta_free, problem.phase_free
+
+    def evaluate(x: list[float], fixed: list[float]) -> tuple[float, float, list[float],
+                                                               list[float]]:
+        if beta_free and phase_free:
+            r1, r2, row1, row2 = residuals_and_jacobian_floats(x[:n_joints], x[n_joints:])
+            return r1, r2, row1, row2
+        if beta_free:
+            r1, r2, row1, row2 = residuals_and_jacobian_floats(x, fixed)
+            return r1, r2, row1[:n_joints], row2[:n_joints]
+        r1, r2, row1, row2 = residuals_and_jacobian_floats(fixed, x)
+        return r1, r2, row1[n_joints:], row2[n_joints:]
+
+    return evaluate

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from sso.kinematics.hooke import MODELS, chain_kinematics
+from sso.kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.validation import as_float_tuple, check_choice, check_in_range
 
@@ -113,11 +114,20 @@ class ShaftSeries:
     def speed_ratio(self, theta_deg: Any) -> np.ndarray:
         """Output over input speed ``w_out / w_in`` at input angles ``theta_deg`` (deg).
 
+        The exact model's ratio is the closed form ``det M / |M v|^2`` of the
+        chain matrix (:mod:`sso.kinematics.hooke_matrix`).
+
         Raises
         ------
         ValueError
             If an input angle is NaN or infinite.
         """
+        if self.model == "exact":
+            theta_rad = np.radians(_finite_angles(theta_deg))
+            ratio: np.ndarray = closed_form_speed_ratio(
+                np, np.cos(theta_rad), np.sin(theta_rad), list(self.beta_rad),
+                list(self.phase_rad))
+            return ratio
         return self._kinematics(theta_deg).speed_ratio
 
     def output_angle_deg(self, theta_deg: Any) -> np.ndarray:

@@ -4,7 +4,7 @@ the same graph, the best kept and the solvers cross-checked."""
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, TypedDict
 
 import numpy as np
@@ -12,7 +12,7 @@ import numpy as np
 from sso.solvers.crosscheck import crosscheck
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
-from sso.solvers.saddle import solve_with_second_order_care
+from sso.solvers.saddle import ZERO_OBJECTIVE, solve_with_second_order_care
 from sso.solvers.solution import CrossCheck, SeriesDesign, Solution
 from sso.solvers.starts import start_points
 
@@ -71,6 +71,7 @@ def solve_from_starts(
     objective_atol: float,
     kkt_tolerance: float,
     progress: Callable[[], None] | None = None,
+    screen_starts: bool = False,
 ) -> SolverFields:
     """Solve one design problem from ``starts`` points with every solver.
 
@@ -92,6 +93,13 @@ def solve_from_starts(
         Tolerances of the cross-check and of merging equal minima.
     progress : callable, optional
         Called once after each solver run (for a progress bar).
+    screen_starts : bool
+        For a least-squares problem (``nlp.residuals_and_jacobian``) with more
+        than one start or more than one solver (a single solver from a single
+        start always runs alone): solve the starts with ``"lm"`` first, stopping at the
+        first that reaches a nonnegative objective's round-off zero (a global
+        minimum), then run each of ``solver_names`` once from the best of them.
+        The screening runs come first in ``runs``.
 
     Returns
     -------
@@ -99,12 +107,23 @@ def solve_from_starts(
         The fields every :class:`sso.solvers.result.DesignResult` carries.
     """
     points = start_points(user_start, limits.lower, limits.upper, starts, seed)
-    measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
-                          max_iterations, progress)
+    screening: list[Solution] = []
+    if (screen_starts and nlp.residuals_and_jacobian is not None
+            and (len(points) > 1 or len(solver_names) > 1)):
+        screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
+        screening = [to_solution(run, screened) for run in screened]
+        chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
+        measured = {name: [replace(run, start_index=chosen.start_index) for run in runs]
+                    for name, runs in run_starts(nlp, chosen.outcome.x[np.newaxis, :],
+                                                 parameters, limits, solver_names, solver_tol,
+                                                 max_iterations, progress).items()}
+    else:
+        measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
+                              max_iterations, progress)
     solver_runs = {name: [to_solution(run, runs) for run in runs]
                    for name, runs in measured.items()}
     solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
+    all_runs = screening + [run for runs in solver_runs.values() for run in runs]
     return SolverFields(
         best=best_solution(solutions.values()),
         solutions=solutions,
@@ -113,6 +132,23 @@ def solve_from_starts(
                     if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
     )
+
+
+def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+            solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
+    """``"lm"`` from each start in turn, until one reaches a global minimum (round-off zero).
+
+    Without second-order checks: a run that stops on a saddle point is only a worse
+    candidate, and the best candidate is checked when the solvers run from it.
+    """
+    screened = []
+    for index, point in enumerate(points):
+        run = run_starts(nlp, point[np.newaxis, :], parameters, limits, ("lm",), solver_tol,
+                         max_iterations, second_order=False)["lm"][0]
+        screened.append(replace(run, start_index=index))
+        if nlp.nonnegative_objective and run.outcome.success and run.fun <= ZERO_OBJECTIVE:
+            break
+    return screened
 
 
 def run_starts(
@@ -124,11 +160,12 @@ def run_starts(
     solver_tol: float,
     max_iterations: int,
     progress: Callable[[], None] | None = None,
+    second_order: bool = True,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
-    Each run skips the solver at a start that is already a minimum and restarts
-    it off saddle points (:mod:`sso.solvers.saddle`).
+    With ``second_order``, each run skips the solver at a start that is already a
+    minimum and restarts it off saddle points (:mod:`sso.solvers.saddle`).
 
     Parameters
     ----------
@@ -140,13 +177,17 @@ def run_starts(
         Fixed parameters of the graph.
     limits : RunLimits
         Bounds of ``x`` and of the constraints.
-    solver_names : sequence of {"ipopt", "slsqp"}
+    solver_names : sequence of {"ipopt", "slsqp", "lm"}
     solver_tol : float
         Solver tolerance.
     max_iterations : int
         Iteration limit of each run.
     progress : callable, optional
         Called with no arguments after each run (a progress bar's step).
+    second_order : bool
+        Check for minima and saddle points around each run (False: the solver
+        alone, as the least-squares screening does; the runs from its best point
+        are checked).
 
     Returns
     -------
@@ -161,10 +202,10 @@ def run_starts(
 
         runs[name] = []
         for index, point in enumerate(points):
-            runs[name].append(_measure(name, index,
-                                       solve_with_second_order_care(solve, nlp, point, parameters,
-                                                                    limits, solver_tol),
-                                       nlp, parameters, limits))
+            outcome = (solve_with_second_order_care(solve, nlp, point, parameters, limits,
+                                                    solver_tol)
+                       if second_order else solve(point))
+            runs[name].append(_measure(name, index, outcome, nlp, parameters, limits))
             if progress is not None:
                 progress()
     return runs
@@ -225,6 +266,10 @@ def _backend(name: str) -> Any:
         from sso.solvers import ipopt
 
         return ipopt
+    if name == "lm":
+        from sso.solvers import lm
+
+        return lm
     from sso.solvers import slsqp
 
     return slsqp

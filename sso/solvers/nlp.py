@@ -42,6 +42,13 @@ class CompiledNLP:
         constraint functions.
     ipopt_solvers : dict
         ``nlpsol`` instances keyed by their option tuple, built on first use.
+    residuals_and_jacobian : callable or None
+        For a least-squares objective ``f = r1^2 + r2^2``: ``(x, p) -> (r1, r2,
+        row1, row2)`` in plain floats (lists in, floats and lists out), used by
+        the ``"lm"`` solver; None otherwise.
+    nonnegative_objective : bool
+        True when the objective is never negative (a sum of squares): a point at
+        round-off zero is then a global minimum and needs no second-order check.
     """
 
     name: str
@@ -49,6 +56,8 @@ class CompiledNLP:
     objective_and_gradient: Any
     constraints_and_jacobian: Any = None
     ipopt_solvers: dict[tuple, Any] = field(default_factory=dict)
+    residuals_and_jacobian: Any = None
+    nonnegative_objective: bool = False
 
     def ipopt(self, options: dict[str, Any]) -> Any:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""

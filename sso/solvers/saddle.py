@@ -11,6 +11,10 @@ bounds tells a minimum from a saddle:
 * if a solver stops where the Hessian has negative curvature, the design is moved
   along that direction until the objective drops, and the solver runs again from
   there (at most ``MAX_ESCAPES`` times); the counts of every leg are summed.
+
+An objective that is never negative (a sum of squares such as RE; the problem says
+so by ``nlp.nonnegative_objective``) is at a global minimum wherever it is at or
+below ``ZERO_OBJECTIVE`` (round-off), so no check is made there.
 """
 
 from __future__ import annotations
@@ -37,6 +41,8 @@ ON_BOUND = 1e-9
 # solver tolerance and this (straight shafts give exactly 0).
 STATIONARY_START = 1e-12
 HESSIAN_STEP = 1e-4
+# A nonnegative objective at or below this is zero up to round-off: a global minimum.
+ZERO_OBJECTIVE = 1e-20
 FIRST_STEP = 0.1
 SMALLEST_STEP = 1e-7
 
@@ -85,6 +91,12 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
     start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
     value, gradient = _value_and_gradient(nlp, start, parameters, counts)
     stationary = min(solver_tol, STATIONARY_START)
+    global_floor = ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -np.inf
+    if value <= global_floor:
+        return counts.add_to(RunOutcome(
+            start, value, 0, 0, 0, 0, True,
+            "start is a global minimum (nonnegative objective at round-off zero): "
+            "solver not run", 0.0))
     if projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary:
         direction = _negative_curvature(nlp, start, parameters, limits, counts)
         if direction is None:
@@ -94,7 +106,8 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
                 "solver not run", 0.0))
     outcome = solve(start)
     for _ in range(MAX_ESCAPES):
-        if not outcome.success or not np.all(np.isfinite(outcome.x)):
+        if (not outcome.success or not np.all(np.isfinite(outcome.x))
+                or outcome.fun <= global_floor):
             break
         x = np.clip(outcome.x, limits.lower, limits.upper)
         direction = _negative_curvature(nlp, x, parameters, limits, counts)

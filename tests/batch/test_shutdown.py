@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from sso.batch.table import read_rows
-from sso.files import TEMPORARY_PREFIX
+from sso.files import TEMPORARY_PREFIX, nameless_temporaries
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc")
 
@@ -110,7 +110,14 @@ def test_a_signalled_sweep_leaves_nothing_behind_and_resumes(tmp_path, signal_nu
         process.wait()
     assert exit_code is not None, "the sweep did not stop within 5 s"
     assert left == []
-    assert sorted(tmp_path.rglob(f"{TEMPORARY_PREFIX}*")) == []
+    leftovers = sorted(tmp_path.rglob(f"{TEMPORARY_PREFIX}*"))
+    if signal_number == signal.SIGKILL and not nameless_temporaries(tmp_path):
+        # Where the system refuses nameless temporary files (sso.files.nameless_temporaries)
+        # a kill can land between naming and renaming one: at most that one file, removed
+        # by the resumed sweep below.
+        assert len(leftovers) <= 1
+    else:
+        assert leftovers == []
     assert "Traceback" not in (tmp_path / "run.log").read_text()
     if signal_number != signal.SIGKILL:
         assert exit_code == 130  # the CLI's "interrupted"
@@ -122,3 +129,4 @@ def test_a_signalled_sweep_leaves_nothing_behind_and_resumes(tmp_path, signal_nu
         rows = read_rows(csv_path)
         assert [int(row["point"]) for row in rows] == list(range(POINTS))
         assert all(row["status"] == "ok" for row in rows)
+        assert sorted(tmp_path.rglob(f"{TEMPORARY_PREFIX}*")) == []

@@ -130,3 +130,22 @@ def test_samples_below_zero_degrees_are_reflected_and_counted():
     assert result.reflected_samples / result.samples == pytest.approx(0.3446, abs=0.025)
     assert np.all(result.beta_deg >= 0.0)
     assert "reflected to |beta|: " + str(result.reflected_samples) in result.summary()
+
+
+def test_exact_model_samples_agree_with_an_independent_quadrature():
+    # The study takes RE and the fluctuation of the exact model from the chain
+    # matrix's closed form (no quadrature angles); the rectangle rule on 2048 angles
+    # of the angle-by-angle chain and a dense speed-ratio grid are the references.
+    from sso.kinematics.hooke import chain_kinematics
+    from sso.shafts.objective import residual_error
+
+    result = sso.tolerance(SERIES, samples=40, seed=3, beta_tolerance_deg=2.0)
+    assert result.quadrature_samples == 0
+    theta = np.linspace(0.0, np.pi, 100_001)
+    for row in range(0, 40, 7):
+        beta = list(np.radians(result.beta_deg[row]))
+        phase = list(np.radians(result.phase_deg[row]))
+        assert result.residual_error[row] == pytest.approx(
+            float(residual_error(beta, phase, "exact", 2048)), rel=1e-10, abs=1e-18)
+        ratio = chain_kinematics(np, np.cos(theta), np.sin(theta), beta, phase, "exact").speed_ratio
+        assert result.fluctuation[row] == pytest.approx(ratio.max() - ratio.min(), rel=1e-8)

@@ -49,3 +49,29 @@ def test_to_dict_is_complete_and_plain():
     record = evaluation.to_dict()
     assert set(record) == set(sso.Evaluation.__dataclass_fields__)
     assert all(isinstance(value, (int, float, bool)) for value in record.values())
+
+
+def test_exact_figures_come_from_the_closed_form_and_match_a_fine_quadrature():
+    # RE and speed extremes of the exact model are the chain matrix's closed form
+    # (samples = 0); checked against the rectangle rule on 4096 angles of the
+    # angle-by-angle chain and against the extremes of a dense speed-ratio grid.
+    from sso.shafts.objective import residual_error as quadrature_re
+
+    rng = np.random.default_rng(20261123)
+    for n_joints in (1, 2, 4, 7):
+        beta = rng.uniform(0.0, 60.0, n_joints)
+        phase = rng.uniform(0.0, 180.0, n_joints - 1)
+        series = sso.ShaftSeries(beta, phase)
+        evaluation = series.evaluate(30.0)
+        assert evaluation.samples == 0 and evaluation.quadrature_error == 0.0
+        assert evaluation.quadrature_converged and evaluation.mean_speed_ratio == 1.0
+        reference = float(quadrature_re(list(series.beta_rad), list(series.phase_rad), "exact",
+                                        4096))
+        assert evaluation.residual_error == pytest.approx(reference, rel=1e-10, abs=1e-16)
+        from sso.kinematics.hooke import chain_kinematics
+
+        theta = np.linspace(0.0, np.pi, 200_001)
+        dense = chain_kinematics(np, np.cos(theta), np.sin(theta), list(series.beta_rad),
+                                 list(series.phase_rad), "exact").speed_ratio
+        assert evaluation.speed_min_rpm == pytest.approx(30.0 * dense.min(), rel=1e-9)
+        assert evaluation.speed_max_rpm == pytest.approx(30.0 * dense.max(), rel=1e-9)

@@ -110,21 +110,19 @@ def test_aligned_joints_at_the_top_are_never_wrong_and_converged(model):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = sso.ShaftSeries([89.99] * 4, [0.0] * 3, model).evaluate()
-    if model == "paper":  # every peak is 1.7e-4 rad wide: resolved
-        assert result.quadrature_converged and not caught
-        reference = reference_residual_error([89.99] * 4, [0.0] * 3, model)
-        assert result.residual_error == pytest.approx(reference, rel=RELATIVE_TOLERANCE)
-    else:  # one peak 9e-16 rad wide: no double-precision grid resolves it
-        assert not result.quadrature_converged
-        assert any(issubclass(w.category, sso.QuadratureWarning) for w in caught)
+    # paper: every peak is 1.7e-4 rad wide, resolved by the grid; exact: one peak
+    # 9e-16 rad wide, which no grid resolves, but the exact model needs none (closed form)
+    assert result.quadrature_converged and not caught
+    reference = reference_residual_error([89.99] * 4, [0.0] * 3, model)
+    assert result.residual_error == pytest.approx(reference, rel=RELATIVE_TOLERANCE)
 
 
 def test_an_optimum_whose_quadrature_did_not_converge_is_not_a_success():
-    # three exact-model joints pinned at 89.99 deg: the quadrature cannot vouch for
-    # the RE (the strip bound prod cos beta = 5e-12 rad), so the run must not claim
-    # success however well the solvers agree
+    # three paper-model joints pinned at 89.9999 deg: peaks 1.7e-6 rad wide need about
+    # 2.3e6 angles, beyond the cap, so the quadrature cannot vouch for the RE and the
+    # run must not claim success however well the solvers agree
     with pytest.warns(sso.QuadratureWarning):
-        result = sso.optimise(sso.ShaftSeries([89.99] * 3, [0.0, 0.0]), 2,
-                              beta_bounds_deg=(89.99, 89.99), starts=1)
+        result = sso.optimise(sso.ShaftSeries([89.9999] * 3, [0.0, 0.0], "paper"), 2,
+                              beta_bounds_deg=(89.9999, 89.9999), starts=1)
     assert not result.optimum.quadrature_converged
     assert not result.success

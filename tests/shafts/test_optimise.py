@@ -144,6 +144,29 @@ def test_import_is_light():
     assert output == ["[]", "[]"]
 
 
+def test_screened_starts_find_what_every_solver_from_every_start_finds():
+    # Exact model, option 1 (a nonzero minimum, so every start is screened): the
+    # least-squares screen then one run per solver from its best start reaches the RE
+    # that IPOPT and SLSQP reach from all eight starts (within 1e-12 absolute).
+    series = sso.ShaftSeries([15.0, 20.0, 9.0], [30.0, 40.0])
+    screened = sso.optimise(series, 1)
+    exhaustive = sso.optimise(series, 1, screen_starts=False)
+    assert [run.solver for run in screened.runs] == ["lm"] * 8 + ["ipopt", "slsqp"]
+    assert len(exhaustive.runs) == 16
+    assert screened.crosscheck.agree and exhaustive.crosscheck.agree
+    assert abs(screened.fun - exhaustive.fun) <= 1e-12
+    best_start = min(screened.runs[:8], key=lambda run: run.fun).start_index
+    assert all(run.start_index == best_start for run in screened.runs[8:])
+
+
+def test_screening_stops_at_a_global_minimum():
+    # Option 3 can cancel (RE = 0): the user's start already reaches round-off zero.
+    result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0]), 3,
+                          beta_bounds_deg=(10, 40))
+    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
+    assert result.fun <= 1e-20 and result.crosscheck.agree
+
+
 def test_the_module_named_optimise_does_not_shadow_the_function():
     # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function
     # (the dispatcher that sends a shaft series on to sso.shafts.optimise.optimise).
@@ -154,3 +177,14 @@ def test_the_module_named_optimise_does_not_shadow_the_function():
     assert callable(sso.optimise) and sso.optimise is dispatcher.optimise
     result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
     assert result.success
+
+
+def test_one_solver_from_one_start_runs_alone_and_a_pair_is_screened():
+    # A single solver from a single start is that solver's own run (the per-solver
+    # benchmarks rely on it); the cross-checked pair from one start is screened too.
+    series = sso.ShaftSeries([20.0, 30.0, 25.0], [10.0, 80.0])
+    alone = sso.optimise(series, 3, solvers=("ipopt",), starts=1)
+    pair = sso.optimise(series, 3, starts=1)
+    assert [run.solver for run in alone.runs] == ["ipopt"]
+    assert [run.solver for run in pair.runs] == ["lm", "ipopt", "slsqp"]
+    assert alone.fun <= 1e-20 and pair.fun <= 1e-20 and pair.crosscheck.agree

@@ -1,0 +1,71 @@
+"""The single-design least-squares solver ``"lm"`` through :func:`sso.optimise`.
+
+References: RE of the answer recomputed by the rectangle rule of the angle-by-angle
+chain (``sso.shafts.objective.residual_error``, 512 angles, independent of the
+chain matrix the solver uses); the paper's option-3 and option-1 cases
+(docs/model.md) and IPOPT's answer on the same problem.
+"""
+
+import pytest
+
+import sso
+from sso.shafts.objective import residual_error
+
+PAPER_START = sso.ShaftSeries([15.0, 20.0, 9.0], [5.0, 50.0], "exact")
+
+
+def quadrature_re(series):
+    return float(residual_error(list(series.beta_rad), list(series.phase_rad), "exact", 512))
+
+
+def test_lm_is_a_listed_solver():
+    assert sso.SOLVERS == ("ipopt", "slsqp", "lm")
+
+
+@pytest.mark.parametrize("option", [2, 3])
+def test_lm_cancels_to_round_off_and_reports_every_field(option):
+    result = sso.optimise(PAPER_START, option, beta_bounds_deg=(7, 25), solvers=("lm",),
+                          starts=1)
+    best = result.best
+    assert best.solver == "lm" and best.success and best.status == 1
+    assert best.fun <= 1e-20
+    assert quadrature_re(best.series) <= 1e-20
+    assert best.kkt <= 1e-10
+    assert best.nit >= 1 and best.nfev >= best.nit
+    assert isinstance(best.message, str) and best.message
+
+
+def test_lm_matches_ipopt_at_a_nonzero_minimum():
+    # Option 1 keeps the angles 15, 20, 9 deg: the minimum over the phases is not zero,
+    # where Gauss-Newton alone is only linear; both solvers, one start each.
+    lm = sso.optimise(PAPER_START, 1, solvers=("lm",), starts=1).best
+    ipopt = sso.optimise(PAPER_START, 1, solvers=("ipopt",), starts=1).best
+    assert lm.success and ipopt.success
+    assert lm.fun == pytest.approx(ipopt.fun, rel=1e-9)
+    assert lm.fun == pytest.approx(quadrature_re(lm.series), rel=1e-9)
+    assert lm.fun > 1e-5
+    assert lm.kkt <= 1e-8
+
+
+def test_lm_keeps_to_bounds_with_an_active_bound():
+    # An upper bound of 12 deg on every angle keeps RE above zero for these starts.
+    result = sso.optimise(sso.ShaftSeries([10.0, 12.0, 5.0], [0.0, 0.0]), 2,
+                          beta_bounds_deg=(3, 12), solvers=("lm", "ipopt"), starts=1)
+    lm = result.solutions["lm"]
+    assert all(3.0 <= beta <= 12.0 for beta in lm.series.beta_deg)
+    assert lm.fun == pytest.approx(result.solutions["ipopt"].fun, rel=1e-6, abs=1e-18)
+    assert result.crosscheck.agree
+
+
+def test_lm_is_refused_for_the_paper_model():
+    with pytest.raises(ValueError, match="'lm'.*exact"):
+        sso.optimise(sso.ShaftSeries([15.0, 20.0], [5.0], "paper"), solvers=("lm",))
+
+
+def test_exact_shape_does_not_depend_on_bounds():
+    from sso.shafts.options import build_problem
+    from sso.shafts.problem import compiled_nlp
+
+    narrow = build_problem([15.0, 20.0], [5.0], "exact", 3, (7, 25), (0, 180))
+    wide = build_problem([15.0, 20.0], [5.0], "exact", 3, (0, 89.9), (0, 180))
+    assert compiled_nlp(narrow, 16) is compiled_nlp(wide, 4096)
