@@ -8,7 +8,9 @@ import shutil
 import signal
 import stat
 import tempfile
-from collections.abc import Mapping
+import threading
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 
 from sso.limits import MAX_INPUT_FILE_BYTES
@@ -112,8 +114,7 @@ def _write_all(descriptor: int, data: bytes) -> None:
 def _write_named_temporary(target: Path, data: bytes) -> Path:
     # Ctrl-C and SIGTERM wait until the named temporary file is renamed or removed, so
     # an interrupted run never leaves one (only SIGKILL can).
-    held = _hold_interrupts()
-    try:
+    with _interrupts_held():
         descriptor, temporary_name = tempfile.mkstemp(prefix=TEMPORARY_PREFIX,
                                                       suffix=f"-{target.name}",
                                                       dir=target.parent)
@@ -126,18 +127,31 @@ def _write_named_temporary(target: Path, data: bytes) -> Path:
         except BaseException:
             Path(temporary_name).unlink(missing_ok=True)
             raise
-    finally:
-        if held is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, held)
     return target
 
 
-def _hold_interrupts() -> set[signal.Signals] | None:
-    """Block SIGINT and SIGTERM in this thread; the previous mask, or None where the
-    system cannot block signals."""
-    if not hasattr(signal, "pthread_sigmask"):
-        return None
-    return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+@contextmanager
+def _interrupts_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM (on the main thread, where Python runs their handlers)
+    until the block ends, then deliver them to the handlers as they were."""
+    numbers = (signal.SIGINT, signal.SIGTERM)
+    if (threading.current_thread() is not threading.main_thread()
+            or any(signal.getsignal(number) is None for number in numbers)):
+        yield
+        return
+    caught: list[int] = []
+
+    def hold(number: int, frame: object) -> None:
+        caught.append(number)
+
+    previous = {number: signal.signal(number, hold) for number in numbers}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        for held in caught:
+            signal.raise_signal(held)
 
 
 def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
