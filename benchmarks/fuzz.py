@@ -7,7 +7,7 @@ each through the ``sso`` command in this process (``run_sso`` of tests/fuzzing.p
 files) and prints the counts by exit code. A run "tracebacks" when an exception
 escapes ``main`` or its output contains ``Traceback``. It also checks that no
 report lands outside ``--out``. Defaults: 10,000 case files, 2,000 result files
-(issue 11's acceptance: 0 tracebacks).
+(the target: 0 tracebacks).
 """
 
 from __future__ import annotations

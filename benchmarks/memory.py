@@ -1,6 +1,6 @@
 """Resident memory of a long session: 20 optimisations with varied bounds and joints.
 
-``python -m benchmarks.memory`` runs issue 11's acceptance workload in one process:
+``python -m benchmarks.memory`` runs the memory target's workload in one process:
 20 ``sso.optimise`` calls, 2 to 6 joints, beta bounds from 30 deg up to 89.9 deg,
 both models, and prints the resident memory after each call, the peak, and the 20th
 call's memory against the 5th's. Built NLPs are cached (least recently used,
@@ -8,7 +8,7 @@ call's memory against the 5th's. Built NLPs are cached (least recently used,
 
 Measured on the 2-core development machine (23 Nov 2026): peak resident memory
 177.7 MB; call 5 172.2 MB, call 20 177.9 MB (+3.3%); v0.1 reached 4.7 GB in five
-calls with bounds up to 89.99 deg. Issue 11's acceptance: under 1 GB, the 20th
+calls with bounds up to 89.99 deg. The target: under 1 GB, the 20th
 call within 10% of the 5th.
 """
 

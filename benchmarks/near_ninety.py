@@ -3,7 +3,7 @@
 ``python -m benchmarks.near_ninety [--chains N]`` draws chains of 2 to 8 joints
 whose largest operating angle lies between 89 deg and 89.99 deg (random phases,
 both models), evaluates each, and compares every converged RE with the 60-digit
-mpmath reference of ``tests/shafts/test_near_ninety.py``. Issue 11's acceptance:
+mpmath reference of ``tests/shafts/test_near_ninety.py``. The target:
 no RE off by more than 1e-6 relative while ``quadrature_converged`` is True, and a
 ``QuadratureWarning`` for every unconverged one. Prints the counts.
 """

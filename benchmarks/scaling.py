@@ -8,7 +8,7 @@ option-3 case of the exact model (beta in [5, 35] deg, phase in [0, 180] deg,
 default solvers and starts): everything that call builds (NLP graph, solver) is
 included. The process reports that time, the RE reached and its peak resident
 memory. The summary gives the median over ``--repeats`` processes, the ratio of
-the largest to the smallest joint count (issue 12 target: at most 5x) and whether
+the largest to the smallest joint count (target: at most 5x) and whether
 the peak memory stays under 500 MB. Also times the first call with each single
 solver (``"ipopt"``, ``"slsqp"``, ``"lm"``, one start), so a build that only one
 solver pays for shows.

@@ -21,7 +21,7 @@ scipy SLSQP on a numpy objective sampled at 361 angles with finite-difference
 gradients (:func:`benchmarks.cases.baseline_solve`), the only baseline of the
 paper model.
 
-The summary ends with issue 12's acceptance targets, each met or missed with the
+The summary ends with the performance targets, each met or missed with the
 ratio measured in this run (:func:`issue_12_targets`): the fastest sso solver
 against the skilled baseline at its error, the default call, ``optimise_batch``
 throughput, the 30-joint first call and its memory, and the cold start.
@@ -351,7 +351,7 @@ def random_single_solves(per_shape: int) -> dict[str, Any]:
 
 
 def issue_12_targets(quick: bool) -> dict[str, Any]:
-    """Every acceptance target of issue 12 measured in this run, met or missed, with its ratio."""
+    """Every performance target measured in this run, met or missed, with its ratio."""
     from benchmarks import batch_throughput, scaling
     from benchmarks import cold_start as cold_module
 
@@ -462,7 +462,7 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
     for name, target in verdict.items():
         lines.append(f"- {name}: {'met' if target['met'] else 'MISSED'}")
         lines.extend(f"  - {miss}" for miss in target["misses"])
-    lines += ["", "## Issue 12 acceptance (ratios against the skilled baseline, this run)", ""]
+    lines += ["", "## Performance targets (ratios against the skilled baseline, this run)", ""]
     for name, target in issue_12["targets"].items():
         lines.append(f"- {name}: {'met' if target['met'] else 'MISSED'} ({target['measured']})")
     lines += ["", "One design, the paper's options (median wall time after a warm-up):", "",

@@ -193,7 +193,7 @@ def test_fuzzed_result_files_never_give_a_traceback(data, value):
 
 @pytest.mark.parametrize("special", ["fifo", "folder", "device", "large"])
 def test_special_and_large_files_are_refused_unread(tmp_path, special):
-    # a FIFO would block the read forever; /dev/zero would fill memory (issue 11)
+    # a FIFO would block the read forever; /dev/zero would fill memory
     if special == "fifo":
         path = tmp_path / "case.toml"
         os.mkfifo(path)

@@ -1,4 +1,4 @@
-"""The inputs issue 11 found breaking v0.1, each refused with exit 2 and a message
+"""The inputs that broke v0.1, each refused with exit 2 and a message
 naming the field, and work too large for memory refused before it starts."""
 
 from __future__ import annotations

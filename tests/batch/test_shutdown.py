@@ -1,7 +1,7 @@
 """A signalled ``sso sweep`` with 2 workers leaves no process and no temporary file.
 
 Real processes: ``python -m sso.cli sweep`` runs in a subprocess; once it has written
-its first chunk, it gets SIGINT, SIGTERM or SIGKILL. Within 5 s (issue 11) no process
+its first chunk, it gets SIGINT, SIGTERM or SIGKILL. Within 5 s no process
 it started may remain (its pool workers and multiprocessing's resource tracker,
 found as its children in /proc), no ``.sso-tmp-*`` file may remain, and ``--resume``
 then completes the sweep.

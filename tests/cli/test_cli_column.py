@@ -1,7 +1,7 @@
 """The ``sso`` command on the 3D-column cases, run for real in a subprocess.
 
-Reference values: issue 14's truck column (in phase 4.9e-3, textbook correction
-1.1e-3, best 2.27e-4, from the independent 3D simulation in
+Reference values: the truck column of tests/data/columns/truck_three_joints.json (in
+phase 4.9e-3, textbook correction 1.1e-3, best 2.27e-4, from the independent 3D simulation in
 tests/column/test_column_phasing.py) and the closed-form least RE of ``sso.can_cancel``.
 """
 

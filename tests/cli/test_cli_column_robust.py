@@ -1,7 +1,7 @@
 """Robust phasing in a column case, through the ``sso`` command run for real in a subprocess.
 
 Reference values: the shipped case cases/column_truck_three_positions.toml (positions
-from tests/data/columns/truck_three_positions.json); the acceptance of issue 15 is
+from tests/data/columns/truck_three_positions.json); the robust-phasing acceptance is
 checked on the document the run writes (each single-position optimum's worst RE,
 the tolerance study of both designs on one sample), and the band edges against the
 independent 3D cross-and-yoke simulation (tests/column/cross_and_yoke.py).

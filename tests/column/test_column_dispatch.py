@@ -14,7 +14,8 @@ TRUCK = load("truck_three_joints")["points_mm"]
 
 
 def test_a_geometry_gets_its_best_yoke_phasing():
-    # Issue 14's truck column: best phasing 2.27e-4, in phase 4.9e-3 (3D simulation,
+    # The truck column (tests/data/columns/truck_three_joints.json): best phasing
+    # 2.27e-4, in phase 4.9e-3 (3D simulation,
     # tests/column/test_column_phasing.py).
     result = sso.optimise(sso.ColumnGeometry(TRUCK))
     assert isinstance(result, PhasingResult)

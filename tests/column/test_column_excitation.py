@@ -12,7 +12,7 @@ from sso.column.excitation import equivalent_angles, excitation_table
 from sso.column.geometry import ColumnGeometry
 
 # Calibration published with an open-source driveline calculator (formulas from SAE
-# AE-7), quoted in issue 14: four joints 5, 4, 3, 2 deg, planar, 2500 rpm, first
+# AE-7), as the calibration case: four joints 5, 4, 3, 2 deg, planar, 2500 rpm, first
 # driveshaft crossed (yokes 90 deg apart), the other two in phase.
 CALIBRATION_POINTS = planar_points([5.0, -4.0, 3.0, -2.0])
 CALIBRATION_YOKES = (90.0, 0.0, 0.0)
@@ -30,7 +30,7 @@ def test_published_calibration_to_printed_precision():
     assert round(row.drive_rad_s2) == 2026
     assert round(row.coast_rad_s2) == 209
     assert round(row.torsional_rad_s2) == 749
-    # Exact model (issue 14): cos beta_eq = c1 c2 c4 / c3, beta_eq = 5.998 deg,
+    # Exact model (docs/column.md, excitation): cos beta_eq = c1 c2 c4 / c3, beta_eq = 5.998 deg,
     # omega^2 sin^2 beta_eq = 748.4, output acceleration amplitude 752.5 rad/s^2.
     c1, c2, c3, c4 = np.cos(np.radians([5.0, 4.0, 3.0, 2.0]))
     assert angles.exact_deg == pytest.approx(np.degrees(np.arccos(c1 * c2 * c4 / c3)), abs=1e-9)

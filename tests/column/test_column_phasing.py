@@ -13,7 +13,8 @@ from sso.column.phasing import optimise_phasing
 
 
 def test_truck_column_best_phasing_beats_the_textbook_correction_and_in_phase():
-    # Issue 14's truck column (operating angles 9.2, 13.3, 19.9 deg, bend planes
+    # The truck column (tests/data/columns/truck_three_joints.json; operating angles
+    # 9.2, 13.3, 19.9 deg, bend planes
     # turned by about 100 deg): in phase 4.9e-3 > textbook 1.1e-3 > best 2.27e-4,
     # every figure from the independent 3D simulation.
     points = np.asarray(load("truck_three_joints")["points_mm"])

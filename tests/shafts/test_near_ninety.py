@@ -19,7 +19,7 @@ import sso
 
 TOP_ANGLES_DEG = (89.0, 89.9, 89.99)
 JOINTS = (2, 3, 4, 5, 6, 7, 8)
-RELATIVE_TOLERANCE = 1e-6  # issue 11's acceptance
+RELATIVE_TOLERANCE = 1e-6  # the accuracy target near 90 deg
 
 
 def _joint_output(cosine, angle):
@@ -106,7 +106,7 @@ def test_residual_error_is_right_or_flagged(model, top_deg):
 @pytest.mark.parametrize("model", ["exact", "paper"])
 def test_aligned_joints_at_the_top_are_never_wrong_and_converged(model):
     # four joints at 89.99 deg, zero phases: v0.1 gave a mean speed ratio of 1.6e-9
-    # flagged converged (issue 11)
+    # flagged converged
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = sso.ShaftSeries([89.99] * 4, [0.0] * 3, model).evaluate()
