@@ -132,7 +132,7 @@ def _write_named_temporary(target: Path, data: bytes) -> Path:
     return target
 
 
-def _hold_interrupts() -> set[signal.Signals] | None:
+def _hold_interrupts() -> set[int | signal.Signals] | None:
     """Block SIGINT and SIGTERM in this thread; the previous mask, or None where the
     system cannot block signals."""
     if not hasattr(signal, "pthread_sigmask"):
