@@ -107,7 +107,8 @@ def connect(address: str) -> Any:
         raise ValueError("scheduler: dask.distributed is not installed; install the "
                          "'dask' extra (pip install 'sso[dask]')") from None
     try:
-        return Client(address, timeout="10s")
+        # distributed's Client has no annotations
+        return Client(address, timeout="10s")  # type: ignore[no-untyped-call]
     except (OSError, TimeoutError) as error:
         raise ValueError(f"scheduler = {address!r} cannot be reached: {error}") from None
 
@@ -179,7 +180,8 @@ def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
     futures = [client.submit(function, task, pure=False) for task in tasks]
     indices = {future.key: index for index, future in enumerate(futures)}
     try:
-        for future in dask_as_completed(futures):
+        # distributed's as_completed has no annotations
+        for future in dask_as_completed(futures):  # type: ignore[no-untyped-call]
             index = indices[future.key]
             if future.status == "finished":
                 yield index, future.result(), None

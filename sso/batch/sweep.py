@@ -199,7 +199,8 @@ def _parallelism(client: Any, workers: int) -> int:
     """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
     if client is None:
         return workers
-    return max(1, sum(client.nthreads().values()))
+    threads: int = sum(client.nthreads().values())
+    return max(1, threads)
 
 
 def _chunk_size(chunk_size: Any, points: int, parallelism: int) -> int:

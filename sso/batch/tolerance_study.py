@@ -221,7 +221,7 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     """The nominal series, input speed, quadrature tolerance, settings and origin of ``design``."""
     if isinstance(design, OptimisationResult):
         speed = design.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
-        return (design.best.series, validate_speed("input_speed_rpm", speed),
+        return (design.best_series, validate_speed("input_speed_rpm", speed),
                 (DEFAULT_RTOL, DEFAULT_ATOL), {},
                 f"the optimum ({design.best.solver}) of an optimisation, option "
                 f"{design.option} ({design.option_name})")

@@ -94,8 +94,8 @@ def _optimise_row(case: Any) -> dict[str, Any]:
     result = optimise(case.series(), case.option, **case.optimise_options())
     row = {
         **_evaluation_columns(result.optimum),
-        "design_beta_deg": list(result.best.series.beta_deg),
-        "design_phase_deg": list(result.best.series.phase_deg),
+        "design_beta_deg": list(result.best_series.beta_deg),
+        "design_phase_deg": list(result.best_series.phase_deg),
         "success": result.success,
         "best_solver": result.best.solver,
     }

@@ -65,7 +65,7 @@ def teeth_list(label: str, value: Any) -> tuple[int, ...]:
 
 def _rpm_range(label: str, value: Any) -> tuple[float, float]:
     low, high = bounds_list(0.0, math.inf, "rpm")(label, value)
-    if not isinstance(low, float) or low <= 0.0:
+    if not isinstance(low, float) or not isinstance(high, float) or low <= 0.0:
         raise ValueError(f"{label} = {value!r} must be one [min, max] pair of speeds in "
                          "(0, inf) rpm")
     return (low, high)

@@ -99,6 +99,9 @@ class Key:
 
 REQUIRED = object()
 
+# One ``(lower, upper)`` pair for every item, or one pair per item.
+Bounds = tuple[float, float] | tuple[tuple[float, float], ...]
+
 
 @dataclass(frozen=True)
 class CaseKind:
@@ -178,7 +181,7 @@ def choice(allowed: tuple[str, ...]) -> Callable[[str, Any], str]:
     def parse(label: str, value: Any) -> str:
         if value not in allowed:
             raise ValueError(f"{label} = {shown(value)} is not one of {_quoted(allowed)}")
-        return value
+        return str(value)
 
     return parse
 
@@ -233,13 +236,13 @@ def number_list(lower: float, upper: float, unit: str, upper_open: bool = False,
 
 
 def bounds_list(lower: float, upper: float, unit: str,
-                upper_open: bool = False) -> Callable[[str, Any], tuple]:
+                upper_open: bool = False) -> Callable[[str, Any], Bounds]:
     """Parser of one ``[lower, upper]`` pair or a list of pairs (one per item)."""
     allowed = _describe_range(lower, upper, False, upper_open, unit)
 
-    def parse(label: str, value: Any) -> tuple:
+    def parse(label: str, value: Any) -> Bounds:
         if _is_pair(value):
-            return tuple(per_item_bounds(label, value, 1, lower, upper, unit, upper_open)[0])
+            return per_item_bounds(label, value, 1, lower, upper, unit, upper_open)[0]
         if isinstance(value, list) and value and all(_is_pair(pair) for pair in value):
             return per_item_bounds(label, value, len(value), lower, upper, unit, upper_open)
         raise ValueError(f"{label} = {shown(value)} must be one [lower, upper] pair or a list of "
@@ -297,7 +300,8 @@ COMMON_KEYS: tuple[Key, ...] = (
 CASE_KINDS: dict[str, CaseKind] = {}
 
 
-def register_case_kind(kind: str, keys: tuple[Key, ...], build: Callable,
+def register_case_kind(kind: str, keys: tuple[Key, ...],
+                       build: Callable[[dict[str, Any], str], Any],
                        optional_tables: frozenset[str] = frozenset()) -> None:
     """Register a new kind of case: its own keys and the builder of its case object.
 
@@ -488,11 +492,11 @@ def _unknown_message(label: str, name: str, same_table: list[str], every_label: 
                      table: str) -> str:
     close = difflib.get_close_matches(name, same_table, n=1, cutoff=0.6)
     if close:
-        suggestion = f"{table}.{close[0]}" if table else close[0]
+        suggestion: str | None = f"{table}.{close[0]}" if table else close[0]
     else:
         elsewhere = [other for other in every_label if other.rsplit(".", 1)[-1] == name]
         close_labels = difflib.get_close_matches(label, every_label, n=1, cutoff=0.6)
-        suggestion = (elsewhere or close_labels or [None])[0]
+        suggestion = next(iter(elsewhere or close_labels), None)
     hint = f"; did you mean {suggestion}?" if suggestion else ""
     return f"unknown key {label}{hint}"
 

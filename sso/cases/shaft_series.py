@@ -15,6 +15,7 @@ from typing import Any
 
 from sso.cases.schema import (
     REQUIRED,
+    Bounds,
     Key,
     _quoted,
     bounds_list,
@@ -132,8 +133,8 @@ class Case:
     input_speed_rpm: float
     beta_deg: tuple[float, ...]
     phase_deg: tuple[float, ...]
-    beta_bounds_deg: tuple
-    phase_bounds_deg: tuple
+    beta_bounds_deg: Bounds
+    phase_bounds_deg: Bounds
     solvers: tuple[str, ...]
     starts: int
     solver_tol: float
@@ -214,7 +215,7 @@ class Case:
                            "kkt_tolerance": self.kkt_tolerance},
             "output": {"formats": list(self.formats)},
         }
-        if self.reference_beta_deg is not None:
+        if self.reference_beta_deg is not None and self.reference_phase_deg is not None:
             document["reference"] = {"label": self.reference_label,
                                      "beta_deg": list(self.reference_beta_deg),
                                      "phase_deg": list(self.reference_phase_deg)}
@@ -225,7 +226,8 @@ class Case:
         return document
 
 
-def _bounds_to_lists(bounds: tuple) -> list:
+def _bounds_to_lists(bounds: Bounds) -> list[Any]:
+    """JSON-ready ``[lower, upper]``, or one such list per item."""
     if bounds and isinstance(bounds[0], tuple):
         return [list(pair) for pair in bounds]
     return list(bounds)
@@ -375,7 +377,8 @@ def _check_shaft_series_design(values: dict[str, Any]) -> None:
                          .replace("phase_bounds_deg", "bounds.phase_deg")) from None
 
 
-def _series_or_error(table: str, beta_deg: tuple, phase_deg: tuple, model: str) -> None:
+def _series_or_error(table: str, beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],
+                     model: str) -> None:
     try:
         ShaftSeries(beta_deg, phase_deg, model)
     except ValueError as error:

@@ -55,7 +55,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     previous = _interrupt_on_sigterm()
     try:
-        return args.handle(args)
+        code: int = args.handle(args)
+        return code
     except KeyboardInterrupt:
         print_error("interrupted; files already written are complete, none is half-written")
         return EXIT_INTERRUPTED

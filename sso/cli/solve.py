@@ -116,9 +116,11 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
     designs = document.get("designs", {})
-    errors = tuple(format_number(designs[role]["evaluation"]["residual_error"], 3)
-                   if role in designs else "-" for role in ("initial", "optimum", "reference"))
-    return Outcome(case.name, status, code, errors, time.perf_counter() - started, str(folder))
+    initial, optimum, reference = (
+        format_number(designs[role]["evaluation"]["residual_error"], 3)
+        if role in designs else "-" for role in ("initial", "optimum", "reference"))
+    return Outcome(case.name, status, code, (initial, optimum, reference),
+                   time.perf_counter() - started, str(folder))
 
 
 def _status(document: dict[str, Any]) -> tuple[str, int]:
@@ -140,9 +142,10 @@ def _status(document: dict[str, Any]) -> tuple[str, int]:
 def _print_summary(outcomes: list[Outcome], optimising: bool) -> None:
     header = ("case", "status", "RE initial", "RE optimum" if optimising else "-",
               "RE reference", "time (s)", "report")
-    rows = [header] + [(outcome.case, outcome.status, *outcome.residual_errors,
-                        f"{outcome.seconds:.2f}" if outcome.folder else "", outcome.folder)
-                       for outcome in outcomes]
+    rows: list[tuple[str, ...]] = [header]
+    rows += [(outcome.case, outcome.status, *outcome.residual_errors,
+              f"{outcome.seconds:.2f}" if outcome.folder else "", outcome.folder)
+             for outcome in outcomes]
     if not optimising:
         rows = [row[:3] + row[4:] for row in rows]
     widths = [max(len(row[column]) for row in rows) for column in range(len(rows[0]))]

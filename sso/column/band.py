@@ -288,7 +288,7 @@ def _edge(along: Callable[[np.ndarray], np.ndarray], limit: float, start: float,
 
 def _root(along: Callable[[np.ndarray], np.ndarray], limit: float, inside: float,
           outside: float) -> float:
-    from scipy.optimize import brentq  # type: ignore[import-untyped]
+    from scipy.optimize import brentq
 
     def excess(value: float) -> float:
         return float(along(np.array([value]))[0]) / limit - 1.0

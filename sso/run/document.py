@@ -32,6 +32,7 @@ from sso.shafts.options import OPTION_NAMES
 
 if TYPE_CHECKING:
     from sso.shafts.optimise import OptimisationResult
+    from sso.solvers.result import DesignResult
 
 SCHEMA_VERSION = 1
 DESIGN_ROLES = ("initial", "optimum", "reference")
@@ -104,7 +105,7 @@ def case_of_result(result: OptimisationResult) -> Case:
     """A case holding what an optimisation result records of its problem."""
     from sso.cases.schema import parse_case
 
-    return parse_case({
+    case: Case = parse_case({
         "name": "optimisation",
         "description": "An optimisation made with sso.optimise in Python.",
         "model": result.model,
@@ -116,6 +117,7 @@ def case_of_result(result: OptimisationResult) -> Case:
                    "phase_deg": [list(pair) for pair in result.phase_bounds_deg]},
         "solver": {"solvers": list(result.solutions), "starts": result.starts},
     }, "<sso.optimise>")
+    return case
 
 
 def evaluate_case(case: Case) -> dict[str, Any]:
@@ -216,7 +218,7 @@ UNRELIABLE_VERDICT = "optimum unreliable"
 """How the verdict of a run whose optimum's quadrature did not converge begins."""
 
 
-def _verdict(result: Any) -> str:
+def _verdict(result: DesignResult) -> str:
     if not result.best.success:
         return f"solver failed: {result.best.solver}: {result.best.message}"
     # a shaft series' optimum says whether its quadrature converged; a four-bar's has none

@@ -187,7 +187,9 @@ def evaluate(
         if figure_samples % count == 0:
             return squared[:: figure_samples // count]
         cos_theta, sin_theta = angle_grid(count)
-        return squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, series.model)
+        computed: np.ndarray = squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad,
+                                                   series.model)
+        return computed
 
     residual, rule = adaptive_rule(squared_errors, rtol, atol, EVALUATION_MAX_SAMPLES,
                                    resolving_samples(beta_rad, series.model))

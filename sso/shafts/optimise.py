@@ -119,9 +119,14 @@ class OptimisationResult(DesignResult):
     @functools.cached_property
     def optimum(self) -> Evaluation:
         """Figures of the best design at ``input_speed_rpm``."""
+        return self.best_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @property
+    def best_series(self) -> ShaftSeries:
+        """The best design, ``best.series`` (always a shaft series here)."""
         series = self.best.series
         assert isinstance(series, ShaftSeries)
-        return series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+        return series
 
     @property
     def _evaluation_options(self) -> dict[str, float]:
@@ -134,8 +139,8 @@ class OptimisationResult(DesignResult):
         return (f"option {self.option} ({self.option_name}), {self.model} model, "
                 f"{verdict}: RE {format_number(self.initial.residual_error, 4)} -> "
                 f"{format_number(self.fun, 4)} by {self.best.solver}; "
-                f"beta_deg [{format_numbers(self.best.series.beta_deg, 6)}], "
-                f"phase_deg [{format_numbers(self.best.series.phase_deg, 6)}]")
+                f"beta_deg [{format_numbers(self.best_series.beta_deg, 6)}], "
+                f"phase_deg [{format_numbers(self.best_series.phase_deg, 6)}]")
 
     def _summary_parts(self) -> list[Part]:
         verdict = "success" if self.success else "FAILED"
@@ -143,8 +148,8 @@ class OptimisationResult(DesignResult):
             ("initial", format_numbers(self.initial_series.beta_deg),
              format_numbers(self.initial_series.phase_deg),
              format_number(self.initial.residual_error)),
-            (f"optimum ({self.best.solver})", format_numbers(self.best.series.beta_deg),
-             format_numbers(self.best.series.phase_deg), format_number(self.fun))))
+            (f"optimum ({self.best.solver})", format_numbers(self.best_series.beta_deg),
+             format_numbers(self.best_series.phase_deg), format_number(self.fun))))
         title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
                  f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
         return [title, designs, *self._solver_parts("RE", "KKT (1/rad)")]

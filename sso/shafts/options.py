@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from sso.limits import BETA_LIMIT_DEG
 from sso.validation import per_item_bounds
@@ -72,8 +73,8 @@ class DesignProblem:
     phase_free: bool
     lower_rad: np.ndarray
     upper_rad: np.ndarray
-    start_deg: np.ndarray
-    parameters_deg: np.ndarray
+    start_deg: NDArray[np.float64]
+    parameters_deg: NDArray[np.float64]
     beta_bounds_deg: tuple[tuple[float, float], ...]
     phase_bounds_deg: tuple[tuple[float, float], ...]
 
@@ -83,12 +84,12 @@ class DesignProblem:
         return OPTION_NAMES[self.option]
 
     @property
-    def start_rad(self) -> np.ndarray:
+    def start_rad(self) -> NDArray[np.float64]:
         """The start of the design vector, rad."""
         return np.radians(self.start_deg)
 
     @property
-    def parameters_rad(self) -> np.ndarray:
+    def parameters_rad(self) -> NDArray[np.float64]:
         """The fixed angles, rad."""
         return np.radians(self.parameters_deg)
 
@@ -109,7 +110,8 @@ class DesignProblem:
                  for _ in range(self.n_joints - 1)]
         return beta, phase
 
-    def design_deg(self, x_deg: Sequence[float]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    def design_deg(self, x_deg: Sequence[float] | NDArray[np.float64]
+                   ) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
         beta, phase = self.split(list(x_deg), list(self.parameters_deg))
         return tuple(float(value) for value in beta), tuple(float(value) for value in phase)

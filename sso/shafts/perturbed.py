@@ -113,4 +113,5 @@ def periodic_peaks(values: np.ndarray) -> np.ndarray:
     concave = curvature < 0.0
     offset = np.divide(0.5 * (left - right), curvature, out=np.zeros_like(centre),
                        where=concave)
-    return np.where(concave, centre - 0.25 * (left - right) * offset, centre)
+    peaks: np.ndarray = np.where(concave, centre - 0.25 * (left - right) * offset, centre)
+    return peaks

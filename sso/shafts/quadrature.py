@@ -98,7 +98,9 @@ def adaptive_residual_error(
     """
     def squared_errors(count: int) -> np.ndarray:
         cos_theta, sin_theta = angle_grid(count)
-        return squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad, model)
+        squared: np.ndarray = squared_ratio_error(np, cos_theta, sin_theta, beta_rad, phase_rad,
+                                                  model)
+        return squared
 
     return adaptive_rule(squared_errors, rtol, atol, max_samples,
                          resolving_samples(beta_rad, model))

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from sso.kinematics.hooke import MODELS, chain_kinematics
+from sso.kinematics.hooke import MODELS, ChainKinematics, chain_kinematics
 from sso.kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.validation import as_float_tuple, check_choice, check_in_range
@@ -23,7 +24,7 @@ class InertPhaseWarning(UserWarning):
     """The paper's extra phase after the last joint was given; it enters no equation."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class ShaftSeries:
     """Shafts in series joined by ``n >= 1`` Hooke joints.
 
@@ -51,8 +52,15 @@ class ShaftSeries:
     """
 
     beta_deg: tuple[float, ...]
-    phase_deg: tuple[float, ...] = field(default=None)  # type: ignore[assignment]
+    phase_deg: tuple[float, ...]
     model: str = "exact"
+
+    def __init__(self, beta_deg: Sequence[float], phase_deg: Sequence[float] | None = None,
+                 model: str = "exact") -> None:
+        object.__setattr__(self, "beta_deg", beta_deg)
+        object.__setattr__(self, "phase_deg", phase_deg)
+        object.__setattr__(self, "model", model)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         beta_deg = as_float_tuple("beta_deg", self.beta_deg)
@@ -128,7 +136,8 @@ class ShaftSeries:
                 np, np.cos(theta_rad), np.sin(theta_rad), list(self.beta_rad),
                 list(self.phase_rad))
             return ratio
-        return self._kinematics(theta_deg).speed_ratio
+        chain_ratio: np.ndarray = self._kinematics(theta_deg).speed_ratio
+        return chain_ratio
 
     def output_angle_deg(self, theta_deg: Any) -> np.ndarray:
         """Output shaft angle (deg) at input angles ``theta_deg`` (deg).
@@ -143,7 +152,8 @@ class ShaftSeries:
             If an input angle is NaN or infinite.
         """
         theta = _finite_angles(theta_deg)
-        return theta + np.degrees(self._kinematics(theta).angle_lag_rad)
+        lag_rad: NDArray[np.float64] = self._kinematics(theta).angle_lag_rad
+        return theta + np.degrees(lag_rad)
 
     def evaluate(self, input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
                  **quadrature: Any) -> Evaluation:
@@ -174,7 +184,7 @@ class ShaftSeries:
         return {"beta_deg": list(self.beta_deg), "phase_deg": list(self.phase_deg),
                 "model": self.model}
 
-    def _kinematics(self, theta_deg: Any):
+    def _kinematics(self, theta_deg: Any) -> ChainKinematics:
         theta_rad = np.radians(_finite_angles(theta_deg))
         beta_rad = list(self.beta_rad)
         phase_rad = list(self.phase_rad)
@@ -182,7 +192,7 @@ class ShaftSeries:
                                 phase_rad, self.model)
 
 
-def _finite_angles(theta_deg: Any) -> np.ndarray:
+def _finite_angles(theta_deg: Any) -> NDArray[np.float64]:
     theta = np.asarray(theta_deg, dtype=float)
     if not np.all(np.isfinite(theta)):
         bad = theta[~np.isfinite(theta)].ravel()[:3]

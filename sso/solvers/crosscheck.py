@@ -45,7 +45,7 @@ def crosscheck(
     infeasible = [name for name, solution in solutions.items()
                   if solution.constraint_violation > kkt_tolerance]
     objectives_agree = gap <= allowed_gap
-    better = None if objectives_agree else min(objective, key=objective.get)
+    better = None if objectives_agree else min(objective, key=objective.__getitem__)
 
     problems = []
     if failed:

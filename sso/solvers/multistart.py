@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, TypedDict
+from typing import Any, Protocol, TypedDict
 
 import numpy as np
 
@@ -197,7 +197,7 @@ def run_starts(
     for name in solver_names:
         backend = _backend(name)
 
-        def solve(start: np.ndarray, backend: Any = backend) -> RunOutcome:
+        def solve(start: np.ndarray, backend: _Backend = backend) -> RunOutcome:
             return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
 
         runs[name] = []
@@ -261,7 +261,14 @@ def solution_from_run(
     )
 
 
-def _backend(name: str) -> Any:
+class _Backend(Protocol):
+    """A solver module (:mod:`sso.solvers.ipopt`, ``lm``, ``slsqp``): one run from one start."""
+
+    def solve(self, nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+              solver_tol: float, max_iterations: int) -> RunOutcome: ...
+
+
+def _backend(name: str) -> _Backend:
     if name == "ipopt":
         from sso.solvers import ipopt
 

@@ -55,7 +55,7 @@ class CompiledNLP:
     symbols: dict[str, Any]
     objective_and_gradient: Any
     constraints_and_jacobian: Any = None
-    ipopt_solvers: dict[tuple, Any] = field(default_factory=dict)
+    ipopt_solvers: dict[tuple[tuple[str, Any], ...], Any] = field(default_factory=dict)
     residuals_and_jacobian: Any = None
     nonnegative_objective: bool = False
 
@@ -146,9 +146,9 @@ class BufferedFunction:
                          for i in range(self._function.n_out())]
         self._shapes = [self._function.size_out(i) for i in range(self._function.n_out())]
         for index, array in enumerate(self._inputs):
-            self._buffer.set_arg(index, memoryview(array))
+            self._buffer.set_arg(index, array.data)
         for index, array in enumerate(self._outputs):
-            self._buffer.set_res(index, memoryview(array))
+            self._buffer.set_res(index, array.data)
         self._scalar_first = scalar_first
 
     def __call__(self, *arguments: Any) -> tuple[Any, ...]:

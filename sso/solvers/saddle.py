@@ -157,7 +157,8 @@ def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, counts: _Counts) -
         _, behind = _value_and_gradient(nlp, x - offset, parameters, counts, "gradient")
         columns.append((ahead - behind) / (2.0 * HESSIAN_STEP))
     hessian = np.array(columns).T
-    return 0.5 * (hessian + hessian.T)
+    symmetric: np.ndarray = 0.5 * (hessian + hessian.T)
+    return symmetric
 
 
 def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
