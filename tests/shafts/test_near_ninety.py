@@ -121,8 +121,8 @@ def test_an_optimum_whose_quadrature_did_not_converge_is_not_a_success():
     # three paper-model joints pinned at 89.9999 deg: peaks 1.7e-6 rad wide need about
     # 2.3e6 angles, beyond the cap, so the quadrature cannot vouch for the RE and the
     # run must not claim success however well the solvers agree
-    with pytest.warns(sso.QuadratureWarning):
+    with pytest.warns(sso.QuadratureWarning):  # the optimum is evaluated when first read
         result = sso.optimise(sso.ShaftSeries([89.9999] * 3, [0.0, 0.0], "paper"), 2,
                               beta_bounds_deg=(89.9999, 89.9999), starts=1)
-    assert not result.optimum.quadrature_converged
-    assert not result.success
+        assert not result.optimum.quadrature_converged
+        assert not result.success
