@@ -42,7 +42,7 @@ from sso.column.chain_matrix import (
 )
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.column.phasing import PHASE_BOUNDS_DEG, optimise_phasing
-from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     BETA_LIMIT_DEG,
     DEFAULT_MAX_ITERATIONS,
@@ -53,17 +53,10 @@ from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
 )
-from sso.solvers.multistart import (
-    best_solution,
-    distinct_minima,
-    run_starts,
-    solution_from_run,
-)
+from sso.solvers.multistart import solution_from_run, solve_from_starts
+from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.solution import CrossCheck, Solution
-from sso.solvers.starts import start_points
 from sso.validation import (
     as_float_tuple,
     finite_float,
@@ -82,8 +75,8 @@ DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
 DEFAULT_SHORTEST_FRACTION = 0.5
 
 
-@dataclass(frozen=True, repr=False)
-class JointPositionResult(Readable):
+@dataclass(frozen=True, kw_only=True, repr=False)
+class JointPositionResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
     Attributes
@@ -92,15 +85,6 @@ class JointPositionResult(Readable):
         The column as given.
     geometry : ColumnGeometry
         The column at the optimum.
-    x : tuple of float
-        Design vector: joint centres ``P1 .. Pn`` (x, y, z each, mm), then the yoke
-        phasings (deg) when they are free.
-    fun : float
-        RE at the optimum (dimensionless).
-    success : bool
-        The best run converged and the solvers agree (objective, stationarity,
-        feasibility).
-    message : str
     points_mm : tuple of (float, float, float)
         ``P0 .. P(n+1)`` at the optimum, mm.
     yoke_phase_deg : tuple of float
@@ -120,19 +104,16 @@ class JointPositionResult(Readable):
     constraint_violation : float
         Largest violation of a box, angle or length bound at the optimum, in the
         NLP's units (m; cosine of an angle).
-    best : sso.Solution
-    solutions : dict of str to sso.Solution
-    runs : tuple of sso.Solution
-    crosscheck : sso.CrossCheck or None
-    local_minima : tuple of float
+
+    The solver fields (``best``, ``solutions``, ``runs``, ``crosscheck``,
+    ``local_minima``) and ``x`` (joint centres ``P1 .. Pn``, x, y, z each in mm, then
+    the yoke phasings in deg when they are free), ``fun`` (RE), ``success`` (the best
+    run converged, feasible, and the solvers agree) come from
+    :class:`sso.solvers.result.DesignResult`.
     """
 
     initial: ColumnGeometry
     geometry: ColumnGeometry
-    x: tuple[float, ...]
-    fun: float
-    success: bool
-    message: str
     points_mm: tuple[tuple[float, float, float], ...]
     yoke_phase_deg: tuple[float, ...]
     phasing_free: bool
@@ -142,11 +123,15 @@ class JointPositionResult(Readable):
     shaft_length_bounds_mm: tuple[tuple[float, float], ...]
     joint_boxes_mm: tuple[tuple[tuple[float, ...], tuple[float, ...]], ...]
     constraint_violation: float
-    best: Solution
-    solutions: dict[str, Solution]
-    runs: tuple[Solution, ...]
-    crosscheck: CrossCheck | None
-    local_minima: tuple[float, ...]
+
+    @property
+    def message(self) -> str:
+        """The best run's message, the RE it reached against the given points, and the
+        cross-check's verdict."""
+        return (f"{self.best.solver}: {self.best.message}; RE {self.fun:.6g} (start "
+                f"{self.initial_re:.6g}, best phasing of the given points "
+                f"{self.fixed_points_re:.6g})"
+                + ("" if self.crosscheck is None else f"; {self.crosscheck.message}"))
 
     def _repr_text(self) -> str:
         verdict = "success" if self.success else "FAILED"
@@ -169,21 +154,6 @@ class JointPositionResult(Readable):
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
 
-    @property
-    def nit(self) -> int:
-        """Iterations of the best run."""
-        return self.best.nit
-
-    @property
-    def nfev(self) -> int:
-        """Objective evaluations of the best run."""
-        return self.best.nfev
-
-    @property
-    def status(self) -> int:
-        """The best run's solver status code."""
-        return self.best.status
-
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
@@ -202,11 +172,7 @@ class JointPositionResult(Readable):
             "shaft_length_bounds_mm": [list(pair) for pair in self.shaft_length_bounds_mm],
             "joint_boxes_mm": [[list(corner) for corner in box] for box in self.joint_boxes_mm],
             "constraint_violation": self.constraint_violation,
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
+            **self.solver_dict(),
         }
 
 
@@ -318,13 +284,14 @@ def optimise_joint_positions(
                                          / MM_PER_UNIT]),
     )
     nlp = compiled_joint_nlp(joints, phasing_free)
-    measured = run_starts(nlp, start_points(user_start, lower, upper, starts, seed), parameters,
-                          limits, solver_names, solver_tol, max_iterations)
-    solver_runs = {name: [solution_from_run(run, runs, _user_units(run.outcome.x, joints))
-                          for run in runs] for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = [run for runs in solver_runs.values() for run in runs]
-    best = best_solution(solutions.values())
+    solved = solve_from_starts(
+        nlp, user_start, limits, parameters, solver_names=solver_names, starts=starts,
+        seed=seed, solver_tol=solver_tol, max_iterations=max_iterations,
+        to_solution=lambda run, runs: solution_from_run(run, runs,
+                                                        _user_units(run.outcome.x, joints)),
+        objective_rtol=DEFAULT_OBJECTIVE_RTOL, objective_atol=DEFAULT_OBJECTIVE_ATOL,
+        kkt_tolerance=DEFAULT_KKT_TOLERANCE)
+    best = solved["best"]
     optimum_points = np.vstack([geometry.points_mm[0],
                                 np.asarray(best.x[:3 * joints]).reshape(joints, 3),
                                 geometry.points_mm[-1]])
@@ -332,19 +299,9 @@ def optimise_joint_positions(
                                    for row in optimum_points))
     best_phase = (tuple(float(value) for value in wrap_half_turn(best.x[3 * joints:]))
                   if phasing_free else tuple(start_phase_deg))
-    check = (crosscheck(solutions, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL,
-                        DEFAULT_KKT_TOLERANCE) if len(solutions) > 1 else None)
-    success = best.success and (check is None or check.agree)
-    message = (f"{best.solver}: {best.message}; RE {best.fun:.6g} (start {initial_re:.6g}, "
-               f"best phasing of the given points {fixed_points_re:.6g})"
-               + ("" if check is None else f"; {check.message}"))
     return JointPositionResult(
         initial=geometry,
         geometry=optimum,
-        x=best.x,
-        fun=best.fun,
-        success=success,
-        message=message,
         points_mm=optimum.points_mm,
         yoke_phase_deg=best_phase,
         phasing_free=phasing_free,
@@ -354,11 +311,7 @@ def optimise_joint_positions(
         shaft_length_bounds_mm=length_bounds,
         joint_boxes_mm=boxes,
         constraint_violation=best.constraint_violation,
-        best=best,
-        solutions=solutions,
-        runs=tuple(all_runs),
-        crosscheck=check,
-        local_minima=distinct_minima(all_runs, DEFAULT_OBJECTIVE_RTOL, DEFAULT_OBJECTIVE_ATOL),
+        **solved,
     )
 
 
