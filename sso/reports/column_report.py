@@ -13,7 +13,15 @@ from typing import Any
 
 from sso.limits import REPORT_DIGITS
 from sso.reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
-from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
+from sso.reports.summary import (
+    Block,
+    Heading,
+    Image,
+    Paragraph,
+    Table,
+    closing_blocks,
+    number,
+)
 
 EXCITATION_FILE = "excitation.csv"
 EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsional_rad_s2",
@@ -81,17 +89,8 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
                    *_joint_blocks(document)]
     blocks += robust_blocks(document)
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
-    if document["warnings"]:
-        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
-    blocks.append(Heading(2, "Plots"))
-    if image_files:
-        blocks += [Image(name, CAPTIONS[name]) for name in image_files]
-    else:
-        blocks.append(Paragraph("Plots were not written (png not among the formats)."))
-    blocks += [Heading(2, "Versions"),
-               Table(("package", "version"), tuple((name, str(version)) for name, version
-                                                   in document["versions"].items()))]
-    return blocks
+    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
+                                              for name in image_files])
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:

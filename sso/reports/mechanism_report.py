@@ -19,7 +19,15 @@ from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.html import render_html
 from sso.reports.markdown import render_markdown
-from sso.reports.summary import Block, Heading, Image, Paragraph, Table, number
+from sso.reports.summary import (
+    Block,
+    Heading,
+    Image,
+    Paragraph,
+    Table,
+    closing_blocks,
+    number,
+)
 
 TABLE_FILE = "table.csv"
 CAPTIONS = {
@@ -96,17 +104,8 @@ def mechanism_blocks(document: Mapping[str, Any], image_files: Sequence[str]) ->
     for role in document["tables"]:
         blocks += [Heading(2, f"Table ({ROLE_NAMES[role]}; every column is in the CSV)"),
                    _rows_table(document, role)]
-    if document["warnings"]:
-        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
-    blocks.append(Heading(2, "Plots"))
-    if image_files:
-        blocks += [Image(name, CAPTIONS[name]) for name in image_files]
-    else:
-        blocks.append(Paragraph("Plots were not written (png not among the formats)."))
-    blocks += [Heading(2, "Versions"),
-               Table(("package", "version"), tuple((name, str(version)) for name, version
-                                                   in document["versions"].items()))]
-    return blocks
+    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
+                                              for name in image_files])
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:

@@ -111,17 +111,35 @@ def report_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
         blocks += [Heading(2, "Solvers"), _solver_table(document),
                    Heading(2, "Cross-check"), Paragraph(_crosscheck_text(document)),
                    Heading(2, "Every run"), _runs_table(document)]
+    return blocks + closing_blocks(document, [Image(name, _caption(name))
+                                              for name in image_files])
+
+
+def closing_blocks(document: Mapping[str, Any], images: Sequence[Image]) -> list[Block]:
+    """The end every report shares: warnings, plots (or why there are none), versions.
+
+    Parameters
+    ----------
+    document : mapping
+        A result document, with ``warnings`` and ``versions``.
+    images : sequence of Image
+        The plots written beside the report, captioned (empty when plots are off).
+
+    Returns
+    -------
+    list of Heading, Paragraph, Table, Image
+    """
+    blocks: list[Block] = []
     if document["warnings"]:
         blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
     blocks.append(Heading(2, "Plots"))
-    if image_files:
-        blocks += [Image(name, _caption(name)) for name in image_files]
+    if images:
+        blocks += images
     else:
         blocks.append(Paragraph("Plots were not written (png not among the formats)."))
-    versions = document["versions"]
     blocks += [Heading(2, "Versions"),
-               Table(("package", "version"), tuple((name, str(version))
-                                                   for name, version in versions.items()))]
+               Table(("package", "version"), tuple((name, str(version)) for name, version
+                                                   in document["versions"].items()))]
     return blocks
 
 
