@@ -28,7 +28,6 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from dataclasses import asdict
-from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
@@ -39,7 +38,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.excitation import equivalent_angles, excitation_table
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.run.column_robust_document import has_robust_part, robust_part
-from sso.run.document import SCHEMA_VERSION, package_versions
+from sso.run.document import document_header, package_versions
 
 
 def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
@@ -66,12 +65,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
     geometry = case.geometry()
     as_built = case.values["phasing.yoke_phase_deg"]
     document: dict[str, Any] = {
-        "schema_version": SCHEMA_VERSION,
-        "kind": case.kind,
-        "mode": "optimise" if optimising else "evaluate",
-        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
-        "case": case.to_dict(),
-        "case_file": case.source,
+        **document_header(case, "optimise" if optimising else "evaluate"),
         "geometry": {**geometry.to_dict(), "straight_joints": list(geometry.straight_joints),
                      "bend_normals": geometry.bend_normals.tolist()},
         "cancel": can_cancel(geometry.beta_deg).to_dict(),

@@ -183,7 +183,21 @@ def bundled_ipopt_version() -> str:
     return "unknown: no IPOPT version found in casadi's files"
 
 
-def _common(case: Case, mode: str) -> dict[str, Any]:
+def document_header(case: Any, mode: str) -> dict[str, Any]:
+    """The keys every result document opens with, for a case of any kind.
+
+    Parameters
+    ----------
+    case : a checked case
+        Anything with ``kind``, ``source`` and ``to_dict()``.
+    mode : str
+        ``"optimise"``, ``"evaluate"`` or ``"analyse"``.
+
+    Returns
+    -------
+    dict
+        ``schema_version``, ``kind``, ``mode``, ``created_utc``, ``case``, ``case_file``.
+    """
     return {
         "schema_version": SCHEMA_VERSION,
         "kind": case.kind,
@@ -191,6 +205,12 @@ def _common(case: Case, mode: str) -> dict[str, Any]:
         "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
         "case": case.to_dict(),
         "case_file": case.source,
+    }
+
+
+def _common(case: Case, mode: str) -> dict[str, Any]:
+    return {
+        **document_header(case, mode),
         "model": case.model,
         "option": case.option,
         "option_name": OPTION_NAMES[case.option],

@@ -20,7 +20,6 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from dataclasses import asdict
-from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -34,7 +33,7 @@ from sso.linkages.mechanisms import (
 )
 from sso.linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso.linkages.table import MechanismTable
-from sso.run.document import SCHEMA_VERSION, _verdict, package_versions
+from sso.run.document import _verdict, document_header, package_versions
 
 if TYPE_CHECKING:
     from sso.linkages.fourbar_swing import FourBarDesignResult
@@ -69,12 +68,7 @@ def mechanism_document(case: MechanismCase, optimising: bool,
     """
     start = case.mechanism()
     document: dict[str, Any] = {
-        "schema_version": SCHEMA_VERSION,
-        "kind": case.kind,
-        "mode": "analyse",
-        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
-        "case": case.to_dict(),
-        "case_file": case.source,
+        **document_header(case, "analyse"),
         "length_unit": case.length_unit,
         "crank_speed_rad_s": case.crank_speed_rad_s,
         "crank_accel_rad_s2": case.crank_accel_rad_s2,
