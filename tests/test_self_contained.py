@@ -99,7 +99,7 @@ def test_the_scan_finds_paths_planted_in_a_copy(tmp_path):
     planted = {
         "tests/planted_neighbour.py":
             "TABLE = 'tests/" + PARENT + "/" + PARENT + "/shared/x.csv'\n",
-        "docs/planted_absolute.md": "See /" + "work/shared/spec/model.md for details.\n",
+        "docs/planted_absolute.md": "See /" + "work/notes/model.md for details.\n",
         "planted_climb.toml": 'case = "' + PARENT + '/elsewhere/case.toml"\n',
         "sso/planted_join.py": "FOLDER = HERE / '" + PARENT + "' / 'data'\n",
         "tests/planted_join.py": "TABLES = ROOT.parent / 'shar" + "ed' / 'reference'\n",
