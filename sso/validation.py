@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import reprlib
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
@@ -164,34 +164,37 @@ def per_item_bounds(
         If the shape is wrong, a bound is not finite or lies outside
         ``[lower_limit, upper_limit]``, or an interval is inverted (an equal pair pins the item).
     """
-    pairs: Sequence[Any]
     if _is_pair_of_numbers(bounds):
-        pairs = [bounds] * count
-    else:
-        try:
-            pairs = list(bounds)
-        except TypeError:
-            raise ValueError(
-                f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
-            ) from None
-        if len(pairs) != count or not all(_is_pair_of_numbers(pair) for pair in pairs):
-            raise ValueError(
-                f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
-            )
-    result = []
-    for index, (lower, upper) in enumerate(pairs):
-        name = field if _is_pair_of_numbers(bounds) else f"{field}[{index}]"
-        lower = check_in_range(f"{name} lower", finite_float(f"{name} lower", lower),
-                               lower_limit, upper_limit, unit, upper_open=upper_open)
-        upper = check_in_range(f"{name} upper", finite_float(f"{name} upper", upper),
-                               lower_limit, upper_limit, unit, upper_open=upper_open)
-        if lower > upper:
-            raise ValueError(
-                f"{name} = ({lower:g}, {upper:g}) {unit} is inverted (empty): "
-                "the lower bound must not exceed the upper bound"
-            )
-        result.append((lower, upper))
-    return tuple(result)
+        pair = _checked_pair(field, bounds, lower_limit, upper_limit, unit, upper_open)
+        return (pair,) * count
+    try:
+        pairs = list(bounds)
+    except TypeError:
+        raise ValueError(
+            f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
+        ) from None
+    if len(pairs) != count or not all(_is_pair_of_numbers(pair) for pair in pairs):
+        raise ValueError(
+            f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
+        )
+    return tuple(_checked_pair(f"{field}[{index}]", pair, lower_limit, upper_limit, unit,
+                               upper_open) for index, pair in enumerate(pairs))
+
+
+def _checked_pair(name: str, pair: Any, lower_limit: float, upper_limit: float, unit: str,
+                  upper_open: bool) -> tuple[float, float]:
+    """One ``(lower, upper)`` pair as floats inside the limits, not inverted, else raise."""
+    lower, upper = pair
+    lower = check_in_range(f"{name} lower", finite_float(f"{name} lower", lower),
+                           lower_limit, upper_limit, unit, upper_open=upper_open)
+    upper = check_in_range(f"{name} upper", finite_float(f"{name} upper", upper),
+                           lower_limit, upper_limit, unit, upper_open=upper_open)
+    if lower > upper:
+        raise ValueError(
+            f"{name} = ({lower:g}, {upper:g}) {unit} is inverted (empty): "
+            "the lower bound must not exceed the upper bound"
+        )
+    return lower, upper
 
 
 def _is_pair_of_numbers(value: Any) -> bool:

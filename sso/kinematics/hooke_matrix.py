@@ -286,15 +286,31 @@ def residuals_and_jacobian_numpy(beta_rad: Any, phase_rad: Any) -> tuple[np.ndar
             np.stack(columns, axis=-1))
 
 
-def residuals_and_jacobian_floats(
-    beta_rad: Sequence[float], phase_rad: Sequence[float]
-) -> tuple[float, float, list[float], list[float]]:
-    """Residuals and Jacobian of one design in plain Python floats (no numpy, no CasADi).
+def residual_and_jacobian_complex(
+    beta_rad: Sequence[float], phase_rad: Sequence[float], *, beta_free: bool = True,
+    phase_free: bool = True,
+) -> tuple[complex, list[complex]]:
+    """Residuals and Jacobian of one design in plain Python complex numbers (no numpy, no CasADi).
 
-    The same prefix/suffix products as :func:`residual_jacobian`, written out on
-    floats: a single design of a few joints costs a few microseconds this way,
-    several times less than one numpy call, which is what a single-design
-    least-squares solve spends its time on.
+    A real 2x2 matrix acts on ``z = x + i y`` as ``z -> a z + b conj(z)``, with
+    ``a = (m11 + m22 + i (m21 - m12)) / 2`` and ``b = (m11 - m22 + i (m21 + m12)) / 2``,
+    so the residuals of :func:`residuals` are ``r1 + i r2 = b sqrt(2 / det M)``.
+    ``D_k`` is the map ``(p_k, q_k) = ((1 + cos beta_k) / 2, (1 - cos beta_k) / 2)``
+    and ``R(phi)`` is ``(e^(i phi), 0)``. Carrying ``c = conj(b)`` instead of ``b``
+    keeps every conjugation out of the loops: ``D_k`` maps ``(a, c)`` to
+    ``(p a + q c, p c + q a)`` and ``R(phi)`` to ``(e^(i phi) a, e^(-i phi) c)``.
+    With ``(a, c)`` the map before a factor and ``(E, F)`` the conjugate of the map
+    ``(A, B)`` after it,
+
+    * ``d conj(b) / d phi = -i (E c - F a)`` (``(a, c)`` taken after the rotation);
+    * ``d conj(b) / d beta = -(sin beta / 2) (E - F) (c - a)``, and
+      ``d ln sqrt(2 / det M) / d beta = tan(beta) / 2``.
+
+    This is the prefix/suffix scheme of :func:`residual_jacobian`, written on Python
+    complex numbers: a design of a few joints costs a few microseconds, several
+    times less than one numpy call, which is what a single-design least-squares
+    solve spends its time on. The tests check it against complex-step derivatives
+    of :func:`residuals`.
 
     Parameters
     ----------
@@ -302,74 +318,55 @@ def residuals_and_jacobian_floats(
         Operating angles (rad), ``n >= 1``.
     phase_rad : sequence of float
         Relative phases (rad), ``n - 1``.
+    beta_free, phase_free : bool
+        Which derivatives to return.
 
     Returns
     -------
-    r1, r2 : float
-        The residuals of :func:`residuals`.
-    row1, row2 : list of float
-        Their derivatives (per rad): ``beta_1 .. beta_n`` then ``phi_1 .. phi_(n-1)``.
+    rho : complex
+        ``r1 - i r2`` (dimensionless), the conjugate of the residual pair:
+        ``RE = |rho|^2``.
+    jacobian : list of complex
+        ``d rho / d beta_1 .. d beta_n`` (if ``beta_free``), then ``d rho / d phi_1
+        .. d phi_(n-1)`` (if ``phase_free``), per rad.
     """
     count = len(beta_rad)
-    cos_beta = [math.cos(beta) for beta in beta_rad]
-    sin_beta = [math.sin(beta) for beta in beta_rad]
-    cos_phase = [math.cos(phase) for phase in phase_rad]
-    sin_phase = [math.sin(phase) for phase in phase_rad]
-    # before[k]: product of the factors up to and including D_k; its rows.
-    before: list[tuple[float, float, float, float]] = []
-    a11, a12, a21, a22 = 1.0, 0.0, 0.0, cos_beta[0]
-    before.append((a11, a12, a21, a22))
-    for k in range(1, count):
-        c, s = cos_phase[k - 1], sin_phase[k - 1]
-        a11, a12, a21, a22 = (c * a11 - s * a21, c * a12 - s * a22,
-                              s * a11 + c * a21, s * a12 + c * a22)
-        a21, a22 = cos_beta[k] * a21, cos_beta[k] * a22
-        before.append((a11, a12, a21, a22))
+    last = count - 1
+    cos, sin = math.cos, math.sin
+    cos_beta = [cos(beta) for beta in beta_rad]
+    cos_phase = [cos(phase) for phase in phase_rad]
+    sin_phase = [sin(phase) for phase in phase_rad]
+    before_a = [0.0j] * count
+    before_c = [0.0j] * count
+    a, c = 1.0 + 0.0j, 0.0j
     determinant = 1.0
-    for value in cos_beta:
-        determinant *= value
-    scale = 1.0 / math.sqrt(2.0 * determinant)
-    r1 = (a11 - a22) * scale
-    r2 = (a12 + a21) * scale
-    # after[k]: product of the factors after D_k (R_k D_(k+1) ... D_n).
-    after: list[tuple[float, float, float, float]] = [(1.0, 0.0, 0.0, 1.0)] * count
-    b11, b12, b21, b22 = 1.0, 0.0, 0.0, 1.0
-    for k in range(count - 1, 0, -1):
-        after[k] = (b11, b12, b21, b22)
-        # (b D_k) R_(k-1): first D_k from the right, then the rotation.
-        cb = cos_beta[k]
-        b12, b22 = b12 * cb, b22 * cb
-        c, s = cos_phase[k - 1], sin_phase[k - 1]
-        b11, b12, b21, b22 = (b11 * c + b12 * s, -b11 * s + b12 * c,
-                              b21 * c + b22 * s, -b21 * s + b22 * c)
-    after[0] = (b11, b12, b21, b22)
-    row1: list[float] = []
-    row2: list[float] = []
-    phase_row1: list[float] = []
-    phase_row2: list[float] = []
     for k in range(count):
-        p11, p12, p21, p22 = before[k - 1] if k else (1.0, 0.0, 0.0, 1.0)
-        q11, q12, q21, q22 = after[k]
-        # dM/d beta_k = after_k diag(0, -sin beta_k) (R_(k-1) before_(k-1)); the row
-        # (0, -sin) picks the second row of what D_k acts on.
+        before_a[k] = a
+        before_c[k] = c
+        cosine = cos_beta[k]
+        determinant *= cosine
+        p, q = 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine
+        a, c = p * a + q * c, p * c + q * a
+        if k < last:
+            a *= complex(cos_phase[k], sin_phase[k])
+            c *= complex(cos_phase[k], -sin_phase[k])
+    scale = math.sqrt(2.0 / determinant)
+    rho = c * scale
+    phase_offset = count if beta_free else 0
+    jacobian = [0.0j] * (phase_offset + (last if phase_free else 0))
+    e, f = 1.0 + 0.0j, 0.0j
+    for k in range(last, -1, -1):
+        cosine = cos_beta[k]
+        if beta_free:
+            s = sin(beta_rad[k])
+            jacobian[k] = ((-0.5 * s * scale) * (e - f) * (before_c[k] - before_a[k])
+                           + rho * (0.5 * s / cosine))
+        p, q = 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine
+        e, f = e * p + f * q, e * q + f * p
         if k:
-            c, s = cos_phase[k - 1], sin_phase[k - 1]
-            u1, u2 = s * p11 + c * p21, s * p12 + c * p22
-        else:
-            u1, u2 = 0.0, 1.0
-        u1, u2 = -sin_beta[k] * u1, -sin_beta[k] * u2
-        d11, d12, d21, d22 = q12 * u1, q12 * u2, q22 * u1, q22 * u2
-        half_tan = 0.5 * sin_beta[k] / cos_beta[k]
-        row1.append((d11 - d22) * scale + r1 * half_tan)
-        row2.append((d12 + d21) * scale + r2 * half_tan)
-        if k:
-            # dM/d phi_k = after_k D_k R_(k-1) J before_(k-1), J = [[0, -1], [1, 0]].
-            c, s = cos_phase[k - 1], sin_phase[k - 1]
-            v11, v12, v21, v22 = -p21, -p22, p11, p12
-            w11, w12 = c * v11 - s * v21, c * v12 - s * v22
-            w21, w22 = cos_beta[k] * (s * v11 + c * v21), cos_beta[k] * (s * v12 + c * v22)
-            d11, d12 = q11 * w11 + q12 * w21, q11 * w12 + q12 * w22
-            d21, d22 = q21 * w11 + q22 * w21, q21 * w12 + q22 * w22
-            phase_row1.append((d11 - d22) * scale)
-            phase_row2.append((d12 + d21) * scale)
-    return r1, r2, row1 + phase_row1, row2 + phase_row2
+            if phase_free:
+                jacobian[phase_offset + k - 1] = -1j * scale * (e * before_c[k]
+                                                                 - f * before_a[k])
+            e *= complex(cos_phase[k - 1], -sin_phase[k - 1])
+            f *= complex(cos_phase[k - 1], sin_phase[k - 1])
+    return rho, jacobian

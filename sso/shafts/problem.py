@@ -30,7 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from sso.kinematics.hooke_matrix import residuals, residuals_and_jacobian_floats
+import numpy as np
+
+from sso.kinematics.hooke_matrix import residual_and_jacobian_complex, residuals
 from sso.limits import QUADRATURE_BLOCK_SAMPLES
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.options import DesignProblem
@@ -72,8 +74,10 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
                                     [p[i] for i in range(p.numel())])
         first, second = residuals(casadi, beta, phase)
         residual = casadi.vertcat(first, second)
-        nlp = compile_nlp(name, x, p, casadi.dot(residual, residual))
-        nlp.residuals_and_jacobian = _float_residuals(problem)
+        float_residual = _float_residuals(problem)
+        nlp = compile_nlp(name, x, p, casadi.dot(residual, residual),
+                          objective_and_gradient=_float_objective(float_residual))
+        nlp.residuals_and_jacobian = float_residual
     nlp.nonnegative_objective = True
     return nlp
 
@@ -116,19 +120,39 @@ def _block_sum(problem: DesignProblem, model: str, x: Any, p: Any, cos_theta: An
     return casadi.sum1(squared_ratio_error(casadi, cos_theta, sin_theta, beta, phase, model))
 
 def _float_residuals(problem: DesignProblem) -> Any:
-    """``(x, p) -> (r1, r2, row1, row2)`` over the free variables, in plain floats."""
+    """``(x, p) -> (rho, jacobian)`` over the free variables, in Python complex numbers.
+
+    ``x`` and ``p`` are lists of floats (rad); see
+    :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`.
+    """
     n_joints = problem.n_joints
     beta_free, phase_free = problem.beta_free, problem.phase_free
 
-    def evaluate(x: list[float], fixed: list[float]) -> tuple[float, float, list[float],
-                                                               list[float]]:
+    def evaluate(x: list[float], fixed: list[float]) -> tuple[complex, list[complex]]:
         if beta_free and phase_free:
-            r1, r2, row1, row2 = residuals_and_jacobian_floats(x[:n_joints], x[n_joints:])
-            return r1, r2, row1, row2
+            return residual_and_jacobian_complex(x[:n_joints], x[n_joints:])
         if beta_free:
-            r1, r2, row1, row2 = residuals_and_jacobian_floats(x, fixed)
-            return r1, r2, row1[:n_joints], row2[:n_joints]
-        r1, r2, row1, row2 = residuals_and_jacobian_floats(fixed, x)
-        return r1, r2, row1[n_joints:], row2[n_joints:]
+            return residual_and_jacobian_complex(x, fixed, phase_free=False)
+        return residual_and_jacobian_complex(fixed, x, beta_free=False)
+
+    return evaluate
+
+
+def _float_objective(float_residual: Any) -> Any:
+    """``(x, p) -> (RE, dRE/dx)`` from the closed form in Python floats.
+
+    The exact model's measure of every answer (objective and projected gradient,
+    the same for every solver), its saddle checks and SLSQP's objective use it: for
+    a few joints it costs less than one call of the CasADi function through numpy
+    buffers. IPOPT keeps the CasADi graph (its exact Hessian); the tests check the
+    two against each other.
+    """
+
+    def evaluate(x: Any, parameters: Any) -> tuple[float, np.ndarray]:
+        rho, jacobian = float_residual(np.asarray(x, dtype=float).tolist(),
+                                       np.asarray(parameters, dtype=float).tolist())
+        r1, r2 = 2.0 * rho.real, 2.0 * rho.imag
+        return (rho.real * rho.real + rho.imag * rho.imag,
+                np.array([r1 * entry.real + r2 * entry.imag for entry in jacobian]))
 
     return evaluate

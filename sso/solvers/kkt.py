@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from sso.solvers.run import RunLimits
@@ -13,15 +15,24 @@ ACTIVE_TOLERANCE = 1e-7
 def projected_gradient_norm(
     x: np.ndarray, gradient: np.ndarray, lower: np.ndarray, upper: np.ndarray
 ) -> float:
-    """Infinity norm of ``x - clip(x - gradient, lower, upper)``.
+    """Infinity norm of ``x - clip(x - gradient, lower, upper)`` (NaN if the gradient has one).
 
     Zero exactly at a first-order (KKT) point of a bound-constrained problem:
-    gradient components that push against an active bound do not count.
+    gradient components that push against an active bound do not count. In plain
+    floats: the vectors are a few dozen entries, fewer than a numpy call's overhead
+    is worth.
     """
-    if len(x) == 0:
-        return 0.0
-    step = x - np.clip(x - gradient, lower, upper)
-    return float(np.max(np.abs(step)))
+    norm = 0.0
+    for value, slope, low, high in zip(x.tolist(), np.ravel(gradient).tolist(), lower.tolist(),
+                                       upper.tolist(), strict=True):
+        projected = value - slope
+        if projected != projected:
+            return math.nan
+        distance = abs(value - (low if projected < low else high if projected > high
+                                else projected))
+        if distance > norm:
+            norm = distance
+    return norm
 
 
 def kkt_residual(
@@ -65,8 +76,12 @@ def constraint_violation(
     x: np.ndarray, limits: RunLimits, constraint_values: np.ndarray | None = None
 ) -> float:
     """Largest amount by which ``x`` or ``g(x)`` leaves its bounds (0 when feasible)."""
-    excess = [np.zeros(1), limits.lower - x, x - limits.upper]
+    excess = 0.0
+    for value, low, high in zip(x.tolist(), limits.lower.tolist(), limits.upper.tolist(),
+                                strict=True):
+        excess = max(excess, low - value, value - high)
     if limits.constrained:
         values = np.asarray(constraint_values, dtype=float).ravel()
-        excess += [limits.constraint_lower - values, values - limits.constraint_upper]
-    return float(max(np.max(part) for part in excess if part.size))
+        excess = max(excess, float(np.max(limits.constraint_lower - values)),
+                     float(np.max(values - limits.constraint_upper)))
+    return excess

@@ -1,8 +1,10 @@
-"""A single-design bounded Levenberg-Marquardt on two residuals, in plain Python floats.
+"""A single-design bounded Levenberg-Marquardt on two residuals, in plain Python numbers.
 
-Minimises ``f(x) = r_1(x)^2 + r_2(x)^2`` under box bounds, where the problem
-supplies the two residuals and their Jacobian (a shaft series of the exact model:
-:func:`sso.kinematics.hooke_matrix.residuals_and_jacobian_floats`). With two
+Minimises ``f(x) = r_1(x)^2 + r_2(x)^2 = |rho(x)|^2`` under box bounds, where the
+problem supplies the two residuals as one complex number ``rho`` (``r_1 - i r_2``
+for a shaft series; the sign of a residual does not matter to least squares) and
+its Jacobian as one complex number per variable (a shaft series of the exact
+model: :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`). With two
 residuals and ``k`` variables the damped Gauss-Newton step
 
     dx = -(J^T J + mu I)^-1 J^T r = -J^T (J J^T + mu I)^-1 r
@@ -14,7 +16,9 @@ or CasADi call (whose fixed overhead per call exceeds the arithmetic): this
 solver exists for single solves, :func:`sso.solvers.least_squares.batch_least_squares`
 for many at once. The method is the batched one's (projected active-set LM,
 Nielsen's damping rule, Newton steps from differences of the gradient when it
-converges slowly to a nonzero residual), on one design.
+converges slowly to a nonzero residual), on one design. The loops are written
+out over indices: at this size the interpreter's cost per statement, not the
+arithmetic, is the running time.
 
 Its answer goes through the same measure as every other solver
 (:mod:`sso.solvers.multistart`): the stopping test here is the same projected
@@ -32,7 +36,7 @@ import numpy as np
 
 from sso.solvers.run import RunLimits, RunOutcome
 
-Residuals = Callable[[list[float]], tuple[float, float, list[float], list[float]]]
+Residual = Callable[[list[float]], tuple[complex, list[complex]]]
 
 MESSAGES = {
     -2: "residual or Jacobian is not finite",
@@ -69,8 +73,8 @@ def solve(
     Parameters
     ----------
     nlp : sso.solvers.nlp.CompiledNLP
-        The problem; its ``residuals_and_jacobian(x, parameters)`` gives
-        ``(r1, r2, row1, row2)`` in floats (a problem without it fails the run).
+        The problem; its ``residuals_and_jacobian(x, parameters)`` gives ``(rho,
+        jacobian)`` in Python complex numbers (a problem without it fails the run).
     start, parameters : numpy.ndarray
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
@@ -81,23 +85,22 @@ def solve(
         Trial steps, at most.
     """
     started = time.perf_counter()
-    residuals = getattr(nlp, "residuals_and_jacobian", None)
-    if residuals is None or limits.constrained:
+    residual = getattr(nlp, "residuals_and_jacobian", None)
+    if residual is None or limits.constrained:
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0, -3, False,
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
-    fixed = [float(value) for value in parameters]
+    fixed = parameters.tolist()
     x, fun, nit, nfev, status = minimise(
-        lambda point: residuals(point, fixed), [float(value) for value in start],
-        [float(value) for value in limits.lower], [float(value) for value in limits.upper],
-        solver_tol, max_iterations)
+        lambda point: residual(point, fixed), start.tolist(), limits.lower.tolist(),
+        limits.upper.tolist(), solver_tol, max_iterations)
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 
 
-def minimise(residuals: Residuals, start: list[float], lower: list[float], upper: list[float],
+def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],
              tolerance: float, max_iterations: int) -> tuple[list[float], float, int, int, int]:
-    """Minimise ``r1^2 + r2^2`` under bounds from ``start``.
+    """Minimise ``|rho|^2`` under bounds from ``start``.
 
     Returns
     -------
@@ -105,55 +108,91 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
         Final point, sum of squares, trial steps, residual evaluations and a key of
         :data:`MESSAGES`.
     """
-    size = len(start)
-    x = [min(max(value, low), high) for value, low, high in zip(start, lower, upper, strict=True)]
-    r1, r2, row1, row2 = residuals(x)
+    span = range(len(start))
+    x = [min(max(start[i], lower[i]), upper[i]) for i in span]
+    rho, jacobian = residual(x)
     nfev = 1
-    fun = r1 * r1 + r2 * r2
+    fun = rho.real * rho.real + rho.imag * rho.imag
     damping, growth = _INITIAL_DAMPING, 2.0
     newton = False
     previous_norm = math.inf
     slow_steps = 0
     for nit in range(max_iterations):
-        if not (math.isfinite(fun) and all(map(math.isfinite, row1))
-                and all(map(math.isfinite, row2))):
+        # A NaN or infinity anywhere makes the sum non-finite.
+        if not math.isfinite(fun + abs(sum(jacobian))):
             return x, fun, nit, nfev, -2
-        gradient = [2.0 * (a * r1 + b * r2) for a, b in zip(row1, row2, strict=True)]
-        free = [upper[i] > lower[i]
-                and not (x[i] <= lower[i] and gradient[i] > 0.0)
-                and not (x[i] >= upper[i] and gradient[i] < 0.0) for i in range(size)]
-        norm = max((abs(x[i] - min(max(x[i] - gradient[i], lower[i]), upper[i]))
-                    for i in range(size)), default=0.0)
+        # One pass: the gradient 2 J^T r, its projection on the bounds, the free
+        # variables (off their bounds, or pulled inwards) and J J^T over them.
+        r1, r2 = 2.0 * rho.real, 2.0 * rho.imag
+        gradient = [0.0] * len(x)
+        free = [False] * len(x)
+        norm = a11 = a12 = a22 = 0.0
+        for i in span:
+            entry = jacobian[i]
+            real, imaginary = entry.real, entry.imag
+            slope = r1 * real + r2 * imaginary
+            value, low, high = x[i], lower[i], upper[i]
+            projected = value - slope
+            projected = low if projected < low else high if projected > high else projected
+            distance = abs(value - projected)
+            if distance > norm:
+                norm = distance
+            gradient[i] = slope
+            if (high > low and not (value <= low and slope > 0.0)
+                    and not (value >= high and slope < 0.0)):
+                free[i] = True
+                a11 += real * real
+                a12 += real * imaginary
+                a22 += imaginary * imaginary
         if norm <= tolerance:
             return x, fun, nit, nfev, 1
         if fun <= _ZERO_RESIDUAL:
             return x, fun, nit, nfev, 4
         if newton:
-            step, predicted = _newton_step(residuals, x, gradient, free, damping)
+            step, predicted = _newton_step(residual, x, gradient, free, damping)
             nfev += sum(free)
         else:
-            step, predicted = _gauss_newton_step(r1, r2, row1, row2, free, damping)
-        trial = [min(max(x[i] + step[i], lower[i]), upper[i]) for i in range(size)]
-        if max(abs(t - v) for t, v in zip(trial, x, strict=True)) <= _ROUND_OFF * (
-                1.0 + max(abs(v) for v in x)):
+            # -J^T (J J^T + mu I)^-1 r over the free variables, mu = damping * trace / 2.
+            mu = damping * max(0.5 * (a11 + a22), 1e-30)
+            a11 += mu
+            a22 += mu
+            determinant = a11 * a22 - a12 * a12
+            y1 = (a22 * rho.real - a12 * rho.imag) / determinant
+            y2 = (a11 * rho.imag - a12 * rho.real) / determinant
+            step = [-(entry.real * y1 + entry.imag * y2) if is_free else 0.0
+                    for entry, is_free in zip(jacobian, free, strict=True)]
+        # The trial point (projected onto the bounds) and the linear model's residual there.
+        trial = [0.0] * len(x)
+        largest_move = largest_value = 0.0
+        model = rho
+        for i in span:
+            value = x[i]
+            moved = value + step[i]
+            moved = lower[i] if moved < lower[i] else upper[i] if moved > upper[i] else moved
+            trial[i] = moved
+            move = moved - value
+            model += jacobian[i] * move
+            if abs(move) > largest_move:
+                largest_move = abs(move)
+            if abs(value) > largest_value:
+                largest_value = abs(value)
+        if largest_move <= _ROUND_OFF * (1.0 + largest_value):
             return x, fun, nit, nfev, 3
         if not newton:
-            # The model's decrease for the projected step actually taken.
-            model1 = r1 + sum(a * (t - v) for a, t, v in zip(row1, trial, x, strict=True))
-            model2 = r2 + sum(b * (t - v) for b, t, v in zip(row2, trial, x, strict=True))
-            predicted = fun - (model1 * model1 + model2 * model2)
-        t1, t2, trial_row1, trial_row2 = residuals(trial)
+            # The linear model's decrease for the projected step actually taken.
+            predicted = fun - (model.real * model.real + model.imag * model.imag)
+        trial_rho, trial_jacobian = residual(trial)
         nfev += 1
-        trial_fun = t1 * t1 + t2 * t2
+        trial_fun = trial_rho.real * trial_rho.real + trial_rho.imag * trial_rho.imag
         actual = fun - trial_fun
         if predicted > 0.0 and actual >= _ACCEPT_RATIO * predicted:
             ratio = actual / predicted
             damping *= max(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
             growth = 2.0
-            if abs(actual) <= _ROUND_OFF * fun and predicted <= _ROUND_OFF * fun:
-                x, fun, r1, r2, row1, row2 = trial, trial_fun, t1, t2, trial_row1, trial_row2
+            at_round_off = abs(actual) <= _ROUND_OFF * fun and predicted <= _ROUND_OFF * fun
+            x, fun, rho, jacobian = trial, trial_fun, trial_rho, trial_jacobian
+            if at_round_off:
                 return x, fun, nit + 1, nfev, 2
-            x, fun, r1, r2, row1, row2 = trial, trial_fun, t1, t2, trial_row1, trial_row2
             # Gauss-Newton is only linear at a nonzero residual: take Newton steps once
             # the projected gradient has fallen by less than half in _SLOW_STEPS
             # accepted steps.
@@ -173,26 +212,7 @@ def minimise(residuals: Residuals, start: list[float], lower: list[float], upper
     return x, fun, max_iterations, nfev, 0
 
 
-def _gauss_newton_step(r1: float, r2: float, row1: list[float], row2: list[float],
-                       free: list[bool], damping: float) -> tuple[list[float], float]:
-    """``-J^T (J J^T + mu I)^-1 r`` over the free variables, ``mu = damping * trace / 2``."""
-    a11 = a12 = a22 = 0.0
-    for a, b, is_free in zip(row1, row2, free, strict=True):
-        if is_free:
-            a11 += a * a
-            a12 += a * b
-            a22 += b * b
-    mu = damping * max(0.5 * (a11 + a22), 1e-30)
-    a11 += mu
-    a22 += mu
-    determinant = a11 * a22 - a12 * a12
-    y1 = (a22 * r1 - a12 * r2) / determinant
-    y2 = (a11 * r2 - a12 * r1) / determinant
-    return [-(a * y1 + b * y2) if is_free else 0.0
-            for a, b, is_free in zip(row1, row2, free, strict=True)], 0.0
-
-
-def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], free: list[bool],
+def _newton_step(residual: Residual, x: list[float], gradient: list[float], free: list[bool],
                  damping: float) -> tuple[list[float], float]:
     """Damped Newton step on the free variables, Hessian from forward differences of the gradient.
 
@@ -207,9 +227,11 @@ def _newton_step(residuals: Residuals, x: list[float], gradient: list[float], fr
     for column, i in enumerate(index):
         ahead = list(x)
         ahead[i] += _HESSIAN_STEP
-        a1, a2, a_row1, a_row2 = residuals(ahead)
+        ahead_rho, ahead_jacobian = residual(ahead)
+        r1, r2 = 2.0 * ahead_rho.real, 2.0 * ahead_rho.imag
         for row, j in enumerate(index):
-            hessian[row][column] = (2.0 * (a_row1[j] * a1 + a_row2[j] * a2)
+            entry = ahead_jacobian[j]
+            hessian[row][column] = (r1 * entry.real + r2 * entry.imag
                                     - gradient[j]) / _HESSIAN_STEP
     step = [0.0] * len(x)
     values = [value for row in hessian for value in row]

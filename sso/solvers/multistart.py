@@ -284,9 +284,8 @@ def _backend(name: str) -> _Backend:
 
 def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
              parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
-    x = np.clip(np.nan_to_num(outcome.x, nan=0.0), limits.lower, limits.upper)
+    x = np.clip(np.where(np.isnan(outcome.x), 0.0, outcome.x), limits.lower, limits.upper)
     value, gradient = nlp.objective_and_gradient(x, parameters)
-    gradient = np.array(gradient, dtype=float).ravel()
     constraint_values = constraint_jacobian = None
     if limits.constrained:
         constraint_values, constraint_jacobian = nlp.constraints_and_jacobian(x, parameters)

@@ -34,18 +34,20 @@ class CompiledNLP:
         Name given to the CasADi functions.
     symbols : dict
         ``{"x", "p", "f"}`` and ``"g"`` when there are constraints.
-    objective_and_gradient : BufferedFunction
+    objective_and_gradient : BufferedFunction or callable
         ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
-        by the optimality measures.
+        by the optimality measures: the CasADi function of ``f``, or a closed form
+        given to :func:`compile_nlp`.
     constraints_and_jacobian : BufferedFunction or None
         ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
         constraint functions.
     ipopt_solvers : dict
         ``nlpsol`` instances keyed by their option tuple, built on first use.
     residuals_and_jacobian : callable or None
-        For a least-squares objective ``f = r1^2 + r2^2``: ``(x, p) -> (r1, r2,
-        row1, row2)`` in plain floats (lists in, floats and lists out), used by
-        the ``"lm"`` solver; None otherwise.
+        For a least-squares objective ``f = r1^2 + r2^2``: ``(x, p) -> (rho,
+        jacobian)`` with ``RE = |rho|^2`` and one complex derivative per
+        variable (lists of floats in, Python complex numbers out), used by the
+        ``"lm"`` solver; None otherwise.
     nonnegative_objective : bool
         True when the objective is never negative (a sum of squares): a point at
         round-off zero is then a global minimum and needs no second-order check.
@@ -166,7 +168,8 @@ class BufferedFunction:
         return tuple(results)
 
 
-def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None) -> CompiledNLP:
+def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,
+                objective_and_gradient: Any = None) -> CompiledNLP:
     """Wrap CasADi symbols of an NLP into the functions the solvers use.
 
     Parameters
@@ -179,16 +182,21 @@ def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = No
         Scalar objective.
     constraints : casadi.SX, optional
         Constraint functions ``g(x, p)``, bounded per solve.
+    objective_and_gradient : callable, optional
+        ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)`` computed without
+        CasADi (a closed form), used instead of a CasADi function of ``objective``;
+        it must agree with ``objective``, which IPOPT still solves.
     """
     import casadi
 
     symbols = {"x": x, "p": p, "f": objective}
-    objective_and_gradient = BufferedFunction(
-        casadi.Function(f"{name}_f", [x, p],
-                        [objective, casadi.densify(casadi.gradient(objective, x))],
-                        ["x", "p"], ["f", "grad"]),
-        scalar_first=True,
-    )
+    if objective_and_gradient is None:
+        objective_and_gradient = BufferedFunction(
+            casadi.Function(f"{name}_f", [x, p],
+                            [objective, casadi.densify(casadi.gradient(objective, x))],
+                            ["x", "p"], ["f", "grad"]),
+            scalar_first=True,
+        )
     constraints_and_jacobian = None
     if constraints is not None:
         symbols["g"] = constraints

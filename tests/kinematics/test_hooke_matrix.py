@@ -200,24 +200,40 @@ def test_phase_count_and_empty_chain_are_refused():
         hooke_matrix.chain_matrix(np, [], [])
 
 
-def test_float_jacobian_matches_complex_step():
-    # The plain-float path (used by the single-design least-squares solver) against
-    # complex-step derivatives of the numpy residuals, 1 to 12 joints up to 85 deg.
+def test_complex_float_jacobian_matches_complex_step():
+    # The plain-complex path (used by the single-design least-squares solver and the
+    # exact model's shared optimality measure) against complex-step derivatives of
+    # the numpy residuals, 1 to 12 joints up to 85 deg.
     rng = np.random.default_rng(RNG_SEED + 7)
     step = 1e-30
     for n_joints in range(1, 13):
         beta_rad, phase_rad = random_chain(rng, n_joints, 85.0)
-        r1, r2, row1, row2 = hooke_matrix.residuals_and_jacobian_floats(list(beta_rad),
-                                                                         list(phase_rad))
-        assert len(row1) == len(row2) == 2 * n_joints - 1
+        rho, jacobian = hooke_matrix.residual_and_jacobian_complex(list(beta_rad),
+                                                                   list(phase_rad))
+        assert len(jacobian) == 2 * n_joints - 1
         expected_residual = hooke_matrix.residuals(np, list(beta_rad), list(phase_rad))
-        np.testing.assert_allclose([r1, r2], expected_residual, rtol=1e-14, atol=1e-15)
+        # rho = r1 - i r2
+        np.testing.assert_allclose([rho.real, -rho.imag], expected_residual, rtol=1e-14,
+                                   atol=1e-15)
         x = np.concatenate([beta_rad, phase_rad]).astype(complex)
         for column in range(x.size):
             shifted = x.copy()
             shifted[column] += 1j * step
             values = hooke_matrix.residuals(np, list(shifted[:n_joints]),
                                             list(shifted[n_joints:]))
-            np.testing.assert_allclose([row1[column], row2[column]],
+            np.testing.assert_allclose([jacobian[column].real, -jacobian[column].imag],
                                        [value.imag / step for value in values],
                                        rtol=1e-12, atol=1e-13)
+
+
+def test_complex_float_jacobian_returns_the_requested_columns():
+    rng = np.random.default_rng(RNG_SEED + 8)
+    beta_rad, phase_rad = random_chain(rng, 4, 60.0)
+    rho, full = hooke_matrix.residual_and_jacobian_complex(list(beta_rad), list(phase_rad))
+    rho_beta, beta_only = hooke_matrix.residual_and_jacobian_complex(
+        list(beta_rad), list(phase_rad), phase_free=False)
+    rho_phase, phase_only = hooke_matrix.residual_and_jacobian_complex(
+        list(beta_rad), list(phase_rad), beta_free=False)
+    assert rho_beta == rho_phase == rho
+    assert beta_only == full[:4]
+    assert phase_only == full[4:]

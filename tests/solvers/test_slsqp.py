@@ -23,11 +23,14 @@ def test_reaches_the_closed_form_optimum(case):
     assert outcome.nfev >= outcome.nit + 1 and outcome.njev >= 2
 
 
-def test_bounds_are_kept_exactly():
+def test_bounds_are_kept():
+    # The optimum sits on the lower bound x[0] = 0: SLSQP never leaves the box, and
+    # stops on the bound to round-off (SciPy 1.17's SLSQP ends 9.9e-16 inside it;
+    # earlier releases ended on it exactly).
     case = next(case for case in CLOSED_FORM_CASES if case.name == "bowl on a bound")
     nlp, limits = case.build()
     outcome = slsqp.solve(nlp, np.array(case.start), PARAMETERS, limits, 1e-12, 500)
-    assert outcome.x[0] == 0.0
+    assert 0.0 <= outcome.x[0] <= 1e-12
     assert outcome.fun == pytest.approx(1.0, abs=1e-12)
 
 
