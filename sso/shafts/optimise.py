@@ -24,7 +24,7 @@ from sso.limits import (
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
-from sso.shafts.series import ShaftSeries
+from sso.shafts.series import ShaftSeries, checked_series
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -315,7 +315,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     screened = screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
-    bar = ProgressBar(runs, "runs", interactive() and runs >= PROGRESS_MIN_RUNS)
+    bar = ProgressBar(runs, "runs", runs >= PROGRESS_MIN_RUNS and interactive())
     try:
         solved = solve_from_starts(
             compiled_nlp(problem, rule.samples), problem.start_rad,
@@ -329,7 +329,9 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     finally:
         bar.close()
 
-    initial_series = (series.with_design(phase_deg=[OPTION_FIXED_PHASE_DEG] * len(series.phase_deg))
+    initial_series = (checked_series(series.beta_deg,
+                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
+                                     series.model)
                       if problem.option == 2 else series)
     start_beta, start_phase = problem.design_deg(problem.start_deg)
     return OptimisationResult(
@@ -340,7 +342,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         beta_bounds_deg=problem.beta_bounds_deg,
         phase_bounds_deg=problem.phase_bounds_deg,
         initial_series=initial_series,
-        start_series=ShaftSeries(start_beta, start_phase, series.model),
+        start_series=checked_series(start_beta, start_phase, series.model),
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,
@@ -355,4 +357,4 @@ def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
                  solver_runs: list[MeasuredRun]) -> Solution:
     x_deg = np.degrees(run.outcome.x)
     beta_deg, phase_deg = problem.design_deg(x_deg)
-    return solution_from_run(run, solver_runs, x_deg, ShaftSeries(beta_deg, phase_deg, model))
+    return solution_from_run(run, solver_runs, x_deg, checked_series(beta_deg, phase_deg, model))

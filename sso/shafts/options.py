@@ -113,8 +113,11 @@ class DesignProblem:
     def design_deg(self, x_deg: Sequence[float] | NDArray[np.float64]
                    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
-        beta, phase = self.split(list(x_deg), list(self.parameters_deg))
-        return tuple(float(value) for value in beta), tuple(float(value) for value in phase)
+        free = np.asarray(x_deg, dtype=float).tolist()
+        fixed = self.parameters_deg.tolist()
+        if self.beta_free and self.phase_free:
+            return tuple(free[:self.n_joints]), tuple(free[self.n_joints:])
+        return (tuple(free), tuple(fixed)) if self.beta_free else (tuple(fixed), tuple(free))
 
     @property
     def beta_upper_rad(self) -> list[float]:

@@ -192,6 +192,21 @@ class ShaftSeries:
                                 phase_rad, self.model)
 
 
+def checked_series(beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],
+                   model: str) -> ShaftSeries:
+    """A :class:`ShaftSeries` of angles that were checked before they were computed.
+
+    For a solver's answer, which lies inside bounds that were validated against
+    the same ranges: the checks of ``ShaftSeries(...)`` would repeat them on every
+    solve. Never for input from outside the package.
+    """
+    series = object.__new__(ShaftSeries)
+    object.__setattr__(series, "beta_deg", beta_deg)
+    object.__setattr__(series, "phase_deg", phase_deg)
+    object.__setattr__(series, "model", model)
+    return series
+
+
 def _finite_angles(theta_deg: Any) -> NDArray[np.float64]:
     theta = np.asarray(theta_deg, dtype=float)
     if not np.all(np.isfinite(theta)):

@@ -165,7 +165,8 @@ def run_starts(
     """Every solver from every start, in order; failures are kept, never raised.
 
     With ``second_order``, each run skips the solver at a start that is already a
-    minimum and restarts it off saddle points (:mod:`sso.solvers.saddle`).
+    minimum (``"lm"`` is run: its first step is that test) and restarts it off
+    saddle points (:mod:`sso.solvers.saddle`).
 
     Parameters
     ----------
@@ -203,7 +204,7 @@ def run_starts(
         runs[name] = []
         for index, point in enumerate(points):
             outcome = (solve_with_second_order_care(solve, nlp, point, parameters, limits,
-                                                    solver_tol)
+                                                    solver_tol, check_start=name != "lm")
                        if second_order else solve(point))
             runs[name].append(_measure(name, index, outcome, nlp, parameters, limits))
             if progress is not None:
@@ -284,7 +285,12 @@ def _backend(name: str) -> _Backend:
 
 def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
              parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
-    x = np.clip(np.where(np.isnan(outcome.x), 0.0, outcome.x), limits.lower, limits.upper)
+    # NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as
+    # the vectors are short.
+    x = np.array([min(max(0.0 if value != value else value, low), high)
+                  for value, low, high in zip(np.asarray(outcome.x, dtype=float).tolist(),
+                                              limits.lower.tolist(), limits.upper.tolist(),
+                                              strict=True)], dtype=float)
     value, gradient = nlp.objective_and_gradient(x, parameters)
     constraint_values = constraint_jacobian = None
     if limits.constrained:

@@ -47,3 +47,8 @@ class RunOutcome:
     success: bool
     message: str
     time_s: float
+
+    def with_time(self, time_s: float) -> RunOutcome:
+        """The same outcome with wall time ``time_s`` (s)."""
+        return RunOutcome(self.x, self.fun, self.nit, self.nfev, self.njev, self.status,
+                          self.success, self.message, time_s)

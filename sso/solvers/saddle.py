@@ -54,6 +54,7 @@ def solve_with_second_order_care(
     parameters: np.ndarray,
     limits: RunLimits,
     solver_tol: float,
+    check_start: bool = True,
 ) -> RunOutcome:
     """Run ``solve(start)``, skipping it at a minimum and restarting it off saddle points.
 
@@ -70,6 +71,10 @@ def solve_with_second_order_care(
     solver_tol : float
         The solver tolerance; the start counts as stationary when its projected
         gradient is below it and below ``STATIONARY_START``.
+    check_start : bool
+        Look at the start before running the solver (False for a solver whose
+        first step is that same test, such as ``"lm"``: a start at a minimum
+        costs it one evaluation, and a saddle point it stops on is still left).
 
     Returns
     -------
@@ -79,31 +84,23 @@ def solve_with_second_order_care(
     if limits.constrained:
         return solve(start)
     started = time.perf_counter()
-    outcome = _solve_with_checks(solve, nlp, start, parameters, limits, solver_tol)
-    return replace(outcome, time_s=time.perf_counter() - started)
+    outcome = _solve_with_checks(solve, nlp, start, parameters, limits, solver_tol, check_start)
+    return outcome.with_time(time.perf_counter() - started)
 
 
 def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, start: np.ndarray,
-                       parameters: np.ndarray, limits: RunLimits, solver_tol: float) -> RunOutcome:
+                       parameters: np.ndarray, limits: RunLimits, solver_tol: float,
+                       check_start: bool) -> RunOutcome:
     """The checks' own calls are counted: objective values they compare as ``nfev``,
     gradients the difference Hessian uses as ``njev``."""
     counts = _Counts()
     start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
-    value, gradient = _value_and_gradient(nlp, start, parameters, counts)
-    stationary = min(solver_tol, STATIONARY_START)
     global_floor = ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -np.inf
-    if value <= global_floor:
-        return counts.add_to(RunOutcome(
-            start, value, 0, 0, 0, 0, True,
-            "start is a global minimum (nonnegative objective at round-off zero): "
-            "solver not run", 0.0))
-    if projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary:
-        direction = _negative_curvature(nlp, start, parameters, limits, counts)
-        if direction is None:
-            return counts.add_to(RunOutcome(
-                start, value, 0, 0, 0, 0, True,
-                "start is a minimum to tolerance (stationary, no negative curvature): "
-                "solver not run", 0.0))
+    if check_start:
+        at_minimum = _minimum_at_start(nlp, start, parameters, limits, solver_tol, global_floor,
+                                       counts)
+        if at_minimum is not None:
+            return counts.add_to(at_minimum)
     outcome = solve(start)
     for _ in range(MAX_ESCAPES):
         if (not outcome.success or not np.all(np.isfinite(outcome.x))
@@ -120,6 +117,24 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
     return counts.add_to(outcome)
 
 
+def _minimum_at_start(nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+                      solver_tol: float, global_floor: float,
+                      counts: _Counts) -> RunOutcome | None:
+    """The start as the answer when it is a global minimum or a minimum to tolerance, else None."""
+    value, gradient = _value_and_gradient(nlp, start, parameters, counts)
+    if value <= global_floor:
+        return RunOutcome(start, value, 0, 0, 0, 0, True,
+                          "start is a global minimum (nonnegative objective at round-off "
+                          "zero): solver not run", 0.0)
+    stationary = min(solver_tol, STATIONARY_START)
+    if (projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary
+            and _negative_curvature(nlp, start, parameters, limits, counts) is None):
+        return RunOutcome(start, value, 0, 0, 0, 0, True,
+                          "start is a minimum to tolerance (stationary, no negative curvature): "
+                          "solver not run", 0.0)
+    return None
+
+
 class _Counts:
     """Objective values and gradients the checks evaluate (one CasADi call gives both)."""
 
@@ -128,6 +143,8 @@ class _Counts:
         self.gradient = 0
 
     def add_to(self, outcome: RunOutcome) -> RunOutcome:
+        if not (self.objective or self.gradient):
+            return outcome
         return replace(outcome, nfev=outcome.nfev + self.objective,
                        njev=outcome.njev + self.gradient)
 
