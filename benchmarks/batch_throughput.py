@@ -1,6 +1,6 @@
 """Throughput of ``optimise_batch`` and single-solve latency, against the skilled baseline.
 
-Two measurements in one run, every figure a ratio against
+Four measurements in one run, every figure a ratio against
 :mod:`benchmarks.skilled_baseline` (closed form, complex-step gradient, SLSQP, one
 start) timed in the same process:
 
@@ -244,8 +244,73 @@ def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[s
     return "\n".join(lines) + "\n"
 
 
+SCREENING_STARTS = (8, 32, 64, 128, 512)
+SCREENING_CASES = {
+    # Option 1 cannot cancel: every start is screened (the batch's case).
+    "option 1 (paper), RE > 0": ((15.0, 20.0, 9.0), (30.0, 40.0), 1, (0.0, 40.0)),
+    # Option 3 cancels from the user's start: the screening stops there.
+    "option 3 (paper), RE -> 0": ((30.0, 40.0, 40.0), (90.0, 90.0), 3, (10.0, 40.0)),
+}
+
+
+def screening_figures(repeats: int = 3) -> list[dict[str, Any]]:
+    """Multi-start screening with and without the batch, at several start counts.
+
+    ``sso.optimise(..., solvers=("lm",), starts=k)`` as shipped (the user's start
+    alone, then the rest in one batch when it stops above zero and at least
+    ``BATCH_SCREEN_STARTS`` remain) against the same call with the batch switched
+    off (every start one by one): best wall time of ``repeats``, the ratio, and
+    the RE each reaches.
+    """
+    from sso.solvers import multistart
+
+    shipped_threshold = multistart.BATCH_SCREEN_STARTS
+    rows = []
+    for name, (beta_deg, phase_deg, option, beta_bounds) in SCREENING_CASES.items():
+        series = sso.ShaftSeries(beta_deg, phase_deg)
+        for starts in SCREENING_STARTS:
+            figures: dict[str, Any] = {"case": name, "starts": starts}
+            for label, threshold in (("one_by_one", 10**9), ("shipped", shipped_threshold)):
+                multistart.BATCH_SCREEN_STARTS = threshold
+                try:
+                    figures[f"{label}_time_s"], figures[f"{label}_fun"] = _screening_time(
+                        series, option, beta_bounds, starts, repeats)
+                finally:
+                    multistart.BATCH_SCREEN_STARTS = shipped_threshold
+            figures["ratio"] = figures["one_by_one_time_s"] / figures["shipped_time_s"]
+            rows.append(figures)
+    return rows
+
+
+def _screening_time(series: sso.ShaftSeries, option: int, beta_bounds: tuple[float, float],
+                    starts: int, repeats: int) -> tuple[float, float]:
+    """Best wall time (s) of ``repeats`` lm-only multi-start calls, and the RE reached."""
+    def call() -> Any:
+        return sso.optimise(series, option, solvers=("lm",), starts=starts,
+                            beta_bounds_deg=beta_bounds, phase_bounds_deg=PHASE_BOUNDS_DEG)
+
+    fun = call().fun
+    times = []
+    for _ in range(repeats):
+        started = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - started)
+    return min(times), fun
+
+
+def screening_summary(rows: list[dict[str, Any]]) -> str:
+    """The screening table as Markdown."""
+    lines = ["## Screening many starts (lm alone; one by one against the shipped rule)", "",
+             "| case | starts | one by one (ms) | shipped (ms) | ratio | RE one by one | "
+             "RE shipped |", "|---|---|---|---|---|---|---|"]
+    lines += [f"| {row['case']} | {row['starts']} | {row['one_by_one_time_s'] * 1e3:.2f} | "
+              f"{row['shipped_time_s'] * 1e3:.2f} | {row['ratio']:.2f} | "
+              f"{row['one_by_one_fun']:.4g} | {row['shipped_fun']:.4g} |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Run both measurements, print the summary and write the results."""
+    """Run the measurements, print the summary and write the results."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--starts", type=int, default=2000, help="random starts (default 2000)")
     parser.add_argument("--repeats", type=int, default=3, help="batch repeats (default 3)")
@@ -257,12 +322,13 @@ def main(argv: list[str] | None = None) -> None:
     batch = batch_figures(arguments.starts, arguments.repeats)
     shapes = shape_figures(arguments.shape_starts)
     latency = latency_figures()
-    text = summary(batch, shapes, latency)
+    screening = screening_figures()
+    text = summary(batch, shapes, latency) + "\n" + screening_summary(screening)
     print(text)
     arguments.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(arguments.out / "batch_throughput.json",
-                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency},
-                                 indent=2) + "\n")
+                      json.dumps({"batch": batch, "shapes": shapes, "latency": latency,
+                                  "screening": screening}, indent=2) + "\n")
     write_text_atomic(arguments.out / "batch_throughput.md", text)
 
 

@@ -32,7 +32,11 @@ from typing import Any
 
 import numpy as np
 
-from sso.kinematics.hooke_matrix import residual_and_jacobian_complex, residuals
+from sso.kinematics.hooke_matrix import (
+    residual_and_jacobian_complex,
+    residuals,
+    residuals_and_jacobian_numpy,
+)
 from sso.limits import QUADRATURE_BLOCK_SAMPLES
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.options import DesignProblem
@@ -78,6 +82,7 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp = compile_nlp(name, x, p, casadi.dot(residual, residual),
                           objective_and_gradient=_float_objective(float_residual))
         nlp.residuals_and_jacobian = float_residual
+        nlp.batch_residuals_and_jacobian = _array_residuals(problem)
     nlp.nonnegative_objective = True
     return nlp
 
@@ -144,6 +149,34 @@ def _float_residuals(problem: DesignProblem) -> Any:
             answer = residual_and_jacobian_complex(fixed, x, beta_free=False)
         last[:] = list(x), list(fixed), answer
         return answer[0], list(answer[1])
+
+    return evaluate
+
+
+def _array_residuals(problem: DesignProblem) -> Any:
+    """``(x, p) -> (r, J)`` for many points ``x`` of shape ``(k, free)`` at once, in numpy.
+
+    ``r`` has shape ``(k, 2)`` and ``J`` shape ``(k, 2, free)``; ``p`` holds the fixed
+    angles (rad) shared by every point. For :func:`sso.solvers.least_squares.batch_least_squares`.
+    """
+    n_joints = problem.n_joints
+    beta_free, phase_free = problem.beta_free, problem.phase_free
+
+    def evaluate(x: np.ndarray, fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        count = x.shape[0]
+        fixed_rows = np.broadcast_to(np.asarray(fixed, dtype=float), (count, len(fixed)))
+        if beta_free and phase_free:
+            beta, phase = x[:, :n_joints], x[:, n_joints:]
+        elif beta_free:
+            beta, phase = x, fixed_rows
+        else:
+            beta, phase = fixed_rows, x
+        residual, jacobian = residuals_and_jacobian_numpy(beta, phase)
+        if not beta_free:
+            jacobian = jacobian[..., n_joints:]
+        elif not phase_free:
+            jacobian = jacobian[..., :n_joints]
+        return residual, jacobian
 
     return evaluate
 

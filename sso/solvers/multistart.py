@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import functools
 import importlib
+import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Protocol, TypedDict
 
 import numpy as np
 
+from sso.limits import BATCH_SCREEN_STARTS
 from sso.solvers.crosscheck import crosscheck
 from sso.solvers.kkt import constraint_violation, kkt_residual
 from sso.solvers.run import RunLimits, RunOutcome
@@ -101,6 +103,10 @@ def solve_from_starts(
         start always runs alone): solve the starts with ``"lm"`` first, stopping at the
         first that reaches a nonnegative objective's round-off zero (a global
         minimum), then run each of ``solver_names`` once from the best of them.
+        When the user's start does not reach zero and at least
+        :data:`sso.limits.BATCH_SCREEN_STARTS` starts remain (and the problem has
+        ``nlp.batch_residuals_and_jacobian``), the rest are solved in one batch
+        (:func:`sso.solvers.least_squares.batch_least_squares`).
         The screening runs come first in ``runs``.
 
     Returns
@@ -140,17 +146,52 @@ def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLim
             solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
     """``"lm"`` from each start in turn, until one reaches a global minimum (round-off zero).
 
-    Without second-order checks: a run that stops on a saddle point is only a worse
-    candidate, and the best candidate is checked when the solvers run from it.
+    When the first start does not reach zero and at least
+    :data:`sso.limits.BATCH_SCREEN_STARTS` starts remain, the rest are solved in one
+    batch instead (no zero to stop at is then likely, and the batch is the faster
+    way through many starts). Without second-order checks: a run that stops on a
+    saddle point is only a worse candidate, and the best candidate is checked when
+    the solvers run from it.
     """
-    screened = []
+    screened: list[MeasuredRun] = []
     for index, point in enumerate(points):
+        if (index == 1 and nlp.batch_residuals_and_jacobian is not None
+                and len(points) - 1 >= BATCH_SCREEN_STARTS):
+            batch = _screen_batch(nlp, points[1:], parameters, limits, solver_tol,
+                                  max_iterations)
+            return screened + [replace(run, start_index=run.start_index + 1) for run in batch]
         run = run_starts(nlp, point[np.newaxis, :], parameters, limits, ("lm",), solver_tol,
                          max_iterations, second_order=False)["lm"][0]
         screened.append(replace(run, start_index=index))
         if nlp.nonnegative_objective and run.outcome.success and run.fun <= ZERO_OBJECTIVE:
             break
     return screened
+
+
+def _screen_batch(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+                  solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
+    """Every start in one batched least-squares solve, each answer measured as any other.
+
+    The batch runs together, so it does not stop at the first global minimum; each
+    run's ``time_s`` is its share of the batch's wall time. Saddle points are left
+    to the checks of the runs from the best start, as in the screening one by one.
+    """
+    from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
+
+    started = time.perf_counter()
+    residuals = nlp.batch_residuals_and_jacobian
+    solved = batch_least_squares(lambda x, rows: residuals(x, parameters), points, limits.lower,
+                                 limits.upper, gtol=solver_tol, max_iterations=max_iterations,
+                                 escape_saddles=False)
+    share = (time.perf_counter() - started) / len(points)
+    runs = []
+    for index in range(len(points)):
+        status, evaluations = int(solved.status[index]), int(solved.nfev[index])
+        outcome = RunOutcome(solved.x[index], float(solved.fun[index]), int(solved.nit[index]),
+                             evaluations, evaluations, status, bool(solved.success[index]),
+                             STATUS_MESSAGES[status], share)
+        runs.append(_measure("lm", index, outcome, nlp, parameters, limits))
+    return runs
 
 
 def run_starts(

@@ -48,6 +48,11 @@ class CompiledNLP:
         jacobian)`` with ``RE = |rho|^2`` and one complex derivative per
         variable (lists of floats in, Python complex numbers out), used by the
         ``"lm"`` solver; None otherwise.
+    batch_residuals_and_jacobian : callable or None
+        The same residuals for many points at once: ``(x, p) -> (r, J)`` with
+        ``x`` of shape ``(k, n)``, ``r`` of shape ``(k, 2)`` and ``J`` of shape
+        ``(k, 2, n)`` (numpy), used to screen many starts in one batch; None
+        otherwise.
     nonnegative_objective : bool
         True when the objective is never negative (a sum of squares): a point at
         round-off zero is then a global minimum and needs no second-order check.
@@ -59,6 +64,7 @@ class CompiledNLP:
     constraints_and_jacobian: Any = None
     ipopt_solvers: dict[tuple[tuple[str, Any], ...], Any] = field(default_factory=dict)
     residuals_and_jacobian: Any = None
+    batch_residuals_and_jacobian: Any = None
     nonnegative_objective: bool = False
 
     def ipopt(self, options: dict[str, Any]) -> Any:

@@ -5,6 +5,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import sso
@@ -188,3 +189,45 @@ def test_one_solver_from_one_start_runs_alone_and_a_pair_is_screened():
     assert [run.solver for run in alone.runs] == ["ipopt"]
     assert [run.solver for run in pair.runs] == ["lm", "ipopt", "slsqp"]
     assert alone.fun <= 1e-20 and pair.fun <= 1e-20 and pair.crosscheck.agree
+
+
+def test_many_starts_above_zero_are_screened_in_one_batch():
+    # Option 1 cannot cancel here (minimum RE 1.147e-4, the paper's option-1 case), so
+    # the user's start stops above zero and the other 80 starts (more than
+    # BATCH_SCREEN_STARTS) are screened in one batched least-squares solve: they
+    # share the batch's wall time equally. The best of them must equal the best of
+    # the same starts solved one by one with "lm" (independent single runs, within
+    # 1e-12 absolute), and the solvers then run from it.
+    from sso.limits import BATCH_SCREEN_STARTS
+    from sso.shafts.options import build_problem
+    from sso.solvers.starts import DEFAULT_SEED, start_points
+
+    starts = 81
+    assert starts - 1 >= BATCH_SCREEN_STARTS
+    series = sso.ShaftSeries([15.0, 20.0, 9.0], [30.0, 40.0])
+    result = sso.optimise(series, 1, starts=starts, solvers=("lm",))
+    screening = result.runs[:starts]
+    assert [run.start_index for run in screening] == list(range(starts))
+    assert len({run.time_s for run in screening[1:]}) == 1
+    assert all(run.success for run in screening)
+    problem = build_problem(series.beta_deg, series.phase_deg, "exact", 1, (0.0, 40.0),
+                            (0.0, 180.0))
+    points = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad, starts,
+                          DEFAULT_SEED)
+    one_by_one = []
+    for point in points:
+        beta_deg, phase_deg = problem.design_deg(np.degrees(point))
+        single = sso.optimise(sso.ShaftSeries(beta_deg, phase_deg), 1, solvers=("lm",),
+                              starts=1, beta_bounds_deg=(0.0, 40.0))
+        one_by_one.append(single.fun)
+    assert abs(min(run.fun for run in screening) - min(one_by_one)) <= 1e-12
+    assert result.fun == pytest.approx(1.1470510032e-4, rel=1e-9)
+    assert result.success
+
+
+def test_many_starts_stop_at_the_first_zero_without_a_batch():
+    # Option 3 cancels from the user's start: 200 starts cost one screening run.
+    result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0]), 3,
+                          beta_bounds_deg=(10, 40), starts=200)
+    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
+    assert result.fun <= 1e-20 and result.crosscheck.agree

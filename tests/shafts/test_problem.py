@@ -46,3 +46,36 @@ def test_one_graph_per_shape():
     paper = build_problem([30.0, 40.0], [90.0], "paper", 3, (0, 40), (0, 180))
     assert compiled_nlp(paper, 64) is not compiled_nlp(paper, 32)
     assert compiled_nlp(paper, 64) is not compiled_nlp(first, 64)
+
+
+@pytest.mark.parametrize("option", [1, 2, 3])
+def test_the_exact_models_three_evaluators_agree(option):
+    # The exact model's NLP carries the CasADi graph (IPOPT), the closed form in
+    # Python complex numbers (the "lm" solver and the shared measure) and the numpy
+    # batch (screening of many starts): three codings of one formula, compared at
+    # random designs of four joints to 1e-12.
+    import casadi
+
+    rng = np.random.default_rng(41)
+    problem = build_problem([20.0, 30.0, 10.0, 25.0], [40.0, 80.0, 120.0], "exact", option,
+                            (0.0, 60.0), (-180.0, 180.0))
+    nlp = compiled_nlp(problem, 0)
+    parameters = problem.parameters_rad
+    points = rng.uniform(problem.lower_rad, problem.upper_rad, (5, problem.n_free))
+    residual, jacobian = nlp.batch_residuals_and_jacobian(points, parameters)
+    for row, point in enumerate(points):
+        rho, complex_jacobian = nlp.residuals_and_jacobian(point.tolist(), parameters.tolist())
+        # rho = r1 - i r2
+        np.testing.assert_allclose([rho.real, -rho.imag], residual[row], rtol=1e-12,
+                                   atol=1e-14)
+        np.testing.assert_allclose(np.array([[entry.real for entry in complex_jacobian],
+                                             [-entry.imag for entry in complex_jacobian]]),
+                                   jacobian[row], rtol=1e-12, atol=1e-14)
+        value, gradient = nlp.objective_and_gradient(point, parameters)
+        graph = casadi.Function("f", [nlp.symbols["x"], nlp.symbols["p"]],
+                                [nlp.symbols["f"], casadi.gradient(nlp.symbols["f"],
+                                                                   nlp.symbols["x"])])
+        graph_value, graph_gradient = graph(point, parameters)
+        assert value == pytest.approx(float(graph_value), rel=1e-12, abs=1e-15)
+        np.testing.assert_allclose(gradient, np.array(graph_gradient).ravel(), rtol=1e-10,
+                                   atol=1e-14)
