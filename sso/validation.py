@@ -185,10 +185,11 @@ def _checked_pair(name: str, pair: Any, lower_limit: float, upper_limit: float, 
                   upper_open: bool) -> tuple[float, float]:
     """One ``(lower, upper)`` pair as floats inside the limits, not inverted, else raise."""
     lower, upper = pair
-    lower = check_in_range(f"{name} lower", finite_float(f"{name} lower", lower),
-                           lower_limit, upper_limit, unit, upper_open=upper_open)
-    upper = check_in_range(f"{name} upper", finite_float(f"{name} upper", upper),
-                           lower_limit, upper_limit, unit, upper_open=upper_open)
+    lower_name, upper_name = f"{name} lower", f"{name} upper"
+    lower = check_in_range(lower_name, finite_float(lower_name, lower), lower_limit, upper_limit,
+                           unit, upper_open=upper_open)
+    upper = check_in_range(upper_name, finite_float(upper_name, upper), lower_limit, upper_limit,
+                           unit, upper_open=upper_open)
     if lower > upper:
         raise ValueError(
             f"{name} = ({lower:g}, {upper:g}) {unit} is inverted (empty): "
@@ -204,10 +205,14 @@ def _is_pair_of_numbers(value: Any) -> bool:
         items = list(value)
     except TypeError:
         return False
-    return len(items) == 2 and all(
-        isinstance(item, (int, float, np.integer, np.floating)) and not isinstance(item, bool)
-        for item in items
-    )
+    return len(items) == 2 and _is_number(items[0]) and _is_number(items[1])
+
+
+def _is_number(item: Any) -> bool:
+    return isinstance(item, _NUMBER_TYPES) and not isinstance(item, bool)
+
+
+_NUMBER_TYPES = (int, float, np.integer, np.floating)
 
 
 

@@ -22,7 +22,6 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -146,11 +145,12 @@ class _Counts:
     def add_to(self, outcome: RunOutcome) -> RunOutcome:
         if not (self.objective or self.gradient):
             return outcome
-        return replace(outcome, nfev=outcome.nfev + self.objective,
-                       njev=outcome.njev + self.gradient)
+        return RunOutcome(outcome.x, outcome.fun, outcome.nit, outcome.nfev + self.objective,
+                          outcome.njev + self.gradient, outcome.status, outcome.success,
+                          outcome.message, outcome.time_s)
 
 
-def _value_and_gradient(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: np.ndarray,
                         counts: _Counts, use: str = "both") -> tuple[float, np.ndarray]:
     """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
     value, gradient = nlp.objective_and_gradient(x, parameters)
@@ -159,24 +159,31 @@ def _value_and_gradient(nlp: Any, x: np.ndarray, parameters: np.ndarray,
     return float(value), np.array(gradient, dtype=float).ravel()
 
 
-def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, counts: _Counts) -> np.ndarray:
-    """Hessian of the objective by central differences of its exact gradient.
+def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, counts: _Counts,
+             free: list[int]) -> list[list[float]]:
+    """Hessian of the objective over the variables ``free``, by central differences of its
+    exact gradient.
 
-    ``2 n`` gradient calls and no symbolic work: a symbolic Hessian of a
+    ``2 len(free)`` gradient calls and no symbolic work: a symbolic Hessian of a
     twelve-joint graph takes seconds to build, longer than the solve it checks.
     The truncation error (``HESSIAN_STEP^2`` times third derivatives) stays far
-    below the ``RELATIVE_CURVATURE`` that counts as negative curvature.
+    below the ``RELATIVE_CURVATURE`` that counts as negative curvature. Plain
+    floats: the matrices are small, and each numpy call costs more than their
+    arithmetic.
     """
+    point = x.tolist()
     columns = []
-    for index in range(len(x)):
-        offset = np.zeros_like(x)
-        offset[index] = HESSIAN_STEP
-        _, ahead = _value_and_gradient(nlp, x + offset, parameters, counts, "gradient")
-        _, behind = _value_and_gradient(nlp, x - offset, parameters, counts, "gradient")
-        columns.append((ahead - behind) / (2.0 * HESSIAN_STEP))
-    hessian = np.array(columns).T
-    symmetric: np.ndarray = 0.5 * (hessian + hessian.T)
-    return symmetric
+    for index in free:
+        ahead, behind = list(point), list(point)
+        ahead[index] += HESSIAN_STEP
+        behind[index] -= HESSIAN_STEP
+        gradient_ahead = _value_and_gradient(nlp, ahead, parameters, counts, "gradient")[1]
+        gradient_behind = _value_and_gradient(nlp, behind, parameters, counts, "gradient")[1]
+        columns.append([(gradient_ahead[row] - gradient_behind[row]) / (2.0 * HESSIAN_STEP)
+                        for row in free])
+    size = len(free)
+    return [[0.5 * (columns[column][row] + columns[row][column]) for column in range(size)]
+            for row in range(size)]
 
 
 def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
@@ -188,17 +195,20 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
     point the gradient is zero up to a sign that means nothing).
     """
     _, gradient = _value_and_gradient(nlp, x, parameters, counts, "gradient")
-    held = ((limits.upper - limits.lower <= ON_BOUND)
-            | ((x - limits.lower <= ON_BOUND) & (gradient > STATIONARY_START))
-            | ((limits.upper - x <= ON_BOUND) & (gradient < -STATIONARY_START)))
-    free = np.flatnonzero(~held)
-    if free.size == 0:
+    free = [index for index, (value, low, high, slope)
+            in enumerate(zip(x.tolist(), limits.lower.tolist(), limits.upper.tolist(),
+                             gradient.tolist(), strict=True))
+            if not (high - low <= ON_BOUND
+                    or (value - low <= ON_BOUND and slope > STATIONARY_START)
+                    or (high - value <= ON_BOUND and slope < -STATIONARY_START))]
+    if not free:
         return None
-    hessian = _hessian(nlp, x, parameters, counts)
-    if not np.all(np.isfinite(hessian)):
+    hessian = _hessian(nlp, x, parameters, counts, free)
+    if not all(math.isfinite(entry) for row in hessian for entry in row):
         return None
-    eigenvalues, eigenvectors = np.linalg.eigh(hessian[np.ix_(free, free)])
-    threshold = max(RELATIVE_CURVATURE * np.max(np.abs(eigenvalues)), ABSOLUTE_CURVATURE)
+    eigenvalues, eigenvectors = np.linalg.eigh(np.array(hessian))
+    largest = max(abs(float(eigenvalues[0])), abs(float(eigenvalues[-1])))
+    threshold = max(RELATIVE_CURVATURE * largest, ABSOLUTE_CURVATURE)
     if eigenvalues[0] >= -threshold:
         return None
     direction = np.zeros_like(x)
