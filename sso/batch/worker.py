@@ -9,9 +9,11 @@ every point of that shape it is given.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from sso.batch.axes import point_document
+from sso.batch.batched import BatchedPoints, batchable
 from sso.batch.point_row import PointRow, design_columns, solver_columns
 
 ACTIONS = ("optimise", "evaluate")
@@ -37,9 +39,25 @@ class SweepChunk:
 
 
 def run_sweep_chunk(chunk: SweepChunk) -> list[dict[str, Any]]:
-    """Rows of the chunk's points, in order; a point that fails gives an error row."""
-    return [run_point(index, chunk.document, point, chunk.action)
-            for index, point in chunk.points]
+    """Rows of the chunk's points, in order; a point that fails gives an error row.
+
+    Optimising, the points whose case the least-squares solver solves alone
+    (:func:`sso.batch.batched.batchable`) are solved together, one
+    :func:`sso.optimise_batch` call per shape (:mod:`sso.batch.batched`); every other
+    point is solved by :func:`sso.optimise` on its own.
+    """
+    batched = BatchedPoints(_optimise_row)
+    rows = []
+    for index, point in chunk.points:
+        row = PointRow({"point": index, **point})
+        case = _parsed_case(row, index, chunk.document, point)
+        if case is not None and chunk.action == "optimise" and batchable(case):
+            batched.add(row, case)
+        elif case is not None:
+            row.fill(partial(_solve_row, case, chunk.action))
+        rows.append(row)
+    batched.solve()
+    return [row.finish() for row in rows]
 
 
 def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
