@@ -116,7 +116,8 @@ class BatchedPoints:
                     phase_bounds_deg=first.problem.phase_bounds_deg,
                     solver_tol=first.case.solver_tol,
                     max_iterations=first.case.max_iterations)
-        except Exception:  # noqa: BLE001 - never expected; the points are then solved apart
+        except Exception:  # noqa: BLE001 - a setting the batch refuses: solve the points
+            # apart, so that each fails (or not) on its own and no row is lost
             for member in members:
                 member.row.fill(partial(self._fallback, member.case))
             return

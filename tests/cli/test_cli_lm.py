@@ -1,5 +1,6 @@
 """The least-squares solver "lm" in case files and on the command line, run for real."""
 
+import csv
 import json
 from pathlib import Path
 
@@ -74,3 +75,21 @@ def test_lm_is_refused_where_the_problem_has_no_residual_form(tmp_path, case):
             in completed.stderr)
     assert "Traceback" not in completed.stderr
 
+
+
+def test_sso_sweep_of_an_lm_case_solves_its_points_with_lm(tmp_path):
+    write_case(tmp_path, LM_CASE)
+    (tmp_path / "map.toml").write_text('case = "case.toml"\n[axes]\n'
+                                       '"design.beta_deg[0]" = [15.0, 25.0, 35.0]\n'
+                                       'option = [2, 3]\n')
+    completed = sso("sweep", "map.toml", "--workers", "1", "--no-plots", "--quiet",
+                    cwd=tmp_path)
+    assert completed.returncode == 0, completed.stdout + completed.stderr
+    with open(tmp_path / "results" / "map" / "sweep.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [row["point"] for row in rows] == [str(index) for index in range(6)]
+    for row in rows:
+        assert row["status"] == "ok" and row["best_solver"] == "lm"
+        assert row["success"] == "true" and row["lm_success"] == "true"
+        assert float(row["residual_error"]) < 1e-20  # options 2 and 3 cancel in [10, 40] deg
+        assert row["ipopt_residual_error"] == "" and row["slsqp_residual_error"] == ""
