@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from sso.files import write_text_atomic
-from sso.limits import SOLVER_NAMES
+from sso.limits import SOLVERS
 
 SCHEMA_VERSION = 1
 CSV_NAME = "sweep.csv"
@@ -27,12 +27,15 @@ RESULT_COLUMNS = (
     "status", "error", "residual_error", "residual_error_rpm2", "fluctuation",
     "max_output_accel_rad_s2", "design_beta_deg", "design_phase_deg", "success",
     "best_solver", "crosscheck_agree", "crosscheck_objective_gap",
-    *(f"{solver}_{field}" for solver in SOLVER_NAMES for field in SOLVER_FIELDS),
+    *(f"{solver}_{field}" for solver in SOLVERS for field in SOLVER_FIELDS),
     "time_s", "warnings",
 )
-TIME_COLUMNS = ("time_s", *(f"{solver}_time_s" for solver in SOLVER_NAMES))
+TIME_COLUMNS = ("time_s", *(f"{solver}_time_s" for solver in SOLVERS))
 TEXT_COLUMNS = ("status", "error", "best_solver", "warnings",
-                *(f"{solver}_message" for solver in SOLVER_NAMES))
+                *(f"{solver}_message" for solver in SOLVERS))
+# Solvers whose columns a sweep.csv written before they could be swept lacks; such a
+# file still resumes (their cells stay empty in its earlier rows).
+ADDED_SOLVERS = ("lm",)
 # Statuses of points that are done; any other row (a lost worker) is computed again.
 DONE_STATUSES = ("ok", "failed")
 
@@ -141,6 +144,8 @@ def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any],
     if not csv_path.exists():
         return {}
     rows = read_rows(csv_path)
-    if rows and list(rows[0]) != list(header):
+    earlier = [column for column in header
+               if not column.startswith(tuple(f"{solver}_" for solver in ADDED_SOLVERS))]
+    if rows and list(rows[0]) not in (list(header), earlier):
         raise ValueError(f"resume: the columns of {csv_path} are not those of this sweep")
     return {int(row["point"]): row for row in rows if row["status"] in DONE_STATUSES}

@@ -8,12 +8,13 @@ every point of that shape it is given.
 
 from __future__ import annotations
 
-import time
-import warnings
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from sso.batch.axes import point_document
+from sso.batch.batched import BatchedPoints, batchable
+from sso.batch.point_row import PointRow, design_columns, solver_columns
 
 ACTIONS = ("optimise", "evaluate")
 
@@ -38,9 +39,25 @@ class SweepChunk:
 
 
 def run_sweep_chunk(chunk: SweepChunk) -> list[dict[str, Any]]:
-    """Rows of the chunk's points, in order; a point that fails gives an error row."""
-    return [run_point(index, chunk.document, point, chunk.action)
-            for index, point in chunk.points]
+    """Rows of the chunk's points, in order; a point that fails gives an error row.
+
+    Optimising, the points whose case the least-squares solver solves alone
+    (:func:`sso.batch.batched.batchable`) are solved together, one
+    :func:`sso.optimise_batch` call per shape (:mod:`sso.batch.batched`); every other
+    point is solved by :func:`sso.optimise` on its own.
+    """
+    batched = BatchedPoints(_optimise_row)
+    rows = []
+    for index, point in chunk.points:
+        row = PointRow({"point": index, **point})
+        case = _parsed_case(row, index, chunk.document, point)
+        if case is not None and chunk.action == "optimise" and batchable(case):
+            batched.add(row, case)
+        elif case is not None:
+            row.fill(partial(_solve_row, case, chunk.action))
+        rows.append(row)
+    batched.solve()
+    return [row.finish() for row in rows]
 
 
 def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
@@ -51,23 +68,26 @@ def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
     key and the allowed range). Never raises for a bad point: the error is
     recorded in the row's ``error`` column and its ``status`` is ``"failed"``.
     """
+    row = PointRow({"point": index, **point})
+    case = _parsed_case(row, index, document, point)
+    if case is not None:
+        row.fill(lambda: _solve_row(case, action))
+    return row.finish()
+
+
+def _parsed_case(row: PointRow, index: int, document: dict[str, Any],
+                 point: dict[str, Any]) -> Any:
+    """The point's case, checked like a case file, or None (an error row) if it is bad."""
     from sso.cases.schema import parse_case
 
-    started = time.perf_counter()
-    row: dict[str, Any] = {"point": index, **point}
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            case = parse_case(point_document(document, point), f"point {index}")
-            row.update(_optimise_row(case) if action == "optimise" else _evaluate_row(case))
-        texts = [*case.warnings, *(str(warning.message) for warning in caught)]
-        row["status"] = "ok"
-        row["warnings"] = " | ".join(dict.fromkeys(texts))
-    except Exception as error:  # noqa: BLE001 - a failing point is data, not a crash
-        row["status"] = "failed"
-        row["error"] = f"{type(error).__name__}: {error}"
-    row["time_s"] = time.perf_counter() - started
-    return row
+    case = row.attempt(lambda: parse_case(point_document(document, point), f"point {index}"))
+    if case is not None:
+        row.notes[:0] = case.warnings
+    return case
+
+
+def _solve_row(case: Any, action: str) -> dict[str, Any]:
+    return _optimise_row(case) if action == "optimise" else _evaluate_row(case)
 
 
 def failed_rows(chunk: SweepChunk, error: BaseException) -> list[dict[str, Any]]:
@@ -84,8 +104,7 @@ def _evaluate_row(case: Any) -> dict[str, Any]:
     series = case.series()
     evaluation = series.evaluate(case.input_speed_rpm, quadrature_rtol=case.quadrature_rtol,
                                  quadrature_atol=case.quadrature_atol)
-    return {**_evaluation_columns(evaluation), "design_beta_deg": list(series.beta_deg),
-            "design_phase_deg": list(series.phase_deg)}
+    return design_columns(evaluation, series.beta_deg, series.phase_deg)
 
 
 def _optimise_row(case: Any) -> dict[str, Any]:
@@ -93,9 +112,8 @@ def _optimise_row(case: Any) -> dict[str, Any]:
 
     result = optimise(case.series(), case.option, **case.optimise_options())
     row = {
-        **_evaluation_columns(result.optimum),
-        "design_beta_deg": list(result.best_series.beta_deg),
-        "design_phase_deg": list(result.best_series.phase_deg),
+        **design_columns(result.optimum, result.best_series.beta_deg,
+                         result.best_series.phase_deg),
         "success": result.success,
         "best_solver": result.best.solver,
     }
@@ -103,21 +121,7 @@ def _optimise_row(case: Any) -> dict[str, Any]:
         row["crosscheck_agree"] = result.crosscheck.agree
         row["crosscheck_objective_gap"] = result.crosscheck.objective_gap
     for name, solution in result.solutions.items():
-        row.update({
-            f"{name}_residual_error": solution.fun,
-            f"{name}_status": solution.status,
-            f"{name}_success": solution.success,
-            f"{name}_message": solution.message,
-            f"{name}_kkt_per_rad": solution.kkt,
-            f"{name}_time_s": sum(run.time_s for run in result.runs if run.solver == name),
-        })
+        row.update(solver_columns(
+            name, solution.fun, solution.status, solution.success, solution.message,
+            solution.kkt, sum(run.time_s for run in result.runs if run.solver == name)))
     return row
-
-
-def _evaluation_columns(evaluation: Any) -> dict[str, Any]:
-    return {
-        "residual_error": evaluation.residual_error,
-        "residual_error_rpm2": evaluation.residual_error_rpm2,
-        "fluctuation": evaluation.fluctuation,
-        "max_output_accel_rad_s2": evaluation.max_output_accel_rad_s2,
-    }

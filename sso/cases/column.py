@@ -40,7 +40,7 @@ from sso.cases.schema import (
     register_case_kind,
     whole_number,
 )
-from sso.cases.shaft_series import SHAFT_SERIES_KEYS
+from sso.cases.shaft_series import checked_solvers, solver_keys
 from sso.column.excitation import INERTIAL_LIMIT_RAD_S2
 from sso.column.geometry import ColumnGeometry
 from sso.column.splines import MAX_TEETH
@@ -107,8 +107,7 @@ COLUMN_KEYS: tuple[Key, ...] = (
         "[lower, upper] or one pair per shaft, lower > 0 (default: each shaft at least half "
         "its given length)"),
     *ROBUST_KEYS,
-    *(replace(key, default=COLUMN_SOLVER_DEFAULTS.get(key.name, key.default))
-      for key in SHAFT_SERIES_KEYS if key.table == "solver"),
+    *solver_keys(COLUMN_SOLVER_DEFAULTS),
 )
 
 
@@ -221,10 +220,17 @@ class ColumnCase:
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
                        formats: tuple[str, ...] | None = None) -> ColumnCase:
-        """A copy with the solvers and/or report formats replaced."""
+        """A copy with the solvers and/or report formats replaced.
+
+        Raises
+        ------
+        ValueError
+            If ``solvers`` breaks the ``solver.solvers`` key (``"lm"`` included: these
+            problems have no residual form).
+        """
         values = dict(self.values)
         if solvers is not None:
-            values["solver.solvers"] = tuple(solvers)
+            values["solver.solvers"] = checked_solvers(COLUMN_KEYS, solvers)
         return replace(self, values=values,
                        formats=self.formats if formats is None else tuple(formats))
 

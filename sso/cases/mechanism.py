@@ -28,7 +28,7 @@ from sso.cases.schema import (
     register_case_kind,
     text,
 )
-from sso.cases.shaft_series import SHAFT_SERIES_KEYS
+from sso.cases.shaft_series import checked_solvers, solver_keys
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
 from sso.linkages.registry import Linkage, Mechanism, OnUnassembled, linkage_of_kind, linkages
 from sso.validation import per_item_bounds
@@ -134,10 +134,7 @@ COUPLER_POINT_KEY = Key("plots", "coupler_point",
                         "[along A->B, to the left of A->B], each in [-10, 10] coupler lengths")
 # The shaft series' [solver] keys, with sso.design_fourbar's defaults.
 DESIGN_SOLVER_DEFAULTS = {"solver_tol": DEFAULT_FOURBAR_SOLVER_TOL}
-SOLVER_KEYS: tuple[Key, ...] = tuple(
-    replace(key, default=DESIGN_SOLVER_DEFAULTS.get(key.name, key.default))
-    for key in SHAFT_SERIES_KEYS if key.table == "solver"
-)
+SOLVER_KEYS: tuple[Key, ...] = solver_keys(DESIGN_SOLVER_DEFAULTS)
 DESIGN_KEYS: tuple[Key, ...] = (
     *_link_keys("start", DESIGN_KIND),
     *[Key("bounds", name, length_pair, REQUIRED, "length",
@@ -244,10 +241,17 @@ class MechanismCase:
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
                        formats: tuple[str, ...] | None = None) -> MechanismCase:
-        """A copy with the solvers (design cases only) and/or report formats replaced."""
+        """A copy with the solvers (design cases only) and/or report formats replaced.
+
+        Raises
+        ------
+        ValueError
+            If ``solvers`` breaks the ``solver.solvers`` key (``"lm"`` included: these
+            problems have no residual form).
+        """
         values = dict(self.values)
         if solvers is not None and self.kind == DESIGN_KIND:
-            values["solver.solvers"] = tuple(solvers)
+            values["solver.solvers"] = checked_solvers(DESIGN_KEYS, solvers)
         return replace(self, values=values,
                        formats=self.formats if formats is None else tuple(formats))
 

@@ -39,6 +39,7 @@ from sso.limits import (
     MAX_JOINTS,
     MAX_STARTS,
     SOLVER_NAMES,
+    SOLVERS,
 )
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL
@@ -187,8 +188,18 @@ class Case:
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
                        formats: tuple[str, ...] | None = None) -> Case:
-        """A copy with the solvers and/or report formats replaced (command-line options)."""
-        return replace(self, solvers=self.solvers if solvers is None else tuple(solvers),
+        """A copy with the solvers and/or report formats replaced (command-line options).
+
+        Raises
+        ------
+        ValueError
+            If ``solvers`` breaks the ``solver.solvers`` key or names ``"lm"`` for the
+            paper model (the message names the key, the value and what is allowed).
+        """
+        if solvers is not None:
+            solvers = checked_solvers(SHAFT_SERIES_KEYS, solvers)
+            check_solvers_for_model(solvers, self.model)
+        return replace(self, solvers=self.solvers if solvers is None else solvers,
                        formats=self.formats if formats is None else tuple(formats))
 
     def to_dict(self) -> dict[str, Any]:
@@ -241,6 +252,20 @@ def _default_phases(design_table: str) -> Callable[[dict[str, Any], str], tuple[
     return default
 
 
+def check_solvers_for_model(solvers: tuple[str, ...], model: str) -> None:
+    """Refuse ``"lm"`` outside the exact model (the paper model has no residual form).
+
+    Raises
+    ------
+    ValueError
+        Naming ``solver.solvers``, its value and the solvers ``model`` allows.
+    """
+    if "lm" in solvers and model != "exact":
+        raise ValueError(f"solver.solvers = {shown(list(solvers))} includes 'lm', the "
+                         "least-squares solver of the exact model's closed form; "
+                         f"model = {shown(model)} allows {_quoted(SOLVER_NAMES)}")
+
+
 _BETA_RANGE = "each in [0, 90) deg"
 SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("", "model", choice(MODELS), "exact", "", "'exact' or 'paper'"),
@@ -257,8 +282,8 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
     Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), (0.0, 180.0), "deg",
         "[lower, upper] or one pair per phase, within [-360, 360]"),
-    Key("solver", "solvers", choice_list(SOLVER_NAMES), SOLVER_NAMES, "",
-        "non-empty list of 'ipopt', 'slsqp'"),
+    Key("solver", "solvers", choice_list(SOLVERS), SOLVER_NAMES, "",
+        f"non-empty list of {_quoted(SOLVERS)}; 'lm' with model = 'exact' only"),
     Key("solver", "starts", whole_number(1, MAX_STARTS), DEFAULT_STARTS, "",
         f"[1, {MAX_STARTS}]"),
     Key("solver", "solver_tol", number(0.0, 1.0, lower_open=True, upper_open=True),
@@ -298,6 +323,37 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("tolerance", "percentiles", number_list(0.0, 100.0, "%", max_length=100), None, "%",
         "1-100 entries, each in [0, 100] (default [5, 50, 95, 99])"),
 )
+
+
+def checked_solvers(keys: tuple[Key, ...], solvers: tuple[str, ...]) -> tuple[str, ...]:
+    """``solvers`` checked by the ``solver.solvers`` key among ``keys`` (an override).
+
+    Raises
+    ------
+    ValueError
+        Naming ``solver.solvers``, the bad entry and the allowed names.
+    """
+    key = next(key for key in keys if key.label == "solver.solvers")
+    checked: tuple[str, ...] = key.parse(key.label, list(solvers))
+    return checked
+
+
+def solver_keys(defaults: dict[str, Any]) -> tuple[Key, ...]:
+    """The ``[solver]`` keys for a kind whose problems have no residual form.
+
+    As the shaft series' keys, with ``defaults`` replacing theirs by key name, and
+    ``solver.solvers`` limited to :data:`sso.limits.SOLVER_NAMES` (no ``"lm"``).
+    """
+    keys = []
+    for key in SHAFT_SERIES_KEYS:
+        if key.table != "solver":
+            continue
+        key = replace(key, default=defaults.get(key.name, key.default))
+        if key.name == "solvers":
+            key = replace(key, parse=choice_list(SOLVER_NAMES),
+                          allowed=f"non-empty list of {_quoted(SOLVER_NAMES)}")
+        keys.append(key)
+    return tuple(keys)
 
 
 def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
@@ -360,6 +416,7 @@ def _check_shaft_series_design(values: dict[str, Any]) -> None:
     here is accepted there (warnings are left to the caller to record).
     """
     joints = len(values["design.beta_deg"])
+    check_solvers_for_model(values["solver.solvers"], values["model"])
     _series_or_error("design", values["design.beta_deg"], values["design.phase_deg"],
                      values["model"])
     if "reference.beta_deg" in values:

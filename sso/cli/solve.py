@@ -24,7 +24,7 @@ from sso.cli.common import (
     say,
 )
 from sso.display import format_number
-from sso.limits import SOLVER_NAMES
+from sso.limits import SOLVERS
 
 
 @dataclass
@@ -41,9 +41,10 @@ class Outcome:
 
 def _configure_run(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("cases", nargs="+", metavar="CASE.toml", help="case files to solve")
-    parser.add_argument("--solvers", type=list_argument(SOLVER_NAMES, "solvers"),
-                        metavar="LIST", help="solvers to run, comma-separated from ipopt,slsqp "
-                        "(default: the case's [solver] solvers)")
+    parser.add_argument("--solvers", type=list_argument(SOLVERS, "solvers"),
+                        metavar="LIST", help=f"solvers to run, comma-separated from "
+                        f"{','.join(SOLVERS)}; lm (least squares) for a shaft series of the "
+                        "exact model only (default: the case's [solver] solvers)")
     add_report_arguments(parser, REPORT_FOLDER_HELP)
 
 
@@ -71,8 +72,13 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
             outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
             continue
         folders[case.name] = path
-        case = case.with_overrides(solvers=getattr(args, "solvers", None),
-                                   formats=report_formats(args, case.formats))
+        try:
+            case = case.with_overrides(solvers=getattr(args, "solvers", None),
+                                       formats=report_formats(args, case.formats))
+        except ValueError as error:
+            print_error(f"{path}: --solvers: {error}")
+            outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
+            continue
         folder = Path(args.out or DEFAULT_OUT) / case.name
         outcomes.append(_solve_one(args, case, folder, optimising, started))
     _print_summary(outcomes, optimising)

@@ -53,16 +53,16 @@ def rotated_halton(count: int, dimension: int, seed: int) -> np.ndarray:
     the ``d``-th prime, plus a uniform shift of that coordinate, modulo 1.
     """
     shift = np.random.default_rng(seed).random(dimension)
-    points = np.empty((count, dimension))
-    for column, base in enumerate(_primes(dimension)):
-        index = np.arange(1, count + 1)
-        value = np.zeros(count)
-        scale = 1.0 / base
-        while np.any(index):
-            index, digit = np.divmod(index, base)
-            value += digit * scale
-            scale /= base
-        points[:, column] = value
+    # Every coordinate at once, one digit per pass: a coordinate whose index has run
+    # out of digits adds zeros, so each sum is the one its own loop would make.
+    bases = np.array(_primes(dimension))
+    index = np.repeat(np.arange(1, count + 1)[:, np.newaxis], dimension, axis=1)
+    points = np.zeros((count, dimension))
+    scale = 1.0 / bases
+    while np.any(index):
+        index, digit = np.divmod(index, bases)
+        points += digit * scale
+        scale = scale / bases
     return np.mod(points + shift, 1.0)
 
 

@@ -44,6 +44,17 @@ def test_a_sweep_on_dask_gives_the_local_pool_results_exactly(client, tmp_path):
     assert all(row["residual_error"] < 1e-15 for row in on_dask.rows if row["status"] == "ok")
 
 
+
+def test_a_batched_lm_sweep_on_dask_gives_the_local_pool_results_exactly(client):
+    # "lm" alone: each chunk's points are solved together (sso.optimise_batch).
+    base = {**BASE, "solver": {"starts": 2, "solvers": ["lm"]}}
+    local = sso.sweep(base, AXES, workers=2, chunk_size=5, progress=False)
+    on_dask = sso.sweep(base, AXES, client=client, chunk_size=5, progress=False)
+    assert _without_times(on_dask.rows) == _without_times(local.rows)
+    assert [row["status"] for row in on_dask.rows].count("failed") == 9
+    assert all(row["best_solver"] == "lm" and row["residual_error"] < 1e-15
+               for row in on_dask.rows if row["status"] == "ok")
+
 def test_a_tolerance_study_on_dask_gives_the_local_numbers_exactly(client):
     series = sso.ShaftSeries([15.8362, 10.0, 15.8387], [90.0053, 89.9695])
     local = sso.tolerance(series, samples=600, seed=3, chunk_size=150, workers=2)

@@ -19,6 +19,7 @@ from sso.batch.table import (
     CSV_NAME,
     MANIFEST_NAME,
     RESULT_COLUMNS,
+    SOLVER_FIELDS,
     columns,
     done_rows,
     format_cell,
@@ -132,3 +133,24 @@ def test_manifest_is_json_ready():
         "action": "evaluate",
         "points": 2,
     }
+
+
+def test_a_sweep_csv_without_the_lm_columns_still_resumes(tmp_path):
+    # The layout before "lm" could be swept: the same columns without lm_*.
+    axes = [SimpleNamespace(path="option", values=(1, 2))]
+    expected = manifest({"design": {"beta_deg": [1.0]}}, axes, "product", "optimise", 2)
+    (tmp_path / MANIFEST_NAME).write_text(json.dumps(expected), encoding="utf-8")
+    header = columns(["option"])
+    earlier = [column for column in header if not column.startswith("lm_")]
+    assert len(header) - len(earlier) == len(SOLVER_FIELDS)
+    write_rows(tmp_path / CSV_NAME, earlier,
+               [format_row({"point": 0, "option": 1, "status": "ok", "slsqp_residual_error": 0.5},
+                           earlier)])
+    rows = done_rows(tmp_path, expected, header)
+    assert list(rows) == [0]
+    write_rows(tmp_path / CSV_NAME, header, rows.values())
+    (again,) = read_rows(tmp_path / CSV_NAME)
+    assert list(again) == header
+    assert again["slsqp_residual_error"] == "0.5" and again["lm_residual_error"] == ""
+    with pytest.raises(ValueError, match="columns of .* are not those of this sweep"):
+        done_rows(tmp_path, expected, columns(["model"]))

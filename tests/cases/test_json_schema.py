@@ -333,3 +333,20 @@ def test_a_renamed_key_is_accepted_under_its_old_name_and_marked_deprecated(sche
     solver = schema["$defs"]["shaft_series"]["properties"]["solver"]["properties"]
     assert solver["tolerance"]["deprecated"] is True
     assert solver["tolerance"]["exclusiveMaximum"] == solver["solver_tol"]["exclusiveMaximum"]
+
+
+def test_the_schema_accepts_lm_for_a_shaft_series_only(schema):
+    lm_case = {**SHAFT_CASE, "solver": {"solvers": ["lm"]}}
+    parse_case(lm_case, "lm.toml")
+    column = {"kind": "column", "hardpoints": {"points_mm": [
+        [-950.0, 360.0, 780.0], [-717.9, 296.7, 569.0], [-614.1, 263.4, 333.0],
+        [-599.9, 285.3, 215.8]]}, "solver": {"solvers": ["lm"]}}
+    with pytest.raises(CaseError, match="solver.solvers"):
+        parse_case(column, "column.toml")
+    for validator in VALIDATORS:
+        assert list(validator(schema).iter_errors(lm_case)) == []
+        assert list(validator(schema).iter_errors(column)) != []
+    # "lm" with the paper model is a check between keys: the engine's alone.
+    paper = {**lm_case, "model": "paper"}
+    with pytest.raises(CaseError, match="model = 'paper' allows 'ipopt', 'slsqp'"):
+        parse_case(paper, "paper.toml")

@@ -188,3 +188,57 @@ def test_one_joint_case_round_trips_with_empty_phase_list():
     document = case.to_dict()
     assert document["design"]["phase_deg"] == []
     assert parse_case(document, "one_joint.toml") == case
+
+
+# The smallest valid cases of the kinds whose [solver] keys keep the cross-checking pair.
+PAIR_ONLY_CASES = {
+    "fourbar_design": {"kind": "fourbar_design",
+                       "start": {"ground": 12.0, "crank": 2.0, "coupler": 12.0, "rocker": 8.0},
+                       "bounds": {"crank": [1.0, 6.0], "coupler": [5.0, 20.0],
+                                  "rocker": [5.0, 15.0]}},
+    "column": {"kind": "column",
+               "hardpoints": {"points_mm": [[-950.0, 360.0, 780.0], [-717.9, 296.7, 569.0],
+                                            [-614.1, 263.4, 333.0], [-599.9, 285.3, 215.8]]}},
+}
+
+
+def test_lm_alone_or_beside_the_pair_is_a_shaft_series_solver_of_the_exact_model():
+    for solvers in (["lm"], ["ipopt", "slsqp", "lm"], ["lm", "slsqp"]):
+        case = parse_case({"design": {"beta_deg": [10.0, 20.0]},
+                           "solver": {"solvers": solvers}}, "lm.toml")
+        assert case.solvers == tuple(solvers)
+        assert case.optimise_options()["solvers"] == tuple(solvers)
+        assert parse_case(case.to_dict(), "lm.toml") == case
+
+
+def test_lm_with_the_paper_model_names_the_key_the_value_and_the_model_s_solvers(tmp_path):
+    error = error_of(tmp_path,
+                     'model = "paper"\n' + MINIMAL + '[solver]\nsolvers = ["slsqp", "lm"]\n')
+    assert error.line == 5
+    assert error.reason == ("solver.solvers = ['slsqp', 'lm'] includes 'lm', the least-squares "
+                            "solver of the exact model's closed form; model = 'paper' allows "
+                            "'ipopt', 'slsqp'")
+
+
+def test_an_lm_override_is_checked_against_the_case_model():
+    exact = parse_case({"design": {"beta_deg": [10.0, 20.0]}}, "exact.toml")
+    assert exact.with_overrides(solvers=("lm",)).solvers == ("lm",)
+    paper = parse_case({"model": "paper", "design": {"beta_deg": [10.0, 20.0]}}, "paper.toml")
+    with pytest.raises(ValueError, match=r"^solver.solvers = \['lm'\] includes 'lm'.*"
+                                         r"model = 'paper' allows 'ipopt', 'slsqp'$"):
+        paper.with_overrides(solvers=("lm",))
+    with pytest.raises(ValueError, match=r"solver.solvers\[0\] = 'cobyla' is not one of "
+                                         r"'ipopt', 'slsqp', 'lm'"):
+        exact.with_overrides(solvers=("cobyla",))
+
+
+@pytest.mark.parametrize("kind", sorted(PAIR_ONLY_CASES))
+def test_kinds_without_a_residual_form_keep_ipopt_and_slsqp(kind):
+    document = PAIR_ONLY_CASES[kind]
+    case = parse_case({**document, "solver": {"solvers": ["slsqp"]}}, f"{kind}.toml")
+    assert case.values["solver.solvers"] == ("slsqp",)
+    with pytest.raises(CaseError, match=r"solver.solvers\[0\] = 'lm' is not one of 'ipopt', "
+                                        r"'slsqp'$"):
+        parse_case({**document, "solver": {"solvers": ["lm"]}}, f"{kind}.toml")
+    with pytest.raises(ValueError, match=r"solver.solvers\[0\] = 'lm' is not one of"):
+        case.with_overrides(solvers=("lm",))

@@ -56,3 +56,23 @@ def test_many_starts_do_not_import_scipy_stats():
     output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True)
     assert output.stdout.strip() == "False"
+
+
+def _radical_inverse(index: int, base: int) -> float:
+    """Halton's coordinate of point ``index`` in ``base``, digit by digit in plain floats."""
+    value, scale = 0.0, 1.0 / base
+    while index:
+        index, digit = divmod(index, base)
+        value += digit * scale
+        scale /= base
+    return value
+
+
+def test_rotated_halton_is_the_radical_inverse_plus_the_seeded_shift_exactly():
+    for count, dimension, seed in ((1, 1, 0), (7, 3, 1), (40, 6, 20251122), (300, 11, 5)):
+        shift = np.random.default_rng(seed).random(dimension)
+        primes = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31][:dimension]
+        expected = np.array([[(_radical_inverse(index, base) + shift[column]) % 1.0
+                              for column, base in enumerate(primes)]
+                             for index in range(1, count + 1)])
+        np.testing.assert_array_equal(rotated_halton(count, dimension, seed), expected)
