@@ -21,10 +21,12 @@ time is the point's share of the call, in proportion to its starts.
 
 ``sso.optimise`` with ``"lm"`` alone screens the starts in turn, stops at the first
 that reaches round-off zero (a global minimum: RE is never negative) and runs
-``"lm"`` once more, with second-order checks, from the best; the batch solves every
-start, with its own saddle checks. Where a start reaches zero both answers are zero;
-elsewhere both keep the lowest minimum the starts reach (tests/batch/test_batched.py
-checks a sample against ``sso.optimise`` to 1e-12 in RE).
+``"lm"`` once more, with second-order checks, from the best. The batch does the same
+in two calls: every point's own start first, then the other starts of only those
+points whose own start stopped above zero (each batch with its own saddle checks).
+Where a start reaches zero both answers are zero; elsewhere both keep the lowest
+minimum the starts reach (tests/batch/test_batched.py checks a sample against
+``sso.optimise`` to 1e-12 in RE).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from sso.batch.point_row import PointRow, design_columns, solver_columns
 from sso.shafts.batch import BatchResult, optimise_batch
 from sso.shafts.options import DesignProblem, build_problem
 from sso.shafts.series import ShaftSeries
+from sso.solvers.saddle import ZERO_OBJECTIVE
 from sso.solvers.starts import start_points
 
 BATCHED_SOLVERS = ("lm",)
@@ -102,35 +105,55 @@ class BatchedPoints:
         self._groups.clear()
 
     def _solve_group(self, members: list[_Member]) -> None:
+        """Two batch calls: every point's own start, then the other starts of the points
+        whose own start stopped above round-off zero (as ``sso.optimise`` stops there)."""
         first = members[0]
-        counts = [len(member.beta_deg) for member in members]
         started = time.perf_counter()
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                solved = optimise_batch(
-                    np.vstack([member.beta_deg for member in members]),
-                    np.vstack([member.phase_deg for member in members]),
-                    option=first.problem.option,
-                    beta_bounds_deg=first.problem.beta_bounds_deg,
-                    phase_bounds_deg=first.problem.phase_bounds_deg,
-                    solver_tol=first.case.solver_tol,
-                    max_iterations=first.case.max_iterations)
+                own = self._optimise(first, [member.beta_deg[:1] for member in members],
+                                     [member.phase_deg[:1] for member in members])
+                rest = [index for index, member in enumerate(members)
+                        if len(member.beta_deg) > 1
+                        and not (own.success[index] and own.fun[index] <= ZERO_OBJECTIVE)]
+                others = (self._optimise(first, [members[index].beta_deg[1:] for index in rest],
+                                         [members[index].phase_deg[1:] for index in rest])
+                          if rest else None)
         except Exception:  # noqa: BLE001 - a setting the batch refuses: solve the points
             # apart, so that each fails (or not) on its own and no row is lost
             for member in members:
                 member.row.fill(partial(self._fallback, member.case))
             return
-        per_start_s = (time.perf_counter() - started) / sum(counts)
+        starts_solved = len(members) + sum(len(members[index].beta_deg) - 1 for index in rest)
+        per_start_s = (time.perf_counter() - started) / starts_solved
         shared = [str(warning.message) for warning in caught]
-        messages = solved.message
+        candidates: list[list[tuple[BatchResult, int]]] = [[(own, index)]
+                                                            for index in range(len(members))]
         end = 0
-        for member, count in zip(members, counts, strict=True):
+        for index in rest:
+            count = len(members[index].beta_deg) - 1
             begin, end = end, end + count
-            member.row.busy_s += per_start_s * count
+            assert others is not None
+            candidates[index] += [(others, row) for row in range(begin, end)]
+        for member, choices in zip(members, candidates, strict=True):
+            solved, best = min(choices, key=lambda choice: (not choice[0].success[choice[1]],
+                                                             choice[0].fun[choice[1]]))
+            time_s = per_start_s * len(choices)
+            member.row.busy_s += time_s
             member.row.notes.extend(shared)
-            member.row.fill(partial(_row, member.case, solved, messages,
-                                    _best(solved, begin, end), per_start_s * count))
+            member.row.fill(partial(_row, member.case, solved, solved.message, best, time_s))
+
+    @staticmethod
+    def _optimise(first: _Member, beta_deg: list[np.ndarray],
+                  phase_deg: list[np.ndarray]) -> BatchResult:
+        """One ``optimise_batch`` call over the given starts with the group's settings."""
+        return optimise_batch(np.vstack(beta_deg), np.vstack(phase_deg),
+                              option=first.problem.option,
+                              beta_bounds_deg=first.problem.beta_bounds_deg,
+                              phase_bounds_deg=first.problem.phase_bounds_deg,
+                              solver_tol=first.case.solver_tol,
+                              max_iterations=first.case.max_iterations)
 
 
 def _member(row: PointRow, case: Any) -> _Member:
@@ -154,12 +177,6 @@ def _columns(angles: list[Any], rows: int) -> np.ndarray:
     """Angles (each one per start, or one fixed value) as an array of shape (rows, angles)."""
     return np.array([np.broadcast_to(angle, (rows,)) for angle in angles],
                     dtype=float).T.reshape(rows, len(angles))
-
-
-def _best(solved: BatchResult, begin: int, end: int) -> int:
-    """Row of the best of the starts ``begin..end-1``: converged first, then lowest RE."""
-    order = np.lexsort((solved.fun[begin:end], ~solved.success[begin:end]))
-    return begin + int(order[0])
 
 
 def _row(case: Any, solved: BatchResult, messages: tuple[str, ...], best: int,
