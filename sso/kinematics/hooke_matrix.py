@@ -30,6 +30,7 @@ costs ``O(n)`` matrix products (prefix and suffix products of the chain).
 
 from __future__ import annotations
 
+import cmath
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -196,6 +197,55 @@ def ratio_extremes(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -
     error = residual_error(xp, beta_rad, phase_rad)
     greatest = 1 + error + xp.sqrt(error * (error + 2))
     return 1 / greatest, greatest
+
+
+def peak_ratio_slope(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> float:
+    """Largest ``|d(w_out / w_in) / d theta|`` over a turn (1/rad), from the chain matrix.
+
+    With ``G = M^T M``, ``|M v|^2 = A + R cos(2 theta - delta)`` where ``A = trace(G) / 2``
+    and ``R = sqrt(((g11 - g22) / 2)^2 + g12^2)``, so the ratio is
+    ``det M / (A + R cos u)`` and its slope ``2 R det M sin u / (A + R cos u)^2``. That
+    is largest where ``R c^2 - A c - 2 R = 0`` for ``c = cos u``, whose root in
+    ``[-1, 1]`` is ``c = (A - S) / (2 R)``, ``S = sqrt(A^2 + 8 R^2)``. Near 90 deg
+    ``A - R`` (the least ``|M v|^2``) and ``1 + c`` are tiny differences of large
+    numbers, so both are written without subtraction through ``A^2 - R^2 = det^2``:
+    ``A - R = det^2 / (A + R)``, ``S - 3 R = det^2 / (S + 3 R)`` and
+    ``1 + c = ((A - R) + (S - 3 R)) / (A + S)``. Times the input speed squared
+    (rad/s) it is the peak output acceleration. Floats (``math``); parameters as in
+    :func:`chain_matrix`.
+    """
+    m11, m12, m21, m22 = chain_matrix(math, beta_rad, phase_rad)
+    g11, g22 = m11 * m11 + m21 * m21, m12 * m12 + m22 * m22
+    g12 = m11 * m12 + m21 * m22
+    mean, amplitude = 0.5 * (g11 + g22), math.hypot(0.5 * (g11 - g22), g12)
+    determinant = m11 * m22 - m12 * m21
+    squared = determinant * determinant
+    root = math.sqrt(mean * mean + 8.0 * amplitude * amplitude)
+    least = squared / (mean + amplitude)
+    one_plus_cosine = (least + squared / (root + 3.0 * amplitude)) / (mean + root)
+    sine = math.sqrt(one_plus_cosine * (2.0 - one_plus_cosine))
+    return float(2.0 * amplitude * determinant * sine
+                 / (least + amplitude * one_plus_cosine) ** 2)
+
+
+def lag_swing(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> tuple[float, float]:
+    """How the output angle's lag ``psi_out - theta`` moves about its mean over a turn (rad).
+
+    As a map of ``z = e^(i theta)``, ``M v = e^(i theta) (a + b e^(-2 i theta))`` with
+    ``|b| < |a|`` (``det M = |a|^2 - |b|^2 > 0``), so the lag is a constant plus
+    ``arg(1 + (b / a) e^(-2 i theta))``, which sweeps ``[-asin |b/a|, asin |b/a|]``.
+
+    Returns
+    -------
+    at_zero : float
+        The moving part at ``theta = 0``, ``arg(1 + b / a)``: the lag at ``theta = 0``
+        minus this is the constant.
+    swing : float
+        ``asin |b / a|``, the largest departure from the constant.
+    """
+    m11, m12, m21, m22 = chain_matrix(math, beta_rad, phase_rad)
+    ratio = complex(m11 - m22, m21 + m12) / complex(m11 + m22, m21 - m12)
+    return cmath.phase(1.0 + ratio), math.asin(min(abs(ratio), 1.0))
 
 
 def residual_jacobian(xp: Any, beta_rad: Sequence[Any],

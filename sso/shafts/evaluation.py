@@ -11,7 +11,12 @@ import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number
 from sso.kinematics.hooke import chain_kinematics
-from sso.kinematics.hooke_matrix import ratio_extremes, residual_error
+from sso.kinematics.hooke_matrix import (
+    lag_swing,
+    peak_ratio_slope,
+    ratio_extremes,
+    residual_error,
+)
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.quadrature import (
@@ -41,8 +46,8 @@ class JointAngles(Protocol):
     def model(self) -> str: ...
 
 RPM_TO_RAD_S = 2.0 * np.pi / 60.0
-# The figures (extremes of speed, acceleration, angle) are read off a grid at least
-# this fine over the 180-deg period (four times the quadrature count when that is
+# The paper model's figures (extremes of speed, acceleration, angle) are read off a
+# grid at least this fine over the 180-deg period (four times the quadrature count when that is
 # more), then refined locally. A power of two, so the quadrature grids are in it.
 MIN_FIGURE_SAMPLES = 1024
 # ``samples`` of an exact-model evaluation: its RE is the closed form, no quadrature.
@@ -163,6 +168,8 @@ def evaluate(
     rtol, atol = validate_quadrature_tolerance(quadrature_rtol, quadrature_atol)
     beta_rad = list(series.beta_rad)
     phase_rad = list(series.phase_rad)
+    if series.model == "exact":
+        return _closed_form_evaluation(speed_rpm, beta_rad, phase_rad)
 
     def figures(angles_rad: np.ndarray) -> dict[str, np.ndarray]:
         chain = chain_kinematics(np, np.cos(angles_rad), np.sin(angles_rad), beta_rad,
@@ -174,8 +181,6 @@ def evaluate(
             "lag": np.abs(chain.angle_lag_rad),
         }
 
-    if series.model == "exact":
-        return _closed_form_evaluation(speed_rpm, beta_rad, phase_rad, figures)
     # One pass over a power-of-two grid serves the figures and, by striding, every
     # quadrature count that divides it.
     figure_samples = MIN_FIGURE_SAMPLES
@@ -204,19 +209,22 @@ def evaluate(
                        float(rule.error_estimate), rule.converged)
 
 
-def _closed_form_evaluation(speed_rpm: float, beta_rad: list[float], phase_rad: list[float],
-                            figures: Callable[[np.ndarray], dict[str, np.ndarray]]) -> Evaluation:
-    """The exact model's figures: RE, speed extremes and mean ratio from the chain matrix.
+def _closed_form_evaluation(speed_rpm: float, beta_rad: list[float],
+                            phase_rad: list[float]) -> Evaluation:
+    """The exact model's figures, every one from the chain matrix (no sampling).
 
-    Only the angle lag and the acceleration, which have no closed form here, are read
-    off a grid of ``MIN_FIGURE_SAMPLES`` angles and refined (:func:`_peaks`).
+    RE, the speed extremes, the peak ratio slope (the acceleration) and the lag's
+    swing are closed forms of ``M`` (:mod:`sso.kinematics.hooke_matrix`); the lag's
+    constant part needs the joint-by-joint lag at one input angle, ``theta = 0``.
+    The peak transmission error is then ``|constant| + swing``.
     """
     residual = float(residual_error(math, beta_rad, phase_rad))
     ratio_min, ratio_max = ratio_extremes(math, beta_rad, phase_rad)
-    theta_rad = np.pi * np.arange(MIN_FIGURE_SAMPLES) / MIN_FIGURE_SAMPLES
-    sampled = figures(theta_rad)
-    peaks = _peaks(figures, theta_rad, {"slope": sampled["slope"], "lag": sampled["lag"]},
-                   np.pi / MIN_FIGURE_SAMPLES)
+    lag_at_zero = float(chain_kinematics(math, 1.0, 0.0, beta_rad, phase_rad,
+                                         "exact").angle_lag_rad)
+    moving_at_zero, swing = lag_swing(beta_rad, phase_rad)
+    peaks = {"slope": peak_ratio_slope(beta_rad, phase_rad),
+             "lag": abs(lag_at_zero - moving_at_zero) + swing}
     return _evaluation(speed_rpm, residual, float(ratio_min), float(ratio_max), 1.0, peaks,
                        CLOSED_FORM_SAMPLES, 0.0, True)
 

@@ -1,5 +1,9 @@
 """Figures of an Evaluation against closed forms for one joint (paper eq. 5 and 8)."""
 
+import functools
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -75,3 +79,82 @@ def test_exact_figures_come_from_the_closed_form_and_match_a_fine_quadrature():
                                  list(series.phase_rad), "exact").speed_ratio
         assert evaluation.speed_min_rpm == pytest.approx(30.0 * dense.min(), rel=1e-9)
         assert evaluation.speed_max_rpm == pytest.approx(30.0 * dense.max(), rel=1e-9)
+
+
+def _fine_peak(values_at: Callable[[np.ndarray], np.ndarray],
+               grid_points: int = 100_001) -> float:
+    """Largest value of a smooth function of theta on [0, pi): a dense grid, then a
+    bounded scalar maximisation between the grid neighbours of the best point."""
+    from scipy.optimize import minimize_scalar
+
+    theta = np.linspace(0.0, np.pi, grid_points)
+    values = values_at(theta)
+    best = int(np.argmax(values))
+    bracket = (theta[max(best - 1, 0)], theta[min(best + 1, grid_points - 1)])
+    found = minimize_scalar(lambda angle: -float(values_at(np.array([angle]))[0]),
+                            bounds=bracket, method="bounded", options={"xatol": 1e-14})
+    return max(float(values[best]), -float(found.fun))
+
+
+@pytest.mark.parametrize("top_deg", [30.0, 60.0, 85.0, 89.0])
+def test_exact_acceleration_and_transmission_error_match_the_joint_by_joint_chain(top_deg):
+    # The exact model's peak output acceleration and transmission error are closed
+    # forms of the chain matrix (sso.kinematics.hooke_matrix.peak_ratio_slope and
+    # lag_swing). The reference is independent of the matrix: the joint-by-joint chain
+    # (sso.kinematics.hooke.chain_kinematics, one joint's law after another), its
+    # ratio slope and angle lag maximised over theta by a 100,001-point grid and a
+    # bounded scalar search. Agreement to 1e-9 relative, up to 89 deg, 1 to 7 joints.
+    rng = np.random.default_rng(int(top_deg))
+    speed_rpm = 60.0 / (2.0 * np.pi)  # 1 rad/s: the acceleration is the ratio slope
+    for _ in range(12):
+        n_joints = int(rng.integers(1, 8))
+        series = sso.ShaftSeries(rng.uniform(0.0, top_deg, n_joints),
+                                 rng.uniform(-360.0, 360.0, n_joints - 1))
+        chain = functools.partial(_joint_by_joint, list(series.beta_rad),
+                                  list(series.phase_rad))
+        evaluation = series.evaluate(speed_rpm)
+        slope = _fine_peak(functools.partial(_ratio_slope, chain))
+        lag = _fine_peak(functools.partial(_angle_lag, chain))
+        assert evaluation.max_output_accel_rad_s2 == pytest.approx(slope, rel=1e-9)
+        assert evaluation.transmission_error_deg == pytest.approx(np.degrees(lag), rel=1e-9,
+                                                                  abs=1e-12)
+
+
+def _ratio_slope(chain: Callable[[np.ndarray], Any], theta: np.ndarray) -> np.ndarray:
+    kinematics = chain(theta)
+    slope: np.ndarray = np.abs(kinematics.speed_ratio * kinematics.log_ratio_slope)
+    return slope
+
+
+def _angle_lag(chain: Callable[[np.ndarray], Any], theta: np.ndarray) -> np.ndarray:
+    lag: np.ndarray = np.abs(chain(theta).angle_lag_rad)
+    return lag
+
+
+def _joint_by_joint(beta_rad: list[float], phase_rad: list[float], theta: np.ndarray) -> Any:
+    """The exact chain joint after joint (sso.kinematics.hooke), not the chain matrix."""
+    from sso.kinematics.hooke import chain_kinematics
+
+    return chain_kinematics(np, np.cos(theta), np.sin(theta), beta_rad, phase_rad, "exact")
+
+
+def test_exact_acceleration_stays_finite_for_aligned_joints_near_ninety_degrees():
+    # Four aligned joints at 89.99 deg: M = diag(1, k), k = cos^4 89.99 deg ~ 9.3e-16, so
+    # the least |M v|^2 is k^2 ~ 1e-30, a difference the closed form must not take.
+    # The peak is ~1e-15 rad wide, beyond any grid: the reference is the exact slope
+    # of w_out / w_in = k / (cos^2 theta + k^2 sin^2 theta), in t = tan theta
+    # 2 k (1 - k^2) t (1 + t^2) / (1 + k^2 t^2)^2, maximised in 50-digit arithmetic
+    # (its log-derivative's root near t = sqrt(3) / k; the peak is about
+    # 3 sqrt(3) / (8 k^2) ~ 7.5e29 per (rad/s)^2).
+    import mpmath
+
+    mpmath.mp.dps = 50
+    k = mpmath.cos(mpmath.radians(mpmath.mpf("89.99"))) ** 4
+
+    def log_derivative(t: Any) -> Any:
+        return 1 / t + 2 * t / (1 + t**2) - 4 * k**2 * t / (1 + k**2 * t**2)
+
+    peak_t = mpmath.findroot(log_derivative, mpmath.sqrt(3) / k)
+    reference = 2 * k * (1 - k**2) * peak_t * (1 + peak_t**2) / (1 + k**2 * peak_t**2) ** 2
+    accel = sso.ShaftSeries([89.99] * 4, [0.0] * 3).evaluate(60.0 / (2.0 * np.pi))
+    assert accel.max_output_accel_rad_s2 == pytest.approx(float(reference), rel=1e-9)
