@@ -63,12 +63,17 @@ def test_a_tolerance_study_too_large_for_memory_is_refused_before_drawing():
 
 
 def test_the_memory_limit_is_configurable_and_checked():
-    series = sso.ShaftSeries([10.0, 20.0], [90.0])
+    series = sso.ShaftSeries([10.0, 20.0], [90.0], "paper")
     small = sso.tolerance(series, samples=100, memory_limit_mb=1000)
     assert len(small.residual_error) == 100
-    # 100 samples are evaluated in one block of 16 arrays of 100 x 1024 angles: 13 MB
+    # The paper model evaluates 100 samples in one block of 16 arrays of 100 x 1024
+    # angles: 13 MB
     with pytest.raises(ValueError, match="about 13 MB .* above the memory limit of 10 MB"):
         sso.tolerance(series, samples=100, workers=1, memory_limit_mb=10)
+    # The exact model's figures are closed forms (no angle grid): the same study fits
+    exact = sso.tolerance(sso.ShaftSeries([10.0, 20.0], [90.0]), samples=100, workers=1,
+                          memory_limit_mb=10)
+    assert len(exact.residual_error) == 100
     with pytest.raises(ValueError, match=r"memory_limit_mb = -1 is outside"):
         sso.tolerance(series, samples=100, memory_limit_mb=-1)
 

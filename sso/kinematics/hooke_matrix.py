@@ -199,7 +199,7 @@ def ratio_extremes(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -
     return 1 / greatest, greatest
 
 
-def peak_ratio_slope(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> float:
+def peak_ratio_slope(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any]) -> Any:
     """Largest ``|d(w_out / w_in) / d theta|`` over a turn (1/rad), from the chain matrix.
 
     With ``G = M^T M``, ``|M v|^2 = A + R cos(2 theta - delta)`` where ``A = trace(G) / 2``
@@ -211,21 +211,22 @@ def peak_ratio_slope(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> f
     numbers, so both are written without subtraction through ``A^2 - R^2 = det^2``:
     ``A - R = det^2 / (A + R)``, ``S - 3 R = det^2 / (S + 3 R)`` and
     ``1 + c = ((A - R) + (S - 3 R)) / (A + S)``. Times the input speed squared
-    (rad/s) it is the peak output acceleration. Floats (``math``); parameters as in
-    :func:`chain_matrix`.
+    (rad/s) it is the peak output acceleration. Parameters as in :func:`chain_matrix`
+    (``math`` for one design, ``numpy`` for many at once).
     """
-    m11, m12, m21, m22 = chain_matrix(math, beta_rad, phase_rad)
+    m11, m12, m21, m22 = chain_matrix(xp, beta_rad, phase_rad)
     g11, g22 = m11 * m11 + m21 * m21, m12 * m12 + m22 * m22
     g12 = m11 * m12 + m21 * m22
-    mean, amplitude = 0.5 * (g11 + g22), math.hypot(0.5 * (g11 - g22), g12)
+    half_difference = 0.5 * (g11 - g22)
+    mean = 0.5 * (g11 + g22)
+    amplitude = xp.sqrt(half_difference * half_difference + g12 * g12)
     determinant = m11 * m22 - m12 * m21
     squared = determinant * determinant
-    root = math.sqrt(mean * mean + 8.0 * amplitude * amplitude)
+    root = xp.sqrt(mean * mean + 8.0 * amplitude * amplitude)
     least = squared / (mean + amplitude)
     one_plus_cosine = (least + squared / (root + 3.0 * amplitude)) / (mean + root)
-    sine = math.sqrt(one_plus_cosine * (2.0 - one_plus_cosine))
-    return float(2.0 * amplitude * determinant * sine
-                 / (least + amplitude * one_plus_cosine) ** 2)
+    sine = xp.sqrt(one_plus_cosine * (2.0 - one_plus_cosine))
+    return 2.0 * amplitude * determinant * sine / (least + amplitude * one_plus_cosine) ** 2
 
 
 def lag_swing(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> tuple[float, float]:

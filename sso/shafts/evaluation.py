@@ -223,7 +223,7 @@ def _closed_form_evaluation(speed_rpm: float, beta_rad: list[float],
     lag_at_zero = float(chain_kinematics(math, 1.0, 0.0, beta_rad, phase_rad,
                                          "exact").angle_lag_rad)
     moving_at_zero, swing = lag_swing(beta_rad, phase_rad)
-    peaks = {"slope": peak_ratio_slope(beta_rad, phase_rad),
+    peaks = {"slope": float(peak_ratio_slope(math, beta_rad, phase_rad)),
              "lag": abs(lag_at_zero - moving_at_zero) + swing}
     return _evaluation(speed_rpm, residual, float(ratio_min), float(ratio_max), 1.0, peaks,
                        CLOSED_FORM_SAMPLES, 0.0, True)

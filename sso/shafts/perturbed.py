@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sso.kinematics.hooke import chain_kinematics
-from sso.kinematics.hooke_matrix import ratio_extremes
+from sso.kinematics.hooke_matrix import peak_ratio_slope, ratio_extremes
 from sso.kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso.limits import BETA_LIMIT_DEG
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
@@ -72,8 +72,22 @@ def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
 
 
 def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
-    """RE, fluctuation and peak output acceleration of each sample, shape (3, m)."""
+    """RE, fluctuation and peak output acceleration of each sample, shape (3, m).
+
+    The exact model's three figures are closed forms of the chain matrix, one numpy
+    pass over the samples with no angle grid; the paper model's are read off a grid
+    and refined, as :meth:`sso.ShaftSeries.evaluate` does.
+    """
     values = np.empty((len(METRICS), len(chunk.beta_rad)))
+    if chunk.model == "exact":
+        beta = list(chunk.beta_rad.T)
+        phase = list(chunk.phase_rad.T)
+        least, greatest = ratio_extremes(np, beta, phase)
+        values[0] = closed_form_residual_error(np, beta, phase)
+        values[1] = greatest - least
+        values[2] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * peak_ratio_slope(np, beta,
+                                                                                    phase)
+        return values
     figure_samples = max(MIN_FIGURE_SAMPLES, 4 * chunk.quadrature_samples)
     step = block_samples(figure_samples)
     for start in range(0, len(chunk.beta_rad), step):
@@ -84,15 +98,8 @@ def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
         kinematics = chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta, phase,
                                       chunk.model)
         ratio = kinematics.speed_ratio
-        if chunk.model == "exact":
-            # RE and the ratio extremes in closed form (the chain matrix).
-            least, greatest = ratio_extremes(np, beta, phase)
-            values[0, block] = closed_form_residual_error(np, beta, phase).ravel()
-            values[1, block] = (greatest - least).ravel()
-        else:
-            values[0, block] = residual_error(beta, phase, chunk.model,
-                                              chunk.quadrature_samples)
-            values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
+        values[0, block] = residual_error(beta, phase, chunk.model, chunk.quadrature_samples)
+        values[1, block] = periodic_peaks(ratio) + periodic_peaks(-ratio)
         ratio_slope = np.abs(ratio * kinematics.log_ratio_slope)
         values[2, block] = (chunk.input_speed_rpm * RPM_TO_RAD_S) ** 2 * periodic_peaks(ratio_slope)
     return values
@@ -101,8 +108,8 @@ def evaluate_chunk(chunk: ToleranceChunk) -> np.ndarray:
 def periodic_peaks(values: np.ndarray) -> np.ndarray:
     """Maximum of each row of a periodic sampled function, refined by a parabola.
 
-    The row-wise form of the refinement :meth:`sso.ShaftSeries.evaluate` uses, so
-    both give the same figures.
+    The row-wise form of the refinement :meth:`sso.ShaftSeries.evaluate` uses for the
+    paper model, so both give the same figures.
     """
     rows = np.arange(values.shape[0])
     index = np.argmax(values, axis=1)
