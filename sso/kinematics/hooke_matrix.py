@@ -210,9 +210,10 @@ def peak_ratio_slope(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any])
     ``A - R`` (the least ``|M v|^2``) and ``1 + c`` are tiny differences of large
     numbers, so both are written without subtraction through ``A^2 - R^2 = det^2``:
     ``A - R = det^2 / (A + R)``, ``S - 3 R = det^2 / (S + 3 R)`` and
-    ``1 + c = ((A - R) + (S - 3 R)) / (A + S)``. Times the input speed squared
-    (rad/s) it is the peak output acceleration. Parameters as in :func:`chain_matrix`
-    (``math`` for one design, ``numpy`` for many at once).
+    ``1 + c = ((A - R) + (S - 3 R)) / (A + S)``, with ``det M = prod cos beta_k``
+    (the entries' ``m11 m22 - m12 m21`` cancels near 90 deg). Times the input speed
+    squared (rad/s) it is the peak output acceleration. Parameters as in
+    :func:`chain_matrix` (``math`` for one design, ``numpy`` for many at once).
     """
     m11, m12, m21, m22 = chain_matrix(xp, beta_rad, phase_rad)
     g11, g22 = m11 * m11 + m21 * m21, m12 * m12 + m22 * m22
@@ -220,7 +221,7 @@ def peak_ratio_slope(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any])
     half_difference = 0.5 * (g11 - g22)
     mean = 0.5 * (g11 + g22)
     amplitude = xp.sqrt(half_difference * half_difference + g12 * g12)
-    determinant = m11 * m22 - m12 * m21
+    determinant = chain_determinant(xp, beta_rad)
     squared = determinant * determinant
     root = xp.sqrt(mean * mean + 8.0 * amplitude * amplitude)
     least = squared / (mean + amplitude)
@@ -235,6 +236,8 @@ def lag_swing(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> tuple[fl
     As a map of ``z = e^(i theta)``, ``M v = e^(i theta) (a + b e^(-2 i theta))`` with
     ``|b| < |a|`` (``det M = |a|^2 - |b|^2 > 0``), so the lag is a constant plus
     ``arg(1 + (b / a) e^(-2 i theta))``, which sweeps ``[-asin |b/a|, asin |b/a|]``.
+    Near 90 deg ``|b/a|`` is close to 1, where ``asin`` magnifies round-off; the swing
+    is computed as ``atan2(|b|, sqrt(det M))`` with ``det M = prod cos beta_k``.
 
     Returns
     -------
@@ -245,8 +248,9 @@ def lag_swing(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> tuple[fl
         ``asin |b / a|``, the largest departure from the constant.
     """
     m11, m12, m21, m22 = chain_matrix(math, beta_rad, phase_rad)
-    ratio = complex(m11 - m22, m21 + m12) / complex(m11 + m22, m21 - m12)
-    return cmath.phase(1.0 + ratio), math.asin(min(abs(ratio), 1.0))
+    a, b = 0.5 * complex(m11 + m22, m21 - m12), 0.5 * complex(m11 - m22, m21 + m12)
+    swing = math.atan2(abs(b), math.sqrt(chain_determinant(math, beta_rad)))
+    return cmath.phase(1.0 + b / a), swing
 
 
 def residual_jacobian(xp: Any, beta_rad: Sequence[Any],

@@ -7,6 +7,8 @@ derivatives; the one-joint extremes ``cos b`` and ``1/cos b`` of the spec
 ("Checks with known answers").
 """
 
+import math
+
 import casadi
 import mpmath
 import numpy as np
@@ -237,3 +239,34 @@ def test_complex_float_jacobian_returns_the_requested_columns():
     assert rho_beta == rho_phase == rho
     assert beta_only == full[:4]
     assert phase_only == full[4:]
+
+
+def test_peak_slope_and_lag_swing_hold_full_precision_near_ninety_degrees():
+    # Non-aligned chains of 2 to 6 joints whose angles lie within 1 deg below 89,
+    # 89.9 and 89.99 deg: the closed forms against the same formulas evaluated in
+    # 50-digit arithmetic (mpmath). det M is the product of the cosines and the
+    # swing is atan2(|b|, sqrt(det M)); taking det M from the entries, or asin |b/a|,
+    # loses up to 1e-8 relative here.
+    class Precise:
+        cos = staticmethod(mpmath.cos)
+        sin = staticmethod(mpmath.sin)
+        sqrt = staticmethod(mpmath.sqrt)
+
+    rng = np.random.default_rng(RNG_SEED + 9)
+    for top in (89.0, 89.9, 89.99):
+        for _ in range(10):
+            n_joints = int(rng.integers(2, 7))
+            beta = list(np.radians(rng.uniform(top - 1.0, top, n_joints)))
+            phase = list(np.radians(rng.uniform(-180.0, 180.0, n_joints - 1)))
+            with mpmath.workdps(50):
+                precise_beta = [mpmath.mpf(value) for value in beta]
+                precise_phase = [mpmath.mpf(value) for value in phase]
+                slope = float(hooke_matrix.peak_ratio_slope(Precise, precise_beta,
+                                                            precise_phase))
+                m11, m12, m21, m22 = hooke_matrix.chain_matrix(Precise, precise_beta,
+                                                               precise_phase)
+                swing = float(mpmath.asin(abs(mpmath.mpc(m11 - m22, m21 + m12))
+                                          / abs(mpmath.mpc(m11 + m22, m21 - m12))))
+            assert hooke_matrix.peak_ratio_slope(math, beta, phase) == pytest.approx(
+                slope, rel=1e-12)
+            assert hooke_matrix.lag_swing(beta, phase)[1] == pytest.approx(swing, rel=1e-12)
