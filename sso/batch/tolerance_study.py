@@ -173,8 +173,11 @@ def tolerance_study(
     # grid). The paper model's quadrature count is fixed after the draw; until then,
     # estimate with the nominal design's count (the figures grid is never coarser
     # than its minimum).
-    figure_samples = 1 if series.model == "exact" else max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
-        np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
+    if series.model == "exact":
+        figure_samples = 1
+    else:
+        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
+            np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
     check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
                                     worker_count if client is None else 1), memory_limit_mb)
 

@@ -9,6 +9,9 @@ import numpy as np
 
 from sso.solvers.run import RunLimits, RunOutcome
 
+TESTS_ITS_START = False
+"""A run costs a solver set-up and iterations even from a minimum: check the start first."""
+
 # IPOPT's ApplicationReturnStatus codes, keyed by the names CasADi reports.
 RETURN_STATUS_CODES = {
     "Solve_Succeeded": 0,

@@ -41,6 +41,10 @@ from sso.solvers.run import RunLimits, RunOutcome
 
 Residual = Callable[[list[float]], tuple[complex, list[complex]]]
 
+TESTS_ITS_START = True
+"""Its first step stops at a start already at a minimum (round-off zero, or a projected
+gradient under the tolerance), for the cost of one evaluation: no check before it."""
+
 MESSAGES = {
     -2: "residual or Jacobian is not finite",
     -1: "no decrease possible (damping overflow) before the tolerance was met",
