@@ -69,6 +69,8 @@ def finite_float(field: str, value: Any) -> float:
     ValueError
         If ``value`` is not a real number, or is NaN or infinite.
     """
+    if type(value) is float and math.isfinite(value):
+        return value
     if isinstance(value, bool):
         raise ValueError(f"{field} = {shown(value)} must be a number, not a boolean")
     try:
@@ -185,6 +187,12 @@ def _checked_pair(name: str, pair: Any, lower_limit: float, upper_limit: float, 
                   upper_open: bool) -> tuple[float, float]:
     """One ``(lower, upper)`` pair as floats inside the limits, not inverted, else raise."""
     lower, upper = pair
+    # Plain numbers inside the limits and in order pass at once (NaN and infinity fail
+    # these comparisons); anything else takes the checks that name what is wrong.
+    if (type(lower) in _PLAIN_NUMBERS and type(upper) in _PLAIN_NUMBERS
+            and lower_limit <= lower <= upper
+            and (upper < upper_limit if upper_open else upper <= upper_limit)):
+        return float(lower), float(upper)
     lower_name, upper_name = f"{name} lower", f"{name} upper"
     lower = check_in_range(lower_name, finite_float(lower_name, lower), lower_limit, upper_limit,
                            unit, upper_open=upper_open)
@@ -213,6 +221,7 @@ def _is_number(item: Any) -> bool:
 
 
 _NUMBER_TYPES = (int, float, np.integer, np.floating)
+_PLAIN_NUMBERS = (int, float)
 
 
 

@@ -389,39 +389,165 @@ def residual_and_jacobian_complex(
     last = count - 1
     cos, sin = math.cos, math.sin
     cos_beta = [cos(beta) for beta in beta_rad]
-    cos_phase = [cos(phase) for phase in phase_rad]
-    sin_phase = [sin(phase) for phase in phase_rad]
-    before_a = [0.0j] * count
-    before_c = [0.0j] * count
+    turns = [complex(cos(phase), sin(phase)) for phase in phase_rad]
+    before_a: list[complex] = []
+    before_c: list[complex] = []
     a, c = 1.0 + 0.0j, 0.0j
     determinant = 1.0
-    for k in range(count):
-        before_a[k] = a
-        before_c[k] = c
-        cosine = cos_beta[k]
+    for k, cosine in enumerate(cos_beta):
+        before_a.append(a)
+        before_c.append(c)
         determinant *= cosine
         p, q = 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine
         a, c = p * a + q * c, p * c + q * a
         if k < last:
-            a *= complex(cos_phase[k], sin_phase[k])
-            c *= complex(cos_phase[k], -sin_phase[k])
+            turn = turns[k]
+            a *= turn
+            c *= turn.conjugate()
     scale = math.sqrt(2.0 / determinant)
     rho = c * scale
     phase_offset = count if beta_free else 0
     jacobian = [0.0j] * (phase_offset + (last if phase_free else 0))
     e, f = 1.0 + 0.0j, 0.0j
+    minus_i_scale = -1j * scale
     for k in range(last, -1, -1):
         cosine = cos_beta[k]
         if beta_free:
-            s = sin(beta_rad[k])
-            jacobian[k] = ((-0.5 * s * scale) * (e - f) * (before_c[k] - before_a[k])
-                           + rho * (0.5 * s / cosine))
+            half_sine = 0.5 * sin(beta_rad[k])
+            jacobian[k] = ((-half_sine * scale) * (e - f) * (before_c[k] - before_a[k])
+                           + rho * (half_sine / cosine))
         p, q = 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine
         e, f = e * p + f * q, e * q + f * p
         if k:
             if phase_free:
-                jacobian[phase_offset + k - 1] = -1j * scale * (e * before_c[k]
-                                                                 - f * before_a[k])
-            e *= complex(cos_phase[k - 1], -sin_phase[k - 1])
-            f *= complex(cos_phase[k - 1], sin_phase[k - 1])
+                jacobian[phase_offset + k - 1] = minus_i_scale * (e * before_c[k]
+                                                                  - f * before_a[k])
+            turn = turns[k - 1]
+            e *= turn.conjugate()
+            f *= turn
     return rho, jacobian
+
+
+def residual_hessian_complex(
+    beta_rad: Sequence[float], phase_rad: Sequence[float], *, beta_free: bool = True,
+    phase_free: bool = True,
+) -> tuple[complex, list[complex], list[list[float]]]:
+    """Residual and Jacobian of one design's ``rho``, and the Hessian of ``RE = |rho|^2``.
+
+    ``rho = s c`` as in :func:`residual_and_jacobian_complex`: ``c`` is the second
+    component of the chain's factors applied to ``(a, c) = (1, 0)`` (``D_k`` maps
+    ``(a, c)`` to ``(p a + q c, q a + p c)``, ``R(phi)`` to ``(e^(i phi) a,
+    e^(-i phi) c)``) and ``s = sqrt(2 / prod cos beta_k)``. Each factor is linear in
+    ``(a, c)`` and depends on one angle, so with ``u_t`` the pair before factor
+    ``t`` and ``l_t`` the linear map from the pair after it to ``c``,
+
+    * ``dc/dt = l_t(F_t' u_t)`` and ``d2c/dt2 = l_t(F_t'' u_t)``;
+    * ``d2c/dt dt' = l_t'(F_t' F_(t'-1) ... F_(t+1) F_t' u_t)`` for ``t < t'``,
+
+    with ``D' = (sin beta / 2) (c - a, a - c)``, ``D'' = (cos beta / 2) (c - a, a - c)``,
+    ``R' = (i e^(i phi) a, -i e^(-i phi) c)`` and ``R'' = -R``; and with ``L = ln s``
+    (``dL/d beta = tan beta / 2``, ``d2L/d beta2 = 1 / (2 cos^2 beta)``),
+    ``d2 rho = s ((L_i L_j + L_ij) c + L_i c_j + L_j c_i + c_ij)``. The cost grows with
+    the square of the free variables, against one residual-and-Jacobian call per
+    variable for a difference Hessian. The tests check it against CasADi's symbolic
+    Hessian of :func:`residuals`.
+
+    Parameters
+    ----------
+    beta_rad : sequence of float
+        Operating angles (rad), ``n >= 1``.
+    phase_rad : sequence of float
+        Relative phases (rad), ``n - 1``.
+    beta_free, phase_free : bool
+        Which variables to differentiate by (operating angles first, then phases).
+
+    Returns
+    -------
+    rho : complex
+        ``r1 - i r2`` (``RE = |rho|^2``).
+    jacobian : list of complex
+        ``d rho / dx_i`` per rad.
+    hessian : list of list of float
+        ``d2 RE / dx_i dx_j`` per rad^2 (symmetric, both triangles filled):
+        ``2 Re(conj(rho_j) rho_i + conj(rho) rho_ij)``.
+    """
+    count = len(beta_rad)
+    phase_offset = count if beta_free else 0
+    size = phase_offset + (count - 1 if phase_free else 0)
+    # The factors in the order they act: (variable index or -1, is a bend, then
+    # p, q, sin(beta) / 2, cos(beta) / 2 of a bend or e^(i phi), e^(-i phi) of a turn).
+    factors: list[tuple[int, bool, Any, Any, float, float]] = []
+    for k in range(count):
+        cosine = math.cos(beta_rad[k])
+        factors.append((k if beta_free else -1, True, 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine,
+                        0.5 * math.sin(beta_rad[k]), 0.5 * cosine))
+        if k < count - 1:
+            turn = complex(math.cos(phase_rad[k]), math.sin(phase_rad[k]))
+            factors.append((phase_offset + k if phase_free else -1, False, turn,
+                            turn.conjugate(), 0.0, 0.0))
+
+    before: list[tuple[complex, complex]] = []
+    a, c = 1.0 + 0.0j, 0.0j
+    for _, is_bend, first, second, _, _ in factors:
+        before.append((a, c))
+        a, c = (first * a + second * c, second * a + first * c) if is_bend else (first * a,
+                                                                                  second * c)
+    final_c = c
+    # after[t] = (e, f): the map (a, c) -> e a + f c from the pair after factor t to
+    # the final c; the map before factor t is that map composed with the factor.
+    after: list[tuple[complex, complex]] = [(0.0j, 1.0 + 0.0j)] * len(factors)
+    e, f = 0.0j, 1.0 + 0.0j
+    for t in range(len(factors) - 1, -1, -1):
+        after[t] = (e, f)
+        _, is_bend, first, second, _, _ = factors[t]
+        e, f = (e * first + f * second, e * second + f * first) if is_bend else (e * first,
+                                                                                 f * second)
+
+    c_first = [0.0j] * size
+    c_second = [[0.0j] * size for _ in range(size)]
+    for t, (variable, is_bend, first, second, half_sine, half_cosine) in enumerate(factors):
+        if variable < 0:
+            continue
+        e, f = after[t]
+        a, c = before[t]
+        if is_bend:
+            # D' = (sin beta / 2) (c - a, a - c), D'' = (cos beta / 2) (c - a, a - c).
+            c_second[variable][variable] = half_cosine * (c - a) * (e - f)
+            a, c = half_sine * (c - a), half_sine * (a - c)
+        else:
+            # R' = (i e^(i phi) a, -i e^(-i phi) c), R'' = -R.
+            c_second[variable][variable] = -(e * first * a + f * second * c)
+            a, c = 1j * first * a, -1j * second * c
+        c_first[variable] = e * a + f * c
+        for later in range(t + 1, len(factors)):
+            other, other_bend, other_first, other_second, other_sine, _ = factors[later]
+            if other >= 0:
+                e, f = after[later]
+                c_second[variable][other] = c_second[other][variable] = (
+                    other_sine * (c - a) * (e - f) if other_bend
+                    else 1j * (e * other_first * a - f * other_second * c))
+            a, c = ((other_first * a + other_second * c, other_second * a + other_first * c)
+                    if other_bend else (other_first * a, other_second * c))
+
+    scale = math.sqrt(2.0 / math.prod([math.cos(beta) for beta in beta_rad]))
+    log_first = [0.0] * size
+    log_second = [0.0] * size
+    if beta_free:
+        for k in range(count):
+            cosine = math.cos(beta_rad[k])
+            log_first[k] = 0.5 * math.tan(beta_rad[k])
+            log_second[k] = 0.5 / (cosine * cosine)
+    rho = scale * final_c
+    jacobian = [scale * (log_first[i] * final_c + c_first[i]) for i in range(size)]
+    # d2 f / dx_i dx_j = 2 Re(conj(d rho / dx_j) d rho / dx_i + conj(rho) d2 rho / dx_i dx_j).
+    weight = 2.0 * scale * rho.conjugate()
+    hessian = [[0.0] * size for _ in range(size)]
+    for i in range(size):
+        slope_i, log_i, c_i = jacobian[i], log_first[i], c_first[i]
+        for j in range(i + 1):
+            curvature = ((log_i * log_first[j] + (log_second[i] if i == j else 0.0)) * final_c
+                         + log_i * c_first[j] + log_first[j] * c_i + c_second[i][j])
+            hessian[i][j] = hessian[j][i] = (
+                2.0 * (slope_i.real * jacobian[j].real + slope_i.imag * jacobian[j].imag)
+                + (weight * curvature).real)
+    return rho, jacobian, hessian

@@ -315,7 +315,8 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
     screened = screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
-    bar = ProgressBar(runs, "runs", runs >= PROGRESS_MIN_RUNS and interactive())
+    bar = (ProgressBar(runs, "runs", True)
+           if runs >= PROGRESS_MIN_RUNS and interactive() else None)
     try:
         solved = solve_from_starts(
             compiled_nlp(problem, rule.samples), problem.start_rad,
@@ -325,9 +326,10 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
             to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
             objective_rtol=objective_rtol, objective_atol=objective_atol,
             kkt_tolerance=kkt_tolerance, screen_starts=screen_starts,
-            progress=lambda: bar.advance(1))
+            progress=None if bar is None else lambda: bar.advance(1))
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
 
     initial_series = (checked_series(series.beta_deg,
                                      (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),

@@ -27,13 +27,13 @@ build time do not grow with the angle count that the bounds call for.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from sso.kinematics.hooke_matrix import (
     residual_and_jacobian_complex,
+    residual_hessian_complex,
     residuals,
     residuals_and_jacobian_numpy,
 )
@@ -43,9 +43,12 @@ from sso.shafts.options import DesignProblem
 from sso.solvers.nlp import CompiledNLP, cached_nlp, compile_nlp
 
 
-@dataclass(frozen=True)
-class ShapeKey:
-    """What fixes the structure of the NLP graph (``samples`` is 0 for the exact model)."""
+class ShapeKey(NamedTuple):
+    """What fixes the structure of the NLP graph (``samples`` is 0 for the exact model).
+
+    A named tuple: it is built and hashed on every solve, and a tuple does both
+    fastest.
+    """
 
     n_joints: int
     option: int
@@ -82,6 +85,7 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp = compile_nlp(name, x, p, casadi.dot(residual, residual),
                           objective_and_gradient=_float_objective(float_residual))
         nlp.residuals_and_jacobian = float_residual
+        nlp.objective_hessian = _float_hessian(problem)
         nlp.batch_residuals_and_jacobian = _array_residuals(problem)
     nlp.nonnegative_objective = True
     return nlp
@@ -134,21 +138,43 @@ def _float_residuals(problem: DesignProblem) -> Any:
     beta_free, phase_free = problem.beta_free, problem.phase_free
     # The last point and its answer: the second-order check at a start, the solver's
     # first step and the final measure of its answer each ask for a point that was
-    # just evaluated. The closure lives in one thread's NLP cache.
+    # just evaluated. The closure lives in one thread's NLP cache. Callers read the
+    # Jacobian list and never change it, so the answer is handed out uncopied.
     last: list[Any] = [None, None, None]
 
     def evaluate(x: list[float], fixed: list[float]) -> tuple[complex, list[complex]]:
         if x == last[0] and fixed == last[1]:
             answer: tuple[complex, list[complex]] = last[2]
-            return answer[0], list(answer[1])
+            return answer
         if beta_free and phase_free:
             answer = residual_and_jacobian_complex(x[:n_joints], x[n_joints:])
         elif beta_free:
             answer = residual_and_jacobian_complex(x, fixed, phase_free=False)
         else:
             answer = residual_and_jacobian_complex(fixed, x, beta_free=False)
-        last[:] = list(x), list(fixed), answer
-        return answer[0], list(answer[1])
+        last[0], last[1], last[2] = list(x), list(fixed), answer
+        return answer
+
+    return evaluate
+
+
+def _float_hessian(problem: DesignProblem) -> Any:
+    """``(x, p) -> d2 RE / dx2`` over the free variables, a list of lists of floats (per rad^2).
+
+    ``x`` and ``p`` are sequences of floats (rad); see
+    :func:`sso.kinematics.hooke_matrix.residual_hessian_complex`.
+    """
+    n_joints = problem.n_joints
+    beta_free, phase_free = problem.beta_free, problem.phase_free
+
+    def evaluate(x: Any, fixed: Any) -> list[list[float]]:
+        point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
+        parameters = fixed if type(fixed) is list else np.asarray(fixed, dtype=float).tolist()
+        if beta_free and phase_free:
+            return residual_hessian_complex(point[:n_joints], point[n_joints:])[2]
+        if beta_free:
+            return residual_hessian_complex(point, parameters, phase_free=False)[2]
+        return residual_hessian_complex(parameters, point, beta_free=False)[2]
 
     return evaluate
 
@@ -192,8 +218,8 @@ def _float_objective(float_residual: Any) -> Any:
     """
 
     def evaluate(x: Any, parameters: Any) -> tuple[float, np.ndarray]:
-        rho, jacobian = float_residual(np.asarray(x, dtype=float).tolist(),
-                                       np.asarray(parameters, dtype=float).tolist())
+        point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
+        rho, jacobian = float_residual(point, np.asarray(parameters, dtype=float).tolist())
         r1, r2 = 2.0 * rho.real, 2.0 * rho.imag
         return (rho.real * rho.real + rho.imag * rho.imag,
                 np.array([r1 * entry.real + r2 * entry.imag for entry in jacobian]))

@@ -18,13 +18,18 @@ def projected_gradient_norm(
     """Infinity norm of ``x - clip(x - gradient, lower, upper)`` (NaN if the gradient has one).
 
     Zero exactly at a first-order (KKT) point of a bound-constrained problem:
-    gradient components that push against an active bound do not count. In plain
-    floats: the vectors are a few dozen entries, fewer than a numpy call's overhead
-    is worth.
+    gradient components that push against an active bound do not count.
     """
+    return projected_gradient_norm_floats(x.tolist(), np.ravel(gradient).tolist(),
+                                          lower.tolist(), upper.tolist())
+
+
+def projected_gradient_norm_floats(x: list[float], gradient: list[float], lower: list[float],
+                                   upper: list[float]) -> float:
+    """:func:`projected_gradient_norm` of lists of floats: the vectors are a few dozen
+    entries, fewer than a numpy call's overhead is worth."""
     norm = 0.0
-    for value, slope, low, high in zip(x.tolist(), np.ravel(gradient).tolist(), lower.tolist(),
-                                       upper.tolist(), strict=True):
+    for value, slope, low, high in zip(x, gradient, lower, upper, strict=True):
         projected = value - slope
         if projected != projected:
             return math.nan

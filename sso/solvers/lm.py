@@ -38,8 +38,10 @@ from typing import Any
 import numpy as np
 
 from sso.solvers.run import RunLimits, RunOutcome
+from sso.solvers.small_matrices import cholesky
 
 Residual = Callable[[list[float]], tuple[complex, list[complex]]]
+Hessian = Callable[[list[float]], list[list[float]]]
 
 TESTS_ITS_START = True
 """Its first step stops at a start already at a minimum (round-off zero, or a projected
@@ -98,16 +100,23 @@ def solve(
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
     fixed = parameters.tolist()
+    objective_hessian = getattr(nlp, "objective_hessian", None)
     x, fun, nit, nfev, status = minimise(
         lambda point: residual(point, fixed), start.tolist(), limits.lower.tolist(),
-        limits.upper.tolist(), solver_tol, max_iterations)
+        limits.upper.tolist(), solver_tol, max_iterations,
+        None if objective_hessian is None else lambda point: objective_hessian(point, fixed))
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 
 
 def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],
-             tolerance: float, max_iterations: int) -> tuple[list[float], float, int, int, int]:
+             tolerance: float, max_iterations: int, hessian: Hessian | None = None
+             ) -> tuple[list[float], float, int, int, int]:
     """Minimise ``|rho|^2`` under bounds from ``start``.
+
+    ``hessian(x)``, when given, is the exact Hessian of ``|rho|^2`` for the Newton
+    steps (one call, counted as one evaluation); without it they difference the
+    gradient (one residual call per free variable).
 
     Returns
     -------
@@ -122,6 +131,9 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
     fun = rho.real * rho.real + rho.imag * rho.imag
     damping, growth = _INITIAL_DAMPING, 2.0
     newton = False
+    # The Hessian at x in Newton mode: a rejected step leaves x, the gradient and the
+    # free variables as they were, so it is reused, not recomputed.
+    newton_hessian: tuple[list[int], list[list[float]]] | None = None
     previous_norm = math.inf
     slow_steps = 0
     first_size = max(abs(rho), 1e-300)
@@ -157,8 +169,11 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
         if fun <= _ZERO_RESIDUAL:
             return x, fun, nit, nfev, 4
         if newton:
-            step, predicted = _newton_step(residual, x, gradient, free, damping)
-            nfev += sum(free)
+            if newton_hessian is None:
+                newton_hessian = (_difference_hessian(residual, x, gradient, free)
+                                  if hessian is None else _free_block(hessian(x), free))
+                nfev += len(newton_hessian[0]) if hessian is None else 1
+            step, predicted = _newton_step(newton_hessian, len(x), gradient, damping)
         else:
             # -J^T (J J^T + mu I)^-1 r over the free variables. mu = damping * trace / 2,
             # scaled by |r| / |r_0| once the residual has fallen: damping in proportion
@@ -202,6 +217,7 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
             growth = 2.0
             at_round_off = abs(actual) <= _ROUND_OFF * fun and predicted <= _ROUND_OFF * fun
             x, fun, rho, jacobian = trial, trial_fun, trial_rho, trial_jacobian
+            newton_hessian = None
             if at_round_off:
                 return x, fun, nit + 1, nfev, 2
             # Gauss-Newton is only linear at a nonzero residual: take Newton steps once
@@ -223,15 +239,10 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
     return x, fun, max_iterations, nfev, 0
 
 
-def _newton_step(residual: Residual, x: list[float], gradient: list[float], free: list[bool],
-                 damping: float) -> tuple[list[float], float]:
-    """Damped Newton step on the free variables, Hessian from forward differences of the gradient.
-
-    The Hessian is shifted by ``damping`` times its largest diagonal magnitude, and
-    further until its Cholesky factorisation succeeds (positive definite); returns
-    the step and the decrease the quadratic model predicts for it. Plain floats:
-    the free variables are few, and a numpy call costs more than this arithmetic.
-    """
+def _difference_hessian(residual: Residual, x: list[float], gradient: list[float],
+                        free: list[bool]) -> tuple[list[int], list[list[float]]]:
+    """The free variables' indices and the Hessian of ``f`` over them, by forward
+    differences of the gradient (one residual-and-Jacobian call per free variable)."""
     index = [i for i, is_free in enumerate(free) if is_free]
     size = len(index)
     hessian = [[0.0] * size for _ in range(size)]
@@ -244,7 +255,29 @@ def _newton_step(residual: Residual, x: list[float], gradient: list[float], free
             entry = ahead_jacobian[j]
             hessian[row][column] = (r1 * entry.real + r2 * entry.imag
                                     - gradient[j]) / _HESSIAN_STEP
-    step = [0.0] * len(x)
+    return index, hessian
+
+
+def _free_block(hessian: list[list[float]], free: list[bool]
+                ) -> tuple[list[int], list[list[float]]]:
+    """The free variables' indices and the Hessian's block over them."""
+    index = [i for i, is_free in enumerate(free) if is_free]
+    return index, [[hessian[row][column] for column in index] for row in index]
+
+
+def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length: int,
+                 gradient: list[float], damping: float) -> tuple[list[float], float]:
+    """Damped Newton step on the free variables of :func:`_difference_hessian`.
+
+    The Hessian is shifted by ``damping`` times its largest entry magnitude, and
+    further until its Cholesky factorisation succeeds (positive definite); returns
+    the step (``length`` entries) and the decrease the quadratic model predicts for
+    it. Plain floats: the free variables are few, and a numpy call costs more than
+    this arithmetic.
+    """
+    index, hessian = difference_hessian
+    size = len(index)
+    step = [0.0] * length
     values = [value for row in hessian for value in row]
     if not index or not all(map(math.isfinite, values)):
         return step, 0.0
@@ -252,17 +285,17 @@ def _newton_step(residual: Residual, x: list[float], gradient: list[float], free
     g = [gradient[i] for i in index]
     scale = max(max(abs(value) for value in values), 1e-30)
     shift = damping * scale
-    factor = _cholesky(hessian, shift)
+    factor = cholesky(hessian, shift)
     if factor is None:
         # Indefinite (near a saddle): shift just past the most negative eigenvalue,
         # so the step is long along the direction of negative curvature (Moré and
         # Sorensen); a rejected step raises ``damping`` and shortens it.
         smallest = float(np.linalg.eigvalsh(np.array(hessian))[0])
         shift = 1.01 * max(-smallest, 0.0) + max(damping, 1e-8) * scale
-        factor = _cholesky(hessian, shift)
+        factor = cholesky(hessian, shift)
     while factor is None:
         shift = max(10.0 * shift, 1e-6 * scale)
-        factor = _cholesky(hessian, shift)
+        factor = cholesky(hessian, shift)
     # Solve L L^T d = -g.
     forward = [0.0] * size
     for r in range(size):
@@ -277,20 +310,3 @@ def _newton_step(residual: Residual, x: list[float], gradient: list[float], free
                     for r in range(size) for c in range(size))
     predicted = -(sum(a * b for a, b in zip(g, free_step, strict=True)) + 0.5 * curvature)
     return step, predicted
-
-
-def _cholesky(matrix: list[list[float]], shift: float) -> list[list[float]] | None:
-    """Lower Cholesky factor of ``matrix + shift I``, or None if it is not positive definite."""
-    size = len(matrix)
-    factor = [[0.0] * size for _ in range(size)]
-    for r in range(size):
-        for c in range(r + 1):
-            total = matrix[r][c] + (shift if r == c else 0.0)
-            total -= sum(factor[r][k] * factor[c][k] for k in range(c))
-            if r == c:
-                if not total > 0.0:
-                    return None
-                factor[r][r] = math.sqrt(total)
-            else:
-                factor[r][c] = total / factor[c][c]
-    return factor

@@ -14,7 +14,7 @@ import numpy as np
 
 from sso.limits import BATCH_SCREEN_STARTS
 from sso.solvers.crosscheck import crosscheck
-from sso.solvers.kkt import constraint_violation, kkt_residual
+from sso.solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
 from sso.solvers.run import RunLimits, RunOutcome
 from sso.solvers.saddle import ZERO_OBJECTIVE, solve_with_second_order_care
 from sso.solvers.solution import CrossCheck, SeriesDesign, Solution
@@ -291,7 +291,7 @@ def solution_from_run(
     return Solution(
         solver=run.solver,
         series=series,
-        x=tuple(float(value) for value in (run.outcome.x if x is None else x)),
+        x=tuple(np.asarray(run.outcome.x if x is None else x, dtype=float).tolist()),
         fun=run.fun,
         nit=run.outcome.nit,
         nfev=run.outcome.nfev,
@@ -301,7 +301,7 @@ def solution_from_run(
         kkt=run.kkt,
         time_s=run.outcome.time_s,
         start_index=run.start_index,
-        total_nfev=sum(other.outcome.nfev for other in solver_runs),
+        total_nfev=sum([other.outcome.nfev for other in solver_runs]),
         constraint_violation=run.violation,
     )
 
@@ -333,22 +333,30 @@ def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
              parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
     # NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as
     # the vectors are short.
-    x = np.array([min(max(0.0 if value != value else value, low), high)
-                  for value, low, high in zip(np.asarray(outcome.x, dtype=float).tolist(),
-                                              limits.lower.tolist(), limits.upper.tolist(),
-                                              strict=True)], dtype=float)
-    value, gradient = nlp.objective_and_gradient(x, parameters)
-    constraint_values = constraint_jacobian = None
+    lower, upper = limits.lower.tolist(), limits.upper.tolist()
+    point = [low if value < low else high if value > high else value
+             for value, low, high in zip([0.0 if value != value else value
+                                          for value in np.asarray(outcome.x,
+                                                                  dtype=float).tolist()],
+                                         lower, upper, strict=True)]
+    x = np.array(point, dtype=float)
+    value, gradient = nlp.objective_and_gradient(point, parameters)
     if limits.constrained:
         constraint_values, constraint_jacobian = nlp.constraints_and_jacobian(x, parameters)
         constraint_values = np.array(constraint_values, dtype=float).ravel()
-        constraint_jacobian = np.array(constraint_jacobian, dtype=float)
+        kkt = kkt_residual(x, gradient, limits, constraint_values,
+                           np.array(constraint_jacobian, dtype=float))
+        violation = constraint_violation(x, limits, constraint_values)
+    else:
+        # x was just put onto the bounds: it violates nothing.
+        kkt = projected_gradient_norm_floats(point, np.ravel(gradient).tolist(), lower, upper)
+        violation = 0.0
     return MeasuredRun(
         solver=name,
         start_index=start_index,
         outcome=RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
                            outcome.status, outcome.success, outcome.message, outcome.time_s),
         fun=float(value),
-        kkt=kkt_residual(x, gradient, limits, constraint_values, constraint_jacobian),
-        violation=constraint_violation(x, limits, constraint_values),
+        kkt=kkt,
+        violation=violation,
     )

@@ -53,6 +53,11 @@ class CompiledNLP:
         ``x`` of shape ``(k, n)``, ``r`` of shape ``(k, 2)`` and ``J`` of shape
         ``(k, 2, n)`` (numpy), used to screen many starts in one batch; None
         otherwise.
+    objective_hessian : callable or None
+        ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
+        it in closed form: the ``"lm"`` solver's Newton steps and the
+        second-order checks use it instead of differences of the gradient; None
+        otherwise.
     nonnegative_objective : bool
         True when the objective is never negative (a sum of squares): a point at
         round-off zero is then a global minimum and needs no second-order check.
@@ -65,6 +70,7 @@ class CompiledNLP:
     ipopt_solvers: dict[tuple[tuple[str, Any], ...], Any] = field(default_factory=dict)
     residuals_and_jacobian: Any = None
     batch_residuals_and_jacobian: Any = None
+    objective_hessian: Any = None
     nonnegative_objective: bool = False
 
     def ipopt(self, options: dict[str, Any]) -> Any:

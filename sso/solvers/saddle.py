@@ -26,8 +26,9 @@ from typing import Any
 
 import numpy as np
 
-from sso.solvers.kkt import projected_gradient_norm
+from sso.solvers.kkt import projected_gradient_norm_floats
 from sso.solvers.run import RunLimits, RunOutcome
+from sso.solvers.small_matrices import cholesky
 
 MAX_ESCAPES = 3
 # Negative curvature counts when the smallest eigenvalue is below -RELATIVE_CURVATURE
@@ -127,7 +128,8 @@ def _minimum_at_start(nlp: Any, start: np.ndarray, parameters: np.ndarray, limit
                           "start is a global minimum (nonnegative objective at round-off "
                           "zero): solver not run", 0.0)
     stationary = min(solver_tol, STATIONARY_START)
-    if (projected_gradient_norm(start, gradient, limits.lower, limits.upper) <= stationary
+    if (projected_gradient_norm_floats(start.tolist(), gradient, limits.lower.tolist(),
+                                       limits.upper.tolist()) <= stationary
             and _negative_curvature(nlp, start, parameters, limits, counts) is None):
         return RunOutcome(start, value, 0, 0, 0, 0, True,
                           "start is a minimum to tolerance (stationary, no negative curvature): "
@@ -151,27 +153,32 @@ class _Counts:
 
 
 def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: np.ndarray,
-                        counts: _Counts, use: str = "both") -> tuple[float, np.ndarray]:
+                        counts: _Counts, use: str = "both") -> tuple[float, list[float]]:
     """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
     value, gradient = nlp.objective_and_gradient(x, parameters)
     counts.objective += use in ("both", "objective")
     counts.gradient += use in ("both", "gradient")
-    return float(value), np.array(gradient, dtype=float).ravel()
+    return float(value), np.ravel(gradient).tolist()
 
 
-def _hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, counts: _Counts,
+def _hessian(nlp: Any, point: list[float], parameters: np.ndarray, counts: _Counts,
              free: list[int]) -> list[list[float]]:
-    """Hessian of the objective over the variables ``free``, by central differences of its
-    exact gradient.
+    """Hessian of the objective over the variables ``free``: the problem's own closed form
+    (``nlp.objective_hessian``, counted as one gradient call) where it has one, else
+    central differences of its exact gradient.
 
-    ``2 len(free)`` gradient calls and no symbolic work: a symbolic Hessian of a
-    twelve-joint graph takes seconds to build, longer than the solve it checks.
-    The truncation error (``HESSIAN_STEP^2`` times third derivatives) stays far
-    below the ``RELATIVE_CURVATURE`` that counts as negative curvature. Plain
-    floats: the matrices are small, and each numpy call costs more than their
+    Differences take ``2 len(free)`` gradient calls and no symbolic work: a symbolic
+    Hessian of a twelve-joint graph takes seconds to build, longer than the solve it
+    checks. Their truncation error (``HESSIAN_STEP^2`` times third derivatives)
+    stays far below the ``RELATIVE_CURVATURE`` that counts as negative curvature.
+    Plain floats: the matrices are small, and each numpy call costs more than their
     arithmetic.
     """
-    point = x.tolist()
+    closed_form = getattr(nlp, "objective_hessian", None)
+    if closed_form is not None:
+        counts.gradient += 1
+        full = closed_form(point, parameters)
+        return [[full[row][column] for column in free] for row in free]
     columns = []
     for index in free:
         ahead, behind = list(point), list(point)
@@ -194,17 +201,26 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
     gradient pushes it against that bound by more than round-off (at a symmetric
     point the gradient is zero up to a sign that means nothing).
     """
-    _, gradient = _value_and_gradient(nlp, x, parameters, counts, "gradient")
+    point = x.tolist()
+    _, gradient = _value_and_gradient(nlp, point, parameters, counts, "gradient")
     free = [index for index, (value, low, high, slope)
-            in enumerate(zip(x.tolist(), limits.lower.tolist(), limits.upper.tolist(),
-                             gradient.tolist(), strict=True))
+            in enumerate(zip(point, limits.lower.tolist(), limits.upper.tolist(), gradient,
+                             strict=True))
             if not (high - low <= ON_BOUND
                     or (value - low <= ON_BOUND and slope > STATIONARY_START)
                     or (high - value <= ON_BOUND and slope < -STATIONARY_START))]
     if not free:
         return None
-    hessian = _hessian(nlp, x, parameters, counts, free)
+    hessian = _hessian(nlp, point, parameters, counts, free)
     if not all(math.isfinite(entry) for row in hessian for entry in row):
+        return None
+    # The largest eigenvalue magnitude is at least the largest diagonal magnitude, so
+    # the threshold below is at least RELATIVE_CURVATURE times the latter: when H plus
+    # that shift has a Cholesky factor, no eigenvalue lies below the threshold, and
+    # only when it has none is the eigendecomposition needed.
+    largest_diagonal = max(abs(hessian[index][index]) for index in range(len(free)))
+    if cholesky(hessian, max(RELATIVE_CURVATURE * largest_diagonal,
+                             ABSOLUTE_CURVATURE)) is not None:
         return None
     eigenvalues, eigenvectors = np.linalg.eigh(np.array(hessian))
     largest = max(abs(float(eigenvalues[0])), abs(float(eigenvalues[-1])))

@@ -69,3 +69,66 @@ def test_exact_shape_does_not_depend_on_bounds():
     narrow = build_problem([15.0, 20.0], [5.0], "exact", 3, (7, 25), (0, 180))
     wide = build_problem([15.0, 20.0], [5.0], "exact", 3, (0, 89.9), (0, 180))
     assert compiled_nlp(narrow, 16) is compiled_nlp(wide, 4096)
+
+
+def _rejecting_newton_case():
+    # Found by a random search: Gauss-Newton stalls on the bounds, and the Newton
+    # steps that follow are rejected several times before one is accepted.
+    from sso.shafts.options import build_problem
+    from sso.shafts.problem import compiled_nlp
+
+    problem = build_problem([9.3, 6.2, 27.6], [154.8, 9.9], "exact", 3, (5.0, 35.0),
+                            (0.0, 180.0))
+    return problem, compiled_nlp(problem, 0), problem.parameters_rad.tolist()
+
+
+def _run_recording_points(hessian_given):
+    from sso.solvers.lm import minimise
+
+    problem, nlp, fixed = _rejecting_newton_case()
+    points = []
+
+    def residual(x):
+        points.append(tuple(x))
+        return nlp.residuals_and_jacobian(x, fixed)
+
+    answer = minimise(residual, problem.start_rad.tolist(), problem.lower_rad.tolist(),
+                      problem.upper_rad.tolist(), 1e-12, 3000,
+                      (lambda x: nlp.objective_hessian(x, fixed)) if hessian_given else None)
+    return answer, points
+
+
+@pytest.mark.parametrize("hessian_given", [False, True])
+def test_newton_steps_never_evaluate_a_point_twice(hessian_given):
+    # A rejected Newton step leaves x where it was: its Hessian (differences of the
+    # gradient, or the closed form) is kept, not evaluated again. Only a trial point
+    # that the bounds project onto the previous trial point may repeat, right after it.
+    (x, fun, nit, nfev, status), points = _run_recording_points(hessian_given)
+    assert status == 1 and fun <= 1e-20
+    earlier = set()
+    for index, point in enumerate(points):
+        assert point not in earlier or point == points[index - 1]
+        earlier.add(point)
+    assert len(points) <= nfev
+
+
+def test_closed_form_and_difference_hessians_reach_the_same_minimum():
+    # Option 1 of the paper's start has a nonzero, isolated minimum over the phases,
+    # which the Newton steps finish; with the closed-form Hessian and with differences
+    # of the gradient they stop at the same design.
+    from sso.shafts.options import build_problem
+    from sso.shafts.problem import compiled_nlp
+    from sso.solvers.lm import minimise
+
+    problem = build_problem(list(PAPER_START.beta_deg), list(PAPER_START.phase_deg), "exact", 1,
+                            (0.0, 40.0), (0.0, 180.0))
+    nlp = compiled_nlp(problem, 0)
+    fixed = problem.parameters_rad.tolist()
+    answers = [minimise(lambda x: nlp.residuals_and_jacobian(x, fixed),
+                        problem.start_rad.tolist(), problem.lower_rad.tolist(),
+                        problem.upper_rad.tolist(), 1e-12, 3000, hessian)
+               for hessian in (None, lambda x: nlp.objective_hessian(x, fixed))]
+    (x_difference, fun_difference, *_), (x_closed, fun_closed, *_) = answers
+    assert fun_closed > 1e-5
+    assert fun_closed == pytest.approx(fun_difference, rel=1e-12)
+    assert max(abs(a - b) for a, b in zip(x_closed, x_difference, strict=True)) <= 1e-8

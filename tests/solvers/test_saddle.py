@@ -69,3 +69,26 @@ def test_an_ordinary_start_runs_the_solver_once():
     assert len(calls) == 1
     np.testing.assert_allclose(outcome.x, [0.0, 0.0], atol=1e-9)
     assert "saddle" not in outcome.message
+
+
+def test_closed_form_hessian_agrees_with_central_differences_of_the_gradient():
+    # The exact model supplies its Hessian; the check's own central differences of
+    # the gradient (step 1e-4, truncation ~1e-8) are the independent reference.
+    from dataclasses import replace
+
+    from sso.shafts.options import build_problem
+    from sso.shafts.problem import compiled_nlp
+    from sso.solvers.saddle import _Counts, _hessian
+
+    problem = build_problem([15.0, 20.0, 9.0, 25.0], [30.0, 40.0, 70.0], "exact", 3,
+                            (0.0, 40.0), (0.0, 180.0))
+    nlp = compiled_nlp(problem, 0)
+    point = problem.start_rad.tolist()
+    free = [0, 2, 3, 5]
+    closed = _hessian(nlp, point, problem.parameters_rad, _Counts(), free)
+    counts = _Counts()
+    differences = _hessian(replace(nlp, objective_hessian=None), point, problem.parameters_rad,
+                           counts, free)
+    assert counts.gradient == 2 * len(free)
+    np.testing.assert_allclose(closed, differences, rtol=1e-6,
+                               atol=1e-7 * np.abs(differences).max())
