@@ -7,6 +7,8 @@ import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from sso.warning_origin import user_stacklevel
+
 Function = TypeVar("Function", bound=Callable[..., Any])
 
 
@@ -34,7 +36,7 @@ def renamed_keywords(**new_by_old: str) -> Callable[[Function], Function]:
                                         f"give only {new}= ({old}= is its deprecated name)")
                     warnings.warn(f"{function.__name__}({old}=...) is deprecated and will be "
                                   f"removed in the next release; use {new}=",
-                                  DeprecationWarning, stacklevel=2)
+                                  DeprecationWarning, stacklevel=user_stacklevel())
                     kwargs[new] = kwargs.pop(old)
             return function(*args, **kwargs)
 

@@ -207,6 +207,9 @@ def _checked_pair(name: str, pair: Any, lower_limit: float, upper_limit: float, 
 
 
 def _is_pair_of_numbers(value: Any) -> bool:
+    if (type(value) is tuple and len(value) == 2 and type(value[0]) in _PLAIN_NUMBERS
+            and type(value[1]) in _PLAIN_NUMBERS):
+        return True
     if isinstance(value, (str, bytes)):
         return False
     try:
@@ -248,6 +251,8 @@ def validate_solver_tol(value: Any) -> float:
 
 def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
     """A whole number in ``[lower, upper]``, or raise naming the field and range."""
+    if type(value) is int and lower <= value <= upper:
+        return value
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise ValueError(f"{field} = {shown(value)} must be a whole number in [{lower}, {upper}]")
     if not lower <= value <= upper:

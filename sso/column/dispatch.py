@@ -21,6 +21,7 @@ from importlib import import_module
 from typing import Any
 
 from sso.column.geometry import ColumnGeometry
+from sso.shafts.series import ShaftSeries
 
 
 def optimise(problem: Any, *args: Any, **options: Any) -> Any:
@@ -46,6 +47,12 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
     ValueError
         For bad input, from the optimiser it goes to.
     """
+    if isinstance(problem, ShaftSeries):
+        from sso.shafts.optimise import optimise as optimise_series
+
+        # It raises its warnings at the caller's line itself: no second catch here,
+        # which would cost a single solve more than the dispatch.
+        return optimise_series(problem, *args, **options)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")

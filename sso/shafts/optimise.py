@@ -23,6 +23,7 @@ from sso.limits import (
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
+from sso.shafts.problem import compiled_nlp
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries, checked_series
 from sso.solvers.crosscheck import (
@@ -43,6 +44,7 @@ from sso.validation import (
     validate_solvers,
     validate_speed,
 )
+from sso.warning_origin import user_stacklevel
 
 PROGRESS_MIN_RUNS = 100
 """Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
@@ -300,8 +302,8 @@ def optimise(
                         max_iterations, seed, quadrature_rtol, quadrature_atol,
                         objective_rtol, objective_atol, kkt_tolerance, screen_starts,
                         tuple(str(warning.message) for warning in caught))
-    for warning in caught:
-        warnings.warn(warning.message, warning.category, stacklevel=2)
+    for warning in caught:  # raised again at the user's line, not the package's
+        warnings.warn(warning.message, warning.category, stacklevel=user_stacklevel())
     return result
 
 
@@ -310,8 +312,6 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
-    from sso.shafts.problem import compiled_nlp
-
     screened = screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)

@@ -198,16 +198,18 @@ def build_problem(
     if option_number == 2:
         phase_deg = [OPTION_FIXED_PHASE_DEG] * (n_joints - 1)
 
-    lower, upper, start, parameters = [], [], [], []
+    lower: list[float] = []
+    upper: list[float] = []
+    start: list[float] = []
+    parameters: list[float] = []
     groups = [("beta_deg", beta_deg, beta_bounds, beta_free),
               ("phase_deg", phase_deg, phase_bounds, phase_free)]
     for field, values, bounds, free in groups:
-        for index, value in enumerate(values):
-            if not free:
-                parameters.append(value)
-                continue
-            low, high = bounds[index]
-            moved = min(max(value, low), high)
+        if not free:
+            parameters.extend(values)
+            continue
+        for index, (value, (low, high)) in enumerate(zip(values, bounds, strict=True)):
+            moved = low if value < low else high if value > high else value
             if moved != value:
                 warnings.warn(
                     f"start {field}[{index}] = {value:g} deg lies outside its bounds "
@@ -218,14 +220,15 @@ def build_problem(
             lower.append(low)
             upper.append(high)
             start.append(moved)
+    lower_rad, upper_rad = np.radians([lower, upper])
     return DesignProblem(
         n_joints=n_joints,
         option=option_number,
         model=model,
         beta_free=beta_free,
         phase_free=phase_free,
-        lower_rad=np.radians(lower),
-        upper_rad=np.radians(upper),
+        lower_rad=lower_rad,
+        upper_rad=upper_rad,
         start_deg=np.array(start, dtype=float),
         parameters_deg=np.array(parameters, dtype=float),
         beta_bounds_deg=beta_bounds,

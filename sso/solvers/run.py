@@ -6,6 +6,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# Shared by every problem without constraint functions (one per solve otherwise);
+# read-only, so no caller can change it for the others.
+_NO_CONSTRAINTS = np.zeros(0)
+_NO_CONSTRAINTS.flags.writeable = False
+
 
 @dataclass(frozen=True)
 class RunLimits:
@@ -22,8 +27,8 @@ class RunLimits:
 
     lower: np.ndarray
     upper: np.ndarray
-    constraint_lower: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    constraint_upper: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    constraint_lower: np.ndarray = field(default_factory=lambda: _NO_CONSTRAINTS)
+    constraint_upper: np.ndarray = field(default_factory=lambda: _NO_CONSTRAINTS)
 
     @property
     def constrained(self) -> bool:
