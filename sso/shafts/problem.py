@@ -85,6 +85,7 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp = compile_nlp(name, x, p, casadi.dot(residual, residual),
                           objective_and_gradient=_float_objective(float_residual))
         nlp.residuals_and_jacobian = float_residual
+        nlp.residuals = residual
         nlp.objective_hessian = _float_hessian(problem)
         nlp.batch_residuals_and_jacobian = _array_residuals(problem)
     nlp.nonnegative_objective = True

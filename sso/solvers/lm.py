@@ -1,4 +1,4 @@
-"""A single-design bounded Levenberg-Marquardt on two residuals, in plain Python numbers.
+"""A single-design bounded Levenberg-Marquardt on two residuals.
 
 Minimises ``f(x) = r_1(x)^2 + r_2(x)^2 = |rho(x)|^2`` under box bounds, where the
 problem supplies the two residuals as one complex number ``rho`` (``r_1 - i r_2``
@@ -11,17 +11,22 @@ residuals and ``k`` variables the damped Gauss-Newton step
 
 (the push-through identity) needs one 2x2 solve whatever ``k`` is, so a whole
 iteration is a few dozen float operations on top of one residual-and-Jacobian
-call. For one design of a few joints that is several times cheaper than any numpy
-or CasADi call (whose fixed overhead per call exceeds the arithmetic): this
-solver exists for single solves, :func:`sso.solvers.least_squares.batch_least_squares`
-for many at once. The method is the batched one's (projected active-set LM,
-Nielsen's damping rule, Newton steps from differences of the gradient when it
-converges slowly to a nonzero residual), on one design, with one difference: the
-damping is also scaled by ``|r| / |r_0|`` (over 1,500 random cases of 2 to 7 joints
-this took 8 to 12 % fewer evaluations on options 2 and 3 and 1 % fewer on option 1,
-with no answer worse). The loops are written
-out over indices: at this size the interpreter's cost per statement, not the
-arithmetic, is the running time.
+call. This solver exists for single solves,
+:func:`sso.solvers.least_squares.batch_least_squares` for many at once. The method
+is the batched one's (projected active-set LM, Nielsen's damping rule, Newton
+steps when it converges slowly to a nonzero residual), on one design, with one
+difference: the damping is also scaled by ``|r| / |r_0|`` (over 1,500 random cases
+of 2 to 7 joints this took 8 to 12 % fewer evaluations on options 2 and 3 and 1 %
+fewer on option 1, with no answer worse).
+
+Where the problem gives its residuals as a CasADi expression (``nlp.residuals``),
+the Gauss-Newton iterations run compiled, in blocks (:mod:`sso.solvers.lm_kernel`):
+in Python every operation costs the interpreter tens of nanoseconds, and an
+iteration cost more than the whole block does in CasADi's virtual machine. The
+loop below, in plain Python numbers, is the same algorithm; it takes over for the
+Newton steps (with the problem's closed-form Hessian, ``nlp.objective_hessian``,
+or differences of the gradient) and runs alone for a problem without the
+expression.
 
 Its answer goes through the same measure as every other solver
 (:mod:`sso.solvers.multistart`): the stopping test here is the same projected
@@ -37,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from sso.solvers.lm_kernel import NEWTON, RUNNING, KernelState, kernel_of, run_kernel
 from sso.solvers.run import RunLimits, RunOutcome
 from sso.solvers.small_matrices import cholesky
 
@@ -100,23 +106,33 @@ def solve(
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
     fixed = parameters.tolist()
+    lower, upper = limits.lower.tolist(), limits.upper.tolist()
     objective_hessian = getattr(nlp, "objective_hessian", None)
-    x, fun, nit, nfev, status = minimise(
-        lambda point: residual(point, fixed), start.tolist(), limits.lower.tolist(),
-        limits.upper.tolist(), solver_tol, max_iterations,
-        None if objective_hessian is None else lambda point: objective_hessian(point, fixed))
+    kernel = kernel_of(nlp, kernel_constants()) if hasattr(nlp, "lm_kernel") else None
+    state = (None if kernel is None else
+             run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
+    if state is not None and state.status not in (RUNNING, NEWTON):
+        x, fun, nit, nfev, status = state.x, state.fun, state.nit, state.nfev, state.status
+    else:
+        x, fun, nit, nfev, status = minimise(
+            lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
+            max_iterations,
+            None if objective_hessian is None else lambda point: objective_hessian(point, fixed),
+            state)
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 
 
 def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],
-             tolerance: float, max_iterations: int, hessian: Hessian | None = None
-             ) -> tuple[list[float], float, int, int, int]:
+             tolerance: float, max_iterations: int, hessian: Hessian | None = None,
+             state: KernelState | None = None) -> tuple[list[float], float, int, int, int]:
     """Minimise ``|rho|^2`` under bounds from ``start``.
 
     ``hessian(x)``, when given, is the exact Hessian of ``|rho|^2`` for the Newton
     steps (one call, counted as one evaluation); without it they difference the
-    gradient (one residual call per free variable).
+    gradient (one residual call per free variable). ``state``, when given, is
+    where the compiled kernel (:mod:`sso.solvers.lm_kernel`) left the solve: the
+    loop continues from it (and ``start`` is not used).
 
     Returns
     -------
@@ -125,19 +141,30 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
         :data:`MESSAGES`.
     """
     span = range(len(start))
-    x = [min(max(start[i], lower[i]), upper[i]) for i in span]
-    rho, jacobian = residual(x)
-    nfev = 1
-    fun = rho.real * rho.real + rho.imag * rho.imag
-    damping, growth = _INITIAL_DAMPING, 2.0
-    newton = False
+    if state is None:
+        x = [min(max(start[i], lower[i]), upper[i]) for i in span]
+        rho, jacobian = residual(x)
+        nfev, done = 1, 0
+        fun = rho.real * rho.real + rho.imag * rho.imag
+        damping, growth = _INITIAL_DAMPING, 2.0
+        newton = False
+        previous_norm = math.inf
+        slow_steps = 0
+        first_size = max(abs(rho), 1e-300)
+    else:
+        x, rho, jacobian, fun = state.x, state.rho, state.jacobian, state.fun
+        nfev, done = state.nfev, state.nit
+        damping, growth = state.damping, state.growth
+        # The kernel stops where the loop switches to Newton steps (damping 0).
+        newton = state.status == NEWTON
+        if newton:
+            damping = 0.0
+        previous_norm, slow_steps, first_size = (state.previous_norm, state.slow_steps,
+                                                 state.first_size)
     # The Hessian at x in Newton mode: a rejected step leaves x, the gradient and the
     # free variables as they were, so it is reused, not recomputed.
     newton_hessian: tuple[list[int], list[list[float]]] | None = None
-    previous_norm = math.inf
-    slow_steps = 0
-    first_size = max(abs(rho), 1e-300)
-    for nit in range(max_iterations):
+    for nit in range(done, max_iterations):
         # A NaN or infinity anywhere makes the sum non-finite.
         if not math.isfinite(fun + abs(sum(jacobian))):
             return x, fun, nit, nfev, -2
@@ -310,3 +337,10 @@ def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length
                     for r in range(size) for c in range(size))
     predicted = -(sum(a * b for a, b in zip(g, free_step, strict=True)) + 0.5 * curvature)
     return step, predicted
+
+
+def kernel_constants() -> dict[str, float]:
+    """The loop's constants, for the compiled kernel that repeats its first iterations."""
+    return {"accept_ratio": _ACCEPT_RATIO, "initial_damping": _INITIAL_DAMPING,
+            "max_damping": _MAX_DAMPING, "zero_residual": _ZERO_RESIDUAL,
+            "round_off": _ROUND_OFF, "slow_level": _SLOW_LEVEL, "slow_steps": _SLOW_STEPS}

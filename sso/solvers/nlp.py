@@ -53,6 +53,12 @@ class CompiledNLP:
         ``x`` of shape ``(k, n)``, ``r`` of shape ``(k, 2)`` and ``J`` of shape
         ``(k, 2, n)`` (numpy), used to screen many starts in one batch; None
         otherwise.
+    residuals : casadi.SX or None
+        For a least-squares objective, its two residuals as an expression of
+        ``symbols["x"]`` and ``symbols["p"]``; None otherwise.
+    lm_kernel : BufferedFunction or None
+        The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
+        first run (:func:`sso.solvers.lm_kernel.kernel_of`).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -71,7 +77,9 @@ class CompiledNLP:
     residuals_and_jacobian: Any = None
     batch_residuals_and_jacobian: Any = None
     objective_hessian: Any = None
+    residuals: Any = None
     nonnegative_objective: bool = False
+    lm_kernel: Any = None
 
     def ipopt(self, options: dict[str, Any]) -> Any:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""

@@ -1,0 +1,121 @@
+"""The compiled first iterations of "lm" against the Python loop they repeat.
+
+Reference: :func:`sso.solvers.lm.minimise` run alone (no kernel) from the same
+starts: the kernel is the same algorithm, so it must end with the same status and
+iteration count, and an objective no worse than the loop's beyond round-off.
+"""
+
+import numpy as np
+import pytest
+
+from sso.shafts.options import build_problem
+from sso.shafts.problem import compiled_nlp
+from sso.solvers import lm
+from sso.solvers.lm_kernel import KERNEL_ITERATIONS, NEWTON, RUNNING, kernel_of, run_kernel
+from sso.solvers.run import RunLimits
+
+# Random starts often lie outside random bounds: moving them is expected here.
+pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
+
+
+def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0, 180.0)):
+    problem = build_problem(list(beta_deg), list(phase_deg), "exact", option, beta_bounds_deg,
+                            phase_bounds_deg)
+    return problem, compiled_nlp(problem, 0)
+
+
+def _kernel(nlp):
+    return kernel_of(nlp, lm.kernel_constants())
+
+
+def _python_loop(problem, nlp, max_iterations=3000):
+    fixed = problem.parameters_rad.tolist()
+    return lm.minimise(lambda x: nlp.residuals_and_jacobian(x, fixed), problem.start_rad.tolist(),
+                       problem.lower_rad.tolist(), problem.upper_rad.tolist(), 1e-12,
+                       max_iterations, lambda x: nlp.objective_hessian(x, fixed))
+
+
+def _with_kernel(problem, nlp, max_iterations=3000):
+    outcome = lm.solve(nlp, problem.start_rad, problem.parameters_rad,
+                       RunLimits(problem.lower_rad, problem.upper_rad), 1e-12, max_iterations)
+    return outcome.x.tolist(), outcome.fun, outcome.nit, outcome.nfev, outcome.status
+
+
+def test_kernel_ends_as_the_python_loop_on_random_problems():
+    # 300 random problems of 2 to 6 joints, every option, random bounds: zero and
+    # nonzero minima, active bounds, solves that end in the kernel, continue in
+    # further blocks, or hand over to the loop's Newton steps.
+    rng = np.random.default_rng(20261125)
+    iteration_differences, same_status = [], 0
+    for _ in range(300):
+        joints = int(rng.integers(2, 7))
+        low = rng.uniform(0.0, 20.0)
+        problem, nlp = _problem(rng.uniform(0.0, 45.0, joints), rng.uniform(-30.0, 200.0,
+                                                                           joints - 1),
+                                int(rng.integers(1, 4)), (low, low + rng.uniform(1.0, 40.0)))
+        x_loop, fun_loop, nit_loop, _, status_loop = _python_loop(problem, nlp)
+        x_kernel, fun_kernel, nit_kernel, _, status_kernel = _with_kernel(problem, nlp)
+        # Both succeed or both fail; a success may be told by a neighbouring test
+        # (round-off decrease against the gradient tolerance) when the last digits differ.
+        assert (status_kernel > 0) == (status_loop > 0)
+        same_status += status_kernel == status_loop
+        assert fun_kernel <= fun_loop * (1.0 + 1e-6) + 1e-20
+        assert fun_loop <= fun_kernel * (1.0 + 1e-6) + 1e-20
+        iteration_differences.append(abs(nit_kernel - nit_loop))
+    # Round-off in the last digits may move a threshold test by an iteration or two.
+    assert max(iteration_differences) <= 3
+    assert sum(difference == 0 for difference in iteration_differences) >= 290
+    assert same_status >= 295
+
+
+def test_paper_option_3_ends_within_one_block_as_the_loop_does():
+    # The paper's option-3 start (beta 30, 40, 50 deg; 50 moved onto the bound 40):
+    # four steps to RE at round-off zero, then the stopping test, all in one block.
+    problem, nlp = _problem([30.0, 40.0, 40.0], [90.0, 90.0], 3, (10.0, 40.0))
+    state = run_kernel(_kernel(nlp), problem.start_rad.tolist(), [],
+                       problem.lower_rad.tolist(), problem.upper_rad.tolist(), 1e-12, 3000)
+    x_loop, fun_loop, nit_loop, nfev_loop, status_loop = _python_loop(problem, nlp)
+    assert (state.status, state.nit, state.nfev) == (status_loop, nit_loop, nfev_loop) == (1, 4, 5)
+    assert state.nit < KERNEL_ITERATIONS
+    assert state.fun <= 1e-28 and fun_loop <= 1e-28
+    np.testing.assert_allclose(state.x, x_loop, rtol=0, atol=1e-12)
+
+
+def test_a_minimum_above_zero_is_handed_to_the_newton_steps():
+    # Option 1 of the paper's angles 15, 20, 9 deg: the minimum over the phases is
+    # RE 1.147e-4 (not zero), where Gauss-Newton slows down: the kernel hands over.
+    problem, nlp = _problem([15.0, 20.0, 9.0], [30.0, 40.0], 1, (0.0, 40.0))
+    state = run_kernel(_kernel(nlp), problem.start_rad.tolist(),
+                       problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                       problem.upper_rad.tolist(), 1e-12, 3000)
+    assert state.status == NEWTON
+    x_loop, fun_loop, _, _, status_loop = _python_loop(problem, nlp)
+    x_kernel, fun_kernel, _, _, status_kernel = _with_kernel(problem, nlp)
+    assert status_kernel == status_loop == 1
+    assert fun_kernel == pytest.approx(fun_loop, rel=1e-12)
+    assert fun_kernel == pytest.approx(1.147051e-4, rel=1e-6)
+    np.testing.assert_allclose(x_kernel, x_loop, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("max_iterations", [1, 2, KERNEL_ITERATIONS + 1])
+def test_the_iteration_limit_holds_in_and_across_blocks(max_iterations):
+    problem, nlp = _problem([30.0, 40.0, 40.0], [90.0, 90.0], 3, (10.0, 40.0))
+    problem_1, nlp_1 = _problem([15.0, 20.0, 9.0], [30.0, 40.0], 1, (0.0, 40.0))
+    for case, case_nlp in ((problem, nlp), (problem_1, nlp_1)):
+        loop = _python_loop(case, case_nlp, max_iterations)
+        kernel = _with_kernel(case, case_nlp, max_iterations)
+        assert kernel[2:] == loop[2:]
+        assert kernel[2] <= max_iterations
+        assert kernel[1] == pytest.approx(loop[1], rel=1e-9)
+
+
+def test_a_start_outside_the_bounds_is_moved_onto_them_first():
+    problem, nlp = _problem([30.0, 40.0, 40.0], [90.0, 90.0], 3, (10.0, 40.0))
+    outside = problem.start_rad.tolist()
+    outside[2] = np.radians(60.0)
+    state = run_kernel(_kernel(nlp), outside, [], problem.lower_rad.tolist(),
+                       problem.upper_rad.tolist(), 1e-12, 1)
+    assert state.status == 0 and state.nit == 1
+    assert all(low <= value <= high for value, low, high in
+               zip(state.x, problem.lower_rad.tolist(), problem.upper_rad.tolist(), strict=True))
+    assert state.status != RUNNING
