@@ -310,7 +310,7 @@ def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length
         return step, 0.0
     hessian = [[0.5 * (hessian[r][c] + hessian[c][r]) for c in range(size)] for r in range(size)]
     g = [gradient[i] for i in index]
-    scale = max(max(abs(value) for value in values), 1e-30)
+    scale = max(max(map(abs, values)), 1e-30)
     shift = damping * scale
     factor = cholesky(hessian, shift)
     if factor is None:
@@ -323,20 +323,30 @@ def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length
     while factor is None:
         shift = max(10.0 * shift, 1e-6 * scale)
         factor = cholesky(hessian, shift)
-    # Solve L L^T d = -g.
+    # Solve L L^T d = -g (forward, then back substitution).
     forward = [0.0] * size
     for r in range(size):
-        forward[r] = (-g[r] - sum(factor[r][c] * forward[c] for c in range(r))) / factor[r][r]
+        total = -g[r]
+        row = factor[r]
+        for c in range(r):
+            total -= row[c] * forward[c]
+        forward[r] = total / row[r]
     free_step = [0.0] * size
     for r in range(size - 1, -1, -1):
-        free_step[r] = ((forward[r] - sum(factor[c][r] * free_step[c] for c in range(r + 1, size)))
-                        / factor[r][r])
-    for position, i in enumerate(index):
-        step[i] = free_step[position]
-    curvature = sum(free_step[r] * hessian[r][c] * free_step[c]
-                    for r in range(size) for c in range(size))
-    predicted = -(sum(a * b for a, b in zip(g, free_step, strict=True)) + 0.5 * curvature)
-    return step, predicted
+        total = forward[r]
+        for c in range(r + 1, size):
+            total -= factor[c][r] * free_step[c]
+        free_step[r] = total / factor[r][r]
+    # The quadratic model's decrease: -(g.d + d.H.d / 2).
+    linear = curvature = 0.0
+    for r, i in enumerate(index):
+        value = free_step[r]
+        step[i] = value
+        linear += g[r] * value
+        row = hessian[r]
+        for c in range(size):
+            curvature += value * row[c] * free_step[c]
+    return step, -(linear + 0.5 * curvature)
 
 
 def kernel_constants() -> dict[str, float]:

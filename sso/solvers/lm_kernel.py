@@ -45,13 +45,12 @@ class KernelState:
     ----------
     x : list of float
         The design vector.
-    rho : complex
-        ``r1 - i r2`` at ``x``, as :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`
-        gives it.
-    jacobian : list of complex
-        ``d rho / dx`` at ``x``.
+    residuals : list of float
+        ``r1, r2`` at ``x``.
+    jacobian_entries : list of float
+        ``dr1/dx_i, dr2/dx_i`` for each ``i`` in turn.
     fun : float
-        ``|rho|^2``.
+        ``r1^2 + r2^2``.
     nit, nfev : int
         Trial steps and residual evaluations so far.
     status : int
@@ -66,8 +65,8 @@ class KernelState:
     """
 
     x: list[float]
-    rho: complex
-    jacobian: list[complex]
+    residuals: list[float]
+    jacobian_entries: list[float]
     fun: float
     nit: int
     nfev: int
@@ -77,6 +76,19 @@ class KernelState:
     slow_steps: int
     previous_norm: float
     first_size: float
+
+    @property
+    def rho(self) -> complex:
+        """``r1 - i r2``, as :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`
+        gives it."""
+        return complex(self.residuals[0], -self.residuals[1])
+
+    @property
+    def jacobian(self) -> list[complex]:
+        """``d rho / dx`` in the same form."""
+        entries = self.jacobian_entries
+        return [complex(entries[index], -entries[index + 1])
+                for index in range(0, len(entries), 2)]
 
 
 _SCALARS = ("fun", "nit", "nfev", "status", "damping", "growth", "slow_steps", "previous_norm",
@@ -116,9 +128,10 @@ def build_kernel(x: Any, p: Any, residual: Any, constants: dict[str, float]) -> 
     Returns
     -------
     BufferedFunction
-        ``(x, r, J, scalars, p, lower, upper, [tolerance, max_iterations]) -> (x, r,
-        J, scalars)`` with ``scalars`` the loop's numbers in the order of
-        ``_SCALARS``; its outputs are the next block's first inputs. A state with
+        ``(state, problem) -> state``: ``state`` is ``x``, ``r1, r2``, the Jacobian
+        (``dr1/dx_i, dr2/dx_i`` for each ``i``) and the loop's numbers in the
+        order of ``_SCALARS``, one vector; ``problem`` is ``p``, the lower and upper
+        bounds, the tolerance and the iteration limit, one vector. A state with
         ``nfev = 0`` is a fresh start: ``x`` is clipped onto the bounds and
         evaluated there.
     """
@@ -127,40 +140,36 @@ def build_kernel(x: Any, p: Any, residual: Any, constants: dict[str, float]) -> 
     size = x.numel()
     evaluate = casadi.Function("lm_residual", [x, p],
                                [residual, casadi.densify(casadi.jacobian(residual, x))])
-    # The state's symbols, shared by the start and by one iteration (SX: each is one
-    # flat instruction list), then a chain of KERNEL_ITERATIONS calls of the
-    # iteration (MX: a few call nodes, built in milliseconds at any size).
-    x_in = casadi.SX.sym("x", size)
-    parameters = casadi.SX.sym("p", p.numel())
-    lower = casadi.SX.sym("lower", size)
-    upper = casadi.SX.sym("upper", size)
-    settings = casadi.SX.sym("settings", 2)
-    r_in = casadi.SX.sym("r", 2)
-    jacobian_in = casadi.SX.sym("J", 2 * size)
-    scalars_in = casadi.SX.sym("scalars", len(_SCALARS))
-    inputs = [x_in, r_in, jacobian_in, scalars_in, parameters, lower, upper, settings]
+    # One iteration and the start as SX functions (each one flat instruction list),
+    # chained KERNEL_ITERATIONS times in MX (a few call nodes, built in milliseconds
+    # at any size), then expanded into a single instruction list.
+    state_in = casadi.SX.sym("state", 3 * size + 2 + len(_SCALARS))
+    problem_in = casadi.SX.sym("problem", p.numel() + 2 * size + 2)
+    x_in, r_in, jacobian_in, scalars_in = casadi.vertsplit(
+        state_in, [0, size, size + 2, 3 * size + 2, state_in.numel()])
+    parameters, lower, upper, settings = casadi.vertsplit(
+        problem_in, [0, p.numel(), p.numel() + size, p.numel() + 2 * size, problem_in.numel()])
     given: dict[str, Any] = dict(zip(_SCALARS, casadi.vertsplit(scalars_in), strict=True))
     given.update(x=x_in, r=r_in, J=casadi.reshape(jacobian_in, 2, size))
 
-    def outputs(state: dict[str, Any]) -> list[Any]:
-        return [state["x"], state["r"], casadi.vec(state["J"]),
-                casadi.vertcat(*(casadi.SX(state[name]) for name in _SCALARS))]
+    def packed(state: dict[str, Any]) -> Any:
+        return casadi.vertcat(state["x"], state["r"], casadi.vec(state["J"]),
+                              *(casadi.SX(state[name]) for name in _SCALARS))
 
     iteration = casadi.Function(
-        "lm_iteration", inputs,
-        outputs(_iteration(casadi, evaluate, given, parameters, lower, upper, settings[0],
-                           settings[1], constants)), {"cse": True})
+        "lm_iteration", [state_in, problem_in],
+        [packed(_iteration(casadi, evaluate, given, parameters, lower, upper, settings[0],
+                           settings[1], constants))], {"cse": True})
     start = casadi.Function(
-        "lm_start", inputs, outputs(_start(casadi, evaluate, given, parameters, lower, upper,
-                                           constants)), {"cse": True})
-    symbols = [casadi.MX.sym(name, symbol.sparsity()) for name, symbol in zip(
-        iteration.name_in(), inputs, strict=True)]
-    state = start(*symbols)
+        "lm_start", [state_in, problem_in],
+        [packed(_start(casadi, evaluate, given, parameters, lower, upper, constants))],
+        {"cse": True})
+    state = casadi.MX.sym("state", state_in.numel())
+    problem = casadi.MX.sym("problem", problem_in.numel())
+    chained = start(state, problem)
     for _ in range(KERNEL_ITERATIONS):
-        state = iteration(*state, *symbols[4:])
-    # Expanded into one SX instruction list (in C++, in milliseconds): no MX call nodes
-    # left to pay for at each evaluation.
-    return BufferedFunction(casadi.Function("lm_kernel", symbols, list(state)).expand())
+        chained = iteration(chained, problem)
+    return BufferedFunction(casadi.Function("lm_kernel", [state, problem], [chained]).expand())
 
 
 def _start(casadi: Any, evaluate: Any, given: dict[str, Any], parameters: Any, lower: Any,
@@ -185,19 +194,16 @@ def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[fl
                max_iterations: int) -> KernelState:
     """Blocks of the kernel from ``start`` (clipped onto the bounds) until the solve ends or
     is handed to the Python loop."""
-    settings = [tolerance, float(max_iterations)]
-    x, r, jacobian, scalars = kernel(start, [0.0, 0.0], [0.0] * (2 * len(start)),
-                                     [0.0] * len(_SCALARS), parameters, lower, upper, settings)
-    while scalars[3] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
-        x, r, jacobian, scalars = kernel(x, r, jacobian, scalars, parameters, lower, upper,
-                                         settings)
+    size = len(start)
+    problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
+    (state,) = kernel(start + [0.0] * (2 * size + 2 + len(_SCALARS)), problem)
+    status_index = 3 * size + 2 + _SCALARS.index("status")
+    while state[status_index] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
+        (state,) = kernel(state, problem)
+    values = state.tolist()
     fun, nit, nfev, status, damping, growth, slow_steps, previous_norm, first_size = (
-        scalars.tolist())
-    # CasADi stores the 2 x n Jacobian column by column: (dr1/dx_i, dr2/dx_i) pairs.
-    entries = jacobian.tolist()
-    return KernelState(x.tolist(), complex(r[0], -r[1]),
-                       [complex(entries[index], -entries[index + 1])
-                        for index in range(0, len(entries), 2)],
+        values[3 * size + 2:])
+    return KernelState(values[:size], values[size:size + 2], values[size + 2:3 * size + 2],
                        fun, int(nit), int(nfev), int(status), damping, growth, int(slow_steps),
                        previous_norm, first_size)
 

@@ -23,13 +23,17 @@ def cholesky(matrix: list[list[float]], shift: float) -> list[list[float]] | Non
     size = len(matrix)
     factor = [[0.0] * size for _ in range(size)]
     for r in range(size):
-        for c in range(r + 1):
-            total = matrix[r][c] + (shift if r == c else 0.0)
-            total -= sum(factor[r][k] * factor[c][k] for k in range(c))
-            if r == c:
-                if not total > 0.0:
-                    return None
-                factor[r][r] = math.sqrt(total)
-            else:
-                factor[r][c] = total / factor[c][c]
+        row, given = factor[r], matrix[r]
+        for c in range(r):
+            other = factor[c]
+            total = given[c]
+            for k in range(c):
+                total -= row[k] * other[k]
+            row[c] = total / other[c]
+        total = given[r] + shift
+        for k in range(r):
+            total -= row[k] * row[k]
+        if not total > 0.0:
+            return None
+        row[r] = math.sqrt(total)
     return factor
