@@ -42,7 +42,7 @@ import numpy as np
 
 from sso.batch.point_row import PointRow, design_columns, solver_columns
 from sso.shafts.batch import BatchResult, optimise_batch
-from sso.shafts.options import DesignProblem, build_problem
+from sso.shafts.options import DesignProblem, build_problem, warn_moved_starts
 from sso.shafts.series import ShaftSeries
 from sso.solvers.saddle import ZERO_OBJECTIVE
 from sso.solvers.starts import start_points
@@ -161,6 +161,7 @@ def _member(row: PointRow, case: Any) -> _Member:
     series = case.series()
     problem = build_problem(series.beta_deg, series.phase_deg, series.model, case.option,
                             case.beta_bounds_deg, case.phase_bounds_deg)
+    warn_moved_starts(problem)  # the row's notes, as sso.optimise reports them
     points_rad = start_points(problem.start_rad, problem.lower_rad, problem.upper_rad,
                               case.starts, case.seed)
     free_bounds = [*(problem.beta_bounds_deg if problem.beta_free else ()),

@@ -41,7 +41,7 @@ from sso.limits import (
     SOLVER_NAMES,
     SOLVERS,
 )
-from sso.shafts.options import OPTION_NAMES, build_problem, parse_option
+from sso.shafts.options import OPTION_NAMES, build_problem, parse_option, warn_moved_starts
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL
 from sso.shafts.series import ShaftSeries
 from sso.solvers.crosscheck import (
@@ -426,12 +426,14 @@ def _check_shaft_series_design(values: dict[str, Any]) -> None:
         _series_or_error("reference", values["reference.beta_deg"],
                          values["reference.phase_deg"], values["model"])
     try:
-        build_problem(values["design.beta_deg"], values["design.phase_deg"][: joints - 1],
-                      values["model"], values["option"], values["bounds.beta_deg"],
-                      values["bounds.phase_deg"])
+        problem = build_problem(values["design.beta_deg"],
+                                values["design.phase_deg"][: joints - 1], values["model"],
+                                values["option"], values["bounds.beta_deg"],
+                                values["bounds.phase_deg"])
     except ValueError as error:
         raise ValueError(str(error).replace("beta_bounds_deg", "bounds.beta_deg")
                          .replace("phase_bounds_deg", "bounds.phase_deg")) from None
+    warn_moved_starts(problem)
 
 
 def _series_or_error(table: str, beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],

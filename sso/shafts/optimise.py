@@ -22,7 +22,12 @@ from sso.limits import (
     SOLVERS,
 )
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
-from sso.shafts.options import OPTION_FIXED_PHASE_DEG, DesignProblem, build_problem
+from sso.shafts.options import (
+    OPTION_FIXED_PHASE_DEG,
+    DesignProblem,
+    build_problem,
+    warn_moved_starts,
+)
 from sso.shafts.problem import compiled_nlp
 from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries, checked_series
@@ -93,7 +98,8 @@ class OptimisationResult(DesignResult):
     starts : int
         Starts per solver.
     warnings : tuple of str
-        Warnings raised while setting up and solving.
+        Warnings raised while setting up: starts moved onto their bounds, and the
+        paper model's quadrature notes.
     quadrature_rtol, quadrature_atol : float
         Quadrature tolerance of the evaluations (paper model).
     """
@@ -289,22 +295,25 @@ def optimise(
     quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
                                                                      quadrature_atol)
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
-                                beta_bounds_deg, phase_bounds_deg)
-        rule = (rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
-                                quadrature_atol)
-                if series.model == "paper" else CLOSED_FORM_RULE)
-        check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
-                                         len(solver_names)), memory_limit_mb)
-        result = _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
-                        max_iterations, seed, quadrature_rtol, quadrature_atol,
-                        objective_rtol, objective_atol, kkt_tolerance, screen_starts,
-                        tuple(str(warning.message) for warning in caught))
-    for warning in caught:  # raised again at the user's line, not the package's
-        warnings.warn(warning.message, warning.category, stacklevel=user_stacklevel())
-    return result
+    problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
+                            beta_bounds_deg, phase_bounds_deg)
+    warn_moved_starts(problem)
+    setup_warnings = problem.moved_starts
+    if series.model == "paper":
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
+                                   quadrature_atol)
+        for warning in caught:  # raised again at the user's line, not the package's
+            warnings.warn(warning.message, warning.category, stacklevel=user_stacklevel())
+        setup_warnings += tuple(str(warning.message) for warning in caught)
+    else:
+        rule = CLOSED_FORM_RULE
+    check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
+                                     len(solver_names)), memory_limit_mb)
+    return _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
+                  max_iterations, seed, quadrature_rtol, quadrature_atol, objective_rtol,
+                  objective_atol, kkt_tolerance, screen_starts, setup_warnings)
 
 
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],

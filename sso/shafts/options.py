@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from sso.limits import BETA_LIMIT_DEG
 from sso.validation import per_item_bounds
+from sso.warning_origin import user_stacklevel
 
 OPTION_NAMES = {1: "phase", 2: "angle", 3: "both"}
 OPTION_FIXED_PHASE_DEG = 90.0
@@ -64,6 +65,9 @@ class DesignProblem:
         The fixed angles (deg), kept in degrees so they come back exactly.
     beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
         Per-joint / per-phase bounds as given (deg).
+    moved_starts : tuple of str
+        One message for each start value that lay outside its bounds and was moved
+        onto the nearer one (raise them with :func:`warn_moved_starts`).
     """
 
     n_joints: int
@@ -77,6 +81,7 @@ class DesignProblem:
     parameters_deg: NDArray[np.float64]
     beta_bounds_deg: tuple[tuple[float, float], ...]
     phase_bounds_deg: tuple[tuple[float, float], ...]
+    moved_starts: tuple[str, ...] = ()
 
     @property
     def option_name(self) -> str:
@@ -185,6 +190,8 @@ def build_problem(
     Returns
     -------
     DesignProblem
+        Start values outside their bounds are moved onto them and listed in its
+        ``moved_starts`` (no warning is raised here).
 
     Raises
     ------
@@ -202,6 +209,7 @@ def build_problem(
     upper: list[float] = []
     start: list[float] = []
     parameters: list[float] = []
+    moved_starts: list[str] = []
     groups = [("beta_deg", beta_deg, beta_bounds, beta_free),
               ("phase_deg", phase_deg, phase_bounds, phase_free)]
     for field, values, bounds, free in groups:
@@ -211,12 +219,8 @@ def build_problem(
         for index, (value, (low, high)) in enumerate(zip(values, bounds, strict=True)):
             moved = low if value < low else high if value > high else value
             if moved != value:
-                warnings.warn(
-                    f"start {field}[{index}] = {value:g} deg lies outside its bounds "
-                    f"[{low:g}, {high:g}] deg; moved onto {moved:g} deg",
-                    StartMovedWarning,
-                    stacklevel=3,
-                )
+                moved_starts.append(f"start {field}[{index}] = {value:g} deg lies outside its "
+                                    f"bounds [{low:g}, {high:g}] deg; moved onto {moved:g} deg")
             lower.append(low)
             upper.append(high)
             start.append(moved)
@@ -233,4 +237,12 @@ def build_problem(
         parameters_deg=np.array(parameters, dtype=float),
         beta_bounds_deg=beta_bounds,
         phase_bounds_deg=phase_bounds,
+        moved_starts=tuple(moved_starts),
     )
+
+
+def warn_moved_starts(problem: DesignProblem) -> None:
+    """Raise a :class:`StartMovedWarning` for each start value ``problem`` moved onto its
+    bounds, naming the user's line that called into the package."""
+    for message in problem.moved_starts:
+        warnings.warn(message, StartMovedWarning, stacklevel=user_stacklevel())

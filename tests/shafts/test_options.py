@@ -11,7 +11,12 @@ import math
 import numpy as np
 import pytest
 
-from sso.shafts.options import StartMovedWarning, build_problem, parse_option
+from sso.shafts.options import (
+    StartMovedWarning,
+    build_problem,
+    parse_option,
+    warn_moved_starts,
+)
 
 BETA, PHASE = [30.0, 40.0, 20.0], [80.0, 100.0]
 
@@ -61,15 +66,17 @@ def test_option_3_lays_out_angles_first_then_phases():
     np.testing.assert_allclose(problem.start_rad, np.radians(BETA + PHASE), rtol=1e-15)
 
 
-def test_a_start_outside_its_bounds_is_moved_with_a_warning():
-    with pytest.warns(StartMovedWarning) as caught:
-        problem = build_problem(BETA, PHASE, "exact", 3, (0, 35), (0, 90))
+def test_a_start_outside_its_bounds_is_moved_and_listed_then_warned():
+    problem = build_problem(BETA, PHASE, "exact", 3, (0, 35), (0, 90))
     assert problem.start_deg.tolist() == [30.0, 35.0, 20.0, 80.0, 90.0]
-    messages = [str(warning.message) for warning in caught]
-    assert messages == [
+    expected = [
         "start beta_deg[1] = 40 deg lies outside its bounds [0, 35] deg; moved onto 35 deg",
         "start phase_deg[1] = 100 deg lies outside its bounds [0, 90] deg; moved onto 90 deg",
     ]
+    assert list(problem.moved_starts) == expected
+    with pytest.warns(StartMovedWarning) as caught:
+        warn_moved_starts(problem)
+    assert [str(warning.message) for warning in caught] == expected
 
 
 def test_option_1_needs_two_joints_and_bounds_are_checked():
