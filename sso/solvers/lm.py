@@ -108,7 +108,7 @@ def solve(
     fixed = parameters.tolist()
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
     objective_hessian = getattr(nlp, "objective_hessian", None)
-    kernel = kernel_of(nlp, kernel_constants()) if hasattr(nlp, "lm_kernel") else None
+    kernel = kernel_of(nlp, kernel_constants())
     state = (None if kernel is None else
              run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
     if state is not None and state.status not in (RUNNING, NEWTON):

@@ -1,4 +1,4 @@
-"""The compiled first iterations of "lm" against the Python loop they repeat.
+"""The compiled Gauss-Newton iterations of "lm" against the Python loop they repeat.
 
 Reference: :func:`sso.solvers.lm.minimise` run alone (no kernel) from the same
 starts: the kernel is the same algorithm, so it must end with the same status and
