@@ -5,7 +5,7 @@ few dozen operations on top of one residual-and-Jacobian evaluation. Written in
 Python, every operation costs the interpreter tens of nanoseconds. Here one
 iteration is a CasADi SX function (a flat instruction list); a block chains
 :data:`KERNEL_ITERATIONS` of them and is expanded into one instruction list
-(built in about 20 ms for 3 joints, 60 ms for 30), which CasADi's virtual machine
+(built in about 15 ms for 3 joints, 70 ms for 30), which CasADi's virtual machine
 runs in about the time Python takes for one iteration. Blocks run one after
 another until the solve ends (RE at round-off zero, the projected gradient under
 the tolerance, a failure, the iteration limit) or turns to Newton steps, which
@@ -27,9 +27,11 @@ from typing import Any
 
 from sso.solvers.nlp import BufferedFunction
 
-KERNEL_ITERATIONS = 5
-"""Iterations unrolled in one block of the kernel, which runs block after block until
-the solve ends: the paper's option 3 ends in one (4 steps and the final test)."""
+KERNEL_ITERATIONS = 6
+"""Iterations chained in one block of the kernel, which runs block after block until
+the solve ends. Most exact-model solves of 3 to 6 joints take 4 or 5 steps and the
+final test, which one block of 6 holds (the paper's option 3: 4 steps); an
+iteration after the end still costs its instructions."""
 
 RUNNING = 10
 """Kernel status of a solve still under way (the Python loop continues it)."""
