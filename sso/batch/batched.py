@@ -1,7 +1,7 @@
 """Sweep points of one shape solved together by the least-squares solver, as array work.
 
 A sweep point whose case is a shaft series of the exact model with ``"lm"`` alone
-(``solver.solvers = ["lm"]``) is, start by start, a problem of
+(``solver.solvers = ["lm"]``) and more than one start is, start by start, a problem of
 :func:`sso.optimise_batch`: the closed form's two residuals under box bounds. The
 points of a chunk that share a shape (joints, option, bounds, solver tolerance and
 iteration limit: ``optimise_batch`` takes one set of bounds and settings for all its
@@ -53,9 +53,16 @@ BATCHED_SOLVERS = ("lm",)
 
 def batchable(case: Any) -> bool:
     """Whether :func:`sso.optimise_batch` solves the point's case: a shaft series of the
-    exact model whose only solver is ``"lm"``."""
+    exact model whose only solver is ``"lm"``, from more than one start.
+
+    A point with one start is one solve, which :func:`sso.optimise` does faster than
+    a share of a batch call now that its iterations run compiled
+    (:mod:`sso.solvers.lm_kernel`): ``benchmarks/sweep_throughput.py --lm-only``
+    measured the batch at 0.66x point by point with one start, 0.99x with 4 and
+    0.97x with 8 on a grid whose points cancel.
+    """
     return (getattr(case, "kind", None) == "shaft_series" and case.model == "exact"
-            and tuple(case.solvers) == BATCHED_SOLVERS)
+            and tuple(case.solvers) == BATCHED_SOLVERS and case.starts > 1)
 
 
 @dataclass(frozen=True)

@@ -66,7 +66,7 @@ def assert_equals_sso_optimise(base: dict, rows, paths) -> None:
         assert row["best_solver"] == "lm"
 
 
-@pytest.mark.parametrize("starts", [1, 4])
+@pytest.mark.parametrize("starts", [2, 4])
 @pytest.mark.parametrize("joints, option", [(2, 3), (3, 1), (3, 2), (3, 3), (4, 3)])
 def test_each_batched_point_equals_sso_optimise_with_lm(joints, option, starts):
     base = lm_base(joints, option, starts)
@@ -150,7 +150,7 @@ def test_a_group_whose_batch_call_fails_is_solved_point_by_point():
     # so the point is an error row naming it (no exception), and its neighbour solves.
     from sso.batch.worker import _optimise_row
 
-    case = parse_case(lm_base(2, 3, 1), "base.toml")
+    case = parse_case(lm_base(2, 3, 2), "base.toml")
     broken = replace(case, solver_tol=2.0)
     rows = [PointRow({"point": 0}), PointRow({"point": 1})]
     points = BatchedPoints(_optimise_row)
@@ -164,9 +164,10 @@ def test_a_group_whose_batch_call_fails_is_solved_point_by_point():
     assert finished[1]["status"] == "ok" and finished[1]["residual_error"] < 1e-20
 
 
-def test_only_exact_model_cases_with_lm_alone_are_batched():
-    lm = parse_case(lm_base(2, 3, 1), "lm.toml")
+def test_only_exact_model_cases_with_lm_alone_and_several_starts_are_batched():
+    lm = parse_case(lm_base(2, 3, 2), "lm.toml")
     assert batchable(lm)
+    assert not batchable(replace(lm, starts=1))
     assert not batchable(replace(lm, solvers=("lm", "slsqp")))
     assert not batchable(replace(lm, solvers=("ipopt",)))
     assert not batchable(replace(lm, model="paper"))
