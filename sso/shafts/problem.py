@@ -129,13 +129,25 @@ def _block_sum(problem: DesignProblem, model: str, x: Any, p: Any, cos_theta: An
                                 [p[i] for i in range(p.numel())])
     return casadi.sum1(squared_ratio_error(casadi, cos_theta, sin_theta, beta, phase, model))
 
+
+def _float_split(problem: DesignProblem) -> Any:
+    """``(x, fixed) -> (beta, phase)`` (rad) for lists of floats: where the free and the
+    fixed angles of ``problem`` go."""
+    n_joints = problem.n_joints
+    if problem.beta_free and problem.phase_free:
+        return lambda x, fixed: (x[:n_joints], x[n_joints:])
+    if problem.beta_free:
+        return lambda x, fixed: (x, fixed)
+    return lambda x, fixed: (fixed, x)
+
+
 def _float_residuals(problem: DesignProblem) -> Any:
     """``(x, p) -> (rho, jacobian)`` over the free variables, in Python complex numbers.
 
     ``x`` and ``p`` are lists of floats (rad); see
     :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`.
     """
-    n_joints = problem.n_joints
+    split = _float_split(problem)
     beta_free, phase_free = problem.beta_free, problem.phase_free
     # The last point and its answer: the second-order check at a start, the solver's
     # first step and the final measure of its answer each ask for a point that was
@@ -147,12 +159,8 @@ def _float_residuals(problem: DesignProblem) -> Any:
         if x == last[0] and fixed == last[1]:
             answer: tuple[complex, list[complex]] = last[2]
             return answer
-        if beta_free and phase_free:
-            answer = residual_and_jacobian_complex(x[:n_joints], x[n_joints:])
-        elif beta_free:
-            answer = residual_and_jacobian_complex(x, fixed, phase_free=False)
-        else:
-            answer = residual_and_jacobian_complex(fixed, x, beta_free=False)
+        answer = residual_and_jacobian_complex(*split(x, fixed), beta_free=beta_free,
+                                               phase_free=phase_free)
         last[0], last[1], last[2] = list(x), list(fixed), answer
         return answer
 
@@ -165,17 +173,14 @@ def _float_hessian(problem: DesignProblem) -> Any:
     ``x`` and ``p`` are sequences of floats (rad); see
     :func:`sso.kinematics.hooke_matrix.residual_hessian_complex`.
     """
-    n_joints = problem.n_joints
+    split = _float_split(problem)
     beta_free, phase_free = problem.beta_free, problem.phase_free
 
     def evaluate(x: Any, fixed: Any) -> list[list[float]]:
         point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
         parameters = fixed if type(fixed) is list else np.asarray(fixed, dtype=float).tolist()
-        if beta_free and phase_free:
-            return residual_hessian_complex(point[:n_joints], point[n_joints:])[2]
-        if beta_free:
-            return residual_hessian_complex(point, parameters, phase_free=False)[2]
-        return residual_hessian_complex(parameters, point, beta_free=False)[2]
+        return residual_hessian_complex(*split(point, parameters), beta_free=beta_free,
+                                        phase_free=phase_free)[2]
 
     return evaluate
 
