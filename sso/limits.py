@@ -15,13 +15,13 @@ MAX_STARTS = 10_000
 
 BATCH_SCREEN_STARTS = 64
 """Starts left after the user's start from which the least-squares screening of a
-multi-start run solves them in one batch (numpy arrays) rather than one after another
-in plain floats. It does so only when the user's start stops above zero: where zero
-is reachable the first start usually reaches it and ends the screening. Measured on
-the paper's option 1 (three joints, no zero to reach): the batch alone was 3x to 10x
-slower than one by one at 8 to 32 starts and 1.1x faster at 64; the shipped rule is
-1.6x faster at 128 starts and 2.9x at 512, with the same RE
-(``benchmarks/batch_throughput.py``, "Screening")."""
+multi-start run solves them in one batch (numpy arrays) rather than one after another.
+It does so only when the user's start stops above zero: where zero is reachable the
+first start usually reaches it and ends the screening. Measured on the paper's option 1
+(three joints, no zero to reach): the batch alone was 3x to 10x slower than one by one
+at 8 to 32 starts and 1.1x faster at 64; the shipped rule is 1.08x faster at 128
+starts and 2.1x at 512, with the same RE, since each run's iterations are compiled
+(1.6x and 2.9x before; ``benchmarks/batch_throughput.py``, "Screening")."""
 
 DEFAULT_STARTS = 8
 """Start points per solver: the user's start plus seven space-filling points.
