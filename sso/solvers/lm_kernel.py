@@ -250,7 +250,11 @@ def _iteration(casadi: Any, evaluate: Any, state: dict[str, Any], parameters: An
     step = -(first * y1 + second * y2)
     trial = casadi.fmin(casadi.fmax(x + step, lower), upper)
     move = trial - x
-    largest_move = casadi.mmax(casadi.fabs(move))
+    # fmin and fmax drop a NaN, which would put a NaN step component onto a bound; in
+    # the loop it stays NaN, counts for no move and makes the step rejected.
+    finite = step == step
+    all_finite = casadi.sum1(finite) == step.numel()
+    largest_move = casadi.mmax(finite * casadi.fabs(move))
     largest_value = casadi.mmax(casadi.fabs(x))
     status = if_else(running * (largest_move <= round_off * (1.0 + largest_value)), 3, status)
     running = status == RUNNING
@@ -259,8 +263,9 @@ def _iteration(casadi: Any, evaluate: Any, state: dict[str, Any], parameters: An
     trial_r, trial_jacobian = evaluate(trial, parameters)
     trial_fun = casadi.dot(trial_r, trial_r)
     actual = fun - trial_fun
-    accept = (predicted > 0) * (actual >= constants["accept_ratio"] * predicted)
-    negligible = (casadi.fabs(actual) <= round_off * fun) * (predicted <= round_off * fun)
+    accept = all_finite * (predicted > 0) * (actual >= constants["accept_ratio"] * predicted)
+    negligible = (all_finite * (casadi.fabs(actual) <= round_off * fun)
+                  * (predicted <= round_off * fun))
 
     ratio = actual / predicted
     accepted_damping = state["damping"] * casadi.fmax(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
