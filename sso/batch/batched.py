@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
@@ -181,7 +181,7 @@ def _member(row: PointRow, case: Any) -> _Member:
     return _Member(row, case, problem, _columns(beta, len(x_deg)), _columns(phase, len(x_deg)))
 
 
-def _columns(angles: list[Any], rows: int) -> np.ndarray:
+def _columns(angles: Sequence[Any], rows: int) -> np.ndarray:
     """Angles (each one per start, or one fixed value) as an array of shape (rows, angles)."""
     return np.array([np.broadcast_to(angle, (rows,)) for angle in angles],
                     dtype=float).T.reshape(rows, len(angles))

@@ -476,11 +476,12 @@ def residual_hessian_complex(
     size = phase_offset + (count - 1 if phase_free else 0)
     # The factors in the order they act: (variable index or -1, is a bend, then
     # p, q, sin(beta) / 2, cos(beta) / 2 of a bend or e^(i phi), e^(-i phi) of a turn).
+    cos_beta = [math.cos(beta) for beta in beta_rad]
+    sin_beta = [math.sin(beta) for beta in beta_rad]
     factors: list[tuple[int, bool, Any, Any, float, float]] = []
-    for k in range(count):
-        cosine = math.cos(beta_rad[k])
+    for k, cosine in enumerate(cos_beta):
         factors.append((k if beta_free else -1, True, 0.5 + 0.5 * cosine, 0.5 - 0.5 * cosine,
-                        0.5 * math.sin(beta_rad[k]), 0.5 * cosine))
+                        0.5 * sin_beta[k], 0.5 * cosine))
         if k < count - 1:
             turn = complex(math.cos(phase_rad[k]), math.sin(phase_rad[k]))
             factors.append((phase_offset + k if phase_free else -1, False, turn,
@@ -529,13 +530,12 @@ def residual_hessian_complex(
             a, c = ((other_first * a + other_second * c, other_second * a + other_first * c)
                     if other_bend else (other_first * a, other_second * c))
 
-    scale = math.sqrt(2.0 / math.prod([math.cos(beta) for beta in beta_rad]))
+    scale = math.sqrt(2.0 / math.prod(cos_beta))
     log_first = [0.0] * size
     log_second = [0.0] * size
     if beta_free:
-        for k in range(count):
-            cosine = math.cos(beta_rad[k])
-            log_first[k] = 0.5 * math.tan(beta_rad[k])
+        for k, cosine in enumerate(cos_beta):
+            log_first[k] = 0.5 * sin_beta[k] / cosine
             log_second[k] = 0.5 / (cosine * cosine)
     rho = scale * final_c
     jacobian = [scale * (log_first[i] * final_c + c_first[i]) for i in range(size)]

@@ -103,26 +103,24 @@ class DesignProblem:
         """Length of the design vector."""
         return len(self.lower_rad)
 
-    def split(self, x: Sequence[Any], parameters: Sequence[Any]) -> tuple[list[Any], list[Any]]:
-        """Operating angles and phases (rad) from ``x`` and ``parameters``.
+    def split(self, free: Sequence[Any], fixed: Sequence[Any]
+              ) -> tuple[Sequence[Any], Sequence[Any]]:
+        """Operating angles and phases from the design vector's values ``free`` and the
+        fixed ``parameters`` values ``fixed`` (lists, in one unit).
 
-        Works on numbers and on CasADi symbols alike.
+        Works on numbers, numpy columns and CasADi symbols alike; the parts are slices
+        of the lists given, or the lists themselves, never changed.
         """
-        free = iter([x[i] for i in range(self.n_free)])
-        fixed = iter([parameters[i] for i in range(len(self.parameters_deg))])
-        beta = [next(free) if self.beta_free else next(fixed) for _ in range(self.n_joints)]
-        phase = [next(free) if self.phase_free else next(fixed)
-                 for _ in range(self.n_joints - 1)]
-        return beta, phase
+        if self.beta_free and self.phase_free:
+            return free[:self.n_joints], free[self.n_joints:]
+        return (free, fixed) if self.beta_free else (fixed, free)
 
     def design_deg(self, x_deg: Sequence[float] | NDArray[np.float64]
                    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
-        free = np.asarray(x_deg, dtype=float).tolist()
-        fixed = self.parameters_deg.tolist()
-        if self.beta_free and self.phase_free:
-            return tuple(free[:self.n_joints]), tuple(free[self.n_joints:])
-        return (tuple(free), tuple(fixed)) if self.beta_free else (tuple(fixed), tuple(free))
+        beta, phase = self.split(np.asarray(x_deg, dtype=float).tolist(),
+                                 self.parameters_deg.tolist())
+        return tuple(beta), tuple(phase)
 
     @property
     def beta_upper_rad(self) -> list[float]:

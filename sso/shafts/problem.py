@@ -130,24 +130,13 @@ def _block_sum(problem: DesignProblem, model: str, x: Any, p: Any, cos_theta: An
     return casadi.sum1(squared_ratio_error(casadi, cos_theta, sin_theta, beta, phase, model))
 
 
-def _float_split(problem: DesignProblem) -> Any:
-    """``(x, fixed) -> (beta, phase)`` (rad) for lists of floats: where the free and the
-    fixed angles of ``problem`` go."""
-    n_joints = problem.n_joints
-    if problem.beta_free and problem.phase_free:
-        return lambda x, fixed: (x[:n_joints], x[n_joints:])
-    if problem.beta_free:
-        return lambda x, fixed: (x, fixed)
-    return lambda x, fixed: (fixed, x)
-
-
 def _float_residuals(problem: DesignProblem) -> Any:
     """``(x, p) -> (rho, jacobian)`` over the free variables, in Python complex numbers.
 
     ``x`` and ``p`` are lists of floats (rad); see
     :func:`sso.kinematics.hooke_matrix.residual_and_jacobian_complex`.
     """
-    split = _float_split(problem)
+    split = problem.split
     beta_free, phase_free = problem.beta_free, problem.phase_free
     # The last point and its answer: the second-order check at a start, the solver's
     # first step and the final measure of its answer each ask for a point that was
@@ -173,7 +162,7 @@ def _float_hessian(problem: DesignProblem) -> Any:
     ``x`` and ``p`` are sequences of floats (rad); see
     :func:`sso.kinematics.hooke_matrix.residual_hessian_complex`.
     """
-    split = _float_split(problem)
+    split = problem.split
     beta_free, phase_free = problem.beta_free, problem.phase_free
 
     def evaluate(x: Any, fixed: Any) -> list[list[float]]:

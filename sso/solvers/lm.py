@@ -37,7 +37,8 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -73,6 +74,11 @@ _NEWTON_DAMPING = 1e-8
 # Forward differences: truncation ~ step, round-off ~ eps / step; 1e-7 balances them
 # well enough for Newton's superlinear convergence.
 _HESSIAN_STEP = 1e-7
+KERNEL_CONSTANTS: Mapping[str, float] = MappingProxyType({
+    "accept_ratio": _ACCEPT_RATIO, "initial_damping": _INITIAL_DAMPING,
+    "max_damping": _MAX_DAMPING, "zero_residual": _ZERO_RESIDUAL, "round_off": _ROUND_OFF,
+    "slow_level": _SLOW_LEVEL, "slow_steps": _SLOW_STEPS})
+"""The loop's constants, shared with the compiled kernel that repeats its iterations."""
 
 
 def solve(
@@ -108,7 +114,7 @@ def solve(
     fixed = parameters.tolist()
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
     objective_hessian = getattr(nlp, "objective_hessian", None)
-    kernel = kernel_of(nlp, kernel_constants())
+    kernel = kernel_of(nlp, KERNEL_CONSTANTS)
     state = (None if kernel is None else
              run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
     if state is not None and state.status not in (RUNNING, NEWTON):
@@ -292,9 +298,10 @@ def _free_block(hessian: list[list[float]], free: list[bool]
     return index, [[hessian[row][column] for column in index] for row in index]
 
 
-def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length: int,
+def _newton_step(free_hessian: tuple[list[int], list[list[float]]], length: int,
                  gradient: list[float], damping: float) -> tuple[list[float], float]:
-    """Damped Newton step on the free variables of :func:`_difference_hessian`.
+    """Damped Newton step on the free variables of ``free_hessian`` (their indices and the
+    Hessian over them, from :func:`_difference_hessian` or :func:`_free_block`).
 
     The Hessian is shifted by ``damping`` times its largest entry magnitude, and
     further until its Cholesky factorisation succeeds (positive definite); returns
@@ -302,7 +309,7 @@ def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length
     it. Plain floats: the free variables are few, and a numpy call costs more than
     this arithmetic.
     """
-    index, hessian = difference_hessian
+    index, hessian = free_hessian
     size = len(index)
     step = [0.0] * length
     values = [value for row in hessian for value in row]
@@ -347,10 +354,3 @@ def _newton_step(difference_hessian: tuple[list[int], list[list[float]]], length
         for c in range(size):
             curvature += value * row[c] * free_step[c]
     return step, -(linear + 0.5 * curvature)
-
-
-def kernel_constants() -> dict[str, float]:
-    """The loop's constants, for the compiled kernel that repeats its first iterations."""
-    return {"accept_ratio": _ACCEPT_RATIO, "initial_damping": _INITIAL_DAMPING,
-            "max_damping": _MAX_DAMPING, "zero_residual": _ZERO_RESIDUAL,
-            "round_off": _ROUND_OFF, "slow_level": _SLOW_LEVEL, "slow_steps": _SLOW_STEPS}

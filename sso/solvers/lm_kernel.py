@@ -22,6 +22,7 @@ was.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -97,7 +98,7 @@ _SCALARS = ("fun", "nit", "nfev", "status", "damping", "growth", "slow_steps", "
             "first_size")
 
 
-def kernel_of(nlp: Any, constants: dict[str, float]) -> BufferedFunction | None:
+def kernel_of(nlp: Any, constants: Mapping[str, float]) -> BufferedFunction | None:
     """The NLP's kernel, built on first use and kept on it; None without residuals.
 
     Parameters
@@ -113,7 +114,8 @@ def kernel_of(nlp: Any, constants: dict[str, float]) -> BufferedFunction | None:
     return kernel
 
 
-def build_kernel(x: Any, p: Any, residual: Any, constants: dict[str, float]) -> BufferedFunction:
+def build_kernel(x: Any, p: Any, residual: Any,
+                 constants: Mapping[str, float]) -> BufferedFunction:
     """One block of :data:`KERNEL_ITERATIONS` iterations for residuals ``residual(x, p)``.
 
     Parameters
@@ -122,7 +124,7 @@ def build_kernel(x: Any, p: Any, residual: Any, constants: dict[str, float]) -> 
         Design variables and fixed parameters (column vectors).
     residual : casadi.SX
         The two residuals (a 2-vector).
-    constants : dict of str to float
+    constants : mapping of str to float
         The Python loop's constants (``accept_ratio``, ``initial_damping``,
         ``max_damping``, ``zero_residual``, ``round_off``, ``slow_level``,
         ``slow_steps``), so both share one set.
@@ -175,7 +177,7 @@ def build_kernel(x: Any, p: Any, residual: Any, constants: dict[str, float]) -> 
 
 
 def _start(casadi: Any, evaluate: Any, given: dict[str, Any], parameters: Any, lower: Any,
-           upper: Any, constants: dict[str, float]) -> dict[str, Any]:
+           upper: Any, constants: Mapping[str, float]) -> dict[str, Any]:
     """The given state, or with ``nfev = 0`` a fresh one: ``x`` clipped onto the bounds
     and evaluated there, the damping at its initial value."""
     if_else = casadi.if_else
@@ -212,7 +214,7 @@ def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[fl
 
 def _iteration(casadi: Any, evaluate: Any, state: dict[str, Any], parameters: Any, lower: Any,
                upper: Any, tolerance: Any, max_iterations: Any,
-               constants: dict[str, float]) -> dict[str, Any]:
+               constants: Mapping[str, float]) -> dict[str, Any]:
     """One iteration of the Python loop's Gauss-Newton mode, every branch a selection."""
     if_else = casadi.if_else
     x, r, jacobian, fun = state["x"], state["r"], state["J"], state["fun"]
@@ -273,7 +275,7 @@ def _iteration(casadi: Any, evaluate: Any, state: dict[str, Any], parameters: An
     slow_steps = state["slow_steps"] + slow
     accepted_status = if_else(negligible, 2,
                               if_else(slow_steps >= constants["slow_steps"], NEWTON, RUNNING))
-    rejected_damping = casadi.fmax(state["damping"] * state["growth"], 0.0)
+    rejected_damping = state["damping"] * state["growth"]
     rejected_status = if_else(negligible, 2,
                               if_else(rejected_damping > constants["max_damping"], -1, RUNNING))
 

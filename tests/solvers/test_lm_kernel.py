@@ -25,7 +25,7 @@ def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0
 
 
 def _kernel(nlp):
-    return kernel_of(nlp, lm.kernel_constants())
+    return kernel_of(nlp, lm.KERNEL_CONSTANTS)
 
 
 def _python_loop(problem, nlp, max_iterations=3000):
