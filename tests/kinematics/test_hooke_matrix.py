@@ -1,6 +1,6 @@
 """The closed form of the exact chain against independent formulations.
 
-References: the quadrature of the angle-by-angle chain (``sso.ShaftSeries.evaluate``,
+References: the adaptive quadrature of the angle-by-angle chain (``sso.shafts.quadrature``,
 ``sso.kinematics.hooke``); an mpmath high-precision quadrature of the per-joint angle
 law (paper eq. 5 and 8, no matrices) split at every joint's speed peak; complex-step
 derivatives; the one-joint extremes ``cos b`` and ``1/cos b`` of the spec
