@@ -107,6 +107,8 @@ def report_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     blocks += [_case_table(document), Heading(2, "Verdict"), Paragraph(_verdict(document)),
                Heading(2, "Designs"), _design_table(document, roles),
                Heading(2, "Figures of merit"), _figure_table(document, roles)]
+    if document.get("exact_optima"):
+        blocks += [Heading(2, "Exact optima"), *_exact_optima_blocks(document["exact_optima"])]
     if document["mode"] == "optimise":
         blocks += [Heading(2, "Solvers"), _solver_table(document),
                    Heading(2, "Cross-check"), Paragraph(_crosscheck_text(document)),
@@ -195,31 +197,59 @@ def _figure_table(document: Mapping[str, Any], roles: list[str]) -> Table:
 
 
 def _solver_table(document: Mapping[str, Any]) -> Table:
-    rows = tuple((name, "yes" if solution["success"] else "no", str(solution["status"]),
+    solutions = [*document["solutions"].items(), *document.get("confirmations", {}).items()]
+    rows = tuple((name, solution.get("role", "solve"), "yes" if solution["success"] else "no",
+                  str(solution["status"]),
                   solution["message"], number(solution["fun"], ".4g"),
                   number(solution["kkt"], ".2g"), str(solution["nit"]), str(solution["nfev"]),
                   str(solution["total_nfev"]), number(solution["time_s"], ".3f"),
                   str(solution["start_index"]))
-                 for name, solution in document["solutions"].items())
-    return Table(("solver", "success", "status", "message", "RE", "KKT residual (1/rad)",
+                 for name, solution in solutions)
+    return Table(("solver", "run", "success", "status", "message", "RE", "KKT residual (1/rad)",
                   "iterations", "evaluations", "evaluations, all starts", "time (s)", "start"),
                  rows)
 
 
 def _runs_table(document: Mapping[str, Any]) -> Table:
-    rows = tuple((run["solver"], str(run["start_index"]), "yes" if run["success"] else "no",
+    rows = tuple((run["solver"], run.get("role", "solve"), str(run["start_index"]),
+                  "yes" if run["success"] else "no",
                   number(run["fun"], ".4g"), number(run["kkt"], ".2g"), str(run["nit"]),
                   number(run["time_s"], ".3f"))
                  for run in document["runs"])
-    return Table(("solver", "start", "success", "RE", "KKT residual (1/rad)",
+    return Table(("solver", "run", "start", "success", "RE", "KKT residual (1/rad)",
                   "iterations", "time (s)"), rows)
+
+
+def _exact_optima_blocks(exact: Mapping[str, Any]) -> list[Block]:
+    """The set of exact optima: the criterion of the choice, its figures, the set's extent."""
+    text = (f"RE is at round-off zero on a set of designs of dimension {exact['dimension']}; "
+            f"the design reported was chosen within it by {exact['criterion']}, from "
+            f"{exact['starts']} exact optimum(s) found. Margin to the bounds: "
+            f"{number(exact['margin_deg'], '.4g')} deg (the first found: "
+            f"{number(exact['first_margin_deg'], '.4g')} deg).")
+    if exact["p95_residual_error"] is not None:
+        tolerances = exact["tolerances"]
+        text += (f" p95 RE under the tolerances ({tolerances['distribution']}, beta "
+                 f"{tolerances['beta_tolerance_deg']} deg, phase "
+                 f"{tolerances['phase_tolerance_deg']} deg, {tolerances['samples']} samples, "
+                 f"seed {tolerances['seed']}): {number(exact['p95_residual_error'], '.4g')} "
+                 f"(the first found: {number(exact['first_p95_residual_error'], '.4g')}).")
+    rows = tuple((name, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
+                 for name, (low, high), chosen in zip(exact["variables"], exact["extent_deg"],
+                                                      exact["chosen_deg"], strict=True))
+    return [Paragraph(text), Table(("variable", "set from (deg)", "set to (deg)",
+                                    "chosen (deg)"), rows)]
 
 
 def _crosscheck_text(document: Mapping[str, Any]) -> str:
     check = document["crosscheck"]
-    verdict = "one solver: no cross-check" if check is None else check["message"]
+    verdict = ("one solver: no cross-check" if check is None
+               else f"the solvers' own answers: {check['message']}")
     minima = ", ".join(number(value, ".4g") for value in document["local_minima"])
-    return f"{verdict}. Distinct RE values the successful runs stopped at: {minima or 'none'}."
+    found = (f"The reported optimum was found by {document['found_by']}. "
+             if document.get("found_by") else "")
+    return (f"{found}Cross-check of {verdict}. Distinct RE values the successful runs "
+            f"stopped at: {minima or 'none'}.")
 
 
 def _caption(file_name: str) -> str:

@@ -78,7 +78,7 @@ def optimisation_document(result: OptimisationResult, case: Case | None = None) 
     document = _common(case, "optimise")
     document["designs"] = {
         "initial": _design("initial design (as given)", result.initial_series, result.initial),
-        "optimum": _design(f"optimum ({result.best.solver})", result.best.series,
+        "optimum": _design(f"optimum (found by {result.found_by})", result.best.series,
                            result.optimum),
     }
     _add_reference(document, case)
@@ -88,6 +88,9 @@ def optimisation_document(result: OptimisationResult, case: Case | None = None) 
         "bounds": {"beta_deg": outcome["beta_bounds_deg"],
                    "phase_deg": outcome["phase_bounds_deg"]},
         "solutions": outcome["solutions"],
+        "confirmations": outcome["confirmations"],
+        "found_by": outcome["found_by"],
+        "exact_optima": outcome["exact_optima"],
         "runs": outcome["runs"],
         "crosscheck": outcome["crosscheck"],
         "local_minima": outcome["local_minima"],
@@ -246,7 +249,7 @@ def _verdict(result: DesignResult) -> str:
         return (f"{UNRELIABLE_VERDICT}: operating angles this close to 90 deg put peaks in "
                 "the speed ratio that the residual-error quadrature cannot resolve")
     if result.crosscheck is None:
-        return f"solved by {result.best.solver} alone (no cross-check): {result.best.message}"
+        return f"solved by {result.found_by} alone (no cross-check): {result.best.message}"
     return result.crosscheck.message
 
 
