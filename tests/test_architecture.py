@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin"),
-    ("validation", "files", "deprecation", "display"),
+    ("validation", "files", "folder_lock", "deprecation", "display"),
     ("kinematics",),
     ("solvers",),
     ("shafts", "linkages"),
