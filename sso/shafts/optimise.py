@@ -380,10 +380,11 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
                       if problem.option == 2 else series)
     start_beta, start_phase = problem.design_deg(problem.start_deg)
     exact_optima = None
-    # One solver from one start is that solver's own run, unless tolerances ask for a choice.
+    # The choice is made where solvers are cross-checked, or tolerances ask for it; one
+    # solver's runs report what it reached, as optimise_batch and batched sweeps do.
     if (series.model == "exact" and problem.n_free and is_exact(solved["best"].fun)
             and solved["best"].success
-            and (tolerances is not None or starts > 1 or len(solver_names) > 1)):
+            and (tolerances is not None or len(solver_names) > 1)):
         chosen, exact_optima = _most_robust(problem, nlp, solved, series.model, tolerances)
         if chosen is not solved["best"]:
             solved["best"], solved["runs"] = chosen, (*solved["runs"], chosen)

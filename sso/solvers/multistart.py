@@ -170,7 +170,9 @@ def _screen_then_cross_check(
     round-off zero when the user's is: from there each solver does its own iterations
     and those answers are cross-checked. The screen's best point, when it is lower than
     a solver's own answer, is given to that solver as a start (its run is a
-    confirmation when it takes no iteration). The reported optimum is the lowest of all.
+    confirmation when it takes no iteration). The reported optimum is the lowest of all;
+    of equal ones (within the cross-check's objective tolerance) a solver's own answer
+    first, then a run from the screen's point, then the screen's.
     """
     screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
     screening = [_with_role(to_solution(run, screened), ROLE_SCREEN) for run in screened]
@@ -195,7 +197,9 @@ def _screen_then_cross_check(
                      for name, runs in from_screen.items()}
     all_runs = screening + list(solutions.values()) + list(confirmations.values())
     return SolverFields(
-        best=best_solution(all_runs),
+        best=_first_as_good(
+            [list(solutions.values()), list(confirmations.values()), screening],
+            objective_rtol, objective_atol),
         solutions=solutions,
         runs=tuple(all_runs),
         crosscheck=(_cross_check(nlp, parameters, limits, {name: runs[0]
@@ -205,6 +209,21 @@ def _screen_then_cross_check(
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         confirmations=confirmations,
     )
+
+
+def _first_as_good(groups: Sequence[Sequence[Solution]], rtol: float,
+                   atol: float) -> Solution:
+    """The best of the first group whose best is as good as the best of all (within the
+    cross-check's tolerance): a named solver's own answer before a run from the screen's
+    point, and that before the screen's, when they tie."""
+    lowest = best_solution([solution for group in groups for solution in group])
+    for group in groups:
+        if group:
+            candidate = best_solution(group)
+            if (candidate.success == lowest.success
+                    and candidate.fun - lowest.fun <= atol + rtol * abs(lowest.fun)):
+                return candidate
+    return lowest
 
 
 def _common_start(nlp: Any, points: np.ndarray, parameters: np.ndarray) -> int:

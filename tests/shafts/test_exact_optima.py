@@ -41,10 +41,11 @@ def test_without_tolerances_the_chosen_exact_optimum_lies_strictly_inside_the_bo
     # optimum found sits on the 40 deg bound)
     assert min(margins) >= 10.0
     assert exact.margin_deg == pytest.approx(min(margins), rel=1e-9)
-    assert exact.first_margin_deg == pytest.approx(0.0, abs=1e-9)
+    assert exact.margin_deg > exact.first_margin_deg + 5.0
     assert _quadrature_residual_error(result.best.series) <= 1e-18
     assert result.best.role == "selection"
     assert result.found_by == "lm choosing within the exact optima"
+    assert result.best in result.runs
     assert result.success
 
 
@@ -68,8 +69,8 @@ def test_with_tolerances_the_chosen_exact_optimum_has_the_lowest_p95():
     exact = result.exact_optima
     assert exact.criterion == "lowest p95 RE under the given tolerances"
     assert exact.p95_residual_error <= 1.5e-5
-    # the optimum first found is the one returned before: p95 2.31e-4 (the issue)
-    assert exact.first_p95_residual_error == pytest.approx(2.31e-4, rel=0.01)
+    # the exact optimum first found (IPOPT's own answer) is far less robust
+    assert exact.first_p95_residual_error > 5.0 * exact.p95_residual_error
     study = sso.tolerance_study(result, **TOLERANCES)
     p95 = study.percentile_table()["residual_error"][95.0]
     assert p95 == pytest.approx(exact.p95_residual_error, rel=1e-9)
@@ -77,9 +78,10 @@ def test_with_tolerances_the_chosen_exact_optimum_has_the_lowest_p95():
     assert _quadrature_residual_error(result.best.series) <= 1e-18
 
 
-def test_one_solver_from_one_start_is_its_own_run():
+@pytest.mark.parametrize("starts", [1, 8])
+def test_one_solver_reports_what_it_reached(starts):
     result = sso.optimise(README_SERIES, 3, beta_bounds_deg=(10, 40), solvers=("lm",),
-                          starts=1)
+                          starts=starts)
     assert result.exact_optima is None
     assert result.best.role == "solve"
 
