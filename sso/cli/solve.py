@@ -125,6 +125,11 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
     initial, optimum, reference = (
         format_number(designs[role]["evaluation"]["residual_error"], 3)
         if role in designs else "-" for role in ("initial", "optimum", "reference"))
+    objective = designs.get("optimum", {}).get("objective")
+    if objective is not None:
+        # the recommended teeth were searched for the case's own objective: say it
+        optimum += (f" ({objective['name']} {format_number(objective['at_teeth'], 3)} at "
+                    f"the teeth, {format_number(objective['continuous'], 3)} continuous)")
     return Outcome(case.name, status, code, (initial, optimum, reference),
                    time.perf_counter() - started, str(folder))
 
