@@ -197,7 +197,9 @@ def _figure_table(document: Mapping[str, Any], roles: list[str]) -> Table:
 
 
 def _solver_table(document: Mapping[str, Any]) -> Table:
-    solutions = [*document["solutions"].items(), *document.get("confirmations", {}).items()]
+    solutions = [*document["solutions"].items(),
+                 *[(name, run) for name, run in document.get("confirmations", {}).items()
+                   if run != document["solutions"].get(name)]]
     rows = tuple((name, solution.get("role", "solve"), "yes" if solution["success"] else "no",
                   str(solution["status"]),
                   solution["message"], number(solution["fun"], ".4g"),

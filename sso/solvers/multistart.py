@@ -168,16 +168,19 @@ def _screen_then_cross_check(
 
     The common start is the user's start, or the first start that is not already at
     round-off zero when the user's is: from there each solver does its own iterations
-    and those answers are cross-checked. The screen's best point, when it is lower than
+    and those answers are cross-checked, their objectives within the larger of
+    ``objective_atol`` and the resolution of the solvers' stopping test (``solver_tol``
+    times the objective at that start). The screen's best point, when it is lower than
     a solver's own answer, is given to that solver as a start (its run is a
-    confirmation when it takes no iteration). The reported optimum is the lowest of all;
+    confirmation when it takes no iteration). A solver's answer, cross-checked, is the
+    better of its runs that iterated. The reported optimum is the lowest of all;
     of equal ones (within the cross-check's objective tolerance) a solver's own answer
     first, then a run from the screen's point, then the screen's.
     """
     screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
     screening = [_with_role(to_solution(run, screened), ROLE_SCREEN) for run in screened]
     chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
-    common = _common_start(nlp, points, parameters)
+    common, start_value = _common_start(nlp, points, parameters)
     own = {name: [replace(run, start_index=common) for run in runs]
            for name, runs in run_starts(nlp, points[common][np.newaxis, :], parameters, limits,
                                         solver_names, solver_tol, max_iterations,
@@ -188,23 +191,35 @@ def _screen_then_cross_check(
             runs = run_starts(nlp, chosen.outcome.x[np.newaxis, :], parameters, limits, (name,),
                               solver_tol, max_iterations, check_start=False)[name]
             from_screen[name] = [replace(runs[0], start_index=chosen.start_index)]
-    solutions = {name: _with_role(to_solution(runs[0], runs + from_screen.get(name, [])),
-                                  ROLE_SOLVE)
-                 for name, runs in own.items()}
+    own_solutions = {name: _with_role(to_solution(runs[0], runs + from_screen.get(name, [])),
+                                      ROLE_SOLVE)
+                     for name, runs in own.items()}
     confirmations = {name: _with_role(to_solution(runs[0], own[name] + runs),
                                       ROLE_CONFIRMATION if runs[0].outcome.nit == 0
                                       else ROLE_FROM_SCREEN)
                      for name, runs in from_screen.items()}
-    all_runs = screening + list(solutions.values()) + list(confirmations.values())
+    # Each solver's answer is the better of its runs that iterated: its solve from the
+    # common start, and its run from the screen's point when that moved (a run of no
+    # iteration confirms a point; it is never a solver's answer).
+    solutions, answered_from = {}, {}
+    for name, solution in own_solutions.items():
+        solutions[name], answered_from[name] = solution, own[name][0]
+        other = confirmations.get(name)
+        if (other is not None and other.role == ROLE_FROM_SCREEN
+                and best_solution([solution, other]) is other):
+            solutions[name], answered_from[name] = other, from_screen[name][0]
+    all_runs = screening + list(own_solutions.values()) + list(confirmations.values())
     return SolverFields(
         best=_first_as_good(
-            [list(solutions.values()), list(confirmations.values()), screening],
+            [list(own_solutions.values()), list(confirmations.values()), screening],
             objective_rtol, objective_atol),
         solutions=solutions,
         runs=tuple(all_runs),
-        crosscheck=(_cross_check(nlp, parameters, limits, {name: runs[0]
-                                                           for name, runs in own.items()},
-                                 solutions, objective_rtol, objective_atol, kkt_tolerance)
+        # Each solver's own answer is known to its stopping test: SLSQP stops when RE
+        # changes by less than solver_tol times its value at the start.
+        crosscheck=(_cross_check(nlp, parameters, limits, answered_from, solutions,
+                                 objective_rtol, max(objective_atol, solver_tol * start_value),
+                                 kkt_tolerance)
                     if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         confirmations=confirmations,
@@ -226,13 +241,14 @@ def _first_as_good(groups: Sequence[Sequence[Solution]], rtol: float,
     return lowest
 
 
-def _common_start(nlp: Any, points: np.ndarray, parameters: np.ndarray) -> int:
-    """Index of the user's start, or of the first start above round-off zero when it is not."""
+def _common_start(nlp: Any, points: np.ndarray, parameters: np.ndarray) -> tuple[int, float]:
+    """Index and objective of the user's start, or of the first start above round-off zero
+    when the user's is not."""
     for index, point in enumerate(points):
         value, _ = nlp.objective_and_gradient(point.tolist(), parameters)
         if float(value) > ZERO_OBJECTIVE:
-            return index
-    return 0
+            return index, float(value)
+    return 0, 0.0
 
 
 def _lower(candidate: MeasuredRun, run: MeasuredRun, rtol: float, atol: float) -> bool:

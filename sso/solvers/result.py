@@ -33,7 +33,8 @@ class DesignResult(Readable):
         solver's run from the screen's point; :attr:`found_by` says which.
     solutions : dict of str to Solution
         Each solver's own answer (its iterations from its starts; after a screen,
-        from the one common start), the answers the cross-check compares.
+        the better of its solve from the one common start and its run from the
+        screen's point when that iterated), the answers the cross-check compares.
     runs : tuple of Solution
         Every run, each solver from each start.
     crosscheck : sso.CrossCheck or None
@@ -122,7 +123,9 @@ class DesignResult(Readable):
         rows = [(name, solution.role, str(solution.start_index),
                  "yes" if solution.success else "no", format_number(solution.fun),
                  format_number(solution.kkt, 2), str(solution.nit), solution.message)
-                for name, solution in [*self.solutions.items(), *self.confirmations.items()]]
+                for name, solution in [*self.solutions.items(),
+                                       *[(name, run) for name, run in self.confirmations.items()
+                                         if run is not self.solutions.get(name)]]]
         solvers = TextTable(("solver", "run", "start", "converged", objective, kkt, "iterations",
                              "message"), tuple(rows))
         check = ("cross-check: one solver, none made" if self.crosscheck is None

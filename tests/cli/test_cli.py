@@ -103,8 +103,14 @@ def test_result_json_holds_the_whole_story(option3_run):
         assert solution["kkt"] <= 1e-6
     assert document["crosscheck"]["agree"] is True
     # Screening: the least-squares solver reaches RE = 0 (a global minimum) from the
-    # first start, so the other starts are skipped; each solver then runs from there.
-    assert [run["solver"] for run in document["runs"]] == ["lm", "ipopt", "slsqp"]
+    # first start, so the other starts are skipped; each solver then solves from the
+    # given start with its own iterations, and the design is chosen within the set of
+    # exact optima (largest margin to the bounds).
+    assert [(run["solver"], run["role"]) for run in document["runs"]] == [
+        ("lm", "screen"), ("ipopt", "solve"), ("slsqp", "solve"), ("lm", "selection")]
+    assert all(document["solutions"][name]["nit"] > 0 for name in ("ipopt", "slsqp"))
+    assert document["found_by"] == "lm choosing within the exact optima"
+    assert document["exact_optima"]["criterion"] == "largest margin to the bounds"
     # The exact model's RE is the closed form of the chain matrix: no quadrature angles.
     assert document["quadrature"]["samples"] == 0
     assert document["quadrature"]["error_estimate"] == 0.0

@@ -25,7 +25,7 @@ def test_a_case_with_lm_alone_is_solved_by_lm(tmp_path):
     document = json.loads((tmp_path / "out" / "lm_alone" / "result.json").read_text())
     assert document["case"]["solver"]["solvers"] == ["lm"]
     assert list(document["solutions"]) == ["lm"]
-    assert document["designs"]["optimum"]["label"] == "optimum (lm)"
+    assert document["designs"]["optimum"]["label"] == "optimum (found by lm from start 0)"
     assert document["success"] is True and document["crosscheck"] is None
     # Option 3 of the paper's case cancels: the optimum is at round-off zero.
     assert document["designs"]["optimum"]["evaluation"]["residual_error"] < 1e-20
