@@ -282,7 +282,7 @@ def _operating_angles(directions: np.ndarray) -> tuple[tuple[float, ...], tuple[
         beta = 0.0 if is_straight else float(np.degrees(np.arctan2(sine, cosine)))
         if beta >= BETA_LIMIT_DEG:
             raise ValueError(
-                f"beta at joint {joint} (points_mm[{joint}]) = {beta:g} deg is outside the "
+                f"points_mm[{joint}]: joint {joint} bends by beta = {beta:g} deg, outside the "
                 f"allowed range [0, {BETA_LIMIT_DEG:g}) deg")
         beta_deg.append(beta)
         straight.append(is_straight)

@@ -30,13 +30,16 @@ def render_column_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     Returns
     -------
     dict of str to bytes
-        ``"column_3d.png"`` and ``"excitation.png"``, and the robust part's plots
+        ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's plots
         (:mod:`sso.reports.column_robust_plots`) when the document has one.
     """
     from sso.reports.column_robust_plots import render_robust_plots
+    from sso.reports.column_steering_plots import steering_plot
+    from sso.reports.column_steering_report import STEERING_PLOT
 
+    steering = {STEERING_PLOT: steering_plot(document)} if "steering" in document else {}
     return {"column_3d.png": _column_3d(document), "excitation.png": _excitation(document),
-            **render_robust_plots(document)}
+            **steering, **render_robust_plots(document)}
 
 
 def _column_3d(document: Mapping[str, Any]) -> bytes:
@@ -141,9 +144,13 @@ def _excitation(document: Mapping[str, Any]) -> bytes:
     recommended = document["recommended"]
     labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
     first = next(iter(excitation["rows"].values()))[0]
+    judged = first["inertial_limit_rad_s2"] is not None
     # A log axis cannot show 0: a cancelled figure is drawn on the floor, a millionth
-    # of the torsional limit, and said to be below it in the label.
-    floor = 1e-6 * first["torsional_limit_rad_s2"]
+    # of the largest figure (of the torsional limit where limits apply), and said to
+    # be below it in the label.
+    largest = max(row[name] for rows in excitation["rows"].values() for row in rows
+                  for name in FIGURE_COLOURS)
+    floor = 1e-6 * (first["torsional_limit_rad_s2"] if judged else max(largest, 1e-300))
     for role, rows in excitation["rows"].items():
         style = ROLE_STYLES["recommended" if role == recommended else "as_built"]
         speeds = [row["input_speed_rpm"] for row in rows]
@@ -152,14 +159,17 @@ def _excitation(document: Mapping[str, Any]) -> bytes:
             below = " (below the plot)" if np.all(values < floor) else ""
             axes.plot(speeds, np.maximum(values, floor), color=colour, **style,
                       label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
-    axes.axhline(first["inertial_limit_rad_s2"], color="black", linestyle=":", linewidth=1.5,
-                 label=f"inertial limit ({excitation['vehicle']})")
-    axes.axhline(first["torsional_limit_rad_s2"], color="grey", linestyle="-.", linewidth=1.5,
-                 label=f"torsional limit ({excitation['vehicle']})")
+    if judged:
+        axes.axhline(first["inertial_limit_rad_s2"], color="black", linestyle=":",
+                     linewidth=1.5, label=f"inertial limit ({excitation['vehicle']})")
+        axes.axhline(first["torsional_limit_rad_s2"], color="grey", linestyle="-.",
+                     linewidth=1.5, label=f"torsional limit ({excitation['vehicle']})")
     axes.set_yscale("log")
     axes.set_xlabel("input speed (rpm)")
     axes.set_ylabel("angular acceleration excitation (rad/s^2)")
-    axes.set_title("Excitation over the rpm range against the published limits")
+    axes.set_title("Excitation over the rpm range against the published driveline limits"
+                   if judged else "Excitation over the rpm range (steering column: the "
+                   "driveline limits do not apply)")
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7, loc="lower right")
     return _png(figure)
