@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from sso.column.geometry import ColumnGeometry
+from sso.column.geometry import ColumnGeometry, shaft_name
 
 MIN_OPERATING_ANGLE_DEG = 0.5
 DEFAULT_MAX_OPERATING_ANGLE_DEG = 35.0
@@ -104,16 +104,3 @@ def practice_notes(geometry: ColumnGeometry, *,
             f"P{shortest + 1}) is {lengths[shortest]:.3g} mm long: the hardpoints look like "
             "metres; give them in mm", METRES_SOURCE))
     return tuple(notes)
-
-
-def shaft_name(index: int, shafts: int) -> str:
-    """The name of shaft ``index`` (0-based, ``P(index)`` to ``P(index + 1)``) of ``shafts``.
-
-    The end shafts are the input and output shafts; the intermediate shafts are
-    numbered from 1, as their yoke phasings ``delta_1 .. delta_(n-1)`` are.
-    """
-    if index == 0:
-        return "input shaft"
-    if index == shafts - 1:
-        return "output shaft"
-    return f"intermediate shaft {index}"

@@ -51,7 +51,7 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
     points = np.asarray(geometry["points_mm"], dtype=float)
     moved = document.get("joint_positions")
     _draw_column(axes, points, "#1f77b4", "given hardpoints", "-")
-    patches = _bend_patches(points, geometry["bend_normals"])
+    patches = bend_patches(points, geometry["bend_normals"])
     axes.add_collection3d(Poly3DCollection(patches, facecolors="#ff7f0e", alpha=0.3,
                                            edgecolors="#ff7f0e", linewidths=0.6))
     every = [points]
@@ -86,7 +86,7 @@ def _draw_column(axes: Any, points: np.ndarray, colour: str, label: str, style: 
                  marker="s", s=25, depthshade=False)
 
 
-def _bend_patches(points: np.ndarray, normals: Any) -> list[np.ndarray]:
+def bend_patches(points: np.ndarray, normals: Any) -> list[np.ndarray]:
     """A small square at each joint in its bend plane: one side along the bisector of
     the shafts before and after the joint, the other across it within the plane."""
     differences = np.diff(points, axis=0)

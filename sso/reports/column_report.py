@@ -11,6 +11,7 @@ import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from sso.column.geometry import shaft_name
 from sso.limits import REPORT_DIGITS
 from sso.reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso.reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
@@ -19,6 +20,7 @@ from sso.reports.summary import (
     Heading,
     Image,
     Paragraph,
+    Scene,
     Table,
     closing_blocks,
     number,
@@ -39,6 +41,10 @@ CAPTIONS = {
     STEERING_PLOT: STEERING_CAPTION,
     **ROBUST_CAPTIONS,
 }
+VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate, the wheel to "
+                "zoom, double-click for the first view; the pointer names each part. Shafts "
+                "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
+                "positions (dashed), the joint boxes and the moved column (green).")
 CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
               "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
               "yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
@@ -72,7 +78,7 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     blocks += [_case_table(document), Heading(2, "Verdict"),
                Paragraph(f"{status}: {document['verdict']}"),
                Heading(2, "Geometry from the hardpoints"), _geometry_table(document),
-               _shaft_table(document), Paragraph(CONVENTION),
+               _shaft_table(document), Paragraph(CONVENTION), _scene(document),
                Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
                Heading(2, "Assemblies compared"), _assembly_table(document),
                Heading(2, "Yoke phasing for the fitter"), _phasing_table(document)]
@@ -94,6 +100,12 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
     return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
                                               for name in image_files])
+
+
+def _scene(document: Mapping[str, Any]) -> Scene:
+    from sso.reports.column_scene import column_scene
+
+    return Scene(column_scene(document), VIEW_CAPTION)
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:
@@ -133,7 +145,8 @@ def _shaft_table(document: Mapping[str, Any]) -> Table:
     rows = []
     for shaft, length in enumerate(lengths):
         gamma = number(gammas[shaft - 1], ".4f") if 1 <= shaft <= len(gammas) else "-"
-        rows.append((str(shaft), f"P{shaft} to P{shaft + 1}", number(length, ".1f"), gamma))
+        rows.append((shaft_name(shaft, len(lengths)), f"P{shaft} to P{shaft + 1}",
+                     number(length, ".1f"), gamma))
     return Table(("shaft", "from, to", "length (mm)", "bend-plane angle gamma (deg)"),
                  tuple(rows))
 

@@ -10,6 +10,9 @@ from typing import Any
 
 from sso.reports.plots import _new_figure, _png
 
+# Assemblies often coincide (as built = best on the splines): a dash each keeps every
+# one visible.
+LINESTYLES = ("-", "--", "-.", ":")
 CURVES = (("speed_ratio", "speed ratio out / in"),
           ("torque_ratio", "torque ratio T_out / T_in"),
           ("transmission_error_deg", "transmission error (deg)"))
@@ -20,11 +23,11 @@ def steering_plot(document: Mapping[str, Any]) -> bytes:
     steering = document["steering"]
     figure = _new_figure()
     axes = figure.subplots(len(CURVES), 1, sharex=True)
-    for design in steering["designs"]:
+    for index, design in enumerate(steering["designs"]):
         figures = design["range"]
         for panel, (name, _) in zip(axes, CURVES, strict=True):
-            panel.plot(figures["wheel_angle_deg"], figures[name], linewidth=1.4,
-                       label=design["label"])
+            panel.plot(figures["wheel_angle_deg"], figures[name], linewidth=1.6,
+                       linestyle=LINESTYLES[index % len(LINESTYLES)], label=design["label"])
     for panel, (_, label) in zip(axes, CURVES, strict=True):
         panel.set_ylabel(label, fontsize=8)
         panel.grid(True, alpha=0.3)

@@ -57,7 +57,7 @@ def test_truck_report_compares_in_phase_textbook_and_best(column_run):
     assert moved["yoke_phase_deg"] == [10.0, -80.0]  # phasing.mode = "fixed"
     report = (folder / "column_truck_three_joints" / "report.md").read_text()
     for text in ("phi_k = 90 + delta_k - gamma_k", "margin cos(beta_max)",
-                 "fit the yoke at joint 3 8 teeth (80.0 deg) anticlockwise",
+                 "yoke at joint 3: 8 teeth (80.0 deg) anticlockwise",
                  "Joint positions moved within their boxes", "Steering from lock to lock",
                  "do not judge a steering column"):
         assert text in report, text

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from column_cases import load, planar_points
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.practice import practice_notes, shaft_name
+from sso.column.geometry import ColumnGeometry, shaft_name
+from sso.column.practice import practice_notes
 
 TRUCK = np.asarray(load("truck_three_joints")["points_mm"])
 
