@@ -70,6 +70,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "SteeringLimits": "sso.column.steering_criteria",
     "practice_notes": "sso.column.practice",
     "PracticeNote": "sso.column.practice",
+    "PracticeWarning": "sso.column.practice",
     "InertPhaseWarning": "sso.shafts.series",
     "StartMovedWarning": "sso.shafts.options",
     "QuadratureWarning": "sso.shafts.quadrature",

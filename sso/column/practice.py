@@ -15,6 +15,9 @@ advice comes from:
 * a shaft shorter than 10 mm: steering columns and drivelines have shafts of tens to
   thousands of mm, so hardpoints that make one this short were most likely typed in
   metres (an sso plausibility check, not a published limit).
+
+``sso.optimise(geometry, ...)`` raises each note as a :class:`PracticeWarning` at the
+caller's line; a column case lists them in its warnings.
 """
 
 from __future__ import annotations
@@ -33,6 +36,10 @@ MAKER_LIMIT_SOURCE = ("the maker's rating of the joint; the default of 35 deg is
                       "fixes it)")
 METRES_SOURCE = ("sso's plausibility check: shafts of steering columns and drivelines are tens "
                  "to thousands of mm long")
+
+
+class PracticeWarning(UserWarning):
+    """A column leaves practice (:func:`practice_notes`); the analysis still runs."""
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from column_cases import load, planar_points
 
+import sso
 from sso.column.geometry import ColumnGeometry, shaft_name
 from sso.column.practice import practice_notes
 
@@ -53,3 +54,14 @@ def test_a_straight_joint_and_a_joint_above_the_makers_limit_are_noted():
 ])
 def test_shafts_are_named_with_the_intermediate_ones_from_1(index, shafts, name):
     assert shaft_name(index, shafts) == name
+
+
+@pytest.mark.parametrize("points, reason", [
+    (TRUCK / 1000.0, "the hardpoints look like metres"),
+    (planar_points([0.3, -12.0]), "joint 1 runs at 0.3 deg, below about 0.5 deg"),
+])
+def test_optimise_warns_at_the_callers_line_with_the_reason(points, reason):
+    with pytest.warns(sso.PracticeWarning, match=reason) as caught:
+        result = sso.optimise(ColumnGeometry(points))
+    assert result.success
+    assert caught[0].filename == __file__
