@@ -33,23 +33,21 @@ def column_scene(document: Mapping[str, Any]) -> dict[str, Any]:
     geometry = document["geometry"]
     points = np.asarray(geometry["points_mm"], dtype=float)
     items = _column_items(points, geometry)
-    every = [points]
     positions = (document.get("robust") or {}).get("positions")
     if positions is not None:
         for index, (name, entry) in enumerate(positions["geometry"].items()):
             items.append(_line(entry["points_mm"], POSITION_COLOURS[index % len(POSITION_COLOURS)],
                                2.0, True, f"position {name} (hardpoints.positions.{name})"))
-            every.append(np.asarray(entry["points_mm"], dtype=float))
     for low, high, joint in _boxes(document):
         items += [_line(edge, BOX_COLOUR, 1.0, False, f"box of joint {joint} (joint_boxes)")
                   for edge in _box_edges(low, high)]
-        every.append(np.asarray([low, high], dtype=float))
     moved = document.get("joint_positions")
     if moved is not None:
         items.append(_line(moved["points_mm"], BOX_COLOUR, 2.5, True,
                            "the column with its joints moved within their boxes"))
-        every.append(np.asarray(moved["points_mm"], dtype=float))
-    stacked = np.vstack(every)
+    # Fit everything drawn, bend-plane patches included.
+    stacked = np.array([point for item in items
+                        for point in (item["points"] if "points" in item else [item["at"]])])
     centre = (stacked.max(axis=0) + stacked.min(axis=0)) / 2.0
     radius = float(np.linalg.norm(stacked - centre, axis=1).max())
     yaw_deg, pitch_deg = _first_view(points)
