@@ -15,6 +15,7 @@ from sso.reports.plots import _new_figure, _png
 
 # Half the side of a bend-plane patch, as a fraction of the column's extent.
 PATCH_FRACTION = 0.1
+POSITION_COLOURS = ("#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
 ROLE_STYLES = {"as_built": {"linestyle": "--", "linewidth": 1.4},
                "recommended": {"linestyle": "-", "linewidth": 2.2}}
 FIGURE_COLOURS = {"drive_rad_s2": "#1f77b4", "coast_rad_s2": "#ff7f0e",
@@ -55,11 +56,18 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
     axes.add_collection3d(Poly3DCollection(patches, facecolors="#ff7f0e", alpha=0.3,
                                            edgecolors="#ff7f0e", linewidths=0.6))
     every = [points]
+    positions = (document.get("robust") or {}).get("positions")
+    for index, (name, entry) in enumerate((positions or {}).get("geometry", {}).items()):
+        position = np.asarray(entry["points_mm"], dtype=float)
+        axes.plot(position[:, 0], position[:, 1], position[:, 2], linestyle=":", linewidth=1.6,
+                  color=POSITION_COLOURS[index % len(POSITION_COLOURS)],
+                  label=f"position {name}")
+        every.append(position)
+    for low, high, _ in joint_boxes(document):
+        _draw_box(axes, np.asarray(low, dtype=float), np.asarray(high, dtype=float))
     if moved is not None:
         moved_points = np.asarray(moved["points_mm"], dtype=float)
         _draw_column(axes, moved_points, "#2ca02c", "joints moved within their boxes", "--")
-        for low, high in moved["joint_boxes_mm"]:
-            _draw_box(axes, np.asarray(low, dtype=float), np.asarray(high, dtype=float))
         every.append(moved_points)
     for index, point in enumerate(points):
         name = f"P{index}" if index in (0, len(points) - 1) else f"joint {index} (P{index})"
@@ -75,6 +83,15 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
                    f"{gammas} deg", fontsize=10)
     axes.legend(loc="upper left", fontsize=9)
     return _png(figure)
+
+
+def joint_boxes(document: Mapping[str, Any]) -> list[tuple[Any, Any, int]]:
+    """``(low, high, joint)`` of each box of ``[joint_boxes]`` (mm; joints from 1), or none."""
+    boxes = document["case"].get("joint_boxes")
+    if not boxes:
+        return []
+    return [(low, high, joint) for joint, (low, high)
+            in enumerate(zip(boxes["min_mm"], boxes["max_mm"], strict=True), start=1)]
 
 
 def _draw_column(axes: Any, points: np.ndarray, colour: str, label: str, style: str) -> None:

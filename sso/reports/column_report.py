@@ -33,8 +33,9 @@ EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsio
 CAPTIONS = {
     "column_3d.png": "The column in vehicle coordinates: shafts, joints (dots), the end points "
                      "on the input and output axes (squares) and each joint's bend plane "
-                     "(orange patch, spanned by the shafts before and after the joint); with "
-                     "joint boxes, the moved column (dashed) and the boxes.",
+                     "(orange patch, spanned by the shafts before and after the joint); the "
+                     "named tilt positions (dotted), the joint boxes and the moved column "
+                     "(dashed) where the case has them. report.html has this view to turn.",
     "excitation.png": "SAE AE-7 small-angle excitations and the exact output acceleration over "
                       "the rpm range (solid: recommended assembly, dashed: as built), with the "
                       "published driveline limits where they apply.",

@@ -15,12 +15,11 @@ from typing import Any
 import numpy as np
 
 from sso.column.geometry import shaft_name
-from sso.reports.column_plots import bend_patches
+from sso.reports.column_plots import POSITION_COLOURS, bend_patches, joint_boxes
 
 SHAFT_COLOUR = "#1f77b4"
 PLANE_COLOUR = "#ff7f0e"
 BOX_COLOUR = "#2ca02c"
-POSITION_COLOURS = ("#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
 # The first view looks along the points' best-fit plane normal, turned a little so
 # the bends show as bends (as column_3d.png does).
 VIEW_TILT_DEG = 15.0
@@ -38,7 +37,7 @@ def column_scene(document: Mapping[str, Any]) -> dict[str, Any]:
         for index, (name, entry) in enumerate(positions["geometry"].items()):
             items.append(_line(entry["points_mm"], POSITION_COLOURS[index % len(POSITION_COLOURS)],
                                2.0, True, f"position {name} (hardpoints.positions.{name})"))
-    for low, high, joint in _boxes(document):
+    for low, high, joint in joint_boxes(document):
         items += [_line(edge, BOX_COLOUR, 1.0, False, f"box of joint {joint} (joint_boxes)")
                   for edge in _box_edges(low, high)]
     moved = document.get("joint_positions")
@@ -90,14 +89,6 @@ def _line(points: Any, colour: str, width: float, dash: bool, name: str) -> dict
 def _point(at: np.ndarray, size: float, name: str, label: str) -> dict[str, Any]:
     return {"kind": "point", "at": at.tolist(), "colour": SHAFT_COLOUR, "size": size,
             "name": name, "label": label}
-
-
-def _boxes(document: Mapping[str, Any]) -> list[tuple[Sequence[float], Sequence[float], int]]:
-    boxes = document["case"].get("joint_boxes")
-    if not boxes:
-        return []
-    return [(low, high, joint) for joint, (low, high)
-            in enumerate(zip(boxes["min_mm"], boxes["max_mm"], strict=True), start=1)]
 
 
 def _box_edges(low: Sequence[float], high: Sequence[float]) -> list[np.ndarray]:
