@@ -183,14 +183,25 @@ def test_a_named_position_leaving_practice_warns_naming_it():
     assert "above the maker's limit of 30 deg" in text
 
 
-def test_a_bend_beyond_90_deg_names_the_point_and_its_line():
-    source = ('kind = "column"\n\n[hardpoints]\npoints_mm = [\n  [0, 0, 0],\n  [100, 0, 0],\n'
-              '  [90, 100, 0],\n  [200, 130, 40],\n]\n')
+BEND_SOURCE = ('kind = "column"\n\n[hardpoints]\npoints_mm = [\n  [0, 0, 0],  # P0\n'
+               '  [100, 0, 0],\n  [90, 100, 0],\n  [200, 130, 40],\n]\n')
+
+
+@pytest.mark.parametrize("source, line, message", [
+    (BEND_SOURCE, 6, "hardpoints.points_mm[1]: joint 1 bends by beta = 95.7106 deg, outside "
+     "the allowed range [0, 90) deg"),
+    (BEND_SOURCE.replace("[90, 100, 0]", "[90, nan, 0]"), 7,
+     "hardpoints.points_mm[2][1] = nan"),
+    (BEND_SOURCE.replace("[100, 0, 0]", "[0, 0, 0]"), 5,
+     "hardpoints.points_mm[0] and points_mm[1] coincide"),
+    ('kind = "column"\n[hardpoints]\npoints_mm = [[0, 0, 0], [100, 0, 0], [90, 100, 0], '
+     '[200, 130, 40]]\n', 3, "hardpoints.points_mm[1]: joint 1 bends"),
+])
+def test_a_bad_point_names_its_key_and_the_line_it_is_on(source, line, message):
+    # The line of the point itself when the array spans several lines.
     import tomllib
 
     with pytest.raises(CaseError) as raised:
         parse_case(tomllib.loads(source), "bend.toml", source)
-    assert raised.value.line == 4
-    assert str(raised.value).startswith(
-        "bend.toml, line 4: hardpoints.points_mm[1]: joint 1 bends by beta = 95.7106 deg, "
-        "outside the allowed range [0, 90) deg")
+    assert raised.value.line == line
+    assert str(raised.value).startswith(f"bend.toml, line {line}: {message}"), str(raised.value)
