@@ -43,7 +43,14 @@ def steering_blocks(document: Mapping[str, Any]) -> list[Block]:
                    "on-centre fluctuation (%)", "speed ratio at the locks (acw / cw)",
                    "transmission error at the locks (acw / cw, deg)"), figure_rows),
             Heading(3, "Steering criteria"), _criteria_table(designs),
-            Paragraph(f"Excitation limits: {steering['excitation_note']}.")]
+            Paragraph(_excitation_note(document))]
+
+
+def _excitation_note(document: Mapping[str, Any]) -> str:
+    if document["excitation"].get("application", "driveline") == "driveline":
+        return ("Excitation limits: the SAE AE-7 driveline limits judge the excitation rows "
+                "below (excitation.application = 'driveline').")
+    return f"Excitation limits: {document['steering']['excitation_note']}."
 
 
 def _figure_row(design: Mapping[str, Any]) -> tuple[str, ...]:

@@ -125,3 +125,22 @@ def test_bad_column_case_exits_2_naming_the_key(tmp_path):
     assert completed.returncode == 2
     assert "splines.teeth has 2 entries; the column has 1 intermediate shaft" in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+def test_a_driveline_column_is_judged_by_the_driveline_limits(tmp_path):
+    # The truck column's points as a driveline at 2000 to 3000 rpm (truck limits):
+    # every row carries the published limits and a verdict, and the report says so.
+    truck = json.loads((ROOT / "tests" / "data" / "columns" / "truck_three_joints.json")
+                       .read_text())["points_mm"]
+    path = write_case(tmp_path, 'kind = "column"\nname = "driveline"\n[hardpoints]\n'
+                      f"points_mm = {truck}\n[excitation]\nrpm = [2000.0, 3000.0]\nrows = 3\n"
+                      'vehicle = "truck"\napplication = "driveline"\n')
+    completed = sso("evaluate", path, "--out", tmp_path, "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    document = json.loads((tmp_path / "driveline" / "result.json").read_text())
+    rows = document["excitation"]["rows"]["as_built"]
+    assert [row["inertial_limit_rad_s2"] for row in rows] == [2000.0] * 3
+    assert all(isinstance(row["within_limits"], bool) for row in rows)
+    report = (tmp_path / "driveline" / "report.md").read_text()
+    assert "limits inertial / torsional" in report
+    assert "the SAE AE-7 driveline limits judge the excitation rows" in report
