@@ -46,7 +46,8 @@ VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate
                 "zoom, double-click for the first view; the pointer names each part. Shafts "
                 "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
                 "positions (dashed), the joint boxes and the moved column (green).")
-CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
+CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k = 0), the "
+              "intermediate shafts 1 to n-1 and the output shaft (k = n); gamma_k is the angle about "
               "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
               "yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
               "joint k to that of its yoke at joint k+1, 0 = in phase (pin axes parallel); the "
