@@ -1,7 +1,8 @@
 """Run the code blocks of a Markdown page and compare what they print with the page.
 
 A page is read as a notebook: its fenced blocks run in order, in one namespace, in a
-working folder of their own that holds the repository's ``cases/``. What a block
+working folder of their own that holds the repository's ``cases/`` and the papers'
+tables, ``tests/data/reference/`` (as a clone has them). What a block
 means follows from its info string:
 
 ``python``
@@ -44,6 +45,8 @@ ROOT = Path(__file__).resolve().parents[1]
 FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,}|~{3,})(?P<info>[^`\n]*)$")
 FILE_BLOCK = re.compile(r"^#\s*(?P<name>[\w.-]+\.toml)\s*$")
 RUN_LANGUAGES = ("python", "console", "bash")
+# The repository's folders a page may read, linked into its working folder.
+SHARED_FOLDERS = ("cases", "tests/data/reference")
 ELLIPSIS = "..."
 
 
@@ -252,9 +255,11 @@ class PageRun:
 
     def __post_init__(self) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
-        cases = self.folder / "cases"
-        if not cases.exists():
-            cases.symlink_to(ROOT / "cases", target_is_directory=True)
+        for shared in SHARED_FOLDERS:
+            link = self.folder / shared
+            if not link.exists():
+                link.parent.mkdir(parents=True, exist_ok=True)
+                link.symlink_to(ROOT / shared, target_is_directory=True)
         self.namespace.update(__name__="__main__", __file__=str(self.folder / "page.py"))
 
 

@@ -6,9 +6,10 @@
 * ``on_files``: adds the generated pages and files: one API page per public name and
   the API index, the case-file reference (from the case schema), the concept figures
   and the downloadable notebook.
-* ``on_page_markdown``: runs every code block of a tutorial page and stops the build
-  if one raises or prints other than the page shows (set ``SSO_DOCS_RUN_TUTORIALS=0``
-  to skip this while previewing).
+* ``on_page_markdown``: fills the Performance page from the recorded benchmark run
+  (``doctools.performance``); runs every code block of a tutorial page and stops the
+  build if one raises or prints other than the page shows (set
+  ``SSO_DOCS_RUN_TUTORIALS=0`` to skip this while previewing).
 """
 
 from __future__ import annotations
@@ -27,10 +28,18 @@ if str(ROOT) not in sys.path:
 from mkdocs.exceptions import PluginError  # noqa: E402
 from mkdocs.structure.files import File, Files  # noqa: E402
 
-from doctools import api_pages, blocks, case_reference, figures, notebook  # noqa: E402
+from doctools import (  # noqa: E402
+    api_pages,
+    blocks,
+    case_reference,
+    figures,
+    notebook,
+    performance,
+)
 
 log = logging.getLogger("mkdocs.hooks.sso")
 TUTORIALS = "tutorials/"
+PERFORMANCE = "performance.md"
 
 
 def on_config(config: Any) -> Any:
@@ -75,7 +84,12 @@ def on_files(files: Files, config: Any) -> Files:
 
 
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Files) -> str:
-    """Run a tutorial page's blocks; a failure or a changed output stops the build."""
+    """Fill the Performance page from the recorded run; run a tutorial page's blocks.
+
+    A tutorial block that fails or prints other than the page shows stops the build.
+    """
+    if page.file.src_uri == PERFORMANCE:
+        return performance.page_with_section(markdown, performance.load())
     if not page.file.src_uri.startswith(TUTORIALS) or os.environ.get(
             "SSO_DOCS_RUN_TUTORIALS", "1") == "0":
         return markdown
