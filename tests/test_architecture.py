@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lower layer; parts on one layer do not import each other. ``sso/__init__.py`` (the
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("limits", "distribution", "warning_origin"),
+    ("limits", "distribution", "warning_origin", "interrupts", "folder_lock"),
     ("validation", "files", "deprecation", "display"),
     ("kinematics",),
     ("solvers",),

@@ -14,6 +14,7 @@ from typing import Any
 from sso.batch.axes import Axis, base_case, expand_points, parse_axes
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.report import SWEEP_FOLDER
 from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,
@@ -26,7 +27,7 @@ from sso.batch.table import (
     write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import check_report_folder, remove_stale_temporaries, write_text_atomic
+from sso.files import claim_folder, remove_stale_temporaries, write_text_atomic
 from sso.limits import OUTPUT_FORMATS
 from sso.reports.kinds import write_report
 from sso.shafts.options import build_problem
@@ -79,8 +80,9 @@ def sweep(
         Folder for ``sweep.csv`` (rewritten atomically as chunks finish; every
         digit), ``sweep.json`` (what the sweep is), ``report.md``, ``report.html``
         and ``sweep_re.png``. When the sweep ends the whole folder is written
-        afresh (:func:`sso.write_report`). It must be new, empty or hold report
-        files only. Without it nothing is written.
+        afresh (:func:`sso.write_report`). It must be new, empty or hold only
+        files sso wrote there for a sweep (listed in its ``sso-files.json``).
+        Without it nothing is written.
     resume : bool
         Continue the sweep already in ``out_dir``: compute only its missing
         points. The final ``sweep.csv`` equals that of an uninterrupted run
@@ -112,7 +114,8 @@ def sweep(
     ValueError
         For a bad base case, a case kind that cannot be swept, a bad axis, mode,
         action or count, or an ``out_dir`` that holds a different sweep (or any
-        sweep, without ``resume``) or files that are not a report's; or, before
+        sweep, without ``resume``), files sso did not write or another kind of
+        result; or, before
         any point is computed, if the memory estimate exceeds the limit.
     """
     started = time.perf_counter()
@@ -132,8 +135,7 @@ def sweep(
     rows: dict[int, dict[str, str]] = {}
     csv_path = None
     if out_dir is not None:
-        out_dir = check_report_folder(out_dir)
-        out_dir.mkdir(parents=True, exist_ok=True)
+        out_dir = claim_folder(out_dir, SWEEP_FOLDER, (CSV_NAME, MANIFEST_NAME))
         remove_stale_temporaries(out_dir)  # of a sweep killed mid-write
         csv_path = out_dir / CSV_NAME
         if resume:
