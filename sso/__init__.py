@@ -10,11 +10,7 @@ SciPy, matplotlib nor dask; each is imported by the first call that needs it.
 from importlib import import_module
 from typing import Any
 
-from sso import _moved
-
 __version__ = "0.1.0"
-
-_moved.install()
 
 # Public name -> module that defines it, or (module, name there) for an alias.
 _EXPORTS: dict[str, str | tuple[str, str]] = {
@@ -67,6 +63,14 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "SteeringFeel": "sso.column.feel",
     "optimise_on_centre": "sso.column.feel",
     "OnCentreResult": "sso.column.feel",
+    "steering_range": "sso.column.steering_range",
+    "SteeringRange": "sso.column.steering_range",
+    "assess_steering": "sso.column.steering_criteria",
+    "SteeringAssessment": "sso.column.steering_criteria",
+    "SteeringLimits": "sso.column.steering_criteria",
+    "practice_notes": "sso.column.practice",
+    "PracticeNote": "sso.column.practice",
+    "PracticeWarning": "sso.column.practice",
     "InertPhaseWarning": "sso.shafts.series",
     "StartMovedWarning": "sso.shafts.options",
     "QuadratureWarning": "sso.shafts.quadrature",

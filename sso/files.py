@@ -14,7 +14,6 @@ import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from sso.folder_lock import folder_locked
 from sso.interrupts import interrupts_held
 from sso.limits import MAX_INPUT_FILE_BYTES
 
@@ -295,9 +294,9 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
         return target
     found_kind, listed = sso_files(target)
     if found_kind is not None and found_kind != kind:
-        raise ValueError(f"{target} holds a {found_kind} written by sso; writing a {kind} "
-                         f"there would replace it. Choose another folder (--out), or delete "
-                         f"this one if the {found_kind} is no longer needed")
+        raise ValueError(f"{target} holds a {found_kind} written by sso: a {kind} and a "
+                         f"{found_kind} never share a folder. Choose another folder (--out), "
+                         f"or delete this one if the {found_kind} is no longer needed")
     own = listed | set(adopt) | {FOLDER_MANIFEST}
     foreign = sorted(entry.name for entry in entries
                      if not entry.is_file(follow_symlinks=False)
@@ -317,8 +316,8 @@ def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...]
     """Check ``path`` (:func:`check_report_folder`), create it, and add ``names`` to its
     manifest, before a writer that fills the folder over time (a sweep) writes them.
 
-    Hold the folder's lock (:func:`sso.folder_lock.folder_locked`) around the
-    claim and the writes.
+    The caller holds the folder's lock (:func:`sso.folder_lock.folder_lock`) over
+    the claim and the writes.
 
     Raises
     ------
@@ -342,15 +341,15 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
     """Make ``path`` a folder holding exactly ``files`` (and their manifest), never
     losing the old one on failure and never a file sso did not write.
 
-    The folder's lock is held throughout (a second writer is refused). The files
-    and the manifest are written (and flushed to disk) into a new temporary folder
-    beside ``path``; then the old folder is renamed aside, the new one renamed into
-    its place, and only then is the old one deleted: readers never see a
-    half-written folder. Where the folder cannot be renamed (a symbolic link to a
-    folder, a mount point, the working directory or one above it, a parent that may
-    not change), its files are replaced one by one instead, each atomically, the
-    manifest always listing every file present. Ctrl-C and SIGTERM wait until the
-    folder is consistent.
+    The caller holds the folder's lock (:func:`sso.folder_lock.folder_lock`;
+    :func:`sso.write_report` takes it). The files and the manifest are written (and
+    flushed to disk) into a new temporary folder beside ``path``; then the old
+    folder is renamed aside, the new one renamed into its place, and only then is
+    the old one deleted: readers never see a half-written folder. Where the folder
+    cannot be renamed (a symbolic link to a folder, a mount point, the working
+    directory or one above it, a parent that may not change), its files are
+    replaced one by one instead, each atomically, the manifest always listing every
+    file present. Ctrl-C and SIGTERM wait until the folder is consistent.
 
     Parameters
     ----------
@@ -373,8 +372,6 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
     ValueError
         As :func:`check_report_folder` (nothing is touched), or for a file name
         that is not a plain name.
-    sso.folder_lock.FolderInUseError
-        If another process writes the folder.
     OSError
         If the folder cannot be written; ``path`` is then left as it was.
     """
@@ -383,21 +380,19 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
            or os.sep in name or name.startswith(TEMPORARY_PREFIX)]
     if bad:
         raise ValueError(f"file names {bad!r} cannot be written into a report folder")
-    target = Path(path)
+    target = check_report_folder(path, kind, adopt)
     make_folders(target.parent)
-    with folder_locked(target):
-        check_report_folder(target, kind, adopt)
-        _remove_stale_staging(target)
-        contents = {**files, FOLDER_MANIFEST: _manifest(kind, names)}
-        if target.is_dir() and not _movable(target):
+    _remove_stale_staging(target)
+    contents = {**files, FOLDER_MANIFEST: _manifest(kind, names)}
+    if target.is_dir() and not _movable(target):
+        _replace_files(target, contents)
+    else:
+        try:
+            _swap(target, contents)
+        except OSError as error:
+            if error.errno not in _CANNOT_MOVE or not target.is_dir():
+                raise
             _replace_files(target, contents)
-        else:
-            try:
-                _swap(target, contents)
-            except OSError as error:
-                if error.errno not in _CANNOT_MOVE or not target.is_dir():
-                    raise
-                _replace_files(target, contents)
     return [target / name for name in names]
 
 
@@ -461,7 +456,7 @@ def _replace_files(target: Path, contents: Mapping[str, bytes]) -> None:
 
 def _remove_stale_staging(target: Path) -> None:
     """Delete the staging folders of ``target`` that a killed writer left beside it
-    (only SIGKILL can: the caller holds the folder's lock)."""
+    (only SIGKILL can; the caller holds the folder's lock, so no writer is alive)."""
     for entry in os.scandir(target.parent):
         match = _STAGING.fullmatch(entry.name)
         if match and match["name"] == target.name and entry.is_dir(follow_symlinks=False):

@@ -1,131 +1,106 @@
 """One writer per output folder: a lock file beside the folder, holding its owner's pid.
 
-The lock is the kernel's (``flock``) on the file ``.sso-lock-<folder name>`` in the
-folder's parent. It lives beside the folder because a report folder is replaced
-whole (a new folder renamed into its place), which would take a lock inside it
-along. The kernel releases the lock when its owner ends, however it ends, so a lock
-file a killed run left behind is stale by construction: the next run takes it over,
-with no guess from a pid that the system may have given to another process since.
-The pid in the file only names the owner in the message of a refused run.
+The lock is an advisory ``flock`` on ``<parent>/.sso-lock-<folder name>``, taken
+without waiting. The kernel drops it when its owner ends, however it ends
+(SIGKILL included), so a lock file left by a dead process is stale by
+construction: the next writer takes the lock and writes its own pid over the old
+one; no pid is ever guessed alive or dead. The file lies beside the folder, not
+inside it, so a writer may replace the whole folder (:func:`sso.files.replace_folder`)
+while it holds the lock.
 
-A holder removes the file when it lets go; a process that opened the file just
-before that finds, once it holds the lock, that the path names another file (or
-none) and starts again, so two processes never both hold a folder.
+The lock file is removed when its owner releases the lock. A second writer may
+have opened the old file just before; it then holds a lock on a file that no
+longer has the name, sees that the name now points elsewhere (or nowhere) and
+tries again, so two writers never both believe they hold the folder.
 """
 
 from __future__ import annotations
 
-import errno
-import fcntl
 import os
-import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from sso.files import make_folders
+
 LOCK_PREFIX = ".sso-lock-"
+ATTEMPTS = 20
 
 
-class FolderInUseError(BlockingIOError):
-    """The folder is being written by another process (or thread)."""
-
-
-# Lock file -> (owning thread, nesting depth, descriptor) of the locks this process holds.
-_HELD: dict[Path, tuple[int, int, int]] = {}
-_HELD_GUARD = threading.Lock()
+class FolderLockedError(ValueError):
+    """Another live process writes into the folder (its pid is in the message)."""
 
 
 def lock_path(folder: str | os.PathLike[str]) -> Path:
-    """The lock file of ``folder``: ``.sso-lock-<name>`` beside it.
-
-    Two spellings of one folder (relative, absolute, through a symbolic link) name
-    one lock file.
-    """
-    resolved = Path(os.path.realpath(folder))
-    return resolved.parent / f"{LOCK_PREFIX}{resolved.name}"
+    """The lock file of ``folder``: beside it, named after it."""
+    target = Path(folder)
+    return target.parent / f"{LOCK_PREFIX}{target.name}"
 
 
 @contextmanager
-def folder_locked(folder: str | os.PathLike[str]) -> Iterator[None]:
-    """Hold the lock of ``folder`` for the block, or refuse at once.
+def folder_lock(folder: str | os.PathLike[str], purpose: str = "write") -> Iterator[Path]:
+    """Hold the lock of ``folder`` for the block; its parent folder is created if missing.
 
-    The lock is re-entrant within one thread (a run that holds its folder may call
-    :func:`sso.files.replace_folder`, which takes it again). The folder's parent
-    must exist.
+    Parameters
+    ----------
+    folder : path-like
+        The output folder (it need not exist yet).
+    purpose : str
+        What the lock is for, in words, for the message a second writer gets.
+
+    Yields
+    ------
+    pathlib.Path
+        The lock file.
 
     Raises
     ------
-    FolderInUseError
-        If another process, or another thread of this one, holds the lock; the
-        message names the folder and the owner's pid.
+    FolderLockedError
+        If a live process holds the lock (the message names its pid).
     OSError
-        If the lock file cannot be created (the parent is missing or read-only).
+        If the lock file cannot be created.
     """
+    import fcntl
+
     path = lock_path(folder)
-    me = threading.get_ident()
-    with _HELD_GUARD:
-        held = _HELD.get(path)
-        if held is not None and held[0] == me:
-            _HELD[path] = (me, held[1] + 1, held[2])
-            nested = True
-        else:
-            nested = False
-    if nested:
+    make_folders(path.parent)  # level by level: an --out of thousands of parts is no recursion
+    for _ in range(ATTEMPTS):
+        descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
         try:
-            yield
-        finally:
-            with _HELD_GUARD:
-                owner, depth, descriptor = _HELD[path]
-                _HELD[path] = (owner, depth - 1, descriptor)
-        return
-    if held is not None:
-        raise FolderInUseError(_in_use(folder, str(os.getpid())))
-    descriptor = _acquire(path, folder)
-    with _HELD_GUARD:
-        _HELD[path] = (me, 1, descriptor)
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            owner = _owner(descriptor)
+            os.close(descriptor)
+            raise FolderLockedError(
+                f"{folder} is in use: process {owner} holds its lock {path.name} to "
+                f"{purpose} there; wait for it to end, or choose another folder") from None
+        if _names_this_file(path, descriptor):
+            break
+        os.close(descriptor)  # the owner before us removed the file: take the new one
+    else:
+        raise FolderLockedError(f"{folder}: its lock {path.name} kept changing hands; try again")
     try:
-        yield
+        os.ftruncate(descriptor, 0)
+        os.write(descriptor, f"{os.getpid()}\n".encode("ascii"))
+        yield path
     finally:
-        with _HELD_GUARD:
-            del _HELD[path]
-        path.unlink(missing_ok=True)  # still holding it: nobody else can be using the file
+        # Unlink before unlocking: a writer waiting on this file then finds it nameless.
+        if _names_this_file(path, descriptor):
+            path.unlink(missing_ok=True)
         os.close(descriptor)
 
 
-def _acquire(path: Path, folder: str | os.PathLike[str]) -> int:
-    """A descriptor of ``path`` with its lock held and this process's pid written in."""
-    while True:
-        descriptor = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
-        try:
-            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as error:
-            owner = _read_owner(descriptor)
-            os.close(descriptor)
-            if error.errno in (errno.EWOULDBLOCK, errno.EAGAIN):
-                raise FolderInUseError(_in_use(folder, owner)) from None
-            raise
-        try:
-            current = os.stat(path).st_ino
-        except FileNotFoundError:
-            current = None
-        if current != os.fstat(descriptor).st_ino:  # its holder removed it meanwhile
-            os.close(descriptor)
-            continue
-        os.ftruncate(descriptor, 0)
-        os.pwrite(descriptor, f"{os.getpid()}\n".encode("ascii"), 0)
-        return descriptor
-
-
-def _read_owner(descriptor: int) -> str:
+def _names_this_file(path: Path, descriptor: int) -> bool:
+    """Whether ``path`` still names the file open at ``descriptor``."""
     try:
-        text = os.pread(descriptor, 32, 0).decode("ascii", "replace").strip()
-    except OSError:
-        return ""
-    return text if text.isdigit() else ""
+        named = os.stat(path)
+    except FileNotFoundError:
+        return False
+    opened = os.fstat(descriptor)
+    return (named.st_dev, named.st_ino) == (opened.st_dev, opened.st_ino)
 
 
-def _in_use(folder: str | os.PathLike[str], owner: str) -> str:
-    by = f"sso process {owner}" if owner else "another sso process"
-    return (f"{os.fspath(folder)} is being written by {by} (its lock is "
-            f"{lock_path(folder).name} beside it); wait until that run ends, or choose "
-            "another folder")
+def _owner(descriptor: int) -> str:
+    """The pid the lock's owner wrote into the file, or words saying it is unknown."""
+    text = os.pread(descriptor, 32, 0).decode("ascii", "replace").strip()
+    return text if text.isdigit() else "(pid not yet written)"

@@ -15,7 +15,6 @@ from pathlib import Path
 import pytest
 
 from sso.files import FOLDER_MANIFEST, check_report_folder, make_folders, replace_folder
-from sso.folder_lock import FolderInUseError, folder_locked, lock_path
 
 REPORT = "case report"
 
@@ -36,7 +35,7 @@ def test_a_report_folder_is_replaced_whole_with_its_manifest(tmp_path):
     assert names(folder) == ["report.md", FOLDER_MANIFEST]  # no old plot
     assert (folder / "report.md").read_bytes() == b"new"
     assert listed(folder) == {"written_by": "sso", "kind": REPORT, "files": ["report.md"]}
-    assert names(tmp_path) == ["report"]  # no temporary folder, no lock file
+    assert names(tmp_path) == ["report"]  # no temporary folder
 
 
 def test_a_failed_replacement_keeps_the_old_folder_and_leaves_no_temporary(tmp_path):
@@ -81,8 +80,8 @@ def test_a_file_added_to_a_report_folder_is_never_deleted(tmp_path):
 def test_a_folder_of_another_kind_is_not_replaced(tmp_path):
     folder = tmp_path / "paper_option1_paper"
     replace_folder(folder, {"sweep.csv": b"point\n0\n", "sweep.json": b"{}"}, "sweep")
-    with pytest.raises(ValueError, match="holds a sweep written by sso; writing a case report "
-                       "there would replace it"):
+    with pytest.raises(ValueError, match="holds a sweep written by sso: a case report and a "
+                       "sweep never share a folder"):
         replace_folder(folder, {"report.md": b"new"}, REPORT)
     assert names(folder) == [FOLDER_MANIFEST, "sweep.csv", "sweep.json"]
 
@@ -171,35 +170,3 @@ def test_a_path_too_long_for_the_system_is_refused_and_leaves_nothing(tmp_path, 
     with pytest.raises(OSError, match="File name too long"):
         make_folders(Path(*["q"] * 2100))  # 4,199 characters
     assert names(tmp_path) == []
-
-
-def test_a_folder_being_written_is_refused_and_left_alone(tmp_path):
-    folder = tmp_path / "report"
-    replace_folder(folder, {"report.md": b"first"}, REPORT)
-    holder = subprocess.Popen(
-        [sys.executable, "-c", "import sys, time\nfrom sso.folder_lock import folder_locked\n"
-         f"with folder_locked({str(folder)!r}):\n    print('held', flush=True)\n"
-         "    time.sleep(60)"], stdout=subprocess.PIPE, text=True)
-    try:
-        assert holder.stdout is not None and holder.stdout.readline() == "held\n"
-        assert lock_path(folder).read_text() == f"{holder.pid}\n"
-        with pytest.raises(FolderInUseError, match=f"is being written by sso process "
-                           f"{holder.pid}"):
-            replace_folder(folder, {"report.md": b"second"}, REPORT)
-    finally:
-        holder.kill()
-        holder.wait()
-    assert (folder / "report.md").read_bytes() == b"first"
-    # The holder was killed: its lock file stays, but the kernel released the lock.
-    assert lock_path(folder).exists()
-    replace_folder(folder, {"report.md": b"second"}, REPORT)
-    assert (folder / "report.md").read_bytes() == b"second"
-    assert names(tmp_path) == ["report"]  # the stale lock file taken over, then removed
-
-
-def test_the_lock_is_re_entrant_in_one_thread(tmp_path):
-    folder = tmp_path / "report"
-    with folder_locked(folder):
-        replace_folder(folder, {"report.md": b"new"}, REPORT)
-        assert lock_path(folder).exists()
-    assert names(tmp_path) == ["report"]

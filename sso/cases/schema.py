@@ -22,9 +22,8 @@ from __future__ import annotations
 import difflib
 import re
 import tomllib
-import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -36,9 +35,6 @@ DEFAULT_KIND = "shaft_series"
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 
 MAX_TEXT_LENGTH = 10_000
-# Keys renamed since v0.1, old label -> new label. An old one is read for one more
-# release, with a deprecation note in the case's warnings.
-RENAMED_KEYS = {"solver.tolerance": "solver.solver_tol"}
 
 
 class CaseError(ValueError):
@@ -400,7 +396,6 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                         _line_of_key(source, "", "kind"))
     case_kind = CASE_KINDS[kind_value]
     keys = COMMON_KEYS + case_kind.keys
-    document, renamed = rename_old_keys(document, path, source)
     _refuse_unknown_keys(document, keys, path, source)
 
     values: dict[str, Any] = {}
@@ -411,7 +406,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                 values[key.label] = key.parse(key.label, table[key.name])
             except ValueError as error:
                 raise CaseError(path, str(error),
-                                _line_of_key(source, key.table, key.name)) from None
+                                _line_of_item(source, key, str(error))) from None
             except (TypeError, ArithmeticError, RecursionError):
                 raise CaseError(path, f"{key.label} = {shown(table[key.name])} is not "
                                 f"allowed: give {key.allowed}",
@@ -432,34 +427,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
         raise CaseError(path, f"the values do not fit together ({type(error).__name__}: "
                         f"{shown(str(error))}); check the keys against the case-file "
                         "reference") from None
-    for note in renamed:
-        warnings.warn(note, DeprecationWarning, stacklevel=2)
-    return replace(case, warnings=(*renamed, *case.warnings)) if renamed else case
-
-
-def rename_old_keys(document: Mapping[str, Any], path: str,
-                     source: str) -> tuple[Mapping[str, Any], tuple[str, ...]]:
-    """The document with each key of :data:`RENAMED_KEYS` under its new name, and a note
-    for each one renamed."""
-    notes = []
-    for old_label, new_label in RENAMED_KEYS.items():
-        old_table, old_name = old_label.split(".")
-        new_table, new_name = new_label.split(".")
-        table = document.get(old_table)
-        if not isinstance(table, Mapping) or old_name not in table:
-            continue
-        target = document.get(new_table, {})
-        if isinstance(target, Mapping) and new_name in target:
-            raise CaseError(path, f"{old_label} and {new_label} are both given; keep only "
-                            f"{new_label} ({old_label} is its deprecated name)",
-                            _line_of_key(source, old_table, old_name))
-        value = table[old_name]
-        document = {**document,
-                    old_table: {name: item for name, item in table.items() if name != old_name}}
-        document = {**document, new_table: {**document.get(new_table, {}), new_name: value}}
-        notes.append(f"{old_label} is deprecated and will be removed in the next release; "
-                     f"name it {new_label}")
-    return document, tuple(notes)
+    return case
 
 
 def _refuse_unknown_keys(document: Mapping[str, Any], keys: tuple[Key, ...], path: str,
@@ -518,7 +486,47 @@ def _line_of_first_label(source: str, message: str, keys: tuple[Key, ...]) -> in
     if not positions:
         return None
     key = min(positions, key=lambda position: position[0])[1]
-    return _line_of_key(source, key.table, key.name)
+    return _line_of_item(source, key, message)
+
+
+def _line_of_item(source: str, key: Key, message: str) -> int | None:
+    """Line of ``key``, or of its item ``[i]`` where ``message`` names one (an array
+    written over several lines, ``hardpoints.points_mm[2]``: the line of point 2)."""
+    line = _line_of_key(source, key.table, key.name)
+    found = re.search(rf"(?<![\w.]){re.escape(key.label)}\[(\d+)\]", message)
+    if line is None or found is None:
+        return line
+    return line + _array_item_offset(source.splitlines()[line - 1:], int(found.group(1)))
+
+
+def _array_item_offset(lines: list[str], index: int) -> int:
+    """Lines from an array's ``key = [`` line to the line where item ``index`` starts
+    (0 when it cannot be found: the key's own line)."""
+    depth, count, expecting = 0, -1, False
+    for offset, text in enumerate(lines):
+        quote = ""
+        for char in text[text.index("=") + 1 if offset == 0 and "=" in text else 0:]:
+            if quote:
+                quote = "" if char == quote else quote
+                continue
+            if char == "#":
+                break
+            if depth == 1 and expecting and char not in " \t,]":
+                count, expecting = count + 1, False
+                if count == index:
+                    return offset
+            if char in "\"'":
+                quote = char
+            elif char == "[":
+                depth += 1
+                expecting = expecting or depth == 1
+            elif char == "]":
+                depth -= 1
+                if depth <= 0:
+                    return 0
+            elif char == "," and depth == 1:
+                expecting = True
+    return 0
 
 
 _TABLE_HEADER = re.compile(r"^\s*\[\s*([A-Za-z0-9_.-]+)\s*\]")

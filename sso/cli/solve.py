@@ -89,13 +89,12 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
                started: float) -> Outcome:
     """Solve one case and write its report, holding its folder from start to end: a
     second run into the same folder is refused at once, not after its solve."""
-    from sso.files import check_report_folder, make_folders
-    from sso.folder_lock import folder_locked
+    from sso.files import check_report_folder
+    from sso.folder_lock import folder_lock
     from sso.reports.kinds import CASE_REPORT
 
     try:
-        make_folders(folder.parent)
-        with folder_locked(folder):
+        with folder_lock(folder, f"write the report of {case.name}"):
             check_report_folder(folder, CASE_REPORT)
             return _solve_in(args, case, folder, optimising, started)
     except (OSError, ValueError) as error:
@@ -115,7 +114,8 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     """
     from sso.cases.column import COLUMN_KIND
     from sso.cases.mechanism import MECHANISM_KINDS
-    from sso.reports.kinds import write_report
+    from sso.files import replace_folder
+    from sso.reports.kinds import CASE_REPORT, render_report
     from sso.run.column_document import column_document
     from sso.run.document import evaluate_case, optimise_case
     from sso.run.mechanism_document import mechanism_document
@@ -136,7 +136,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
                     + traceback.format_exc())
         return Outcome(case.name, "internal error", EXIT_FAILED)
     print_warnings(case.name, document["warnings"])
-    written = write_report(document, folder, case.formats)
+    written = replace_folder(folder, render_report(document, case.formats), CASE_REPORT)
     status, code = _status(document)
     if not document["success"]:
         print_error(f"{case.name}: {document['verdict']}")

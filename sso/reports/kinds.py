@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from sso.files import replace_folder
+from sso.folder_lock import folder_lock
 from sso.limits import OUTPUT_FORMATS
 
 Renderer = Callable[[Any, tuple[str, ...]], dict[str, bytes]]
@@ -140,14 +141,15 @@ def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None 
     ValueError
         For an unknown format, or a ``folder`` that holds files sso did not write
         or another kind of result (see :func:`sso.files.replace_folder`).
-    sso.folder_lock.FolderInUseError
-        If another process is writing ``folder``.
+    sso.folder_lock.FolderLockedError
+        (a ValueError) If another process is writing ``folder``.
     """
     if not isinstance(folder, (str, Path)):
         raise TypeError(f"folder must be a str or pathlib.Path, not {type(folder).__name__}")
     kind = report_kind_of(result)
-    return replace_folder(folder, kind.render(result, validate_formats(formats)), kind.folder,
-                          adopt)
+    files = kind.render(result, validate_formats(formats))
+    with folder_lock(folder, f"write a {kind.folder}"):
+        return replace_folder(folder, files, kind.folder, adopt)
 
 
 def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> dict[str, bytes]:

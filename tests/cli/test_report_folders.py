@@ -90,8 +90,8 @@ def test_a_sweep_and_a_case_of_one_name_never_share_a_folder(tmp_path):
     assert {"sweep.csv", "sweep.json"} <= set(sweep_files)
     run = sso("run", PAPER_CASE, "--no-plots", "--quiet", cwd=tmp_path)
     assert run.returncode == 2
-    assert ("results/paper_option1_paper holds a sweep written by sso; writing a case report "
-            "there would replace it") in run.stderr
+    assert ("results/paper_option1_paper holds a sweep written by sso: a case report and a "
+            "sweep never share a folder") in run.stderr
     assert contents(folder) == sweep_files
     # And the other way round: a case's report is not replaced by a sweep.
     shutil.rmtree(folder)
@@ -100,7 +100,7 @@ def test_a_sweep_and_a_case_of_one_name_never_share_a_folder(tmp_path):
     report_files = contents(folder)
     swept = sso("sweep", "sweep.toml", "--workers", "1", "--no-plots", "--quiet", cwd=tmp_path)
     assert swept.returncode == 2
-    assert "holds a case report written by sso; writing a sweep there" in swept.stderr
+    assert "holds a case report written by sso: a sweep and a case report" in swept.stderr
     assert contents(folder) == report_files
 
 
@@ -117,8 +117,9 @@ def test_a_second_run_into_a_folder_being_written_is_refused(tmp_path):
     assert first.returncode == 0, stderr
     assert still_solving, "the first run ended before the second started: make it slower"
     assert second.returncode == 2
-    assert (f"error: slow: cannot write the report into results/slow: results/slow is being "
-            f"written by sso process {first.pid}") in second.stderr
+    assert (f"error: slow: cannot write the report into results/slow: results/slow is in use: "
+            f"process {first.pid} holds its lock .sso-lock-slow to write the report of slow "
+            "there") in second.stderr
     assert names(tmp_path / "results") == ["slow"]  # no lock file, no temporary folder
     assert names(tmp_path / "results" / "slow") == ["report.html", "report.md", "result.json",
                                                     "speeds.csv", FOLDER_MANIFEST]
@@ -130,7 +131,7 @@ def test_two_runs_racing_for_one_folder_leave_one_whole_report_and_no_debris(tmp
                              stderr=subprocess.PIPE, text=True) for _ in range(4)]
     outcomes = [(run.wait(timeout=600), run.communicate()[1]) for run in runs]
     for code, stderr in outcomes:  # each wrote the report, or was refused while another did
-        assert code == 0 or (code == 2 and "is being written by sso process" in stderr), stderr
+        assert code == 0 or (code == 2 and "holds its lock" in stderr), stderr
     assert any(code == 0 for code, _ in outcomes)
     assert names(tmp_path / "results") == ["paper_option1_exact"]
     assert names(tmp_path / "results" / "paper_option1_exact") == [
