@@ -376,7 +376,7 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
         If the folder cannot be written; ``path`` is then left as it was.
     """
     names = list(files)
-    bad = [name for name in names if name in ("", ".", "..", FOLDER_MANIFEST)
+    bad = [name for name in names if name in ("", os.curdir, os.pardir, FOLDER_MANIFEST)
            or os.sep in name or name.startswith(TEMPORARY_PREFIX)]
     if bad:
         raise ValueError(f"file names {bad!r} cannot be written into a report folder")

@@ -1,6 +1,6 @@
 """A case that keeps a solver busy: the paper model, five joints, one solver, many
-starts (each a few milliseconds). For tests and benchmarks that signal or race a run
-while it is solving."""
+starts (each a few milliseconds), and a sweep over it. For tests and benchmarks that
+signal or race a run while it is solving."""
 
 from __future__ import annotations
 
@@ -21,6 +21,18 @@ phase_deg = [0.0, 180.0]
 solvers = ["{solver}"]
 starts = {starts}
 """
+
+
+SLOW_SWEEP = """\
+name = "slow_sweep"
+case = "slow.toml"
+action = "optimise"
+chunk_size = 1
+
+[axes]
+input_speed_rpm = [10, 20, 30, 40]
+"""
+"""A sweep of four points of the case saved as ``slow.toml`` beside it."""
 
 
 def slow_case(solver: str = "ipopt", starts: int = 60) -> str:
