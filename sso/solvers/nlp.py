@@ -59,6 +59,9 @@ class CompiledNLP:
     lm_kernel : BufferedFunction or None
         The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
         first run (:func:`sso.solvers.lm_kernel.kernel_of`).
+    lm_newton_kernel : BufferedFunction or None
+        Its compiled Newton iterations, built on the first run that needs them
+        (:func:`sso.solvers.lm_kernel.newton_kernel_of`).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -80,6 +83,7 @@ class CompiledNLP:
     residuals: Any = None
     nonnegative_objective: bool = False
     lm_kernel: Any = None
+    lm_newton_kernel: Any = None
 
     def ipopt(self, options: dict[str, Any]) -> Any:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""
