@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from sso.deprecation import renamed_keywords
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.kinematics.hooke import MODELS
 from sso.kinematics.hooke_matrix import (
@@ -177,7 +176,6 @@ class BatchResult(Readable):
         }
 
 
-@renamed_keywords(tolerance="solver_tol")
 def optimise_batch(
     beta_deg: Any,
     phase_deg: Any,
