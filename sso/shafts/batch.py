@@ -4,9 +4,10 @@ The exact model's residual error is the squared norm of two residuals of the cha
 matrix (``sso.kinematics.hooke_matrix``), so ``m`` starts form ``m`` tiny
 least-squares problems that the ``"lm"`` solver's rules solve together as array work
 (:mod:`sso.solvers.lm_batch`): no quadrature, no CasADi build, no per-design Python
-loop, and the iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The paper's model has no closed form and is refused here (use
-:func:`sso.optimise`); falling back to a per-design quadrature solve would silently
-change the speed a caller relies on.
+loop, and the iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The
+paper's model has no closed form and is refused here (use :func:`sso.optimise`);
+falling back to a per-design quadrature solve would silently change the speed a
+caller relies on.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ from sso.shafts.options import (
 )
 from sso.solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
 from sso.solvers.lm_batch import solve_batch
+from sso.solvers.lm_rules import NEWTON
 from sso.validation import (
     check_choice,
     validate_count,
@@ -323,6 +325,8 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
             beta, phase = point[:n_joints], point[n_joints:]
         else:
             beta, phase = (point, parameters) if beta_free else (parameters, point)
+        # Real arithmetic: numpy's complex products round differently with the length of
+        # the arrays, which would make a design's answer depend on the batch it is in.
         (first, second), d_beta, d_phase = residual_jacobian(np, beta, phase)
         derivatives = [*(d_beta if beta_free else []), *(d_phase if phase_free else [])]
         return (first, second, [pair[0] for pair in derivatives],
@@ -331,6 +335,9 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
     run = solve_batch(column_residuals, start, design_rad[:, fixed], lower, upper, tolerance,
                       max_iterations)
     x, fun, nit, nfev, status = run.x, run.fun, run.nit, run.nfev, run.status
+    # A design that turned to Newton steps on its last allowed iteration ends there, as
+    # the single solve does at the iteration limit.
+    status[(status == NEWTON) & (nit >= max_iterations)] = 0
     held = ((x <= lower) & (run.gradient > 0)) | ((x >= upper) & (run.gradient < 0))
     kkt = np.max(np.where(held, 0.0, np.abs(run.gradient)), axis=1, initial=0.0)
     unfinished = np.flatnonzero((fun > ZERO_RESIDUAL_LEVEL) & (status != -2)
@@ -345,11 +352,11 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
             return residual, jacobian[..., free]
 
         finished = batch_least_squares(residual_and_jacobian, x[unfinished], lower, upper,
-                                       gtol=tolerance,
-                                       max_iterations=max_iterations - int(nit[unfinished].min()))
+                                       gtol=tolerance, max_iterations=max_iterations,
+                                       iterations_taken=nit[unfinished])
         x[unfinished], fun[unfinished] = finished.x, finished.fun
         kkt[unfinished] = finished.projected_gradient
-        nit[unfinished] += finished.nit
+        nit[unfinished] = finished.nit
         nfev[unfinished] += finished.nfev
         status[unfinished] = finished.status
     return _Solved(x, fun, kkt, nit, nfev, status, np.isin(status, SUCCESS_STATUSES))

@@ -39,11 +39,9 @@ import numpy as np
 from sso.solvers.lm_kernel import kernel_of, newton_kernel_of, run_kernel, run_newton_kernel
 from sso.solvers.lm_rules import (
     NEWTON,
-    NEWTON_DAMPING,
     NEWTON_INDEFINITE,
     PYTHON,
     RUNNING,
-    cholesky,
     fresh_state,
     gauss_newton_iteration,
     newton_iteration,
@@ -160,7 +158,7 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
             continue
         current["status"] = NEWTON
         current = newton_iteration(PYTHON, evaluate, hessian_at, current, lower, upper,
-                                   tolerance, max_iterations, _shift_past_negative_curvature)
+                                   tolerance, max_iterations)
     return (current["x"], current["fun"], int(current["nit"]), int(current["nfev"]),
             int(current["status"]))
 
@@ -200,21 +198,3 @@ def _difference_hessian(residual: Residual, x: list[float], gradient: list[float
             entry = ahead_jacobian[j]
             hessian[j][i] = (r1 * entry.real + r2 * entry.imag - gradient[j]) / _HESSIAN_STEP
     return hessian
-
-
-def _shift_past_negative_curvature(block: list[list[float]], damping: float, scale: float
-                                   ) -> list[list[float]]:
-    """Cholesky factor of the free block shifted to be positive definite (near a saddle).
-
-    Shifted just past the most negative eigenvalue, so the step is long along the
-    direction of negative curvature (Moré and Sorensen); a rejected step raises the
-    damping and shortens it. Further by tenfold steps while round-off keeps it from
-    being positive definite.
-    """
-    smallest = float(np.linalg.eigvalsh(np.array(block))[0])
-    shift = 1.01 * max(-smallest, 0.0) + max(damping, NEWTON_DAMPING) * scale
-    factor, positive = cholesky(PYTHON, block, shift)
-    while not positive:
-        shift = max(10.0 * shift, 1e-6 * scale)
-        factor, positive = cholesky(PYTHON, block, shift)
-    return factor

@@ -9,8 +9,11 @@ in proportion to its size.
 
 A design ends as the single solve's Gauss-Newton mode does: with the same status,
 the same iterate and the same counts up to round-off; a design whose steps turn to
-Newton steps (a minimum above zero) ends with status
-:data:`sso.solvers.lm_rules.NEWTON` for the caller to finish.
+Newton steps (a minimum above zero, or a start far from the zeros with more
+variables than residuals, where the Hessian is often indefinite) ends with status
+:data:`sso.solvers.lm_rules.NEWTON` for the caller to finish. Only real arithmetic
+is used: numpy's complex products round differently with the length of the arrays,
+which would make a design's answer depend on the batch it is in.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from sso.solvers.lm_rules import (
 
 NUMPY = Operations(select=np.where, both=np.logical_and, either=np.logical_or,
                    negate=np.logical_not, minimum=np.minimum, maximum=np.maximum,
-                   absolute=np.abs, sqrt=np.sqrt)
+                   absolute=np.abs, sqrt=np.sqrt, anywhere=np.any)
 """The rules' operations on numpy arrays (one entry per design)."""
 
 ColumnResiduals = Callable[[list[np.ndarray], list[np.ndarray]],
@@ -69,7 +72,7 @@ class BatchRun:
 def solve_batch(residuals: ColumnResiduals, start: np.ndarray, parameters: np.ndarray,
                 lower: np.ndarray, upper: np.ndarray, tolerance: float,
                 max_iterations: int) -> BatchRun:
-    """Run the Gauss-Newton iterations of every design from its start.
+    """Run the rules' Gauss-Newton iterations of every design from its start.
 
     Parameters
     ----------
@@ -103,20 +106,21 @@ def solve_batch(residuals: ColumnResiduals, start: np.ndarray, parameters: np.nd
         while rows.size:
             state = gauss_newton_iteration(NUMPY, evaluate, state, lower_list, upper_list,
                                            tolerance, max_iterations)
-            running = state["status"] == RUNNING
-            ended = rows.size - np.count_nonzero(running)
-            if ended and (ended >= COMPACT_SHARE * rows.size or ended == rows.size):
-                done = ~running
-                finished = rows[done]
-                for name in SCALARS:
-                    out[name][finished] = state[name][done]
-                out_x[finished] = np.column_stack(state["x"])[done]
-                out_gradient[finished] = 2.0 * (
-                    np.column_stack(state["J1"])[done] * state["r1"][done, None]
-                    + np.column_stack(state["J2"])[done] * state["r2"][done, None])
-                rows = rows[running]
-                columns = [column[running] for column in columns]
-                state = {name: ([entry[running] for entry in value] if isinstance(value, list)
-                                else value[running]) for name, value in state.items()}
+            going = state["status"] == RUNNING
+            ended = rows.size - np.count_nonzero(going)
+            if not ended or (ended < COMPACT_SHARE * rows.size and going.any()):
+                continue
+            done = ~going
+            finished = rows[done]
+            for name in SCALARS:
+                out[name][finished] = state[name][done]
+            out_x[finished] = np.column_stack(state["x"])[done]
+            out_gradient[finished] = 2.0 * (
+                np.column_stack(state["J1"])[done] * state["r1"][done, None]
+                + np.column_stack(state["J2"])[done] * state["r2"][done, None])
+            rows = rows[going]
+            columns = [column[going] for column in columns]
+            state = {name: ([entry[going] for entry in value] if isinstance(value, list)
+                            else value[going]) for name, value in state.items()}
     return BatchRun(out_x, out["fun"], out_gradient, out["nit"].astype(int),
                     out["nfev"].astype(int), out["status"].astype(int))

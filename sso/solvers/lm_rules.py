@@ -74,9 +74,14 @@ class Operations:
         Of two values, elementwise.
     absolute, sqrt : callable
     lazy : bool
-        Conditions are plain booleans, so work a solve that has ended does not use (a
-        trial point's evaluation) can be skipped; with arrays or symbols every branch
-        is computed.
+        Conditions are plain booleans (one design): a loop may run until its condition
+        holds, where arrays and symbols take a fixed number of rounds.
+    lowest_eigenvalue : callable or None
+        The most negative eigenvalue of a symmetric matrix (a list of lists), for the
+        Newton step's shift past it; None where the backend has no eigenvalue solver.
+    anywhere : callable
+        Whether a condition may hold for some design (always True for symbols), so a
+        branch that no design takes is not computed.
     """
 
     select: Callable[[Any, Any, Any], Any]
@@ -88,6 +93,8 @@ class Operations:
     absolute: Callable[[Any], Any]
     sqrt: Callable[[Any], Any]
     lazy: bool = False
+    lowest_eigenvalue: Callable[[list[list[Any]]], Any] | None = None
+    anywhere: Callable[[Any], bool] = lambda condition: True
 
     def largest(self, values: Sequence[Any]) -> Any:
         """The largest of a non-empty list, elementwise."""
@@ -110,11 +117,17 @@ def _python_maximum(first: float, second: float) -> float:
     return first if first > second else second
 
 
+def _python_lowest_eigenvalue(matrix: list[list[float]]) -> float:
+    import numpy as np
+
+    return float(np.linalg.eigvalsh(np.array(matrix))[0])
+
+
 PYTHON = Operations(
     select=_python_select, both=lambda first, second: first and second,
     either=lambda first, second: first or second, negate=lambda condition: not condition,
     minimum=_python_minimum, maximum=_python_maximum, absolute=abs, sqrt=math.sqrt,
-    lazy=True)
+    lazy=True, lowest_eigenvalue=_python_lowest_eigenvalue, anywhere=bool)
 """The operations on plain Python floats (one design)."""
 
 
@@ -264,7 +277,7 @@ def trial_step(ops: Operations, evaluate: Evaluate, state: Mapping[str, Any], mo
         model1 = r1 + sum(d1 * change for d1, change in zip(first, move, strict=True))
         model2 = r2 + sum(d2 * change for d2, change in zip(second, move, strict=True))
         predicted = fun - (model1 * model1 + model2 * model2)
-    if ops.lazy and not running:
+    if not ops.anywhere(running):
         trial_r1, trial_r2, trial_first, trial_second = r1, r2, first, second
     else:
         trial_r1, trial_r2, trial_first, trial_second = evaluate(trial)
@@ -320,15 +333,15 @@ HessianAt = Callable[[list[Any], list[Any], list[Any], Any], tuple[list[list[Any
 the residual evaluations it costs. ``needed`` tells whether the iteration uses it (a
 backend that computes it lazily may skip it when it does not)."""
 
-Rescue = Callable[[list[list[float]], float, float], list[list[float]]]
-"""``(free_block, damping, scale) -> factor``: a Cholesky factor of the free block
-shifted to be positive definite, when the damping's shift is not enough."""
+RESCUE_SHIFTS = 4
+"""Tenfold shifts tried after the shift past the most negative eigenvalue, where round-off
+keeps the shifted Hessian from being positive definite (on plain floats the loop goes
+on until it is)."""
 
 
 def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
                      state: Mapping[str, Any], lower: list[Any], upper: list[Any],
-                     tolerance: Any, max_iterations: Any, rescue: Rescue | None = None
-                     ) -> dict[str, Any]:
+                     tolerance: Any, max_iterations: Any) -> dict[str, Any]:
     """One iteration of the Newton mode: the tests at the top, one damped Newton step.
 
     The tests are those of :func:`gauss_newton_iteration`. The step solves
@@ -338,44 +351,66 @@ def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
     :data:`NEWTON_DAMPING`) and shrinks on an accepted one as in the Gauss-Newton
     mode. The model's decrease is that of the quadratic ``g.d + d.H.d / 2``. A
     Hessian with an entry that is not finite gives no step (the solve ends with
-    status 3). Where the shifted Hessian is not positive definite (near a saddle),
-    ``rescue`` shifts it further; without it the iteration leaves the state as it
-    was with status :data:`NEWTON_INDEFINITE`, for a backend that has it.
+    status 3). Where the shifted Hessian is not positive definite (near a saddle) the
+    shift goes just past its most negative eigenvalue, so the step is long along the
+    direction of negative curvature (Moré and Sorensen), plus ``max(damping,
+    NEWTON_DAMPING) * max |H_ij|``; then tenfold while round-off keeps it indefinite.
+    A backend without an eigenvalue solver, or whose tenfold shifts run out
+    (:data:`RESCUE_SHIFTS`), leaves the state as it was with status
+    :data:`NEWTON_INDEFINITE`.
 
     The Hessian is counted as ``evaluations`` once per point: ``hessian_counted`` in
     the state says it was counted at ``x`` (a rejected step keeps ``x``).
     """
-    select, both = ops.select, ops.both
+    select, both, either, negate = ops.select, ops.both, ops.either, ops.negate
     status, gradient, norm, free = top_of_iteration(ops, state, NEWTON, lower, upper,
                                                     tolerance, max_iterations)
     running = status == NEWTON
     size = len(gradient)
+    damping = state["damping"]
     hessian, evaluations = hessian_at(state["x"], gradient, free, running)
     pair = [[both(free[row], free[column]) for column in range(size)] for row in range(size)]
-    # The free block (identity elsewhere, which takes no step), symmetrised.
-    block = [[select(pair[row][column], 0.5 * (hessian[row][column] + hessian[column][row]),
-                     1.0 if row == column else 0.0) for column in range(size)]
-             for row in range(size)]
-    free_gradient = [select(is_free, slope, 0.0) for is_free, slope in zip(free, gradient,
-                                                                            strict=True)]
     magnitudes = [select(pair[row][column], ops.absolute(hessian[row][column]), 0.0)
                   for row in range(size) for column in range(size)]
     finite = reduce(both, [value == value for value in magnitudes])
     finite = both(finite, ops.largest(magnitudes) < math.inf)
+    # The free block (identity elsewhere, which takes no step), symmetrised; identity
+    # where an entry is not finite, so that no factor or eigenvalue meets one.
+    block = [[select(both(finite, pair[row][column]),
+                     0.5 * (hessian[row][column] + hessian[column][row]),
+                     1.0 if row == column else 0.0) for column in range(size)]
+             for row in range(size)]
+    free_gradient = [select(is_free, slope, 0.0) for is_free, slope in zip(free, gradient,
+                                                                            strict=True)]
     scale = ops.maximum(ops.largest(magnitudes), 1e-30)
-    factor, factored = cholesky(ops, block, state["damping"] * scale)
-    if rescue is not None:
-        if running and finite and not factored:
-            factor = rescue(_free_only(block, free), state["damping"], scale)
-            factor = _spread(factor, free)
-        factored = True
+    factor, factored = cholesky(ops, block, damping * scale)
+    lowest_eigenvalue = ops.lowest_eigenvalue
+    if lowest_eigenvalue is not None and ops.anywhere(both(running, negate(factored))):
+        # The padding's eigenvalues are 1; the shift is needed only where the block's
+        # lowest is below -damping * scale <= 0, so the lowest is the free block's.
+        shift = (1.01 * ops.maximum(-lowest_eigenvalue(block), 0.0)
+                 + ops.maximum(damping, NEWTON_DAMPING) * scale)
+        rescued, positive = cholesky(ops, block, shift)
+        attempts = 0
+        while ops.anywhere(negate(positive)) and (ops.lazy or attempts < RESCUE_SHIFTS):
+            attempts += 1
+            shift = select(positive, shift, ops.maximum(10.0 * shift, 1e-6 * scale))
+            candidate, candidate_positive = cholesky(ops, block, shift)
+            rescued = [[select(positive, kept, new) for kept, new in zip(old_row, new_row,
+                                                                          strict=True)]
+                       for old_row, new_row in zip(rescued, candidate, strict=True)]
+            positive = either(positive, candidate_positive)
+        factor = [[select(factored, kept, new) for kept, new in zip(old_row, new_row,
+                                                                     strict=True)]
+                  for old_row, new_row in zip(factor, rescued, strict=True)]
+        factored = either(factored, positive)
     step = solve_factored(ops, factor, free_gradient)
     step = [select(finite, value, 0.0) for value in step]
     linear = sum(slope * value for slope, value in zip(free_gradient, step, strict=True))
     curvature = sum(step[row] * block[row][column] * step[column]
                     for row in range(size) for column in range(size))
     predicted = select(finite, -(linear + 0.5 * curvature), 0.0)
-    handed = both(running, both(finite, ops.negate(factored)))
+    handed = both(running, both(finite, negate(factored)))
     status = select(handed, NEWTON_INDEFINITE, status)
     counted = state["hessian_counted"]
     after, moved = trial_step(ops, evaluate, state, NEWTON, status, norm, step, predicted,
@@ -430,20 +465,3 @@ def solve_factored(ops: Operations, factor: list[list[Any]], gradient: list[Any]
             total = total - factor[c][r] * step[c]
         step[r] = total / factor[r][r]
     return step
-
-
-def _free_only(block: list[list[float]], free: list[bool]) -> list[list[float]]:
-    """The rows and columns of the free variables (plain floats)."""
-    index = [i for i, is_free in enumerate(free) if is_free]
-    return [[block[row][column] for column in index] for row in index]
-
-
-def _spread(factor: list[list[float]], free: list[bool]) -> list[list[float]]:
-    """A factor over the free variables as one over all (identity elsewhere)."""
-    size = len(free)
-    index = [i for i, is_free in enumerate(free) if is_free]
-    full = [[1.0 if row == column else 0.0 for column in range(size)] for row in range(size)]
-    for r, row in enumerate(index):
-        for c, column in enumerate(index):
-            full[row][column] = factor[r][c]
-    return full
