@@ -105,6 +105,11 @@ def solve(
     kernel = kernel_of(nlp)
     state = (None if kernel is None else
              run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
+    if state is not None and state["status"] not in (RUNNING, NEWTON):
+        return RunOutcome(np.array(state["x"]), state["fun"], int(state["nit"]),
+                          int(state["nfev"]), int(state["nfev"]), int(state["status"]),
+                          state["status"] > 0, MESSAGES[int(state["status"])],
+                          time.perf_counter() - started)
     newton_kernel = (newton_kernel_of(nlp) if state is not None and state["status"] == NEWTON
                      else None)
     x, fun, nit, nfev, status = minimise(

@@ -89,6 +89,10 @@ def build_kernel(x: Any, p: Any, residual: Any, newton: bool = False) -> Buffere
     residual : casadi.SX
         The two residuals (a 2-vector).
 
+    The start and one iteration are SX functions (each one flat instruction list),
+    chained in MX (a few call nodes, built in milliseconds at any size), then expanded
+    into a single instruction list.
+
     Returns
     -------
     BufferedFunction
@@ -99,13 +103,38 @@ def build_kernel(x: Any, p: Any, residual: Any, newton: bool = False) -> Buffere
     """
     import casadi
 
+    start, iteration = _iteration_functions(x, p, residual, newton)
+    state = casadi.MX.sym("state", start.numel_in(0))
+    problem = casadi.MX.sym("problem", start.numel_in(1))
+    chained = start(state, problem)
+    for _ in range(NEWTON_KERNEL_ITERATIONS if newton else KERNEL_ITERATIONS):
+        chained = iteration(chained, problem)
+    return BufferedFunction(casadi.Function("lm_kernel", [state, problem], [chained]).expand())
+
+
+def iteration_operations(nlp: Any) -> int:
+    """Arithmetic operations of one Gauss-Newton iteration of the rules for the NLP's shape
+    (one residual-and-Jacobian evaluation and the step, every branch computed): the
+    instructions of its compiled form less those that only read inputs or constants and
+    write outputs."""
+    import casadi
+
+    _, iteration = _iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
+                                        False)
+    bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
+    return sum(iteration.instruction_id(index) not in bookkeeping
+               for index in range(iteration.n_instructions()))
+
+
+def _iteration_functions(x: Any, p: Any, residual: Any, newton: bool) -> tuple[Any, Any]:
+    """The start and one iteration (Gauss-Newton, or Newton with ``newton``) as SX functions
+    ``(state, problem) -> state``, each one flat instruction list."""
+    import casadi
+
     ops = casadi_operations()
     size = x.numel()
     evaluate_function = casadi.Function(
         "lm_residual", [x, p], [residual, casadi.densify(casadi.jacobian(residual, x))])
-    # One iteration and the start as SX functions (each one flat instruction list),
-    # chained KERNEL_ITERATIONS times in MX (a few call nodes, built in milliseconds
-    # at any size), then expanded into a single instruction list.
     state_in = casadi.SX.sym("state", 3 * size + 2 + len(SCALARS))
     problem_in = casadi.SX.sym("problem", p.numel() + 2 * size + 2)
     parameters, lower, upper, settings = casadi.vertsplit(
@@ -141,12 +170,7 @@ def build_kernel(x: Any, p: Any, residual: Any, newton: bool = False) -> Buffere
         "lm_start", [state_in, problem_in],
         [casadi.vertcat(*(casadi.if_else(is_fresh, new, old) for new, old in
                           zip(pack(fresh), pack(given), strict=True)))], {"cse": True})
-    state = casadi.MX.sym("state", state_in.numel())
-    problem = casadi.MX.sym("problem", problem_in.numel())
-    chained = start(state, problem)
-    for _ in range(NEWTON_KERNEL_ITERATIONS if newton else KERNEL_ITERATIONS):
-        chained = iteration(chained, problem)
-    return BufferedFunction(casadi.Function("lm_kernel", [state, problem], [chained]).expand())
+    return start, iteration
 
 
 def casadi_operations() -> Operations:
@@ -182,11 +206,11 @@ def run_newton_kernel(kernel: BufferedFunction, state: dict[str, Any],
     :data:`sso.solvers.lm_rules.NEWTON`) until the solve ends or is handed back."""
     size = len(lower)
     problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
-    values: Any = pack(state)
+    values = pack(state)
     status_index = 3 * size + 2 + SCALARS.index("status")
     while values[status_index] == NEWTON:
-        (values,) = kernel(values, problem)
-    return unpack(values.tolist(), size)
+        values = kernel.flat(values, problem)
+    return unpack(values, size)
 
 
 def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[float],
@@ -196,8 +220,8 @@ def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[fl
     is handed to the Python loop; returns the rules' state there (plain floats)."""
     size = len(start)
     problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
-    (state,) = kernel(start + [0.0] * (2 * size + 2 + len(SCALARS)), problem)
+    values = kernel.flat(start + [0.0] * (2 * size + 2 + len(SCALARS)), problem)
     status_index = 3 * size + 2 + SCALARS.index("status")
-    while state[status_index] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
-        (state,) = kernel(state, problem)
-    return unpack(state.tolist(), size)
+    while values[status_index] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
+        values = kernel.flat(values, problem)
+    return unpack(values, size)

@@ -191,6 +191,18 @@ class BufferedFunction:
             results[0] = float(results[0][0])
         return tuple(results)
 
+    def flat(self, *arguments: list[float]) -> list[float]:
+        """Evaluate at ``arguments`` (flat lists of floats); the first output as a flat list.
+
+        The lean path for a function called in a loop on lists: no reshaping, and no
+        intermediate array per input.
+        """
+        for destination, value in zip(self._inputs, arguments, strict=True):
+            destination[:] = value
+        self._evaluate()
+        values: list[float] = self._outputs[0].tolist()
+        return values
+
 
 def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,
                 objective_and_gradient: Any = None) -> CompiledNLP:
