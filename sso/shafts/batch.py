@@ -311,10 +311,12 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
     least squares (Newton steps and saddle escapes).
 
     The Gauss-Newton iterations are the single solve's (:mod:`sso.solvers.lm_batch`), so a
-    start that cancels ends where ``sso.optimise(..., solvers="lm")`` ends. A start whose
-    sum of squares stays above round-off zero (a minimum above zero, a saddle, or a
-    failure) continues in :func:`sso.solvers.least_squares.batch_least_squares` from where
-    it stopped, which takes Newton steps and leaves saddles.
+    start that Gauss-Newton takes to round-off zero ends where
+    ``sso.optimise(..., solvers="lm")`` ends. A start whose sum of squares stays above
+    round-off zero goes to :func:`sso.solvers.least_squares.batch_least_squares`, which
+    takes Newton steps from differences of the gradient and leaves saddles: afresh from
+    its start where its steps turned to Newton steps, from where it stopped otherwise.
+    The iterations already taken count against the limit.
     """
     design_rad = np.radians(design_deg)
     fixed = np.setdiff1d(np.arange(design_rad.shape[1]), free)
@@ -342,6 +344,11 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
     kkt = np.max(np.where(held, 0.0, np.abs(run.gradient)), axis=1, initial=0.0)
     unfinished = np.flatnonzero((fun > ZERO_RESIDUAL_LEVEL) & (status != -2)
                                 & (nit < max_iterations))
+    # A design that turned to Newton steps starts the batched least squares afresh from
+    # its start (Newton steps from where Gauss-Newton slowed down, taken without the
+    # single solve's eigenvalue shift, can stall); the others continue from where they
+    # stopped (a saddle check of a point that has converged).
+    restart = status[unfinished] == NEWTON
     if unfinished.size:
         def residual_and_jacobian(x_rad: np.ndarray,
                                   rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -351,7 +358,9 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
                                                               full[:, n_joints:])
             return residual, jacobian[..., free]
 
-        finished = batch_least_squares(residual_and_jacobian, x[unfinished], lower, upper,
+        finished = batch_least_squares(residual_and_jacobian,
+                                       np.where(restart[:, None], start[unfinished],
+                                                x[unfinished]), lower, upper,
                                        gtol=tolerance, max_iterations=max_iterations,
                                        iterations_taken=nit[unfinished])
         x[unfinished], fun[unfinished] = finished.x, finished.fun

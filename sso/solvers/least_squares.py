@@ -193,14 +193,18 @@ def batch_least_squares(
     )
     settings = _Settings(gtol, fatol, ftol, xtol, max_iterations, zero_residual_level)
     _levenberg_marquardt(residual_and_jacobian, state, np.arange(count), settings)
+    # A problem found no saddle keeps its point: only those moved are checked again, so
+    # a problem's counts do not depend on the others in the batch.
+    checked = np.ones(count, dtype=bool)
     for _ in range(max_saddle_escapes * escape_saddles):
-        candidates = np.flatnonzero(np.isin(state.status, SUCCESS_STATUSES)
+        candidates = np.flatnonzero(checked & np.isin(state.status, SUCCESS_STATUSES)
                                     & (state.cost > max(fatol, zero_residual_level))
                                     & (state.nit < max_iterations))
         moved = _leave_saddles(residual_and_jacobian, state, candidates)
         if moved.size == 0:
             break
         _levenberg_marquardt(residual_and_jacobian, state, moved, settings)
+        checked = np.isin(np.arange(count), moved)
 
     return BatchLeastSquaresResult(
         x=state.x,

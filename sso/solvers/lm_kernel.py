@@ -43,6 +43,11 @@ iteration after the end still costs its instructions."""
 NEWTON_KERNEL_ITERATIONS = 4
 """Newton iterations chained in one block of the Newton kernel."""
 
+NEWTON_KERNEL_AFTER = 8
+"""Solves of one shape whose Newton steps the Python loop takes before the Newton kernel
+is built for it: its build (tens of milliseconds) costs more than one solve's Newton
+steps, so a shape solved once or twice (one case of the command line) never pays it."""
+
 NEWTON_KERNEL_VARIABLES = 12
 """The Newton kernel is built for at most this many variables (6 joints of option 3 have
 11): its Hessian and Cholesky factor grow with the square and the cube of their count,
@@ -64,12 +69,15 @@ def kernel_of(nlp: Any) -> BufferedFunction | None:
 
 
 def newton_kernel_of(nlp: Any) -> BufferedFunction | None:
-    """The NLP's Newton kernel, built on first use and kept on it; None without residuals
-    or with more than :data:`NEWTON_KERNEL_VARIABLES` variables."""
-    if (nlp.lm_newton_kernel is None and nlp.residuals is not None
-            and nlp.symbols["x"].numel() <= NEWTON_KERNEL_VARIABLES):
-        nlp.lm_newton_kernel = build_kernel(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
-                                            newton=True)
+    """The NLP's Newton kernel, kept on it; None without residuals, with more than
+    :data:`NEWTON_KERNEL_VARIABLES` variables, or while fewer than
+    :data:`NEWTON_KERNEL_AFTER` solves of the shape have asked for it."""
+    if nlp.lm_newton_kernel is None and nlp.residuals is not None:
+        nlp.lm_newton_requests += 1
+        if (nlp.lm_newton_requests >= NEWTON_KERNEL_AFTER
+                and nlp.symbols["x"].numel() <= NEWTON_KERNEL_VARIABLES):
+            nlp.lm_newton_kernel = build_kernel(nlp.symbols["x"], nlp.symbols["p"],
+                                                nlp.residuals, newton=True)
     kernel: BufferedFunction | None = nlp.lm_newton_kernel
     return kernel
 

@@ -60,8 +60,10 @@ class CompiledNLP:
         The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
         first run (:func:`sso.solvers.lm_kernel.kernel_of`).
     lm_newton_kernel : BufferedFunction or None
-        Its compiled Newton iterations, built on the first run that needs them
-        (:func:`sso.solvers.lm_kernel.newton_kernel_of`).
+        Its compiled Newton iterations, built once runs have asked for them often
+        enough (:func:`sso.solvers.lm_kernel.newton_kernel_of`).
+    lm_newton_requests : int
+        Runs that asked for the Newton kernel before it was built.
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -84,6 +86,7 @@ class CompiledNLP:
     nonnegative_objective: bool = False
     lm_kernel: Any = None
     lm_newton_kernel: Any = None
+    lm_newton_requests: int = 0
 
     def ipopt(self, options: dict[str, Any]) -> Any:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""

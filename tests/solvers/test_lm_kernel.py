@@ -13,6 +13,7 @@ from sso.shafts.problem import compiled_nlp
 from sso.solvers import lm
 from sso.solvers.lm_kernel import (
     KERNEL_ITERATIONS,
+    NEWTON_KERNEL_AFTER,
     kernel_of,
     newton_kernel_of,
     run_kernel,
@@ -33,6 +34,14 @@ def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0
 
 def _kernel(nlp):
     return kernel_of(nlp)
+
+
+def _newton_kernel(nlp):
+    # Built once a shape has asked for it NEWTON_KERNEL_AFTER times.
+    for _ in range(NEWTON_KERNEL_AFTER):
+        kernel = newton_kernel_of(nlp)
+    assert kernel is not None
+    return kernel
 
 
 def _python_loop(problem, nlp, max_iterations=3000):
@@ -139,7 +148,7 @@ def test_the_newton_kernel_takes_the_newton_steps_as_the_python_loop_does():
     handed = run_kernel(_kernel(nlp), problem.start_rad.tolist(), fixed, lower, upper, 1e-12,
                         3000)
     assert handed["status"] == NEWTON
-    compiled = run_newton_kernel(newton_kernel_of(nlp), dict(handed), fixed, lower, upper,
+    compiled = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
                                  1e-12, 3000)
     loop = lm.minimise(lambda x: nlp.residuals_and_jacobian(x, fixed), [], lower, upper, 1e-12,
                        3000, lambda x: nlp.objective_hessian(x, fixed), dict(handed))
@@ -159,7 +168,7 @@ def test_an_indefinite_hessian_is_handed_back_for_one_python_step():
                            problem.upper_rad.tolist())
     handed = run_kernel(_kernel(nlp), problem.start_rad.tolist(), fixed, lower, upper, 1e-12,
                         3000)
-    stopped = run_newton_kernel(newton_kernel_of(nlp), dict(handed), fixed, lower, upper,
+    stopped = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
                                 1e-12, 3000)
     assert stopped["status"] == NEWTON_INDEFINITE
     assert stopped["nit"] >= handed["nit"]
@@ -168,3 +177,16 @@ def test_an_indefinite_hessian_is_handed_back_for_one_python_step():
     x_kernel, fun_kernel, _, _, status_kernel = _with_kernel(problem, nlp)
     assert status_kernel > 0 and status_loop > 0
     assert fun_kernel == pytest.approx(fun_loop, rel=1e-9)
+
+
+def test_the_newton_kernel_is_built_only_for_a_shape_solved_repeatedly():
+    # One solve's Newton steps cost less than the kernel's build: the first solves of a
+    # shape take them in the Python loop, with the same answer.
+    problem, nlp = _problem([15.0, 20.0, 9.0], [30.0, 40.0], 1, (0.0, 40.0))
+    answers = [_with_kernel(problem, nlp) for _ in range(NEWTON_KERNEL_AFTER + 1)]
+    assert nlp.lm_newton_kernel is not None
+    assert nlp.lm_newton_requests == NEWTON_KERNEL_AFTER
+    first, last = answers[0], answers[-1]
+    assert first[4] == last[4] == 1
+    assert last[1] == pytest.approx(first[1], rel=1e-12)
+    np.testing.assert_allclose(last[0], first[0], rtol=0, atol=1e-9)
