@@ -19,6 +19,7 @@ loop's numbers named in :data:`SCALARS`. A state whose ``status`` is not
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import reduce
@@ -100,6 +101,15 @@ class Operations:
         """The largest of a non-empty list, elementwise."""
         return reduce(self.maximum, values)
 
+    def select_each(self, condition: Any, if_true: list[Any], if_false: list[Any]) -> list[Any]:
+        """``select`` of two lists (or lists of lists) under one condition; on plain
+        booleans one choice, not one per entry."""
+        if self.lazy:
+            return if_true if condition else if_false
+        return [self.select_each(condition, first, second) if isinstance(first, list)
+                else self.select(condition, first, second)
+                for first, second in zip(if_true, if_false, strict=True)]
+
     def clip(self, value: Any, low: Any, high: Any) -> Any:
         """``value`` moved onto ``[low, high]``."""
         return self.minimum(self.maximum(value, low), high)
@@ -124,8 +134,7 @@ def _python_lowest_eigenvalue(matrix: list[list[float]]) -> float:
 
 
 PYTHON = Operations(
-    select=_python_select, both=lambda first, second: first and second,
-    either=lambda first, second: first or second, negate=lambda condition: not condition,
+    select=_python_select, both=operator.and_, either=operator.or_, negate=operator.not_,
     minimum=_python_minimum, maximum=_python_maximum, absolute=abs, sqrt=math.sqrt,
     lazy=True, lowest_eigenvalue=_python_lowest_eigenvalue, anywhere=bool)
 """The operations on plain Python floats (one design)."""
@@ -310,10 +319,10 @@ def trial_step(ops: Operations, evaluate: Evaluate, state: Mapping[str, Any], mo
         return select(moves, on_accept, unchanged)
 
     return {
-        "x": [kept(new, old) for new, old in zip(trial, x, strict=True)],
+        "x": ops.select_each(moves, trial, x),
         "r1": kept(trial_r1, r1), "r2": kept(trial_r2, r2),
-        "J1": [kept(new, old) for new, old in zip(trial_first, first, strict=True)],
-        "J2": [kept(new, old) for new, old in zip(trial_second, second, strict=True)],
+        "J1": ops.select_each(moves, trial_first, first),
+        "J2": ops.select_each(moves, trial_second, second),
         "fun": kept(trial_fun, fun),
         "nit": nit + select(running, 1, 0),
         "nfev": nfev + select(running, 1, 0),
@@ -372,8 +381,9 @@ def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
     pair = [[both(free[row], free[column]) for column in range(size)] for row in range(size)]
     magnitudes = [select(pair[row][column], ops.absolute(hessian[row][column]), 0.0)
                   for row in range(size) for column in range(size)]
-    finite = reduce(both, [value == value for value in magnitudes])
-    finite = both(finite, ops.largest(magnitudes) < math.inf)
+    # Magnitudes are never negative: their sum is finite exactly when each one is.
+    total = sum(magnitudes)
+    finite = both(total == total, total < math.inf)
     # The free block (identity elsewhere, which takes no step), symmetrised; identity
     # where an entry is not finite, so that no factor or eigenvalue meets one.
     block = [[select(both(finite, pair[row][column]),
@@ -396,13 +406,9 @@ def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
             attempts += 1
             shift = select(positive, shift, ops.maximum(10.0 * shift, 1e-6 * scale))
             candidate, candidate_positive = cholesky(ops, block, shift)
-            rescued = [[select(positive, kept, new) for kept, new in zip(old_row, new_row,
-                                                                          strict=True)]
-                       for old_row, new_row in zip(rescued, candidate, strict=True)]
+            rescued = ops.select_each(positive, rescued, candidate)
             positive = either(positive, candidate_positive)
-        factor = [[select(factored, kept, new) for kept, new in zip(old_row, new_row,
-                                                                     strict=True)]
-                  for old_row, new_row in zip(factor, rescued, strict=True)]
+        factor = ops.select_each(factored, factor, rescued)
         factored = either(factored, positive)
     step = solve_factored(ops, factor, free_gradient)
     step = [select(finite, value, 0.0) for value in step]
