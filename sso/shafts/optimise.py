@@ -44,6 +44,7 @@ from sso.solvers.crosscheck import (
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
 )
+from sso.solvers.lm_kernel import kernel_of, run_kernel
 from sso.solvers.multistart import (
     MeasuredRun,
     SolverFields,
@@ -416,11 +417,21 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
                                 if run.success and is_exact(run.fun))]
     started = time.perf_counter()
 
+    kernel = kernel_of(nlp)
+
     def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
                      max_iterations: int) -> tuple[np.ndarray, float, int, int]:
-        outcome = lm.solve(nlp, start, problem.parameters_rad, RunLimits(lower, upper),
+        # Gauss-Newton blocks only: a margin is feasible where they reach round-off zero,
+        # and the same compiled steps give the same design in every process (the Newton
+        # steps after them run compiled or in Python depending on the session's history).
+        if kernel is None:
+            outcome = lm.solve(nlp, start, problem.parameters_rad, RunLimits(lower, upper),
+                               DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
+            return outcome.x, outcome.fun, outcome.nit, outcome.nfev
+        state = run_kernel(kernel, start.tolist(), fixed, lower.tolist(), upper.tolist(),
                            DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
-        return outcome.x, outcome.fun, outcome.nit, outcome.nfev
+        return (np.array(state["x"], dtype=float), float(state["fun"]), int(state["nit"]),
+                int(state["nfev"]))
 
     choice = choose_exact_optimum(problem, lambda x: nlp.residuals_and_jacobian(x, fixed),
                                   solve_in_box, [np.radians(solution.x) for solution in found],
