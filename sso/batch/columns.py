@@ -5,7 +5,7 @@ appends its CSV text to ``sweep.csv`` (and its Parquet part) and concatenates th
 tables; a row becomes a dict only when a user asks for it. Every cell means what
 the same cell of ``sweep.csv`` means (:func:`sso.batch.table.format_cell`): a
 float column's NaN is an empty cell (no value), an object column holds the
-values as they are (``None`` empty), and a 2-D float column holds a list per row
+values as they are (``None`` or ``""`` empty), and a 2-D float column holds a list per row
 (``design_beta_deg``; a row of NaN is empty). A column missing from the table is
 empty in every row.
 """
@@ -140,7 +140,7 @@ def _value(column: np.ndarray, index: int) -> Any:
     """Cell ``index`` of a column as a Python value (``None`` where empty)."""
     value = column[index]
     if column.dtype == object:
-        return value
+        return None if value == "" else value  # an empty cell, as sweep.csv reads back
     if column.ndim == 2:
         items: list[float] = value.tolist()
         return None if items and items[0] != items[0] else items
@@ -157,7 +157,8 @@ def _cells(column: np.ndarray) -> list[str]:
     if column.ndim == 2:
         if not column.shape[1]:
             return ["[]"] * len(column)
-        return ['"[' + ", ".join(map(repr, row)) + ']"' if row[0] == row[0] else ""
+        mark = '"' if column.shape[1] > 1 else ""  # a list of two or more holds a comma
+        return [f"{mark}[{', '.join(map(repr, row))}]{mark}" if row[0] == row[0] else ""
                 for row in column.tolist()]
     if column.dtype.kind == "f":
         return [repr(value) if value == value else "" for value in column.tolist()]

@@ -18,6 +18,7 @@ import numpy as np
 import sso.batch.report  # noqa: F401  (registers the "sweep" and "tolerance" report kinds)
 from sso.batch.axes import Axis
 from sso.batch.columns import RowTable
+from sso.batch.parquet_output import PARQUET_NAME, read_frame
 from sso.batch.table import CSV_NAME
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.shafts.evaluation import Evaluation
@@ -150,6 +151,8 @@ class SweepResult(Readable):
     def frame(self) -> Any:
         """The rows as a ``pandas.DataFrame``, one column per column of ``sweep.csv``.
 
+        Read from ``sweep.parquet`` when the sweep wrote it, else from the rows.
+
         Raises
         ------
         ImportError
@@ -160,6 +163,8 @@ class SweepResult(Readable):
         except ImportError:
             raise ImportError("SweepResult.frame needs pandas; install the 'parquet' extra "
                               "(pip install 'sso[parquet]')") from None
+        if self.out_dir is not None and (self.out_dir / PARQUET_NAME).is_dir():
+            return read_frame(self.out_dir)  # loaded only now, from the disk
         header = list(self.rows[0]) if len(self.rows) else []
         if isinstance(self.rows, SweepRows):
             table = self.rows.table

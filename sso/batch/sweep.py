@@ -18,6 +18,7 @@ from sso.batch.axes import Axis, base_case, parse_axes, point_count, value_posit
 from sso.batch.columns import RowTable
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
 from sso.batch.report import SWEEP_PLOT, render_sweep
 from sso.batch.results import SweepResult, SweepRows
 from sso.batch.table import (
@@ -50,7 +51,7 @@ DEFAULT_CHUNK_CAP = 25
 # work, far above a task's cost to the pool or to Dask (milliseconds).
 ARRAY_CHUNK_CAP = 5_000
 DOCUMENT_FORMATS = ("md", "html", "png")
-SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT)
+SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
 """The files a sweep writes into its folder; it refuses a folder holding anything else."""
 
 
@@ -68,6 +69,7 @@ def sweep(
     progress: bool | None = None,
     plots: bool = True,
     memory_limit_mb: float | None = None,
+    parquet: bool = False,
 ) -> SweepResult:
     """Optimise or evaluate a base case at every point of a sweep.
 
@@ -113,6 +115,10 @@ def sweep(
     memory_limit_mb : float, optional
         Refuse the sweep if its memory estimate exceeds this, MB (default
         ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
+    parquet : bool
+        Also write the rows as Parquet beside ``sweep.csv`` (``sweep.parquet/``, a
+        part per chunk; needs ``out_dir`` and pyarrow, the ``parquet`` extra). A
+        resumed sweep that has it keeps writing it.
 
     Returns
     -------
@@ -149,18 +155,26 @@ def sweep(
     job = _Job(document, action, parsed_axes, mode, count, header, identity, plan, client,
                worker_count, chunk_size, interactive() if progress is None else progress)
     if out_dir is None:
+        if parquet:
+            raise ValueError("parquet = True writes sweep.parquet into out_dir; give out_dir")
         rows = job.run({}, None)
         return _result(job, parsed_axes, mode, rows, 0, started, None)
     out_dir = Path(out_dir)
+    parquet = bool(parquet) or (resume and (out_dir / PARQUET_NAME).is_dir())
+    schema = arrow_schema(header, parsed_axes) if parquet else None  # pyarrow is there
     with folder_lock(out_dir, "run a sweep"):
         earlier = _open_folder(out_dir, resume, job)
+        if schema is not None:
+            start_parts(out_dir)
         resumed = len(earlier)
-        rows = job.run(earlier, out_dir / CSV_NAME)
+        rows = job.run(earlier, out_dir / CSV_NAME, schema)
         result = _result(job, parsed_axes, mode, rows, resumed, started, out_dir)
         formats = tuple(name for name in DOCUMENT_FORMATS if plots or name != "png")
         written = [write_bytes_atomic(out_dir / name, data)
                    for name, data in render_sweep(result, formats).items()]
-    return replace(result, files=(out_dir / CSV_NAME, out_dir / MANIFEST_NAME, *written))
+    data = (out_dir / CSV_NAME, out_dir / MANIFEST_NAME,
+            *((out_dir / PARQUET_NAME,) if schema is not None else ()))
+    return replace(result, files=(*data, *written))
 
 
 @dataclass(frozen=True)
@@ -206,13 +220,17 @@ class _Job:
                 self.identity[HASH_COLUMN]))
         return chunks
 
-    def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None) -> RowTable:
+    def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None,
+            schema: Any = None) -> RowTable:
         """Compute the points not in ``earlier``, appending each chunk's rows to
-        ``csv_path``; every row, sorted by point."""
+        ``csv_path`` (and a Parquet part beside it, given the parts' ``schema``);
+        every row, sorted by point."""
         done = np.fromiter(earlier, dtype=np.int64, count=len(earlier))
         pending = np.setdiff1d(np.arange(self.count, dtype=np.int64), done)
         chunks = self.chunks(pending)
         tables = [RowTable.from_rows(self.header, typed_rows(earlier.values()))]
+        if schema is not None and csv_path is not None and tables[0].length:
+            write_part(csv_path.parent, tables[0], schema, resumed=True)
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
             for index, table, error in run_tasks(run_sweep_chunk, chunks, self.client,
@@ -221,6 +239,8 @@ class _Job:
                     table = failed_rows(chunks[index], error)
                 if csv_path is not None:
                     append_rows(csv_path, table.csv_text())
+                    if schema is not None:
+                        write_part(csv_path.parent, table, schema)
                 tables.append(table)
                 status = table.columns["status"]
                 bar.advance(table.length, int(np.count_nonzero(status != "ok")))
@@ -245,7 +265,8 @@ def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, 
     out_dir.mkdir(parents=True, exist_ok=True)
     remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
     foreign = sorted(entry.name for entry in out_dir.iterdir()
-                     if entry.name not in SWEEP_FILES or not entry.is_file())
+                     if entry.name not in SWEEP_FILES
+                     or entry.is_dir() != (entry.name == PARQUET_NAME))
     if foreign:
         shown_names = ", ".join(foreign[:5]) + (" and more" if len(foreign) > 5 else "")
         why = ("a case's report: a sweep and a case never share a folder"
