@@ -68,7 +68,7 @@ def test_a_resumed_sweep_rewrites_its_own_parts_only_once(tmp_path):
 def test_a_foreign_file_in_the_parts_folder_is_refused(tmp_path):
     (tmp_path / PARQUET_NAME).mkdir()
     (tmp_path / PARQUET_NAME / "mine.parquet").write_bytes(b"x")
-    with pytest.raises(ValueError, match="holds mine.parquet, which sso does not write"):
+    with pytest.raises(ValueError, match="holds sweep.parquet, which sso did not write"):
         sso.sweep(BASE, {"design.beta_deg[0]": [10.0]}, out_dir=tmp_path, workers=1,
                   plots=False, parquet=True, action="evaluate")
     assert (tmp_path / PARQUET_NAME / "mine.parquet").read_bytes() == b"x"
