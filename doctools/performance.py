@@ -173,17 +173,18 @@ def section(document: dict[str, Any]) -> str:
                              f"{figures['fun']:.3g} | {figures['baseline_over_method']:.2f} |")
     lines += [
         "",
-        "### Random option-3 cases, one start",
+        "### Random cases, one start",
         "",
         "`sso.optimise(..., solvers=(\"lm\",), starts=1)` against the skilled baseline, "
         "median of each method's passes over the starts:",
         "",
-        "| joints | starts | baseline (ms/solve) | lm (ms/solve) | ratio "
+        "| option | joints | starts | baseline (ms/solve) | lm (ms/solve) | ratio "
         "| lm RE above the baseline's |",
-        "| --- | --- | --- | --- | --- | --- |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
     ]
-    lines.extend(f"| {row['joints']} | {row['starts']} | {row['skilled_ms_per_solve']:.3f} | "
-                 f"{row['lm_ms_per_solve']:.3f} | {row['ratio']:.2f} | {row['lm_higher_re']} |"
+    lines.extend(f"| {row['option']} | {row['joints']} | {row['starts']} | "
+                 f"{row['skilled_ms_per_solve']:.3f} | {row['lm_ms_per_solve']:.3f} | "
+                 f"{row['ratio']:.2f} | {row['lm_higher_re']} |"
                  for row in document["issue_12"]["random_cases"]["rows"])
     lines += [
         "",
