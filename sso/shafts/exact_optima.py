@@ -48,6 +48,7 @@ from sso.shafts.perturbed import (
 )
 from sso.shafts.series import checked_series
 from sso.solvers.saddle import ZERO_OBJECTIVE
+from sso.solvers.starts import start_points
 from sso.validation import check_choice, validate_count
 
 MARGIN_CRITERION = "largest margin to the bounds"
@@ -57,6 +58,9 @@ MARGIN_RESOLUTION_DEG = 0.1
 MARGIN_MAX_ITERATIONS = 50
 """Iterations of each feasibility solve of the bisection (it converges in a few where the
 margin is feasible; where it is not, it would creep towards a nonzero minimum)."""
+SPREAD_STARTS = 8
+"""Starts (the middle of the bounds, then space-filling points) from which exact optima
+are sought for the p95 criterion, besides those found."""
 SLSQP_FTOL = 1e-12
 SLSQP_MAX_ITERATIONS = 200
 PROJECTION_STEPS = 8
@@ -265,8 +269,17 @@ def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_
     widest = max(starts, key=lambda point: _margin_deg(point, lower, upper))
     candidates.append((_largest_margin(solve_in_box, widest, lower, upper, counts), "lm"))
     if tolerances is not None:
-        # from the exact optima found and from the set's points of largest margin (the
-        # middle of the set, from where the least-spread designs at its edges are reached)
+        # from the exact optima found, the set's point of largest margin and the exact
+        # optima the least-squares solver reaches from the middle of the bounds and from
+        # space-filling starts (the set has branches no single start reaches)
+        spread_starts = start_points(0.5 * (lower + upper), lower, upper, SPREAD_STARTS,
+                                     tolerances.seed)
+        for start in spread_starts:
+            reached, fun, nit, nfev = solve_in_box(start, lower, upper, MARGIN_MAX_ITERATIONS)
+            counts[0] += nit
+            counts[1] += nfev
+            if is_exact(fun):
+                candidates.append((reached, "lm"))
         for start in _distinct([point for point, _ in candidates]):
             candidates.append((_least_spread(problem, residuals, start, tolerances, counts),
                                "slsqp"))
