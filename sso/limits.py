@@ -26,7 +26,7 @@ starts and 2.1x at 512, with the same RE, since each run's iterations are compil
 DEFAULT_STARTS = 8
 """Start points per solver: the user's start plus seven space-filling points.
 
-One default for the API (:func:`sso.optimise`, :func:`sso.design_fourbar`) and for
+One default for the API (:func:`sso.optimise` of a shaft series or a four-bar) and for
 case files (``solver.starts``); the shipped cases set their own.
 """
 
@@ -62,10 +62,13 @@ read them, and ``result.json`` keeps the full value."""
 REPORT_DIGITS = 6
 """Significant digits of every number in report tables (CSV, Markdown, HTML) and
 summaries; ``result.json`` keeps full precision."""
-SOLVER_NAMES = ("ipopt", "slsqp")
-"""The solvers every design problem can run (and cross-check when both run)."""
 
-SOLVERS = (*SOLVER_NAMES, "lm")
+CROSS_CHECK_SOLVERS = ("ipopt", "slsqp")
+"""The solvers every design problem can run, and the default: two independent methods
+on one NLP, cross-checked when both run. ``"lm"`` is not among them: it needs the
+problem as residuals, which only the exact model of a shaft series has."""
+
+SOLVERS = (*CROSS_CHECK_SOLVERS, "lm")
 """Solver names :func:`sso.optimise` accepts: the two above and ``"lm"``, the
 least-squares solver of the exact model's two residuals (``sso.SOLVERS``)."""
 

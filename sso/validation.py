@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from sso.limits import MAX_INPUT_SPEED_RPM, SOLVER_NAMES
+from sso.limits import CROSS_CHECK_SOLVERS, MAX_INPUT_SPEED_RPM
 
 
 class _ShortRepr(reprlib.Repr):
@@ -230,7 +230,7 @@ _PLAIN_NUMBERS = (int, float)
 
 
 def validate_solvers(solvers: Iterable[str] | str,
-                     allowed: tuple[str, ...] = SOLVER_NAMES) -> tuple[str, ...]:
+                     allowed: tuple[str, ...] = CROSS_CHECK_SOLVERS) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:

@@ -1,4 +1,4 @@
-"""``sso.tolerance_study`` (also ``sso.tolerance``): how manufacturing tolerances on
+"""``sso.tolerance_study``: how manufacturing tolerances on
 angles and phases spread the results.
 
 Every sample perturbs the operating angles and phases of one design by draws from

@@ -180,7 +180,7 @@ class ColumnCase:
         return tuple(low + (high - low) * index / (rows - 1) for index in range(rows))
 
     def joint_position_options(self) -> dict[str, Any]:
-        """Keyword arguments of :func:`sso.optimise_joint_positions` (with ``[joint_boxes]``)."""
+        """Keyword arguments of :func:`sso.optimise_joint_centres` (with ``[joint_boxes]``)."""
         values = self.values
         fixed = values["phasing.mode"] == "fixed"
         return {

@@ -30,6 +30,7 @@ from sso.cases.schema import (
 from sso.kinematics.hooke import MODELS
 from sso.limits import (
     BETA_LIMIT_DEG,
+    CROSS_CHECK_SOLVERS,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_SHAFT_SOLVER_TOL,
@@ -38,7 +39,6 @@ from sso.limits import (
     MAX_ITERATIONS,
     MAX_JOINTS,
     MAX_STARTS,
-    SOLVER_NAMES,
     SOLVERS,
 )
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option, warn_moved_starts
@@ -122,7 +122,7 @@ class Case:
         Warnings raised while checking the design (a start moved onto its bounds,
         the paper's inert phase); not part of the case data.
     tolerance_study : dict or None
-        Keyword arguments of :func:`sso.tolerance` from the ``[tolerance]`` table
+        Keyword arguments of :func:`sso.tolerance_study` from the ``[tolerance]`` table
         (only the keys given), or None without one.
     """
 
@@ -263,7 +263,7 @@ def check_solvers_for_model(solvers: tuple[str, ...], model: str) -> None:
     if "lm" in solvers and model != "exact":
         raise ValueError(f"solver.solvers = {shown(list(solvers))} includes 'lm', the "
                          "least-squares solver of the exact model's closed form; "
-                         f"model = {shown(model)} allows {_quoted(SOLVER_NAMES)}")
+                         f"model = {shown(model)} allows {_quoted(CROSS_CHECK_SOLVERS)}")
 
 
 _BETA_RANGE = "each in [0, 90) deg"
@@ -282,7 +282,7 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
     Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), (0.0, 180.0), "deg",
         "[lower, upper] or one pair per phase, within [-360, 360]"),
-    Key("solver", "solvers", choice_list(SOLVERS), SOLVER_NAMES, "",
+    Key("solver", "solvers", choice_list(SOLVERS), CROSS_CHECK_SOLVERS, "",
         f"non-empty list of {_quoted(SOLVERS)}; 'lm' with model = 'exact' only"),
     Key("solver", "starts", whole_number(1, MAX_STARTS), DEFAULT_STARTS, "",
         f"[1, {MAX_STARTS}]"),
@@ -308,8 +308,8 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "deg", f"as design.beta_deg (same joint count), {_BETA_RANGE}"),
     Key("reference", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("reference"), "deg", "as design.phase_deg"),
-    # [tolerance]: a Monte Carlo study of the design (sso.tolerance, sso tolerance);
-    # None means "not given": sso.tolerance's own default applies.
+    # [tolerance]: a Monte Carlo study of the design (sso.tolerance_study, sso tolerance);
+    # None means "not given": sso.tolerance_study's own default applies.
     Key("tolerance", "beta_deg", _one_or_list(0.0, 45.0, "deg"), None, "deg",
         "standard deviation (normal) or half-width (uniform), one or one per joint, "
         "each in [0, 45] (default 0.5)"),
@@ -342,7 +342,7 @@ def solver_keys(defaults: dict[str, Any]) -> tuple[Key, ...]:
     """The ``[solver]`` keys for a kind whose problems have no residual form.
 
     As the shaft series' keys, with ``defaults`` replacing theirs by key name, and
-    ``solver.solvers`` limited to :data:`sso.limits.SOLVER_NAMES` (no ``"lm"``).
+    ``solver.solvers`` limited to :data:`sso.limits.CROSS_CHECK_SOLVERS` (no ``"lm"``).
     """
     keys = []
     for key in SHAFT_SERIES_KEYS:
@@ -350,8 +350,8 @@ def solver_keys(defaults: dict[str, Any]) -> tuple[Key, ...]:
             continue
         key = replace(key, default=defaults.get(key.name, key.default))
         if key.name == "solvers":
-            key = replace(key, parse=choice_list(SOLVER_NAMES),
-                          allowed=f"non-empty list of {_quoted(SOLVER_NAMES)}")
+            key = replace(key, parse=choice_list(CROSS_CHECK_SOLVERS),
+                          allowed=f"non-empty list of {_quoted(CROSS_CHECK_SOLVERS)}")
         keys.append(key)
     return tuple(keys)
 
@@ -393,7 +393,7 @@ def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
     )
 
 
-# [tolerance] keys and the sso.tolerance arguments they give.
+# [tolerance] keys and the sso.tolerance_study arguments they give.
 TOLERANCE_ARGUMENTS = {"beta_deg": "beta_tolerance_deg", "phase_deg": "phase_tolerance_deg",
                        "distribution": "distribution", "samples": "samples", "seed": "seed",
                        "percentiles": "percentiles"}

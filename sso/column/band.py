@@ -135,7 +135,7 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
     ----------
     design : (ColumnGeometry, sequence of float) or result
         A column and its yoke phasing (deg, fitter's convention), or any result
-        with ``geometry`` and ``yoke_phase_deg`` (:func:`sso.optimise_phasing`,
+        with ``geometry`` and ``yoke_phase_deg`` (:func:`sso.optimise`,
         :func:`optimise_robust`). For :func:`optimise_positions` pass
         ``(result.geometries[name], result.yoke_phase_deg)`` per position.
     re_limit : float

@@ -108,7 +108,7 @@ class OnCentreResult(PhasingOutcome):
         (deg), ``fun`` = ``RE + on_centre_weight * V`` at ``x``.
     on_centre_weight : float
     feel, nominal_feel : SteeringFeel
-        Of this phasing and of the RE optimum (:func:`sso.optimise_phasing`).
+        Of this phasing and of the RE optimum (:func:`sso.optimise`).
     nominal : PhasingResult
     """
 

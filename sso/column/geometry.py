@@ -25,16 +25,14 @@ the listed ``gamma`` and ``phi`` but never the motion (tested).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG
+from sso.shafts.series import ShaftSeries
 from sso.validation import as_float_tuple, finite_float
-
-if TYPE_CHECKING:
-    from sso.shafts.series import ShaftSeries
 
 # A joint whose |u_(k-1) x u_k| is at or below this is straight (beta = 0 exactly):
 # its bend plane is not defined by the points to better than round-off.
@@ -202,13 +200,9 @@ class ColumnGeometry:
         ValueError
             If the phasing has the wrong count or the model is unknown.
         """
-        import sso
-
         if yoke_phase_deg is None:
             yoke_phase_deg = [0.0] * (self.joint_count - 1)
-        series: ShaftSeries = sso.ShaftSeries(self.beta_deg,
-                                              self.phase_deg_from_yoke(yoke_phase_deg), model)
-        return series
+        return ShaftSeries(self.beta_deg, self.phase_deg_from_yoke(yoke_phase_deg), model)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description: the points and the derived angles."""

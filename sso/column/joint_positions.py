@@ -1,4 +1,4 @@
-"""Joint positions as design variables: move the joint centres within boxes to even the output.
+"""Joint centres as design variables: move them within boxes to even the output.
 
 The design vector holds the joint centres ``P1 .. Pn`` (each free within its box,
 mm) and, when the phasing is free, the yoke phasings ``delta_k``; ``P0`` and
@@ -76,7 +76,7 @@ DEFAULT_SHORTEST_FRACTION = 0.5
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
-class JointPositionResult(DesignResult):
+class JointCentresResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
     Attributes
@@ -149,7 +149,7 @@ class JointPositionResult(DesignResult):
                                    format_number(solution.fun), str(solution.nit),
                                    solution.message)
                                   for name, solution in self.solutions.items()))
-        return [f"Joint positions: {verdict}; RE {format_number(self.initial_re)} as given, "
+        return [f"Joint centres: {verdict}; RE {format_number(self.initial_re)} as given, "
                 f"{format_number(self.fixed_points_re)} with the given points and the best "
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
@@ -176,7 +176,7 @@ class JointPositionResult(DesignResult):
         }
 
 
-def optimise_joint_positions(
+def optimise_joint_centres(
     geometry: ColumnGeometry,
     *,
     joint_boxes_mm: Any,
@@ -188,7 +188,7 @@ def optimise_joint_positions(
     solver_tol: float = 1e-12,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = 0,
-) -> JointPositionResult:
+) -> JointCentresResult:
     """Joint centres (and yoke phasing) that make the output turn most evenly.
 
     Parameters
@@ -213,7 +213,7 @@ def optimise_joint_positions(
 
     Returns
     -------
-    JointPositionResult
+    JointCentresResult
         Solver failures and disagreements are reported in it, not raised.
 
     Raises
@@ -299,7 +299,7 @@ def optimise_joint_positions(
                                    for row in optimum_points))
     best_phase = (tuple(float(value) for value in wrap_half_turn(best.x[3 * joints:]))
                   if phasing_free else tuple(start_phase_deg))
-    return JointPositionResult(
+    return JointCentresResult(
         initial=geometry,
         geometry=optimum,
         points_mm=optimum.points_mm,

@@ -47,7 +47,7 @@ class SinglePositionOptimum:
     Attributes
     ----------
     yoke_phase_deg : tuple of float
-        Its best yoke phasing, deg (:func:`sso.optimise_phasing`).
+        Its best yoke phasing, deg (:func:`sso.optimise`).
     position_re : dict of str to float
         RE of that phasing at every position.
     worst_re : float

@@ -53,7 +53,7 @@ class RobustResult(PhasingOutcome):
     nominal_re : float
         RE of the robust phasing on the nominal column.
     nominal_optimum_re : float
-        RE of the nominal optimum (:func:`sso.optimise_phasing`) there.
+        RE of the nominal optimum (:func:`sso.optimise`) there.
     nominal_re_given_up : float
         ``nominal_re - nominal_optimum_re`` (>= 0 up to solver tolerance).
     robust_study, nominal_study : SampleStudy

@@ -36,7 +36,7 @@ class Tolerances:
     hardpoint_mm : float
         Error of every coordinate of every hardpoint (``P0 .. P(n+1)``), mm:
         the standard deviation (``"normal"``) or the half-width (``"uniform"``),
-        as in :func:`sso.tolerance`. In ``[0, 100]``.
+        as in :func:`sso.tolerance_study`. In ``[0, 100]``.
     yoke_phase_deg : float
         Error of each yoke phasing ``delta_k`` (spline backlash and assembly),
         deg, same meaning. In ``[0, 45]``.

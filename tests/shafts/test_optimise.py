@@ -54,7 +54,7 @@ def test_option_one_needs_two_joints():
 
 
 def test_series_must_be_a_shaft_series():
-    with pytest.raises(TypeError, match="series must be an sso.ShaftSeries, not list"):
+    with pytest.raises(TypeError, match="problem must be an sso.ShaftSeries, .*, not list"):
         sso.optimise([30, 40, 50])
 
 
