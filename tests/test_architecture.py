@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin"),
-    ("validation", "files", "display"),
+    ("validation", "files", "folder_lock", "display"),
     ("kinematics",),
     ("solvers",),
     ("shafts", "linkages"),
