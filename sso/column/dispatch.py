@@ -4,7 +4,8 @@
   unchanged (every argument as before);
 * a :class:`sso.FourBar` goes to :func:`sso.linkages.fourbar_swing.design_fourbar`
   (the crank-rocker with the largest rocker swing);
-* a :class:`ColumnGeometry` goes to :func:`sso.column.phasing.optimise_phasing`
+* a :class:`ColumnGeometry` (after a :class:`sso.column.practice.PracticeWarning` for
+  each way it leaves practice) goes to :func:`sso.column.phasing.optimise_phasing`
   (best yoke phasing for fixed hardpoints), or, with one of these keywords, to:
 
   - ``joint_boxes_mm=``: :func:`sso.column.joint_positions.optimise_joint_centres`
@@ -29,6 +30,7 @@ from importlib import import_module
 from typing import Any
 
 from sso.column.geometry import ColumnGeometry
+from sso.column.practice import PracticeWarning, practice_notes
 from sso.linkages.mechanisms import FourBar
 from sso.shafts.series import ShaftSeries
 
@@ -90,6 +92,8 @@ def _optimiser_of(problem: Any, args: tuple[Any, ...],
         return _function("sso.linkages.fourbar_swing", "design_fourbar")
     if isinstance(problem, ColumnGeometry):
         _keywords_only("sso.optimise(geometry, ...)", args)
+        for note in practice_notes(problem):
+            warnings.warn(note.text, PracticeWarning, stacklevel=2)
         selected = [keyword for keyword in COLUMN_OPTIMISER_OF_KEYWORD if keyword in options]
         if len(selected) > 1:
             raise TypeError(f"sso.optimise(geometry, ...) got {' and '.join(selected)}; give "

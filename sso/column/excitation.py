@@ -25,7 +25,9 @@ acceleration amplitude is the largest ``|d w_out / dt|`` of
 :meth:`sso.ShaftSeries.evaluate`.
 
 Published limits (as used by driveline makers): inertial 1000 rad/s^2 for cars
-and 2000 for trucks; torsional 300 / 500 rad/s^2.
+and 2000 for trucks; torsional 300 / 500 rad/s^2. They are limits for propeller
+shafts at driveline speeds, so they judge a driveline (``application="driveline"``)
+and never a steering column, whose rows carry no limit and no verdict.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from sso.shafts.series import ShaftSeries
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
 TORSIONAL_LIMIT_RAD_S2 = {"car": 300.0, "truck": 500.0}
+APPLICATIONS = ("steering", "driveline")
 
 
 @dataclass(frozen=True)
@@ -76,11 +79,11 @@ class ExcitationRow:
         ``omega^2 sin^2 beta_eq`` of the exact chain.
     exact_output_accel_rad_s2 : float
         Largest output angular acceleration of the exact model at constant input speed.
-    inertial_limit_rad_s2, torsional_limit_rad_s2 : float
-        Published limits for the vehicle kind.
-    within_limits : bool
+    inertial_limit_rad_s2, torsional_limit_rad_s2 : float or None
+        Published limits for the vehicle kind; None for a steering column.
+    within_limits : bool or None
         Drive and coast at or below the inertial limit, torsional at or below the
-        torsional limit.
+        torsional limit; None for a steering column (the limits do not apply).
     """
 
     input_speed_rpm: float
@@ -89,9 +92,9 @@ class ExcitationRow:
     torsional_rad_s2: float
     exact_torsional_rad_s2: float
     exact_output_accel_rad_s2: float
-    inertial_limit_rad_s2: float
-    torsional_limit_rad_s2: float
-    within_limits: bool
+    inertial_limit_rad_s2: float | None
+    torsional_limit_rad_s2: float | None
+    within_limits: bool | None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -123,7 +126,8 @@ def equivalent_angles(series: ShaftSeries) -> EquivalentAngles:
 
 
 def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
-                     vehicle: str = "car") -> tuple[ExcitationRow, ...]:
+                     vehicle: str = "car",
+                     application: str = "driveline") -> tuple[ExcitationRow, ...]:
     """Excitation of a design over input speeds, beside the published limits.
 
     Parameters
@@ -135,6 +139,9 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
         Input speeds, rpm, each finite and > 0.
     vehicle : {"car", "truck"}
         Which published limits apply.
+    application : {"driveline", "steering"}
+        A driveline is judged by the published limits; a steering column is not
+        (its rows carry ``None`` limits and verdicts).
 
     Returns
     -------
@@ -146,12 +153,14 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
         If ``series`` is not a :class:`sso.ShaftSeries`.
     ValueError
         If a speed is not finite and positive, the list is empty, or the vehicle
-        kind is unknown.
+        kind or the application is unknown.
     """
     from sso.validation import as_float_tuple, check_choice, validate_speed
 
     _check_series(series)
     check_choice("vehicle", vehicle, tuple(INERTIAL_LIMIT_RAD_S2))
+    check_choice("application", application, APPLICATIONS)
+    judged = application == "driveline"
     speeds = as_float_tuple("input_speed_rpm", input_speed_rpm)
     if not speeds:
         raise ValueError("input_speed_rpm is empty: give at least one speed in rpm")
@@ -176,9 +185,10 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
             torsional_rad_s2=torsional,
             exact_torsional_rad_s2=omega_squared * math.sin(math.radians(angles.exact_deg)) ** 2,
             exact_output_accel_rad_s2=accel_per_rpm2 * speed**2,
-            inertial_limit_rad_s2=inertial,
-            torsional_limit_rad_s2=torsional_limit,
-            within_limits=drive <= inertial and coast <= inertial and torsional <= torsional_limit,
+            inertial_limit_rad_s2=inertial if judged else None,
+            torsional_limit_rad_s2=torsional_limit if judged else None,
+            within_limits=(drive <= inertial and coast <= inertial
+                           and torsional <= torsional_limit) if judged else None,
         ))
     return tuple(rows)
 

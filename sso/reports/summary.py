@@ -47,7 +47,15 @@ class Image:
     caption: str
 
 
-Block = Heading | Paragraph | Table | Image
+@dataclass(frozen=True)
+class Scene:
+    """An interactive 3D view (:mod:`sso.reports.view3d`): drawn in HTML, named in Markdown."""
+
+    scene: Mapping[str, Any]
+    caption: str
+
+
+Block = Heading | Paragraph | Table | Image | Scene
 
 # (evaluation field, row label with unit, format)
 FIGURES = (
@@ -224,5 +232,6 @@ def _crosscheck_text(document: Mapping[str, Any]) -> str:
 
 def _caption(file_name: str) -> str:
     if file_name.startswith("polar"):
-        return "Input and output speed (rpm, radius) against input shaft angle (deg), polar."
+        return ("Input and output speed (rpm, radius from 0 at the centre) against input shaft "
+                "angle (deg), polar.")
     return "Input and output speed (rpm) against input shaft angle (deg)."
