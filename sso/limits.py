@@ -79,6 +79,17 @@ cancelling phasing of a planar column; see docs/model.md for non-planar ones).""
 MAX_JOINTS = 64
 """Most Hooke joints of one shaft series in a case file."""
 
+MIN_CHAIN_COSINE_PRODUCT = 1e-140
+"""Least product of the operating angles' cosines over a chain's joints.
+
+The product is the chain matrix's determinant: the speed ratio ranges up to about
+1 / product, its slope (the output acceleration per input speed squared) up to about
+1 / product^2, and at the largest input speed (1e6 rpm, 1e10 (rad/s)^2) the peak
+acceleration must stay a float (below 1.8e308). A design or bounds below it are
+refused with this explanation: 64 equal joints reach it at 89.63 deg, 30 at 89.9988
+deg, 12 at 89.9999999999 deg; 8 joints or fewer never do (the largest float below
+90 deg has a cosine of 2.8e-16)."""
+
 NLP_CACHE_SHAPES = 4
 """Built NLPs (CasADi graphs and their IPOPT instances) kept per thread.
 

@@ -59,6 +59,7 @@ from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
 from sso.validation import (
     as_float_tuple,
+    check_chain_cosines,
     finite_float,
     per_item_bounds,
     validate_count,
@@ -248,6 +249,8 @@ def optimise_joint_centres(
             raise ValueError(f"beta_bounds_deg[{index}] lower = {least_deg:g} is outside the "
                              f"allowed range (0, {BETA_LIMIT_DEG:g}) deg: a straight joint has no "
                              "bend plane, so every joint must stay bent")
+    check_chain_cosines("beta_bounds_deg (their upper bounds)",
+                        [upper for _, upper in beta_bounds])
     length_bounds = _validated_lengths(shaft_length_bounds_mm, geometry)
     phasing_free = yoke_phase_deg is None
     if phasing_free:
