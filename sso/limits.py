@@ -129,3 +129,89 @@ command (``--memory-limit``) or per session (environment ``SSO_MEMORY_LIMIT_MB``
 
 MEMORY_LIMIT_VARIABLE = "SSO_MEMORY_LIMIT_MB"
 """Environment variable that replaces :data:`DEFAULT_MEMORY_LIMIT_MB`."""
+
+DEFAULT_SEED = 20251122
+"""Seed of the space-filling starts when none is given: the API and case files alike."""
+
+DEFAULT_WINDOW_DEG = 30.0
+"""Half-width of the on-centre and lock windows of the steering feel, deg."""
+
+DEFAULT_ON_CENTRE_WEIGHT = 10.0
+"""Weight of the on-centre variance in the on-centre phasing's objective."""
+
+DEFAULT_JOINT_BETA_BOUNDS_DEG = (1.0, 45.0)
+"""Bounds on every operating angle while joint centres move in their boxes, deg
+(positive below: a straight joint has no bend plane)."""
+
+DEFAULT_SHORTEST_SHAFT_FRACTION = 0.5
+"""While joint centres move, each shaft may shrink to this fraction of its given
+length (away from zero length, where its direction is undefined); no upper bound."""
+
+DEFAULT_COLUMN_STARTS = 4
+"""Starts per solver of the column's shared-phasing problems (positions, tolerances,
+on-centre), besides the starts each adds of its own; column case files too."""
+
+DEFAULT_COLUMN_SOLVER_TOL = 1e-13
+"""Stopping tolerance of the solvers on the column's shared-phasing problems."""
+
+DEFAULT_LOCK_DEG = 540.0
+"""Steering-wheel angle from straight ahead to each lock when none is given, deg."""
+
+DEFAULT_STRAIGHT_AHEAD_DEG = 0.0
+"""Input angle at straight ahead when none is given, deg (from the first bend plane's
+normal)."""
+
+DEFAULT_ON_CENTRE_DEG = DEFAULT_WINDOW_DEG
+"""Half-width of the on-centre range of the steering figures, deg."""
+
+DEFAULT_TOLERANCE_SAMPLES = 200
+"""Built columns in the seeded sample of a column's tolerances."""
+
+DEFAULT_MAX_OPERATING_ANGLE_DEG = 35.0
+"""The maker's limit on a joint's operating angle when none is given, deg."""
+
+SPLINE_ENUMERATION_LIMIT = 200_000
+"""Most spline-tooth assemblies the best-teeth search enumerates before it branches
+and bounds instead."""
+
+DEFAULT_OPTION = 3
+"""Which angles of a shaft series are free when none is said: 3, operating angles and
+phases (1: phases, 2: operating angles)."""
+
+DEFAULT_BETA_BOUNDS_DEG = (0.0, 40.0)
+"""Bounds on a shaft series' free operating angles when none are given, deg."""
+
+DEFAULT_PHASE_BOUNDS_DEG = (0.0, 180.0)
+"""Bounds on a shaft series' free phases when none are given, deg (one period)."""
+
+DEFAULT_SPLINE_TEETH = 36
+"""Spline teeth per intermediate shaft when none are given (a common steering spline)."""
+
+DEFAULT_PHASE_ERROR_SPAN_DEG = 10.0
+"""Half-width of the yoke-phasing errors of the RE-against-error figure, deg."""
+
+DEFAULT_PHASE_ERROR_POINTS = 201
+"""Errors per curve of the RE-against-error figure."""
+
+CSV_DIGITS = 17
+"""Significant digits of floats in a mechanism table's own CSV (17 round-trip exactly;
+reports show :data:`REPORT_DIGITS`)."""
+
+DEFAULT_QUADRATURE_RTOL = 1e-10
+"""Relative tolerance of the paper model's residual-error quadrature."""
+
+DEFAULT_QUADRATURE_ATOL = 1e-16
+"""Absolute tolerance of the paper model's residual-error quadrature."""
+
+DEFAULT_OBJECTIVE_RTOL = 1e-6
+"""Two solvers agree when their objectives differ by at most this fraction (plus
+:data:`DEFAULT_OBJECTIVE_ATOL`)."""
+
+DEFAULT_OBJECTIVE_ATOL = 1e-14
+"""Objectives closer than this agree whatever their size (round-off near zero)."""
+
+DEFAULT_KKT_TOLERANCE = 1e-6
+"""Largest first-order optimality measure of an answer the cross-check accepts."""
+
+DEFAULT_CHUNK_SAMPLES = 20_000
+"""Samples a tolerance study evaluates per task, in one numpy call."""

@@ -31,8 +31,17 @@ from sso.kinematics.hooke import MODELS
 from sso.limits import (
     BETA_LIMIT_DEG,
     CROSS_CHECK_SOLVERS,
+    DEFAULT_BETA_BOUNDS_DEG,
     DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
+    DEFAULT_QUADRATURE_ATOL,
+    DEFAULT_QUADRATURE_RTOL,
+    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
     MAX_INPUT_SPEED_RPM,
@@ -42,14 +51,7 @@ from sso.limits import (
     SOLVERS,
 )
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option, warn_moved_starts
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL
 from sso.shafts.series import ShaftSeries
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-)
-from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import shown
 
 KIND = "shaft_series"
@@ -269,7 +271,7 @@ def check_solvers_for_model(solvers: tuple[str, ...], model: str) -> None:
 _BETA_RANGE = "each in [0, 90) deg"
 SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("", "model", choice(MODELS), "exact", "", "'exact' or 'paper'"),
-    Key("", "option", option_value, 3, "",
+    Key("", "option", option_value, DEFAULT_OPTION, "",
         "1 or 'phase', 2 or 'angle', 3 or 'both'"),
     Key("", "input_speed_rpm", number(0.0, MAX_INPUT_SPEED_RPM, "rpm", lower_open=True),
         DEFAULT_INPUT_SPEED_RPM, "rpm", f"(0, {MAX_INPUT_SPEED_RPM:g}]"),
@@ -278,9 +280,9 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("design", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("design"),
         "deg", "n-1 entries (n accepted: the paper's inert last phase), each in [-360, 360]"),
-    Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True), (0.0, 40.0),
-        "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
-    Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), (0.0, 180.0), "deg",
+    Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True),
+        DEFAULT_BETA_BOUNDS_DEG, "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
+    Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), DEFAULT_PHASE_BOUNDS_DEG, "deg",
         "[lower, upper] or one pair per phase, within [-360, 360]"),
     Key("solver", "solvers", choice_list(SOLVERS), CROSS_CHECK_SOLVERS, "",
         f"non-empty list of {_quoted(SOLVERS)}; 'lm' with model = 'exact' only"),
@@ -292,10 +294,10 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("solver", "max_iterations", whole_number(1, MAX_ITERATIONS), DEFAULT_MAX_ITERATIONS, "",
         f"[1, {MAX_ITERATIONS}]"),
     Key("solver", "seed", whole_number(0, 2**63 - 1), DEFAULT_SEED, "", "[0, 2^63 - 1]"),
-    Key("quadrature", "rtol", number(0.0, 1.0, lower_open=True, upper_open=True), DEFAULT_RTOL,
-        "", "(0, 1)"),
-    Key("quadrature", "atol", number(0.0, float("inf"), upper_open=True), DEFAULT_ATOL, "",
-        "[0, inf)"),
+    Key("quadrature", "rtol", number(0.0, 1.0, lower_open=True, upper_open=True),
+        DEFAULT_QUADRATURE_RTOL, "", "(0, 1)"),
+    Key("quadrature", "atol", number(0.0, float("inf"), upper_open=True),
+        DEFAULT_QUADRATURE_ATOL, "", "[0, inf)"),
     Key("crosscheck", "objective_rtol", number(0.0, float("inf"), upper_open=True),
         DEFAULT_OBJECTIVE_RTOL, "", "[0, inf)"),
     Key("crosscheck", "objective_atol", number(0.0, float("inf"), upper_open=True),

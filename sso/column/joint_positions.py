@@ -45,14 +45,18 @@ from sso.column.phasing import PHASE_BOUNDS_DEG, optimise_phasing
 from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     BETA_LIMIT_DEG,
-    DEFAULT_MAX_ITERATIONS,
-    MAX_ITERATIONS,
-    MAX_STARTS,
-)
-from sso.solvers.crosscheck import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_JOINT_BETA_BOUNDS_DEG,
     DEFAULT_KKT_TOLERANCE,
+    DEFAULT_MAX_ITERATIONS,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_SEED,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_SHORTEST_SHAFT_FRACTION,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
 )
 from sso.solvers.multistart import solution_from_run, solve_from_starts
 from sso.solvers.result import DesignResult
@@ -70,10 +74,6 @@ from sso.validation import (
 # The NLP works in metres and radians: RE changes by about as much per metre of
 # joint travel as per radian of phasing, so neither set of variables is flat.
 MM_PER_UNIT = 1000.0
-DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
-# Default shaft-length bounds: each shaft may shrink to this fraction of its length
-# (it stays away from zero length, where its direction is undefined); no upper bound.
-DEFAULT_SHORTEST_FRACTION = 0.5
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -181,14 +181,14 @@ def optimise_joint_centres(
     geometry: ColumnGeometry,
     *,
     joint_boxes_mm: Any,
-    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    beta_bounds_deg: Any = DEFAULT_JOINT_BETA_BOUNDS_DEG,
     shaft_length_bounds_mm: Any = None,
     yoke_phase_deg: Sequence[float] | None = None,
-    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
-    starts: int = 8,
-    solver_tol: float = 1e-12,
+    solvers: Iterable[str] | str = CROSS_CHECK_SOLVERS,
+    starts: int = DEFAULT_STARTS,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-    seed: int = 0,
+    seed: int = DEFAULT_SEED,
 ) -> JointCentresResult:
     """Joint centres (and yoke phasing) that make the output turn most evenly.
 
@@ -426,7 +426,7 @@ def _validated_lengths(shaft_length_bounds_mm: Any, geometry: ColumnGeometry
                        ) -> tuple[tuple[float, float], ...]:
     shafts = geometry.joint_count + 1
     if shaft_length_bounds_mm is None:
-        return tuple((DEFAULT_SHORTEST_FRACTION * length, math.inf)
+        return tuple((DEFAULT_SHORTEST_SHAFT_FRACTION * length, math.inf)
                      for length in geometry.shaft_length_mm)
     bounds = per_item_bounds("shaft_length_bounds_mm", shaft_length_bounds_mm, shafts, 0.0,
                              math.inf, "mm")

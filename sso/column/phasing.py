@@ -14,6 +14,7 @@ from sso.limits import (
     CROSS_CHECK_SOLVERS,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
 )
@@ -104,7 +105,7 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
                      input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
                      solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
                      max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                     seed: int = 0) -> PhasingResult:
+                     seed: int = DEFAULT_SEED) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every

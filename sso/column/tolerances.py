@@ -15,6 +15,7 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.scenarios import cvar, scenario_re
+from sso.limits import DEFAULT_TOLERANCE_SAMPLES
 from sso.validation import check_choice, finite_in_range, validate_count
 
 DISTRIBUTIONS = ("normal", "uniform")
@@ -24,7 +25,6 @@ MAX_YOKE_PHASE_DEG = 45.0
 # SLSQP's dense subproblem grows with their cube (about 1 s per run at 200).
 MIN_SAMPLES = 2
 MAX_SAMPLES = 1_000
-DEFAULT_SAMPLES = 200
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ class Tolerances:
     hardpoint_mm: float = 0.0
     yoke_phase_deg: float = 0.0
     cross_angle_deg: float = 0.0
-    samples: int = DEFAULT_SAMPLES
+    samples: int = DEFAULT_TOLERANCE_SAMPLES
     seed: int = 0
     distribution: str = "normal"
 

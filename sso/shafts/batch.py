@@ -23,8 +23,11 @@ from sso.kinematics.hooke import MODELS
 from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
 from sso.limits import (
     BETA_LIMIT_DEG,
+    DEFAULT_BETA_BOUNDS_DEG,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
     DEFAULT_SHAFT_SOLVER_TOL,
     MAX_ITERATIONS,
 )
@@ -36,6 +39,12 @@ from sso.shafts.options import (
     validate_option_and_bounds,
 )
 from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
+from sso.solvers.resources import (
+    batch_estimate,
+    batch_least_squares_mb,
+    check_memory,
+)
+from sso.solvers.resources import memory_limit_mb as resolve_memory_limit
 from sso.validation import (
     check_choice,
     validate_count,
@@ -172,13 +181,14 @@ def optimise_batch(
     beta_deg: Any,
     phase_deg: Any,
     *,
-    option: int | str = 3,
-    beta_bounds_deg: Any = (0.0, 40.0),
-    phase_bounds_deg: Any = (0.0, 180.0),
+    option: int | str = DEFAULT_OPTION,
+    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    phase_bounds_deg: Any = DEFAULT_PHASE_BOUNDS_DEG,
     model: str = "exact",
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
     solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    memory_limit_mb: float | None = None,
 ) -> BatchResult:
     """Optimise ``m`` start designs of one shape at once (exact model, closed form).
 
@@ -207,6 +217,11 @@ def optimise_batch(
         most this, as :func:`sso.optimise`'s default cross-check measures it.
     max_iterations : int
         Iteration limit of each start, ``1..1000000``.
+    memory_limit_mb : float, optional
+        Memory the call may be estimated to need, MB (default: ``SSO_MEMORY_LIMIT_MB``
+        or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`). The solver's arrays grow with
+        the starts and the square of the free angles; starts estimated above the limit
+        are solved in consecutive parts that fit it, with the same answers.
 
     Returns
     -------
@@ -216,8 +231,9 @@ def optimise_batch(
     Raises
     ------
     ValueError
-        For bad input (naming the field, the value and the allowed range), and for
-        ``model = "paper"``, which has no closed form.
+        For bad input (naming the field, the value and the allowed range), for
+        ``model = "paper"``, which has no closed form, and when not even one start
+        fits the memory limit (with the estimate).
     TypeError
         If the start angles are not arrays of numbers, or a keyword is unknown.
     """
@@ -255,6 +271,57 @@ def optimise_batch(
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
     design_rad = np.radians(design_deg)
+    parts = [_solve_part(design_rad[part], free, n_joints, np.radians(start[part]),
+                         np.radians(lower), np.radians(upper), gradient_tolerance, iterations)
+             for part in _parts(len(start), n_joints, len(free), memory_limit_mb)]
+    solved = {field: np.concatenate([part[field] for part in parts]) for field in parts[0]}
+    # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
+    design_deg[:, free] = np.clip(np.degrees(solved["x"]), lower, upper)
+    beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
+    beta_rad, phase_rad = np.radians(beta_out), np.radians(phase_out)
+    least, greatest = ratio_extremes(np, [beta_rad[:, k] for k in range(n_joints)],
+                                     [phase_rad[:, k] for k in range(n_joints - 1)])
+    return BatchResult(
+        fun=solved["fun"],
+        beta_deg=np.array(beta_out, dtype=float),
+        phase_deg=np.array(phase_out, dtype=float),
+        success=solved["success"],
+        status=solved["status"],
+        nit=solved["nit"],
+        nfev=solved["nfev"],
+        kkt=solved["kkt"],
+        speed_min_rpm=speed_rpm * np.broadcast_to(least, solved["fun"].shape),
+        speed_max_rpm=speed_rpm * np.broadcast_to(greatest, solved["fun"].shape),
+        option=option_number,
+        model=model,
+        input_speed_rpm=speed_rpm,
+        beta_bounds_deg=beta_bounds,
+        phase_bounds_deg=phase_bounds,
+    )
+
+
+def _parts(starts: int, joints: int, free_variables: int,
+           memory_limit: float | None) -> list[slice]:
+    """Consecutive parts of the starts, each estimated to fit the memory limit.
+
+    Raises
+    ------
+    ValueError
+        If not even one start fits (with the estimate of one and of all).
+    """
+    limit = resolve_memory_limit(memory_limit)
+    if batch_estimate(starts, joints, free_variables).memory_mb <= limit:
+        return [slice(0, starts)]
+    check_memory(batch_estimate(1, joints, free_variables), limit)
+    per_start = batch_least_squares_mb(1, free_variables)
+    size = max(1, int((limit - batch_estimate(0, joints, free_variables).memory_mb) // per_start))
+    return [slice(first, first + size) for first in range(0, starts, size)]
+
+
+def _solve_part(design_rad: np.ndarray, free: np.ndarray, n_joints: int, start_rad: np.ndarray,
+                lower_rad: np.ndarray, upper_rad: np.ndarray, gradient_tolerance: float,
+                iterations: int) -> dict[str, np.ndarray]:
+    """The batched solver on some of the starts (rows of ``design_rad``), field by field."""
 
     def residual_and_jacobian(x_rad: np.ndarray,
                               rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -263,32 +330,11 @@ def optimise_batch(
         residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])
         return residual, jacobian[..., free]
 
-    solved = batch_least_squares(residual_and_jacobian, np.radians(start), np.radians(lower),
-                                 np.radians(upper), gtol=gradient_tolerance,
-                                 max_iterations=iterations)
-    # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
-    design_deg[:, free] = np.clip(np.degrees(solved.x), lower, upper)
-    beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
-    beta_rad, phase_rad = np.radians(beta_out), np.radians(phase_out)
-    least, greatest = ratio_extremes(np, [beta_rad[:, k] for k in range(n_joints)],
-                                     [phase_rad[:, k] for k in range(n_joints - 1)])
-    return BatchResult(
-        fun=solved.fun,
-        beta_deg=np.array(beta_out, dtype=float),
-        phase_deg=np.array(phase_out, dtype=float),
-        success=solved.success,
-        status=solved.status,
-        nit=solved.nit,
-        nfev=solved.nfev,
-        kkt=solved.projected_gradient,
-        speed_min_rpm=speed_rpm * np.broadcast_to(least, solved.fun.shape),
-        speed_max_rpm=speed_rpm * np.broadcast_to(greatest, solved.fun.shape),
-        option=option_number,
-        model=model,
-        input_speed_rpm=speed_rpm,
-        beta_bounds_deg=beta_bounds,
-        phase_bounds_deg=phase_bounds,
-    )
+    solved = batch_least_squares(residual_and_jacobian, start_rad, lower_rad, upper_rad,
+                                 gtol=gradient_tolerance, max_iterations=iterations)
+    return {"x": solved.x, "fun": solved.fun, "success": solved.success,
+            "status": solved.status, "nit": solved.nit, "nfev": solved.nfev,
+            "kkt": solved.projected_gradient}
 
 
 def _design_array(field: str, values: Any, shape: tuple[int, int] | None) -> np.ndarray:

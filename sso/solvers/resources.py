@@ -27,6 +27,20 @@ NLP_MB_PER_JOINT_VARIABLE_ANGLE = 0.26 / 16
 NLP_BASE_MB = 10.0
 # A finished run as kept in a result (its design, figures and solver record), MB.
 RUN_MB = 0.01
+# Peak memory of the batched least-squares solver (``solvers/least_squares.py``) per
+# problem, bytes: arrays of shape (problems, variables, variables) (normal matrices,
+# Jacobian products, the saddle test's Hessians and masks), of shape (problems,
+# variables), and per problem. Fitted to sso.optimise_batch's measured peaks above the
+# process's own (benchmarks/memory_estimate.py): 1,440, 5,480, 19,100, 71,000 and
+# 177,000 bytes per start at 3, 9, 19, 39 and 63 free angles.
+BATCH_BYTES_PER_VARIABLE_PAIR = 44
+BATCH_BYTES_PER_VARIABLE = 150
+BATCH_BYTES_PER_PROBLEM = 600
+# Peak of a process that has imported sso and numpy (an optimise_batch call), and of one
+# that has also built and run a CasADi NLP with IPOPT and SLSQP (a multi-start run), MB:
+# measured 45 and 124 MB (benchmarks/memory_estimate.py).
+NUMPY_PROCESS_MB = 50.0
+SOLVER_PROCESS_MB = 120.0
 
 MB = 2**20
 FLOAT_BYTES = 8
@@ -110,14 +124,38 @@ def nlp_memory_mb(joints: int, free_variables: int, samples: int) -> float:
     return NLP_BASE_MB + NLP_MB_PER_JOINT_VARIABLE_ANGLE * joints * free_variables * written_out
 
 
+def batch_least_squares_mb(problems: int, variables: int) -> float:
+    """Peak memory of :func:`sso.solvers.least_squares.batch_least_squares` on
+    ``problems`` problems of ``variables`` variables each (two residuals), MB."""
+    per_problem = (BATCH_BYTES_PER_VARIABLE_PAIR * variables**2
+                   + BATCH_BYTES_PER_VARIABLE * variables + BATCH_BYTES_PER_PROBLEM)
+    return problems * per_problem / MB
+
+
 def multistart_estimate(joints: int, free_variables: int, samples: int, starts: int,
-                        solvers: int) -> ResourceEstimate:
-    """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver."""
+                        solvers: int, screened: bool) -> ResourceEstimate:
+    """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver.
+
+    ``screened``: the starts are first solved together by the batched least-squares
+    solver (the exact model), whose arrays grow with the starts and the square of the
+    free angles: 10,000 starts of 64 joints with 127 free angles need about 7 GB.
+    """
     runs = starts * solvers
+    screening_mb = batch_least_squares_mb(starts, free_variables) if screened else 0.0
     return ResourceEstimate(
         task=f"multi-start run ({joints} joints, {free_variables} free angles, {starts} starts x "
              f"{solvers} solvers)",
-        memory_mb=nlp_memory_mb(joints, free_variables, samples) + RUN_MB * runs,
+        memory_mb=(SOLVER_PROCESS_MB + nlp_memory_mb(joints, free_variables, samples)
+                   + screening_mb + RUN_MB * runs),
         solves=runs,
         lower_it="fix more angles (option 1 or 2, or equal bounds pin a joint), use fewer "
                  "joints or fewer starts")
+
+
+def batch_estimate(starts: int, joints: int, free_variables: int) -> ResourceEstimate:
+    """Memory and solves of :func:`sso.optimise_batch` on ``starts`` starts at once."""
+    return ResourceEstimate(
+        task=f"batch ({starts:,} starts of {joints} joints, {free_variables} free angles)",
+        memory_mb=NUMPY_PROCESS_MB + batch_least_squares_mb(starts, free_variables),
+        solves=starts,
+        lower_it="fix more angles (option 1 or 2) or use fewer joints")
