@@ -57,9 +57,12 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
 
     Returns
     -------
-    sso.OptimisationResult, sso.FourBarDesignResult, sso.PhasingResult,
-    sso.JointCentresResult, sso.RobustResult, sso.OnCentreResult, sso.SplineResult
-    or sso.PositionsResult
+    result : OptimisationResult, FourBarDesignResult, PhasingResult, JointCentresResult, RobustResult, OnCentreResult, SplineResult or PositionsResult
+        The result of the optimiser ``problem`` went to: ``sso.OptimisationResult``
+        for a series, ``sso.FourBarDesignResult`` for a four-bar,
+        ``sso.PhasingResult``, ``sso.JointCentresResult``, ``sso.RobustResult``,
+        ``sso.OnCentreResult`` or ``sso.SplineResult`` for a column (by keyword), and
+        ``sso.PositionsResult`` for a column in several positions.
 
     Raises
     ------
