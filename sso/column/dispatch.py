@@ -57,7 +57,7 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
 
     Returns
     -------
-    result : OptimisationResult, FourBarDesignResult, PhasingResult, JointCentresResult, RobustResult, OnCentreResult, SplineResult or PositionsResult
+    result : OptimisationResult or FourBarDesignResult or a column's result
         The result of the optimiser ``problem`` went to: ``sso.OptimisationResult``
         for a series, ``sso.FourBarDesignResult`` for a four-bar,
         ``sso.PhasingResult``, ``sso.JointCentresResult``, ``sso.RobustResult``,
