@@ -36,11 +36,20 @@ RUN_MB = 0.01
 BATCH_BYTES_PER_VARIABLE_PAIR = 44
 BATCH_BYTES_PER_VARIABLE = 150
 BATCH_BYTES_PER_PROBLEM = 600
+# Screening the starts of sso.optimise with "lm" holds more per start than the batched
+# solver alone (the exact chain's Jacobian at the saddle test's 2 x free points as well),
+# bytes per start: measured 265 KB at 31 free angles and 1.6 MB at 63 (32 and 64
+# joints, option 1, peaks of 232 MB from 400 starts and over 1.7 GB from 1,000), and
+# about 8 KB whatever the angles (each start's "lm" run, kept: 6 joints, 10,000 starts,
+# 195 MB).
+SCREEN_BYTES_PER_VARIABLE_PAIR = 135
+SCREEN_BYTES_PER_VARIABLE_CUBE = 4.5
+SCREEN_BYTES_PER_START = 8000
 # Peak of a process that has imported sso and numpy (an optimise_batch call), and of one
 # that has also built and run a CasADi NLP with IPOPT and SLSQP (a multi-start run), MB:
-# measured 45 and 124 MB (benchmarks/memory_estimate.py).
+# measured 45 and 55 MB (benchmarks/memory_estimate.py).
 NUMPY_PROCESS_MB = 50.0
-SOLVER_PROCESS_MB = 120.0
+SOLVER_PROCESS_MB = 60.0
 
 MB = 2**20
 FLOAT_BYTES = 8
@@ -136,17 +145,23 @@ def multistart_estimate(joints: int, free_variables: int, samples: int, starts: 
                         solvers: int, screened: bool) -> ResourceEstimate:
     """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver.
 
-    ``screened``: the starts are first solved together by the batched least-squares
-    solver (the exact model), whose arrays grow with the starts and the square of the
-    free angles: 10,000 starts of 64 joints with 127 free angles need about 7 GB.
+    ``screened``: the starts are first solved by the batched least-squares solver (the
+    exact model), whose memory grows with the starts and the square and cube of the
+    free angles: 1,000 starts of 64 joints with 63 free angles need about 1.6 GB.
     """
-    runs = starts * solvers
-    screening_mb = batch_least_squares_mb(starts, free_variables) if screened else 0.0
+    runs = kept_runs = starts * solvers
+    screening_mb = 0.0
+    if screened:  # "lm" screens every start; only IPOPT's and SLSQP's runs are kept
+        per_start = (SCREEN_BYTES_PER_VARIABLE_PAIR * free_variables**2
+                     + SCREEN_BYTES_PER_VARIABLE_CUBE * free_variables**3
+                     + SCREEN_BYTES_PER_START)
+        screening_mb = starts * per_start / MB
+        kept_runs = solvers
     return ResourceEstimate(
         task=f"multi-start run ({joints} joints, {free_variables} free angles, {starts} starts x "
              f"{solvers} solvers)",
         memory_mb=(SOLVER_PROCESS_MB + nlp_memory_mb(joints, free_variables, samples)
-                   + screening_mb + RUN_MB * runs),
+                   + screening_mb + RUN_MB * kept_runs),
         solves=runs,
         lower_it="fix more angles (option 1 or 2, or equal bounds pin a joint), use fewer "
                  "joints or fewer starts")
