@@ -12,10 +12,10 @@ optimise 2 joints 1 start 54.5 / 70.0, 64 joints 1 start (option 3) 64.5 / 80.9,
 6 joints 100 starts 124.0 / 71.2, 6 joints 1,000 starts 125.8 / 81.4, 6 joints 10,000
 starts 194.7 / 183.9, 16 joints 400 starts 126.8 / 90.5, 32 joints 100 starts
 129.2 / 95.9, 32 joints 400 starts 232.4 / 173.7, 64 joints 1,000 starts at least
-1,719 / 1,662; optimise_batch option 3 above the
-process, 20,000 starts of 2 joints 27.5 / 27.6, 4,000 of 5 joints 20.9 / 21.0, 2,000
-of 10 joints 36.4 / 36.9, 2,000 of 20 joints 135.4 / 139.9, 1,000 of 32 joints
-168.9 / 176.1, 200 of 64 joints 134.5 / 139.1.
+1,719 / 1,662; optimise_batch above the
+process, option 1 (every start on to the Newton steps) after the solver rework of
+25 Nov: 20,000 starts of 4 joints 112.4 / 178.1, 2,000 of 10 joints 75.3 / 42.4, 1,000
+of 32 joints 389.1 / 259.2.
 """
 
 from __future__ import annotations
@@ -43,16 +43,16 @@ starts, joints = int(sys.argv[1]), int(sys.argv[2])
 rng = np.random.default_rng(0)
 sso.optimise_batch(rng.uniform(5, 30, (2, joints)), rng.uniform(0, 180, (2, joints - 1)))
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-beta = rng.uniform(5, 30, (starts, joints))
-beta[:, 0] = 40.0
-sso.optimise_batch(beta, rng.uniform(0, 180, (starts, joints - 1)), option=3,
+beta = np.full((starts, joints), 5.0)
+beta[:, 0] = 40.0  # RE = 0 out of reach: every start goes on to the batched least squares
+sso.optimise_batch(beta, rng.uniform(0, 180, (starts, joints - 1)), option=1,
                    memory_limit_mb=1e6)
 print(json.dumps(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024 - before))
 """
 
 OPTIMISE_SHAPES = [(2, 1, 3), (64, 1, 3), (6, 100, 1), (6, 1000, 1), (6, 10_000, 1),
                    (16, 400, 1), (32, 100, 1), (32, 400, 1)]
-BATCH_SHAPES = [(20_000, 2), (4_000, 5), (2_000, 10), (2_000, 20), (1_000, 32), (200, 64)]
+BATCH_SHAPES = [(20_000, 4), (2_000, 10), (1_000, 32)]
 
 
 def measured_mb(script: str, *arguments: int) -> float:
@@ -71,10 +71,10 @@ def main() -> None:
         estimate = multistart_estimate(joints, free, 0, starts, 2, screened=True).memory_mb
         print(f"  {joints}, {starts}, {option}: "
               f"{measured_mb(OPTIMISE, joints, starts, option):.1f} / {estimate:.1f}")
-    print("sso.optimise_batch, option 3: starts, joints: measured / estimated MB (above "
+    print("sso.optimise_batch, option 1: starts, joints: measured / estimated MB (above "
           "the process)")
     for starts, joints in BATCH_SHAPES:
-        estimate = batch_least_squares_mb(starts, 2 * joints - 1)
+        estimate = batch_least_squares_mb(starts, joints - 1)
         print(f"  {starts}, {joints}: {measured_mb(BATCH, starts, joints):.1f} / "
               f"{estimate:.1f}")
 

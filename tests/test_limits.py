@@ -134,6 +134,8 @@ def literal_defaults(function: Any) -> list[str]:
         if isinstance(default, ast.Constant) and (default.value is None
                                                   or isinstance(default.value, (bool, str))):
             continue  # no default, a switch, or a choice by name
+        if isinstance(default, ast.Tuple) and not default.elts:
+            continue  # nothing given
         if isinstance(default, (ast.Name, ast.Attribute)) and id(
                 eval(ast.unparse(default), function.__globals__)) in constants:  # noqa: S307
             continue

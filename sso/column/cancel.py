@@ -217,11 +217,12 @@ def _margin(angles: tuple[float, ...], largest: int) -> float:
     """
     radians = [math.radians(beta) for beta in angles]
     if len(angles) == 1:
-        return -2.0 * math.sin(0.5 * radians[0]) ** 2
+        return -2.0 * math.sin(0.5 * radians[0]) ** 2 + 0.0  # + 0.0: never -0.0
     if len(angles) == 2:
         other = radians[1 - largest]
         difference = math.radians(angles[largest] - angles[1 - largest])
-        return -2.0 * math.sin(0.5 * (radians[largest] + other)) * math.sin(0.5 * difference)
+        return (-2.0 * math.sin(0.5 * (radians[largest] + other)) * math.sin(0.5 * difference)
+                + 0.0)  # never -0.0 (equal angles print as 0)
     product = math.prod((Fraction(_cos_deg(beta)) for index, beta in enumerate(angles)
                          if index != largest), start=Fraction(1))
     return float(Fraction(_cos_deg(angles[largest])) - product)

@@ -45,11 +45,11 @@ from sso.column.scenarios import (
 )
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_ON_CENTRE_WEIGHT,
-    DEFAULT_SEED,
     DEFAULT_WINDOW_DEG,
     MAX_ITERATIONS,
     MAX_STARTS,
@@ -196,7 +196,7 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
                        starts: int = DEFAULT_COLUMN_STARTS,
                        solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                       seed: int = DEFAULT_SEED) -> OnCentreResult:
+                       seed: int = DEFAULT_COLUMN_SEED) -> OnCentreResult:
     """Yoke phasing that minimises ``RE + on_centre_weight * V`` (module notes).
 
     Parameters

@@ -46,12 +46,12 @@ from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     BETA_LIMIT_DEG,
     CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_JOINT_BETA_BOUNDS_DEG,
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_OBJECTIVE_ATOL,
     DEFAULT_OBJECTIVE_RTOL,
-    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_SHORTEST_SHAFT_FRACTION,
     DEFAULT_STARTS,
@@ -190,7 +190,7 @@ def optimise_joint_centres(
     starts: int = DEFAULT_STARTS,
     solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-    seed: int = DEFAULT_SEED,
+    seed: int = DEFAULT_COLUMN_SEED,
 ) -> JointCentresResult:
     """Joint centres (and yoke phasing) that make the output turn most evenly.
 

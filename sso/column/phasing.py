@@ -12,9 +12,9 @@ from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
-    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
 )
@@ -105,7 +105,7 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
                      input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
                      solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
                      max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                     seed: int = DEFAULT_SEED) -> PhasingResult:
+                     seed: int = DEFAULT_COLUMN_SEED) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every

@@ -21,10 +21,10 @@ from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import PhasingOutcome, outcome_fields, scenario_re, solve_scenarios
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
-    DEFAULT_SEED,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -117,7 +117,7 @@ def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
                        starts: int = DEFAULT_COLUMN_STARTS,
                        solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                       seed: int = DEFAULT_SEED) -> PositionsResult:
+                       seed: int = DEFAULT_COLUMN_SEED) -> PositionsResult:
     """One yoke phasing for several positions of a column.
 
     Parameters

@@ -23,10 +23,10 @@ from sso.column.scenarios import PhasingOutcome, cvar, outcome_fields, scenario_
 from sso.column.tolerances import SampleStudy, Tolerances
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
-    DEFAULT_SEED,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -102,7 +102,7 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                     starts: int = DEFAULT_COLUMN_STARTS,
                     solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                    seed: int = DEFAULT_SEED) -> RobustResult:
+                    seed: int = DEFAULT_COLUMN_SEED) -> RobustResult:
     """Yoke phasing that minimises RE over a sample of built columns.
 
     Parameters

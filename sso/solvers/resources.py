@@ -27,21 +27,13 @@ NLP_MB_PER_JOINT_VARIABLE_ANGLE = 0.26 / 16
 NLP_BASE_MB = 10.0
 # A finished run as kept in a result (its design, figures and solver record), MB.
 RUN_MB = 0.01
-# Peak memory of the batched least-squares solver (``solvers/least_squares.py``) per
-# problem, bytes: arrays of shape (problems, variables, variables) (normal matrices,
-# Jacobian products, the saddle test's Hessians and masks), of shape (problems,
-# variables), and per problem. Fitted to sso.optimise_batch's measured peaks above the
-# process's own (benchmarks/memory_estimate.py): 1,440, 5,480, 19,100, 71,000 and
-# 177,000 bytes per start at 3, 9, 19, 39 and 63 free angles.
-BATCH_BYTES_PER_VARIABLE_PAIR = 44
-BATCH_BYTES_PER_VARIABLE = 150
-BATCH_BYTES_PER_PROBLEM = 600
-# Screening the starts of sso.optimise with "lm" holds more per start than the batched
-# solver alone (the exact chain's Jacobian at the saddle test's 2 x free points as well),
-# bytes per start: measured 265 KB at 31 free angles and 1.6 MB at 63 (32 and 64
-# joints, option 1, peaks of 232 MB from 400 starts and over 1.7 GB from 1,000), and
-# about 8 KB whatever the angles (each start's "lm" run, kept: 6 joints, 10,000 starts,
-# 195 MB).
+# Peak memory of the batched least squares per start, bytes, where every start goes on
+# to the Newton steps and saddle tests (RE = 0 out of reach): it grows with the square
+# and the cube of the free angles (the Jacobians at the saddle test's 2 x free points),
+# plus each start's own record. Measured (benchmarks/memory_estimate.py): sso.optimise's
+# screening 265 KB a start at 31 free angles and 1.6 MB at 63 (32 and 64 joints,
+# option 1: peaks of 232 MB from 400 starts and over 1.7 GB from 1,000), 7 KB at 5
+# (10,000 starts: 195 MB); sso.optimise_batch 5.6, 38 and 398 KB a start at 3, 9 and 31.
 SCREEN_BYTES_PER_VARIABLE_PAIR = 135
 SCREEN_BYTES_PER_VARIABLE_CUBE = 4.5
 SCREEN_BYTES_PER_START = 8000
@@ -134,10 +126,10 @@ def nlp_memory_mb(joints: int, free_variables: int, samples: int) -> float:
 
 
 def batch_least_squares_mb(problems: int, variables: int) -> float:
-    """Peak memory of :func:`sso.solvers.least_squares.batch_least_squares` on
-    ``problems`` problems of ``variables`` variables each (two residuals), MB."""
-    per_problem = (BATCH_BYTES_PER_VARIABLE_PAIR * variables**2
-                   + BATCH_BYTES_PER_VARIABLE * variables + BATCH_BYTES_PER_PROBLEM)
+    """Peak memory of the batched least squares (the screening of sso.optimise's starts,
+    sso.optimise_batch) on ``problems`` problems of ``variables`` variables each, MB."""
+    per_problem = (SCREEN_BYTES_PER_VARIABLE_PAIR * variables**2
+                   + SCREEN_BYTES_PER_VARIABLE_CUBE * variables**3 + SCREEN_BYTES_PER_START)
     return problems * per_problem / MB
 
 
@@ -152,10 +144,7 @@ def multistart_estimate(joints: int, free_variables: int, samples: int, starts: 
     runs = kept_runs = starts * solvers
     screening_mb = 0.0
     if screened:  # "lm" screens every start; only IPOPT's and SLSQP's runs are kept
-        per_start = (SCREEN_BYTES_PER_VARIABLE_PAIR * free_variables**2
-                     + SCREEN_BYTES_PER_VARIABLE_CUBE * free_variables**3
-                     + SCREEN_BYTES_PER_START)
-        screening_mb = starts * per_start / MB
+        screening_mb = batch_least_squares_mb(starts, free_variables)
         kept_runs = solvers
     return ResourceEstimate(
         task=f"multi-start run ({joints} joints, {free_variables} free angles, {starts} starts x "
