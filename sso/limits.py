@@ -222,3 +222,14 @@ DEFAULT_KKT_TOLERANCE = 1e-6
 
 DEFAULT_CHUNK_SAMPLES = 20_000
 """Samples a tolerance study evaluates per task, in one numpy call."""
+
+NO_WORKER_TIMEOUT_S = 60.0
+"""How long a sweep or tolerance study on a Dask cluster waits with no worker
+connected, s, before it stops (exit 1, with what to do): the rows done so far are
+on disk, and ``--resume`` completes the sweep once workers are back. A worker that
+restarts (its nanny) reconnects within seconds; a cluster whose last worker is gone
+for a minute is not coming back by itself. Environment variable
+``SSO_NO_WORKER_TIMEOUT_S`` replaces it."""
+
+NO_WORKER_TIMEOUT_VARIABLE = "SSO_NO_WORKER_TIMEOUT_S"
+"""Environment variable that replaces :data:`NO_WORKER_TIMEOUT_S`."""

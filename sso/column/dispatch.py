@@ -16,7 +16,8 @@
     the splines, exact over whole teeth);
 
 * a mapping of names to :class:`ColumnGeometry` (one column in several tilt or
-  telescope positions) goes to :func:`sso.column.positions.optimise_positions`.
+  telescope positions; a :class:`sso.column.practice.PracticeWarning` for each way
+  one leaves practice) goes to :func:`sso.column.positions.optimise_positions`.
 
 It lives here, above the shaft series, the linkages and the column, because none of
 them may import the others' optimisers (imports point down the layers).
@@ -106,6 +107,10 @@ def _optimiser_of(problem: Any, args: tuple[Any, ...],
         return _function("sso.column.phasing", "optimise_phasing")
     if isinstance(problem, Mapping):
         _keywords_only("sso.optimise({name: geometry, ...}, ...)", args)
+        for name, geometry in problem.items():
+            if isinstance(geometry, ColumnGeometry):
+                for note in practice_notes(geometry, label=f"[{name!r}].points_mm"):
+                    warnings.warn(note.text, PracticeWarning, stacklevel=2)
         return _function("sso.column.positions", "optimise_positions")
     raise TypeError("problem must be an sso.ShaftSeries, an sso.FourBar, an "
                     "sso.ColumnGeometry or a mapping of names to ColumnGeometry, not "
