@@ -49,7 +49,7 @@ def test_the_multistart_estimate_is_within_a_factor_of_two_of_the_measured_peak(
 
 
 
-@pytest.mark.parametrize(("starts", "joints"), [(20_000, 4), (1_000, 32)])
+@pytest.mark.parametrize(("starts", "joints"), [(1_000, 32)])
 def test_the_batch_estimate_is_within_a_factor_of_two_of_a_measured_peak(starts, joints):
     """optimise_batch in a fresh process, every start on to the Newton steps (option 1,
     RE = 0 out of reach): its peak above the process's own against the estimate."""
