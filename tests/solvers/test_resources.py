@@ -1,9 +1,8 @@
 """The memory estimate counts joints and starts, and guards sso.optimise and optimise_batch.
 
-Reference peaks are measured: in a fresh process here (resident-set peaks from
-``getrusage``, after a warm-up call of the same kind), and the ones listed in
-MEASURED_MULTISTART_PEAKS_MB (``python -m benchmarks.memory_estimate`` measures them
-again).
+Reference peaks are the resident-set peaks listed in MEASURED_MULTISTART_PEAKS_MB,
+measured in fresh processes by ``python -m benchmarks.memory_estimate`` (which also
+measures optimise_batch's).
 """
 
 from __future__ import annotations
@@ -12,7 +11,6 @@ import numpy as np
 import pytest
 
 import sso
-from benchmarks.memory_estimate import BATCH, measured_mb
 from sso.shafts.batch import _parts
 from sso.solvers.resources import (
     batch_estimate,
@@ -47,15 +45,6 @@ def test_the_multistart_estimate_is_within_a_factor_of_two_of_the_measured_peak(
     assert peak_mb / 2 <= estimate <= 2 * peak_mb, (shape, estimate, peak_mb)
 
 
-
-
-@pytest.mark.parametrize(("starts", "joints"), [(1_000, 32)])
-def test_the_batch_estimate_is_within_a_factor_of_two_of_a_measured_peak(starts, joints):
-    """optimise_batch in a fresh process, every start on to the Newton steps (option 1,
-    RE = 0 out of reach): its peak above the process's own against the estimate."""
-    measured = measured_mb(BATCH, starts, joints)
-    estimated = batch_least_squares_mb(starts, joints - 1)
-    assert measured / 2 <= estimated <= 2 * measured, (measured, estimated)
 
 
 def test_sso_optimise_refuses_64_joints_from_10000_starts_with_the_estimate():
