@@ -35,14 +35,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from sso.column.chain_matrix import chain_matrix
-
-if TYPE_CHECKING:
-    from sso.shafts.series import ShaftSeries
+from sso.shafts.series import ShaftSeries
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
@@ -196,14 +194,9 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
 
 
 def _exact_copy(series: ShaftSeries) -> ShaftSeries:
-    import sso
-
-    exact: ShaftSeries = sso.ShaftSeries(series.beta_deg, series.phase_deg, "exact")
-    return exact
+    return ShaftSeries(series.beta_deg, series.phase_deg, "exact")
 
 
 def _check_series(series: Any) -> None:
-    import sso
-
-    if not isinstance(series, sso.ShaftSeries):
+    if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")

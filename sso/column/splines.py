@@ -35,9 +35,8 @@ from sso.column.chain_matrix import (
 )
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number
-from sso.limits import CONVENTIONAL_PHASE_DEG
+from sso.limits import CONVENTIONAL_PHASE_DEG, DEFAULT_SPLINE_TEETH, SPLINE_ENUMERATION_LIMIT
 
-ENUMERATION_LIMIT = 200_000
 CHUNK_ROWS = 65_536
 # Assemblies whose RE is within this of the best are reported as ties (round-off).
 TIE_RELATIVE, TIE_ABSOLUTE = 1e-12, 1e-18
@@ -138,9 +137,10 @@ class SplineResult(Readable):
         return "\n".join(instruction.text for instruction in self.instructions)
 
 
-def best_spline_teeth(geometry: ColumnGeometry, teeth: int | Sequence[int] = 36, *,
+def best_spline_teeth(geometry: ColumnGeometry,
+                      teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH, *,
                       method: str = "auto",
-                      enumeration_limit: int = ENUMERATION_LIMIT) -> SplineResult:
+                      enumeration_limit: int = SPLINE_ENUMERATION_LIMIT) -> SplineResult:
     """Exact best tooth positions of the yokes on the intermediate shafts.
 
     Parameters
@@ -214,7 +214,7 @@ def best_teeth_for_objective(shafts: int, teeth: int | Sequence[int],
                              objective: Callable[[np.ndarray], np.ndarray], *,
                              continuous_yoke_phase_deg: Sequence[float],
                              objective_name: str,
-                             enumeration_limit: int = ENUMERATION_LIMIT) -> SplineResult:
+                             enumeration_limit: int = SPLINE_ENUMERATION_LIMIT) -> SplineResult:
     """Best tooth positions for an objective of the yoke phasing itself.
 
     For a column optimised over several positions, under tolerances or for the

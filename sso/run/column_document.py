@@ -13,7 +13,7 @@ Layout (``schema_version`` as :data:`sso.run.document.SCHEMA_VERSION`)::
         case's own objective when it has positions, tolerances or a steering feel
         (``objective`` says which; the one position's then in
         ``splines_single_position``),
-    joint_positions? (optimise with [joint_boxes]): JointPositionResult.to_dict(),
+    joint_positions? (optimise with [joint_boxes]): JointCentresResult.to_dict(),
     robust? (positions, tolerances, band or feel given):
         :mod:`sso.run.column_robust_document`,
     excitation: {vehicle, application, rows: {role -> [ExcitationRow]}, angles: {role -> ...}},
@@ -100,9 +100,9 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             verdicts.append(f"phasing: {phasing.message}")
             recommended = "best"
         if optimising and case.has_joint_boxes:
-            from sso.column.joint_positions import optimise_joint_positions
+            from sso.column.joint_positions import optimise_joint_centres
 
-            moved = optimise_joint_positions(geometry, **case.joint_position_options())
+            moved = optimise_joint_centres(geometry, **case.joint_position_options())
             document["joint_positions"] = moved.to_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")
