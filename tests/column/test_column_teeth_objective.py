@@ -73,7 +73,7 @@ def test_the_instructed_teeth_give_the_worst_position_re_the_report_shows(three_
 
 def test_the_shared_phasing_on_splines_is_the_best_assembly_by_brute_force():
     geometries = {name: sso.ColumnGeometry(points) for name, points in _positions().items()}
-    shared = sso.optimise_positions(geometries, positions_objective="worst")
+    shared = sso.optimise(geometries, positions_objective="worst")
     teeth = shared.on_splines(36)
     assert teeth.objective == "worst-position RE"
     assert teeth.residual_error == pytest.approx(_worst_simulated(teeth.yoke_phase_deg),
@@ -94,7 +94,7 @@ def test_the_tolerance_aware_phasing_on_splines_has_its_objective_at_the_teeth()
     case = tomllib.loads(THREE_POSITIONS.read_text(encoding="utf-8"))
     geometry = sso.ColumnGeometry(case["hardpoints"]["points_mm"])
     tolerances = sso.Tolerances(hardpoint_mm=1.0, yoke_phase_deg=1.0, samples=200, seed=1)
-    robust = sso.optimise_robust(geometry, tolerances, robust_objective="p95")
+    robust = sso.optimise(geometry, tolerances=tolerances, robust_objective="p95")
     teeth = robust.on_splines(36)
     assert teeth.objective == "p95 objective (CVaR of RE at 0.95) over the built columns"
     sample = tolerances.sample(geometry)
