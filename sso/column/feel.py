@@ -52,6 +52,7 @@ from sso.limits import (
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_ON_CENTRE_WEIGHT,
+    DEFAULT_SPLINE_TEETH,
     DEFAULT_WINDOW_DEG,
     MAX_ITERATIONS,
     MAX_STARTS,
@@ -128,7 +129,7 @@ class OnCentreResult(PhasingOutcome):
 
     objective_name: ClassVar[str] = "RE + on_centre_weight * V"
 
-    def on_splines(self, teeth: int | Sequence[int] = 36) -> SplineResult:
+    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
         """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for ``RE +
         on_centre_weight * V`` itself; the :class:`~sso.column.splines.SplineResult`
         gives it at the teeth and at this phasing."""

@@ -26,6 +26,7 @@ from sso.limits import (
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SPLINE_TEETH,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -103,7 +104,7 @@ class PositionsResult(PhasingOutcome):
         return ("worst-position RE" if self.positions_objective == "worst"
                 else "weighted mean RE over the positions")
 
-    def on_splines(self, teeth: int | Sequence[int] = 36) -> SplineResult:
+    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
         """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for this
         objective over the positions, as :func:`~sso.column.splines.best_teeth_for_objective`
         returns them: ``residual_error`` is the worst (or mean) RE at the teeth."""

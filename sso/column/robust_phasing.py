@@ -29,6 +29,7 @@ from sso.limits import (
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SPLINE_TEETH,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -92,7 +93,7 @@ class RobustResult(PhasingOutcome):
         return (f"{self.robust_objective} objective (CVaR of RE at {self.level:g}) over the "
                 "built columns")
 
-    def on_splines(self, teeth: int | Sequence[int] = 36) -> SplineResult:
+    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
         """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for this
         objective over the same seeded built columns; ``residual_error`` of the
         :class:`~sso.column.splines.SplineResult` is the objective at the teeth."""
