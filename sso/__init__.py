@@ -51,6 +51,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "YokeInstruction": "sso.column.splines",
     "excitation_table": "sso.column.excitation",
     "ExcitationRow": "sso.column.excitation",
+    "ExcitationTable": "sso.column.excitation",
     "equivalent_angles": "sso.column.excitation",
     "EquivalentAngles": "sso.column.excitation",
     "optimise_positions": "sso.column.positions",

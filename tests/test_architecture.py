@@ -19,6 +19,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin"),
     ("validation", "files", "deprecation", "display"),
     ("kinematics",),
+    ("record",),
     ("solvers",),
     ("shafts", "linkages"),
     ("column",),

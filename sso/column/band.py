@@ -33,7 +33,9 @@ from sso.column.cancel import can_cancel
 from sso.column.chain_matrix import residual_error
 from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry
+from sso.display import Readable
 from sso.limits import BETA_LIMIT_DEG
+from sso.record import Record, register_record
 from sso.validation import finite_in_range, validate_count
 
 SCAN_STEP_DEG = 0.05
@@ -47,6 +49,7 @@ BOX_GRID_POINTS = 21
 BOX_GRID_SIZE = 100_000
 
 
+@register_record
 @dataclass(frozen=True)
 class Interval:
     """Where one angle may lie with the others at nominal and RE at or below the limit.
@@ -79,8 +82,8 @@ class Interval:
         return dict(self.__dict__)
 
 
-@dataclass(frozen=True)
-class ToleranceBand:
+@dataclass(frozen=True, eq=False, repr=False)
+class ToleranceBand(Record, Readable):
     """Outcome of :func:`tolerance_band`.
 
     Attributes
@@ -117,7 +120,7 @@ class ToleranceBand:
     box_grid_max_re: float
     geometry: ColumnGeometry
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {"re_limit": self.re_limit, "nominal_re": self.nominal_re,
                 "yoke_phase_deg": list(self.yoke_phase_deg),

@@ -32,9 +32,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
+from sso.display import Readable
+from sso.record import Record
 from sso.validation import as_float_tuple, check_in_range
 
 RULE_SINGLE = "one joint: the fluctuation cancels only if the joint is straight"
@@ -43,8 +44,8 @@ RULE_CHAIN = ("three or more joints: the fluctuation cancels if cos(beta_max) >=
               "product of cos(beta) of the other joints")
 
 
-@dataclass(frozen=True)
-class CancelVerdict:
+@dataclass(frozen=True, eq=False, repr=False)
+class CancelVerdict(Record, Readable):
     """Whether free yoke phasing can make the output turn evenly.
 
     Attributes
@@ -72,10 +73,6 @@ class CancelVerdict:
     limiting_joint: int
     small_angle_margin_deg2: float
     rule: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return asdict(self)
 
 
 def can_cancel(beta_deg: Sequence[float]) -> CancelVerdict:

@@ -44,7 +44,9 @@ from sso.column.scenarios import (
     solve_phasing_nlp,
     yoke_starts,
 )
+from sso.display import Readable
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
+from sso.record import Record
 from sso.solvers.run import RunLimits
 from sso.validation import (
     finite_float,
@@ -61,8 +63,8 @@ DEFAULT_ON_CENTRE_WEIGHT = 10.0
 MAX_ON_CENTRE_WEIGHT = 1e6
 
 
-@dataclass(frozen=True)
-class SteeringFeel:
+@dataclass(frozen=True, eq=False, repr=False)
+class SteeringFeel(Record, Readable):
     """The speed ratio on-centre and at lock of one design.
 
     Attributes
@@ -92,12 +94,8 @@ class SteeringFeel:
     on_centre_variance: float
     objective: float
 
-    def to_dict(self) -> dict[str, float]:
-        """JSON-ready dictionary of every field."""
-        return dict(self.__dict__)
 
-
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class OnCentreResult(PhasingOutcome):
     """Outcome of :func:`optimise_on_centre`.
 
@@ -117,7 +115,7 @@ class OnCentreResult(PhasingOutcome):
     nominal_feel: SteeringFeel
     nominal: PhasingResult
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {**self.outcome_dict(), "on_centre_weight": self.on_centre_weight,
                 "feel": self.feel.to_dict(), "nominal_feel": self.nominal_feel.to_dict(),

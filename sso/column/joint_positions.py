@@ -75,7 +75,7 @@ DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
 DEFAULT_SHORTEST_FRACTION = 0.5
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class JointPositionResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
@@ -154,7 +154,7 @@ class JointPositionResult(DesignResult):
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "initial": self.initial.to_dict(),

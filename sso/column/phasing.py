@@ -18,6 +18,7 @@ from sso.limits import (
     DEFAULT_STARTS,
     SOLVER_NAMES,
 )
+from sso.record import Record
 
 if TYPE_CHECKING:
     from sso.shafts.optimise import OptimisationResult
@@ -29,8 +30,8 @@ PHASE_BOUNDS_DEG = (-90.0, 270.0)
 SAME_PHASING_DEG = 1e-6
 
 
-@dataclass(frozen=True, repr=False)
-class PhasingResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class PhasingResult(Record, Readable):
     """The best yoke phasing of a column and the reference assemblies.
 
     Attributes

@@ -26,6 +26,7 @@ from sso.column.scenarios import (
     solve_scenarios,
 )
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
+from sso.record import register_record
 from sso.validation import (
     check_choice,
     finite_float,
@@ -40,6 +41,7 @@ ACTIVE_RELATIVE = 1e-6
 DEFAULT_POSITION_STARTS = 4
 
 
+@register_record
 @dataclass(frozen=True)
 class SinglePositionOptimum:
     """The best phasing of one position alone, and what it does at the others.
@@ -59,7 +61,7 @@ class SinglePositionOptimum:
     worst_re: float
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class PositionsResult(PhasingOutcome):
     """Outcome of :func:`optimise_positions`.
 
@@ -95,7 +97,7 @@ class PositionsResult(PhasingOutcome):
     single_position_runs: dict[str, PhasingResult]
     geometries: dict[str, ColumnGeometry]
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures (not the geometries' internals)."""
         return {
             **self.outcome_dict(), "positions_objective": self.positions_objective,

@@ -36,7 +36,7 @@ LOWEST_PERCENTILE = 50.0
 DEFAULT_ROBUST_STARTS = 4
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class RobustResult(PhasingOutcome):
     """Outcome of :func:`optimise_robust`.
 
@@ -80,7 +80,7 @@ class RobustResult(PhasingOutcome):
     geometry: ColumnGeometry
     nominal: PhasingResult
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {
             **self.outcome_dict(), "robust_objective": self.robust_objective,

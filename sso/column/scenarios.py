@@ -30,6 +30,7 @@ import numpy as np
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
 from sso.display import Readable
+from sso.record import Record, register_record
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -47,6 +48,7 @@ YOKE_BOUNDS_DEG = (-180.0, 180.0)
 DEFAULT_TOLERANCE = 1e-13
 
 
+@register_record
 @dataclass(frozen=True)
 class ScenarioRun:
     """The solvers' answers to one phasing problem, before a result is made of them.
@@ -67,8 +69,8 @@ class ScenarioRun:
         return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
 
-@dataclass(frozen=True, repr=False)
-class PhasingOutcome(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class PhasingOutcome(Record, Readable):
     """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
 
     Attributes

@@ -36,6 +36,7 @@ from sso.column.chain_matrix import (
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import CONVENTIONAL_PHASE_DEG
+from sso.record import Record, register_record
 
 ENUMERATION_LIMIT = 200_000
 CHUNK_ROWS = 65_536
@@ -45,6 +46,7 @@ METHODS = ("auto", "enumeration", "branch_and_bound")
 MAX_TEETH = 1000
 
 
+@register_record
 @dataclass(frozen=True)
 class YokeInstruction:
     """How a fitter sets the yoke at the downstream end of one intermediate shaft.
@@ -71,8 +73,8 @@ class YokeInstruction:
     text: str
 
 
-@dataclass(frozen=True, repr=False)
-class SplineResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class SplineResult(Record, Readable):
     """Best tooth positions of a column's yokes.
 
     Attributes

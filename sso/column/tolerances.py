@@ -15,6 +15,8 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.scenarios import cvar, scenario_re
+from sso.display import Readable
+from sso.record import Record, register_record
 from sso.validation import check_choice, finite_in_range, validate_count
 
 DISTRIBUTIONS = ("normal", "uniform")
@@ -27,6 +29,7 @@ MAX_SAMPLES = 1_000
 DEFAULT_SAMPLES = 200
 
 
+@register_record
 @dataclass(frozen=True)
 class Tolerances:
     """Manufacturing tolerances of a column and the sample that represents them.
@@ -151,8 +154,8 @@ class ToleranceSample:
         return scenario_re(self.beta_rad, self.gamma_rad, yoke_phase_deg)
 
 
-@dataclass(frozen=True)
-class SampleStudy:
+@dataclass(frozen=True, eq=False, repr=False)
+class SampleStudy(Record, Readable):
     """RE of one design over a sample: the figures a tolerance study reports.
 
     Attributes
@@ -180,8 +183,3 @@ class SampleStudy:
         return cls(nominal_re=float(nominal_re), mean=float(np.mean(values)),
                    p50=float(np.percentile(values, 50.0)), p95=float(np.percentile(values, 95.0)),
                    max=float(np.max(values)), cvar95=cvar(values, weights, 0.95))
-
-    def to_dict(self) -> dict[str, float]:
-        """JSON-ready dictionary of every figure."""
-        return {"nominal_re": self.nominal_re, "mean": self.mean, "p50": self.p50,
-                "p95": self.p95, "max": self.max, "cvar95": self.cvar95}

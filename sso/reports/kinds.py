@@ -18,6 +18,7 @@ class attribute.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,8 +26,14 @@ from typing import Any
 
 from sso.files import replace_folder
 from sso.limits import OUTPUT_FORMATS
+from sso.record import Record
 
 Renderer = Callable[[Any, tuple[str, ...]], dict[str, bytes]]
+
+RESULT_FILE = "result.json"
+"""The saved result in every report folder; :meth:`sso.record.Record.from_dict` reads it."""
+RECORD_KIND = "record"
+"""The report kind of a result without one of its own: its summary and its record."""
 
 
 @dataclass(frozen=True)
@@ -56,16 +63,24 @@ def register_report_kind(name: str, render: Renderer) -> None:
 def report_kind_of(result: Any) -> ReportKind:
     """The report kind of ``result`` (a mapping is a result document).
 
+    A result that names no kind of its own is reported by the kind ``"record"``:
+    its summary as Markdown and HTML, and its saved form.
+
     Raises
     ------
     TypeError
         If ``result`` is no result sso can report.
     """
-    name = "document" if isinstance(result, Mapping) else getattr(result, "report_kind", None)
+    if isinstance(result, Mapping):
+        name: Any = "document"
+    elif isinstance(result, Record):
+        name = getattr(result, "report_kind", RECORD_KIND)
+    else:
+        name = None
     if not isinstance(name, str) or name not in REPORT_KINDS:
-        raise TypeError(f"result must be an sso result (OptimisationResult, "
-                        "FourBarDesignResult, SweepResult, ToleranceResult, a mechanism "
-                        f"analysis) or a result document, not {type(result).__name__}")
+        raise TypeError("result must be an sso result (an object sso.optimise, "
+                        "sso.optimise_phasing, sso.sweep or another sso function returns) "
+                        f"or a result document, not {type(result).__name__}")
     return REPORT_KINDS[name]
 
 
@@ -92,7 +107,16 @@ def validate_formats(formats: Any) -> tuple[str, ...]:
 def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str, bytes]:
     """Contents of the report files of ``result`` (nothing is written)."""
     kind = report_kind_of(result)
-    return kind.render(result, validate_formats(formats))
+    chosen = validate_formats(formats)
+    files = kind.render(result, chosen)
+    if "json" in chosen and isinstance(result, Record):
+        files[RESULT_FILE] = record_json(result).encode("utf-8")
+    return files
+
+
+def record_json(result: Record) -> str:
+    """The saved form of ``result`` (what ``result.json`` holds), strict JSON."""
+    return json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
 
 
 def write_report(result: Any, folder: str | Path,
@@ -159,7 +183,14 @@ def _render_mechanism_table(table: Any, formats: tuple[str, ...]) -> dict[str, b
     return table_report(table, formats)
 
 
+def _render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.record_report import render_record
+
+    return render_record(result, formats)
+
+
 register_report_kind("document", _render_document)
 register_report_kind("optimisation", _render_optimisation)
 register_report_kind("fourbar_design", _render_fourbar_design)
 register_report_kind("mechanism_table", _render_mechanism_table)
+register_report_kind(RECORD_KIND, _render_record)

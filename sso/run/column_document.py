@@ -106,7 +106,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             from sso.column.joint_positions import optimise_joint_positions
 
             moved = optimise_joint_positions(geometry, **case.joint_position_options())
-            document["joint_positions"] = moved.to_dict()
+            document["joint_positions"] = moved._document_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")
         if has_robust_part(case):

@@ -95,7 +95,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
             shared = optimise_positions(positions, positions_objective=objective,
                                         weights=case.values["phasing.position_weights"],
                                         **options)
-            section["positions"]["result"] = _without_geometries(shared.to_dict())
+            section["positions"]["result"] = _without_geometries(shared._document_dict())
             add("positions", f"one phasing for every position ({objective})",
                 shared.yoke_phase_deg)
             success = success and shared.success
@@ -110,7 +110,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
             robust = optimise_robust(geometry, tolerances,
                                      robust_objective=case.values["tolerances.robust_objective"],
                                      **options)
-            section["tolerances"]["result"] = _without_geometries(robust.to_dict())
+            section["tolerances"]["result"] = _without_geometries(robust._document_dict())
             add("robust", f"tolerance-aware ({robust.robust_objective})", robust.yoke_phase_deg)
             success = success and robust.success
             verdicts.append(f"tolerances: {robust.message}")
@@ -130,7 +130,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
                     "ratio is flat on-centre and at lock, so it is the on-centre phasing too")
             else:
                 centred = optimise_on_centre(geometry, **feel, **options)
-                section["feel"]["result"] = centred.to_dict()
+                section["feel"]["result"] = centred._document_dict()
                 add("on_centre", "on-centre (steering feel)", centred.yoke_phase_deg)
                 success = success and centred.success
                 verdicts.append(f"steering feel: {centred.message}")
@@ -184,7 +184,7 @@ def _design_figures(entry: dict[str, Any], geometry: ColumnGeometry,
         entry["feel"] = steering_feel((geometry, yoke), **feel).to_dict()
     if limit is not None:
         if nominal <= limit:
-            band = tolerance_band((geometry, yoke), limit).to_dict()
+            band = tolerance_band((geometry, yoke), limit)._document_dict()
             band.pop("geometry")
             entry["band"] = band
         else:

@@ -82,7 +82,7 @@ def optimisation_document(result: OptimisationResult, case: Case | None = None) 
                            result.optimum),
     }
     _add_reference(document, case)
-    outcome = result.to_dict()
+    outcome = result._document_dict()
     document.update({
         "start": outcome["start_series"],
         "bounds": {"beta_deg": outcome["beta_bounds_deg"],

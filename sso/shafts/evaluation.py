@@ -18,6 +18,7 @@ from sso.kinematics.hooke_matrix import (
     residual_error,
 )
 from sso.limits import DEFAULT_INPUT_SPEED_RPM
+from sso.record import register_record
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.quadrature import (
     DEFAULT_ATOL,
@@ -65,6 +66,7 @@ SUMMARY_FIGURES = (
 )
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class Evaluation(Readable):
     """Figures of merit of a design, all over one revolution at constant input speed.

@@ -59,7 +59,7 @@ CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
 
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class OptimisationResult(DesignResult):
     """Everything one optimisation found; reports are rendered from it alone.
 
@@ -141,6 +141,7 @@ class OptimisationResult(DesignResult):
         return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
 
     report_kind: ClassVar[str] = "optimisation"
+    _record_derived: ClassVar[tuple[str, ...]] = ("initial", "optimum")
 
     def _repr_text(self) -> str:
         verdict = "success" if self.success else "FAILED"
@@ -169,7 +170,7 @@ class OptimisationResult(DesignResult):
         return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
                 and self.optimum.quadrature_converged)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "option": self.option,

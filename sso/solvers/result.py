@@ -12,11 +12,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from sso.display import Part, Readable, TextTable, format_number
+from sso.record import Record
 from sso.solvers.solution import CrossCheck, Solution
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
-class DesignResult(Readable):
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class DesignResult(Record, Readable):
     """What the solvers found for one design problem.
 
     ``x``, ``fun``, ``nit``, ``nfev``, ``status``, ``message`` and ``success`` read
@@ -90,10 +91,6 @@ class DesignResult(Readable):
             "local_minima": list(self.local_minima),
             "success": self.success,
         }
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (subclasses add their problem's part)."""
-        return self.solver_dict()
 
     def _solver_parts(self, objective: str, kkt: str) -> list[Part]:
         """The solvers table and the cross-check line of a summary.

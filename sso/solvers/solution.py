@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.record import register_record
 
 
 class SeriesDesign(Protocol):
@@ -22,6 +23,7 @@ class SeriesDesign(Protocol):
     def phase_deg(self) -> Sequence[float]: ...
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class Solution(Readable):
     """One solver's answer, named after :class:`scipy.optimize.OptimizeResult`.
@@ -118,6 +120,7 @@ class Solution(Readable):
         }
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class CrossCheck(Readable):
     """Verdict of comparing solvers by objective value and first-order optimality.

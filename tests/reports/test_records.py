@@ -1,0 +1,140 @@
+"""Every public result is its own record: made through the public API, reported with
+``sso.write_report``, and read back from its ``result.json`` into an equal object."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+
+import sso
+from sso.display import REPR_LIMIT
+from sso.record import RECORD_VERSION, Record, RecordError
+
+# The column of tests/data/columns/truck_three_positions.json (tilt down), three joints.
+TILT_DOWN = ((0.0, 0.0, 0.0), (0.0, 0.0, 300.0), (40.0, 25.0, 620.0), (130.0, 60.0, 850.0),
+             (230.0, 60.0, 1050.0))
+TILT_UP = ((0.0, 0.0, 0.0), (0.0, 0.0, 300.0), (45.0, 20.0, 630.0), (130.0, 62.0, 860.0),
+           (230.0, 60.0, 1050.0))
+SERIES = sso.ShaftSeries([10.0, 15.0, 12.0], [80.0, 95.0])
+
+
+def column() -> sso.ColumnGeometry:
+    return sso.ColumnGeometry(TILT_DOWN)
+
+
+def phasing() -> sso.PhasingResult:
+    return sso.optimise_phasing(column(), starts=2)
+
+
+def tolerances() -> sso.Tolerances:
+    return sso.Tolerances(hardpoint_mm=0.5, yoke_phase_deg=0.5, samples=20, seed=3)
+
+
+MAKERS: dict[str, Callable[[], Any]] = {
+    "OptimisationResult": lambda: sso.optimise(SERIES, 1, starts=2),
+    "PhasingResult": phasing,
+    "SplineResult": lambda: sso.best_spline_teeth(column(), 24),
+    "CancelVerdict": lambda: sso.can_cancel(column().beta_deg),
+    "ToleranceBand": lambda: sso.tolerance_band(phasing(), re_limit=2.0 * phasing().fun + 1e-6),
+    "SampleStudy": lambda: sso.optimise_robust(column(), tolerances(), starts=2).robust_study,
+    "SteeringFeel": lambda: sso.steering_feel((column(), (10.0, -60.0)),
+                                              straight_ahead_deg=20.0, lock_deg=540.0),
+    "OnCentreResult": lambda: sso.optimise_on_centre(column(), straight_ahead_deg=45.0,
+                                                     lock_deg=600.0, starts=2),
+    "PositionsResult": lambda: sso.optimise_positions(
+        {"tilt_down": column(), "tilt_up": sso.ColumnGeometry(TILT_UP)}, starts=2),
+    "RobustResult": lambda: sso.optimise_robust(column(), tolerances(), starts=2),
+    "JointPositionResult": lambda: sso.optimise_joint_positions(
+        column(), joint_boxes_mm=[[[x - 5.0, y - 5.0, z - 5.0], [x + 5.0, y + 5.0, z + 5.0]]
+                                  for x, y, z in TILT_DOWN[1:-1]], starts=2),
+    "ExcitationTable": lambda: sso.excitation_table(SERIES, [1000.0, 2500.0], vehicle="car"),
+    "SweepResult": lambda: sso.sweep({"design": {"beta_deg": [20.0]}},
+                                     {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate",
+                                     workers=1, plots=False, progress=False),
+    "ToleranceResult": lambda: sso.tolerance_study(SERIES, beta_tolerance_deg=0.5, samples=30,
+                                                   seed=1),
+    "FourBarDesignResult": lambda: sso.design_fourbar(
+        sso.FourBar(ground=12, crank=2, coupler=15, rocker=9), crank_bounds=(1.0, 3.0),
+        coupler_bounds=(12.0, 18.0), rocker_bounds=(6.0, 12.0), starts=2),
+    "MechanismTable": lambda: sso.FourBar(ground=12, crank=4, coupler=15, rocker=9).analyse(
+        np.arange(0.0, 360.0, 30.0), crank_speed=1.0),
+    "BatchResult": lambda: sso.optimise_batch([[10.0, 15.0], [20.0, 5.0]], [[90.0], [45.0]],
+                                              option=3),
+}
+
+
+def public_result_classes() -> set[str]:
+    """Every class in ``sso.__all__`` that is a record."""
+    return {name for name in sso.__all__ if isinstance(getattr(sso, name), type)
+            and issubclass(getattr(sso, name), Record)}
+
+
+def test_every_public_result_class_has_a_maker_here():
+    assert public_result_classes() == set(MAKERS)
+
+
+@pytest.mark.parametrize("name", sorted(MAKERS))
+def test_result_is_its_own_record(name, tmp_path):
+    result = MAKERS[name]()
+    assert type(result).__name__ == name
+    written = sso.write_report(result, tmp_path / "report", formats=("json", "md", "html"))
+    assert {path.name for path in written} >= {"result.json", "report.md", "report.html"}
+    saved = json.loads((tmp_path / "report" / "result.json").read_text())
+    assert saved["version"] == RECORD_VERSION and saved["type"] == name
+    reloaded = type(result).from_dict(saved)
+    assert reloaded == result
+    assert reloaded.to_dict() == result.to_dict()
+    assert reloaded.summary() == result.summary()
+    # one line of at most 400 characters; the summary and the notebook view exist
+    assert "\n" not in repr(result) and len(repr(result)) <= REPR_LIMIT
+    assert result.summary().strip() and result._repr_html_().startswith("<div>")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert markdown.startswith("# ")
+
+
+def test_a_reloaded_optimisation_recomputes_nothing():
+    result = sso.optimise(SERIES, 1, starts=2)
+    reloaded = sso.OptimisationResult.from_dict(result.to_dict())
+    # the evaluations were saved and are read back, not evaluated again
+    assert "initial" in reloaded.__dict__ and "optimum" in reloaded.__dict__
+    assert reloaded.optimum.residual_error == result.optimum.residual_error
+
+
+def test_from_dict_refuses_another_version_or_type():
+    saved = sso.can_cancel([10.0, 12.0, 5.0]).to_dict()
+    with pytest.raises(RecordError, match="version = 2; this sso reads version 1"):
+        sso.CancelVerdict.from_dict({**saved, "version": 2})
+    with pytest.raises(RecordError, match="type = 'bogus' is no sso result type"):
+        sso.CancelVerdict.from_dict({**saved, "type": "bogus"})
+    with pytest.raises(RecordError, match="type = 'PhasingResult'; allowed: CancelVerdict"):
+        sso.CancelVerdict.from_dict({**saved, "type": "PhasingResult"})
+    with pytest.raises(RecordError, match="margin is missing"):
+        sso.CancelVerdict.from_dict({key: value for key, value in saved.items()
+                                     if key != "margin"})
+    with pytest.raises(RecordError, match="colour is not a field of CancelVerdict"):
+        sso.CancelVerdict.from_dict({**saved, "colour": "red"})
+    with pytest.raises(RecordError, match="limiting_joint = 1.5; allowed: an integer"):
+        sso.CancelVerdict.from_dict({**saved, "limiting_joint": 1.5})
+
+
+@pytest.mark.parametrize(("path", "value", "message"), [
+    (("input_speed_rpm",), -25.0, "input_speed_rpm = -25.0; allowed: a finite number > 0"),
+    (("option",), 99, "option = 99; allowed: 1, 2 or 3"),
+    (("model",), "bogus", "model = 'bogus'; allowed: exact or paper"),
+    (("optimum", "residual_error"), -5.0, "optimum.residual_error = -5.0; allowed: a finite"),
+    (("best", "fun"), {"float": "nan"}, "best.fun = nan with success = true"),
+    (("initial_series", "beta_deg", 0), 95.0, r"beta_deg\[0\] = 95"),
+])
+def test_from_dict_checks_values_as_strictly_as_case_files(path, value, message):
+    saved = sso.optimise(SERIES, 1, starts=1, solvers="ipopt").to_dict()
+    edited = json.loads(json.dumps(saved))
+    target = edited
+    for key in path[:-1]:
+        target = target[key]
+    target[path[-1]] = value
+    with pytest.raises(RecordError, match=message):
+        sso.OptimisationResult.from_dict(edited)
