@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import json
 import math
 import types
 import typing
@@ -33,6 +34,7 @@ from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
+from sso.files import read_input_bytes
 from sso.kinematics.hooke import MODELS
 from sso.validation import shown
 
@@ -43,6 +45,18 @@ _REGISTERED: dict[str, type] = {}
 
 Registered = TypeVar("Registered", bound=type)
 R = TypeVar("R", bound="Record")
+
+
+def _non_negative(value: Any) -> bool:
+    return isinstance(value, float) and math.isfinite(value) and value >= 0.0
+
+
+def _positive(value: Any) -> bool:
+    return isinstance(value, float) and math.isfinite(value) and value > 0.0
+
+
+FieldRule = tuple[Callable[[Any], bool], str]
+NON_NEGATIVE: FieldRule = (_non_negative, "a finite number >= 0")
 
 
 class RecordError(ValueError):
@@ -92,6 +106,8 @@ class Record:
 
     _record_derived: ClassVar[tuple[str, ...]] = ()
     """Cached properties saved with the record, so a reloaded result recomputes nothing."""
+    _record_rules: ClassVar[dict[str, FieldRule]] = {}
+    """Ranges of this class's fields beyond :data:`FIELD_RULES` (e.g. ``fun`` an RE)."""
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -126,7 +142,7 @@ class Record:
     def __eq__(self, other: object) -> bool:
         if type(other) is not type(self):
             return NotImplemented
-        return self.to_dict() == typing.cast(Record, other).to_dict()
+        return self.to_dict() == other.to_dict()
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -141,6 +157,32 @@ def record_classes() -> dict[str, type]:
             register_record(cls)
             del _PENDING[name]
     return dict(_REGISTERED)
+
+
+def read_json_object(path: str | Path) -> dict[str, Any]:
+    """The JSON object in the file ``path`` (a saved result), read safely.
+
+    Raises
+    ------
+    RecordError
+        If the file is unreadable, not UTF-8 JSON, nested too deeply, holds a
+        number that cannot be read, or is not a JSON object.
+    """
+    try:
+        data = read_input_bytes(path)
+    except ValueError as error:
+        raise RecordError(f"{path}: cannot read the result file: {error}") from None
+    try:
+        saved = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise RecordError(f"{path}: not a JSON result file: {error}") from None
+    except ValueError as error:  # int() of a number with more than 4300 digits
+        raise RecordError(f"{path}: a number cannot be read: {error}") from None
+    except RecursionError:
+        raise RecordError(f"{path}: arrays or objects are nested too deeply to read") from None
+    if not isinstance(saved, dict):
+        raise RecordError(f"{path}: not a saved result (a JSON object is expected)")
+    return saved
 
 
 def encode(value: Any) -> Any:
@@ -341,8 +383,9 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
         raise RecordError(f"{_join(path, missing[0])} is missing (a field of {cls.__name__})")
     arguments = {field.name: decode(value[field.name], hints[field.name],
                                     _join(path, field.name)) for field in fields}
+    rules = {**FIELD_RULES, **getattr(cls, "_record_rules", {})}
     for field_name, field_value in arguments.items():
-        check_field(_join(path, field_name), field_name, field_value, arguments)
+        check_field(_join(path, field_name), field_name, field_value, arguments, rules)
     try:
         made = cls(**arguments)
     except (ValueError, TypeError) as error:
@@ -377,44 +420,37 @@ def _derived_hint(cls: type, name: str) -> Any:
     return typing.get_type_hints(function, localns=record_classes())["return"]
 
 
-def _non_negative(value: Any) -> bool:
-    return isinstance(value, float) and math.isfinite(value) and value >= 0.0
-
-
-def _positive(value: Any) -> bool:
-    return isinstance(value, float) and math.isfinite(value) and value > 0.0
-
-
-FieldRule = tuple[Callable[[Any], bool], str]
-
 FIELD_RULES: dict[str, FieldRule] = {
     "option": (lambda value: value in (1, 2, 3), "1, 2 or 3"),
     "model": (lambda value: value in MODELS, " or ".join(MODELS)),
     "input_speed_rpm": (_positive, "a finite number > 0"),
-    "speed_min_rpm": (_non_negative, "a finite number >= 0"),
-    "speed_max_rpm": (_non_negative, "a finite number >= 0"),
-    "residual_error": (_non_negative, "a finite number >= 0"),
-    "fluctuation": (_non_negative, "a finite number >= 0"),
-    "fluctuation_rpm": (_non_negative, "a finite number >= 0"),
-    "minimum_residual_error": (_non_negative, "a finite number >= 0"),
-    "nominal_re": (_non_negative, "a finite number >= 0"),
+    "speed_min_rpm": NON_NEGATIVE,
+    "speed_max_rpm": NON_NEGATIVE,
+    "residual_error": NON_NEGATIVE,
+    "fluctuation": NON_NEGATIVE,
+    "fluctuation_rpm": NON_NEGATIVE,
+    "minimum_residual_error": NON_NEGATIVE,
+    
     "starts": (lambda value: value >= 1, "an integer >= 1"),
     "samples": (lambda value: value >= 0, "an integer >= 0"),
 }
 """Ranges of the fields that every result reads the same way, by field name."""
 
 
-def check_field(path: str, name: str, value: Any, fields: Mapping[str, Any]) -> None:
-    """Check one decoded field against :data:`FIELD_RULES` and the solver rule.
+def check_field(path: str, name: str, value: Any, fields: Mapping[str, Any],
+                rules: Mapping[str, FieldRule] = FIELD_RULES) -> None:
+    """Check one decoded field against its rule and the solver rule.
 
-    The solver rule: an answer that says it succeeded has a finite objective.
+    A field's rule is the one ``rules`` names it by, else every field whose name
+    ends in ``_re`` is a residual error (a finite number >= 0). The solver rule:
+    an answer that says it succeeded has a finite objective.
 
     Raises
     ------
     RecordError
         Naming the field, its value and the allowed range.
     """
-    rule = FIELD_RULES.get(name)
+    rule = rules.get(name, NON_NEGATIVE if name.endswith("_re") else None)
     if rule is not None and not isinstance(value, (tuple, list, dict, np.ndarray)):
         accepts, allowed = rule
         if not accepts(value):
@@ -423,3 +459,92 @@ def check_field(path: str, name: str, value: Any, fields: Mapping[str, Any]) -> 
             and not math.isfinite(value)):
         raise RecordError(f"{path} = {shown(value)} with success = true; allowed: a finite "
                           "number (a solver that succeeded has a finite objective)")
+
+
+JsonSchema = dict[str, Any]
+SCHEMA_DRAFT = "https://json-schema.org/draft/2020-12/schema"
+_ARRAY_SCHEMA: JsonSchema = {
+    "type": "object", "required": ["dtype", "shape", "data"], "additionalProperties": False,
+    "description": "a numpy array: its dtype (numpy's name), its shape and its values in "
+                   "C order",
+    "properties": {"dtype": {"type": "string"},
+                   "shape": {"type": "array", "items": {"type": "integer", "minimum": 0}},
+                   "data": {"type": "array"}}}
+_NON_FINITE_SCHEMA: JsonSchema = {
+    "type": "object", "required": ["float"], "additionalProperties": False,
+    "description": "a number that strict JSON cannot hold",
+    "properties": {"float": {"enum": sorted(_NON_FINITE)}}}
+
+
+def json_schema(results: tuple[type, ...]) -> JsonSchema:
+    """The JSON Schema (draft 2020-12) of the saved form of ``results`` (record classes).
+
+    Built from the same fields and type hints as the codec, so it cannot hold a
+    second copy of them. ``type`` picks the class; :meth:`Record.from_dict` stays
+    the primary check (it also checks ranges and each constructor's rules).
+    """
+    definitions: dict[str, JsonSchema] = {"array": _ARRAY_SCHEMA, "non_finite": _NON_FINITE_SCHEMA}
+    pending = list(results)
+    while pending:
+        cls = pending.pop()
+        if cls.__name__ in definitions:
+            continue
+        properties: dict[str, JsonSchema] = {"type": {"const": cls.__name__}}
+        if cls in results:
+            properties["version"] = {"const": RECORD_VERSION}
+        hints = _hints(cls)
+        names = [field.name for field in _init_fields(cls)]
+        for name in names:
+            properties[name] = _type_schema(hints[name], pending)
+        for name in getattr(cls, "_record_derived", ()):
+            names.append(name)
+            properties[name] = _type_schema(_derived_hint(cls, name), pending)
+        definitions[cls.__name__] = {"type": "object", "required": ["type", *names],
+                                     "additionalProperties": False, "properties": properties}
+    names = sorted(cls.__name__ for cls in results)
+    return {
+        "$schema": SCHEMA_DRAFT,
+        "title": "sso result (result.json)",
+        "description": "A result saved by sso.write_report or the sso command; read it "
+                       "back with the from_dict() of the class that 'type' names.",
+        "type": "object",
+        "required": ["version", "type"],
+        "properties": {"version": {"const": RECORD_VERSION}, "type": {"enum": names}},
+        "allOf": [{"if": {"properties": {"type": {"const": name}}},
+                   "then": {"$ref": f"#/$defs/{name}"}} for name in names],
+        "$defs": dict(sorted(definitions.items())),
+    }
+
+
+def _type_schema(declared: Any, pending: list[type]) -> JsonSchema:
+    origin = typing.get_origin(declared)
+    if declared is Any or declared is object:
+        return {}
+    if origin in (typing.Union, types.UnionType):
+        return {"anyOf": [_type_schema(option, pending) for option in typing.get_args(declared)]}
+    if origin in (tuple, list):
+        arguments = typing.get_args(declared)
+        if origin is list or (len(arguments) == 2 and arguments[1] is Ellipsis):
+            return {"type": "array", "items": _type_schema(arguments[0] if arguments else Any,
+                                                           pending)}
+        items = [_type_schema(argument, pending) for argument in arguments]
+        unique = [item for index, item in enumerate(items) if item not in items[:index]]
+        return {"type": "array", "minItems": len(items), "maxItems": len(items),
+                "items": unique[0] if len(unique) == 1 else {"anyOf": unique}}
+    if origin in (dict, Mapping) or declared is dict:
+        arguments = typing.get_args(declared) or (str, Any)
+        return {"type": "object", "additionalProperties": _type_schema(arguments[1], pending)}
+    number = {"anyOf": [{"type": "number"}, {"$ref": "#/$defs/non_finite"}]}
+    simple: dict[Any, JsonSchema] = {
+        float: number, int: {"type": "integer"}, bool: {"type": "boolean"},
+        str: {"type": "string"}, type(None): {"type": "null"}, Path: {"type": "string"},
+        np.ndarray: {"$ref": "#/$defs/array"}}
+    if declared in simple:
+        return dict(simple[declared])
+    if isinstance(declared, type) and _is_protocol(declared):
+        return {"type": "object", "required": ["type"],
+                "description": f"any result part that is a {declared.__name__}"}
+    if isinstance(declared, type) and dataclasses.is_dataclass(declared):
+        pending.append(declared)
+        return {"$ref": f"#/$defs/{declared.__name__}"}
+    raise TypeError(f"no JSON Schema for the type {declared!r}")

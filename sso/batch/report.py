@@ -79,7 +79,8 @@ def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     if "csv" in formats:
         files[TOLERANCE_CSV] = _tolerance_csv(result).encode("utf-8")
     if "json" in formats:
-        files[TOLERANCE_JSON] = (json.dumps(result._document_dict(), indent=2) + "\n").encode("utf-8")
+        summary = json.dumps(result._document_dict(), indent=2) + "\n"
+        files[TOLERANCE_JSON] = summary.encode("utf-8")
     images = {TOLERANCE_PLOT: _png(_tolerance_figure(result))} if "png" in formats else {}
     files.update(images)
     _add_documents(files, formats, _tolerance_blocks(result, tuple(images)), images)

@@ -32,6 +32,9 @@ def _report(args: argparse.Namespace) -> int:
 
     exit_code = EXIT_OK
     for path in args.results:
+        if _is_saved_result(path):
+            exit_code = max(exit_code, _report_saved_result(args, path))
+            continue
         try:
             document = read_result(path)
         except ResultFileError as error:
@@ -63,6 +66,48 @@ def _report(args: argparse.Namespace) -> int:
         say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
             f"in {folder}")
     return exit_code
+
+
+def _is_saved_result(path: str) -> bool:
+    """True for a ``result.json`` that holds a saved result object (``"version"``)."""
+    from sso.files import read_input_bytes
+
+    try:
+        head = read_input_bytes(path)[:4096].decode("utf-8", errors="replace")
+    except ValueError:
+        return False
+    return '"schema_version"' not in head
+
+
+def _report_saved_result(args: argparse.Namespace, path: str) -> int:
+    """Read a saved result back (``from_dict``) and write its report; the exit code."""
+    from sso.cli.saved_results import read_saved_result
+    from sso.files import check_report_folder
+    from sso.limits import OUTPUT_FORMATS
+    from sso.record import RecordError
+    from sso.reports.kinds import write_report
+
+    try:
+        result = read_saved_result(path)
+    except RecordError as error:
+        print_error(str(error))
+        return EXIT_BAD_INPUT
+    formats = report_formats(args, [name for name in OUTPUT_FORMATS if name != "json"])
+    folder = Path(path).parent if args.out is None else Path(args.out)
+    if args.out is not None and len(args.results) > 1:
+        folder = folder / Path(path).resolve().parent.name
+    try:
+        check_report_folder(folder)
+        written = write_report(result, folder, ("json", *formats))
+    except ValueError as error:
+        print_error(f"{path}: cannot write the report: {error}")
+        return EXIT_BAD_INPUT
+    except OSError as error:
+        print_error(f"{path}: cannot write the report into {folder}: {error.strerror or error}")
+        return EXIT_BAD_INPUT
+    say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
+        f"in {folder}")
+    return EXIT_OK
 
 
 def _not_a_result(args: argparse.Namespace, path: str, document: Any,

@@ -34,7 +34,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sso.display import Readable
+from sso.display import Part, Readable, TextTable, format_number
 from sso.record import Record
 from sso.validation import as_float_tuple, check_in_range
 
@@ -73,6 +73,21 @@ class CancelVerdict(Record, Readable):
     limiting_joint: int
     small_angle_margin_deg2: float
     rule: str
+
+    def _repr_text(self) -> str:
+        return (f"possible={self.possible}, margin={format_number(self.margin)}, "
+                f"minimum_residual_error={format_number(self.minimum_residual_error)}, "
+                f"limiting joint P{self.limiting_joint}")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = ("yes: some yoke phasing cancels the fluctuation (RE = 0)" if self.possible
+                   else "no: no yoke phasing cancels the fluctuation")
+        return [f"Can the fluctuation cancel? {verdict}", TextTable(("figure", "value"), (
+            ("margin cos(beta_max) - prod cos(beta_other)", format_number(self.margin)),
+            ("least RE of any phasing", format_number(self.minimum_residual_error)),
+            ("limiting joint (largest angle)", f"P{self.limiting_joint}"),
+            ("small-angle margin (deg^2)", format_number(self.small_angle_margin_deg2)))),
+            f"rule: {self.rule}"]
 
 
 def can_cancel(beta_deg: Sequence[float]) -> CancelVerdict:

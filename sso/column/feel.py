@@ -27,7 +27,7 @@ cross-and-yoke simulation), of period 180 deg and mean 1 over a period.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -44,7 +44,7 @@ from sso.column.scenarios import (
     solve_phasing_nlp,
     yoke_starts,
 )
-from sso.display import Readable
+from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
 from sso.record import Record
 from sso.solvers.run import RunLimits
@@ -94,6 +94,23 @@ class SteeringFeel(Record, Readable):
     on_centre_variance: float
     objective: float
 
+    def _repr_text(self) -> str:
+        return (f"on-centre fluctuation {format_number(self.on_centre_fluctuation)}, at lock "
+                f"{format_number(self.lock_fluctuation)}, RE {format_number(self.re)}")
+
+    def _summary_parts(self) -> list[Part]:
+        return [f"Steering feel: straight ahead at {format_number(self.straight_ahead_deg)} deg, "
+                f"windows +-{format_number(self.window_deg)} deg, lock "
+                f"{format_number(self.lock_deg)} deg",
+                TextTable(("figure", "value"), (
+                    ("speed-ratio fluctuation on-centre (peak to peak)",
+                     format_number(self.on_centre_fluctuation)),
+                    ("speed-ratio fluctuation at lock (peak to peak)",
+                     format_number(self.lock_fluctuation)),
+                    ("residual error RE", format_number(self.re)),
+                    ("on-centre variance V", format_number(self.on_centre_variance)),
+                    ("objective RE + weight V", format_number(self.objective))))]
+
 
 @dataclass(frozen=True, eq=False, repr=False)
 class OnCentreResult(PhasingOutcome):
@@ -118,7 +135,7 @@ class OnCentreResult(PhasingOutcome):
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {**self.outcome_dict(), "on_centre_weight": self.on_centre_weight,
-                "feel": self.feel.to_dict(), "nominal_feel": self.nominal_feel.to_dict(),
+                "feel": asdict(self.feel), "nominal_feel": asdict(self.nominal_feel),
                 "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg)}
 
 

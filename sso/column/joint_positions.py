@@ -30,7 +30,7 @@ import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -49,6 +49,7 @@ from sso.limits import (
     MAX_ITERATIONS,
     MAX_STARTS,
 )
+from sso.record import NON_NEGATIVE, FieldRule
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -111,6 +112,8 @@ class JointPositionResult(DesignResult):
     run converged, feasible, and the solvers agree) come from
     :class:`sso.solvers.result.DesignResult`.
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     initial: ColumnGeometry
     geometry: ColumnGeometry

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -18,7 +18,7 @@ from sso.limits import (
     DEFAULT_STARTS,
     SOLVER_NAMES,
 )
-from sso.record import Record
+from sso.record import NON_NEGATIVE, FieldRule, Record
 
 if TYPE_CHECKING:
     from sso.shafts.optimise import OptimisationResult
@@ -67,6 +67,8 @@ class PhasingResult(Record, Readable):
     optimisation : sso.OptimisationResult
         The option-1 run of :func:`sso.optimise` (IPOPT and SLSQP, cross-checked).
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     geometry: ColumnGeometry
     x: tuple[float, ...]

@@ -12,7 +12,7 @@ percentiles of the robust design and of the nominal optimum on the same sample.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -88,10 +88,10 @@ class RobustResult(PhasingOutcome):
             "nominal_optimum_re": self.nominal_optimum_re,
             "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg),
             "nominal_re_given_up": self.nominal_re_given_up,
-            "robust_study": self.robust_study.to_dict(),
-            "nominal_study": self.nominal_study.to_dict(),
-            "validation_robust_study": self.validation_robust_study.to_dict(),
-            "validation_nominal_study": self.validation_nominal_study.to_dict(),
+            "robust_study": asdict(self.robust_study),
+            "nominal_study": asdict(self.nominal_study),
+            "validation_robust_study": asdict(self.validation_robust_study),
+            "validation_nominal_study": asdict(self.validation_nominal_study),
             "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
         }
 

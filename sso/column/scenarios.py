@@ -23,14 +23,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
 from sso.display import Readable
-from sso.record import Record, register_record
+from sso.record import NON_NEGATIVE, FieldRule, Record, register_record
 from sso.solvers.crosscheck import (
     DEFAULT_KKT_TOLERANCE,
     DEFAULT_OBJECTIVE_ATOL,
@@ -94,6 +94,8 @@ class PhasingOutcome(Record, Readable):
     crosscheck : sso.CrossCheck or None
         Verdict on the solvers (None with one solver).
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     x: tuple[float, ...]
     fun: float

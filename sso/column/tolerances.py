@@ -15,7 +15,7 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.scenarios import cvar, scenario_re
-from sso.display import Readable
+from sso.display import Part, Readable, TextTable, format_number
 from sso.record import Record, register_record
 from sso.validation import check_choice, finite_in_range, validate_count
 
@@ -154,6 +154,9 @@ class ToleranceSample:
         return scenario_re(self.beta_rad, self.gamma_rad, yoke_phase_deg)
 
 
+SAMPLE_FIGURES = ("nominal_re", "mean", "p50", "p95", "max", "cvar95")
+
+
 @dataclass(frozen=True, eq=False, repr=False)
 class SampleStudy(Record, Readable):
     """RE of one design over a sample: the figures a tolerance study reports.
@@ -175,6 +178,16 @@ class SampleStudy(Record, Readable):
     p95: float
     max: float
     cvar95: float
+
+    def _repr_text(self) -> str:
+        return ", ".join(f"{name}={format_number(getattr(self, name))}" for name in SAMPLE_FIGURES)
+
+    def _summary_parts(self) -> list[Part]:
+        labels = ("RE of the nominal column", "mean RE", "median RE", "95th percentile of RE",
+                  "largest RE", "mean of the worst 5 % (CVaR 95)")
+        return ["RE over a sample of built columns", TextTable(("figure", "RE"), tuple(
+            (label, format_number(getattr(self, name)))
+            for label, name in zip(labels, SAMPLE_FIGURES, strict=True)))]
 
     @classmethod
     def of(cls, nominal_re: float, values: np.ndarray) -> SampleStudy:

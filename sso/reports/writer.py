@@ -15,7 +15,7 @@ from typing import Any
 from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
 from sso.cases.schema import rename_old_keys
-from sso.files import read_input_bytes
+from sso.record import RecordError, read_json_object
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
 
@@ -130,19 +130,9 @@ def read_result(path: str | Path) -> dict[str, Any]:
         lacks a key the reports need.
     """
     try:
-        data = read_input_bytes(path)
-    except ValueError as error:
-        raise ResultFileError(f"{path}: cannot read the result file: {error}") from None
-    try:
-        document = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise ResultFileError(f"{path}: not a JSON result file: {error}") from None
-    except ValueError as error:  # int() of a number with more than 4300 digits
-        raise ResultFileError(f"{path}: a number cannot be read: {error}") from None
-    except RecursionError:
-        raise ResultFileError(f"{path}: arrays or objects are nested too deeply to read") from None
-    if not isinstance(document, dict):
-        raise ResultFileError(f"{path}: not a result document (a JSON object is expected)")
+        document = read_json_object(path)
+    except RecordError as error:
+        raise ResultFileError(str(error).replace("saved result", "result document")) from None
     version = document.get("schema_version")
     if type(version) is not type(SCHEMA_VERSION) or version != SCHEMA_VERSION:
         raise ResultFileError(f"{path}: schema_version = {shown(version)}; this sso reads "

@@ -68,7 +68,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
         **document_header(case, "optimise" if optimising else "evaluate"),
         "geometry": {**geometry.to_dict(), "straight_joints": list(geometry.straight_joints),
                      "bend_normals": geometry.bend_normals.tolist()},
-        "cancel": can_cancel(geometry.beta_deg).to_dict(),
+        "cancel": asdict(can_cancel(geometry.beta_deg)),
     }
     assemblies = [
         _assembly(geometry, "as_built", "as built (phasing.yoke_phase_deg)", as_built),

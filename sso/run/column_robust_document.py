@@ -26,6 +26,7 @@ the on-centre phasing, as the case asks.
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from typing import Any
 
 import numpy as np
@@ -178,10 +179,10 @@ def _design_figures(entry: dict[str, Any], geometry: ColumnGeometry,
                                        if value >= worst * (1.0 - 1e-6)])
     if sample is not None:
         values = sample.residual_error(yoke)
-        entry["study"] = SampleStudy.of(nominal, values).to_dict()
+        entry["study"] = asdict(SampleStudy.of(nominal, values))
         samples_re[entry["role"]] = sorted(float(value) for value in values)
     if feel is not None:
-        entry["feel"] = steering_feel((geometry, yoke), **feel).to_dict()
+        entry["feel"] = asdict(steering_feel((geometry, yoke), **feel))
     if limit is not None:
         if nominal <= limit:
             band = tolerance_band((geometry, yoke), limit)._document_dict()
@@ -203,7 +204,7 @@ def _equivalents(geometry: ColumnGeometry, best: Any, sample: Any) -> list[dict[
         nominal = float(residual_error(np.radians(geometry.beta_deg),
                                        np.radians(geometry.phase_deg_from_yoke(yoke))))
         rows.append({"yoke_phase_deg": [float(value) for value in yoke],
-                     "study": SampleStudy.of(nominal, sample.residual_error(yoke)).to_dict()})
+                     "study": asdict(SampleStudy.of(nominal, sample.residual_error(yoke)))})
     return rows
 
 

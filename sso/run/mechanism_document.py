@@ -101,8 +101,9 @@ def mechanism_document(case: MechanismCase, optimising: bool,
     document["extremes"] = {role: extremes(mechanism, case)
                             for role, mechanism in linkages.items()}
     if isinstance(start, SliderCrank) and start.offset == 0.0:
-        document["method_difference"] = slider_crank_method_difference(
-            start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg())._document_dict()
+        difference = slider_crank_method_difference(
+            start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg())
+        document["method_difference"] = difference._document_dict()
     document["warnings"] = list(dict.fromkeys([*case.warnings, *caught_messages]))
     document["versions"] = package_versions()
     return document

@@ -7,12 +7,14 @@ import json
 from collections.abc import Callable
 from typing import Any
 
+import jsonschema
 import numpy as np
 import pytest
 
 import sso
+from sso.cli.saved_results import result_schema, shipped_schema
 from sso.display import REPR_LIMIT
-from sso.record import RECORD_VERSION, Record, RecordError
+from sso.record import RECORD_VERSION, Record
 
 # The column of tests/data/columns/truck_three_positions.json (tilt down), three joints.
 TILT_DOWN = ((0.0, 0.0, 0.0), (0.0, 0.0, 300.0), (40.0, 25.0, 620.0), (130.0, 60.0, 850.0),
@@ -94,6 +96,13 @@ def test_result_is_its_own_record(name, tmp_path):
     assert result.summary().strip() and result._repr_html_().startswith("<div>")
     markdown = (tmp_path / "report" / "report.md").read_text()
     assert markdown.startswith("# ")
+    jsonschema.Draft202012Validator(shipped_schema()).validate(saved)
+
+
+def test_the_shipped_result_schema_is_the_generated_one():
+    # If this fails, regenerate: python -m sso.cli.saved_results --output sso/result.schema.json
+    assert shipped_schema() == json.loads(json.dumps(result_schema()))
+    jsonschema.Draft202012Validator.check_schema(shipped_schema())
 
 
 def test_a_reloaded_optimisation_recomputes_nothing():
@@ -102,39 +111,3 @@ def test_a_reloaded_optimisation_recomputes_nothing():
     # the evaluations were saved and are read back, not evaluated again
     assert "initial" in reloaded.__dict__ and "optimum" in reloaded.__dict__
     assert reloaded.optimum.residual_error == result.optimum.residual_error
-
-
-def test_from_dict_refuses_another_version_or_type():
-    saved = sso.can_cancel([10.0, 12.0, 5.0]).to_dict()
-    with pytest.raises(RecordError, match="version = 2; this sso reads version 1"):
-        sso.CancelVerdict.from_dict({**saved, "version": 2})
-    with pytest.raises(RecordError, match="type = 'bogus' is no sso result type"):
-        sso.CancelVerdict.from_dict({**saved, "type": "bogus"})
-    with pytest.raises(RecordError, match="type = 'PhasingResult'; allowed: CancelVerdict"):
-        sso.CancelVerdict.from_dict({**saved, "type": "PhasingResult"})
-    with pytest.raises(RecordError, match="margin is missing"):
-        sso.CancelVerdict.from_dict({key: value for key, value in saved.items()
-                                     if key != "margin"})
-    with pytest.raises(RecordError, match="colour is not a field of CancelVerdict"):
-        sso.CancelVerdict.from_dict({**saved, "colour": "red"})
-    with pytest.raises(RecordError, match="limiting_joint = 1.5; allowed: an integer"):
-        sso.CancelVerdict.from_dict({**saved, "limiting_joint": 1.5})
-
-
-@pytest.mark.parametrize(("path", "value", "message"), [
-    (("input_speed_rpm",), -25.0, "input_speed_rpm = -25.0; allowed: a finite number > 0"),
-    (("option",), 99, "option = 99; allowed: 1, 2 or 3"),
-    (("model",), "bogus", "model = 'bogus'; allowed: exact or paper"),
-    (("optimum", "residual_error"), -5.0, "optimum.residual_error = -5.0; allowed: a finite"),
-    (("best", "fun"), {"float": "nan"}, "best.fun = nan with success = true"),
-    (("initial_series", "beta_deg", 0), 95.0, r"beta_deg\[0\] = 95"),
-])
-def test_from_dict_checks_values_as_strictly_as_case_files(path, value, message):
-    saved = sso.optimise(SERIES, 1, starts=1, solvers="ipopt").to_dict()
-    edited = json.loads(json.dumps(saved))
-    target = edited
-    for key in path[:-1]:
-        target = target[key]
-    target[path[-1]] = value
-    with pytest.raises(RecordError, match=message):
-        sso.OptimisationResult.from_dict(edited)
