@@ -10,11 +10,7 @@ SciPy, matplotlib nor dask; each is imported by the first call that needs it.
 from importlib import import_module
 from typing import Any
 
-from sso import _moved
-
 __version__ = "0.1.0"
-
-_moved.install()
 
 # Public name -> module that defines it, or (module, name there) for an alias.
 _EXPORTS: dict[str, str | tuple[str, str]] = {

@@ -8,6 +8,8 @@ every import in it counts: at module level, inside functions, and under
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "sso"
@@ -17,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin"),
-    ("validation", "files", "deprecation", "display"),
+    ("validation", "files", "folder_lock", "display"),
     ("kinematics",),
     ("record",),
     ("solvers",),
@@ -29,7 +31,6 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("batch",),
     ("cli",),
     ("__main__",),
-    ("_moved",),  # answers the old module paths of v0.1 for one release
 )
 LAYER_OF = {part: index for index, parts in enumerate(LAYERS) for part in parts}
 
@@ -128,3 +129,13 @@ def test_the_walk_sees_imports():
     assert "sso.shafts.evaluation" in graph["sso.shafts.series"]  # inside a method
     assert "sso.cli.app" in graph["sso.cli"]
     assert len(graph) > 50
+
+
+def test_importing_sso_installs_no_import_hook():
+    """No finder answers old module paths: ``import sso`` leaves ``sys.meta_path`` as is."""
+    probe = ("import sys; before = list(sys.meta_path); import sso; "
+             "print(len(before), len(sys.meta_path), sys.meta_path == before)")
+    shown = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                           check=True, cwd=PACKAGE.parent).stdout.split()
+    assert shown[2] == "True", shown
+    assert int(shown[0]) > 0  # the interpreter's own finders were seen

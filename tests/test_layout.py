@@ -4,8 +4,7 @@
 ``tests/<part>/test_<part>_<name>.py``, the column's naming), and ``sso/<name>.py``
 in ``tests/test_<name>.py``. Not counted: ``__init__.py`` (re-exports, exercised
 through every import of the package) and ``__main__.py`` (``python -m`` entry
-points, run by tests/test_packaging.py), and ``sso/_moved.py`` (the old v0.1 module
-paths, tested by tests/test_moved_modules.py).
+points, run by tests/test_packaging.py).
 """
 
 from __future__ import annotations
@@ -16,7 +15,6 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "sso"
 NOT_COUNTED = {"__init__.py", "__main__.py"}
 TESTED_ELSEWHERE = {
-    "sso/_moved.py": "tests/test_moved_modules.py",
     "sso/distribution.py": "tests/test_packaging.py",
 }
 
@@ -42,7 +40,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/column/robust_phasing.py",
     "sso/column/scenarios.py",
     "sso/column/tolerances.py",
-    "sso/deprecation.py",
     "sso/linkages/table.py",
     "sso/reports/column_plots.py",
     "sso/reports/column_report.py",

@@ -15,13 +15,3 @@ def test_a_moved_start_names_the_line_that_called_sso_optimise():
         sso.optimise(PAPER_OPTION_3, 3, beta_bounds_deg=(10.0, 40.0), solvers="lm", starts=1)
     moved = [warning for warning in caught if warning.category is sso.StartMovedWarning]
     assert [(warning.filename, warning.lineno) for warning in moved] == [(__file__, line)]
-
-
-def test_a_renamed_keyword_names_the_line_that_used_it():
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        line = inspect.currentframe().f_lineno + 1
-        sso.optimise(PAPER_OPTION_3, 3, tolerance=1e-10, solvers="lm", starts=1)
-    renamed = [warning for warning in caught if warning.category is DeprecationWarning]
-    assert [(warning.filename, warning.lineno) for warning in renamed] == [(__file__, line)]
-    assert "solver_tol" in str(renamed[0].message)

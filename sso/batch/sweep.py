@@ -7,28 +7,31 @@ import math
 import time
 import warnings
 from collections.abc import Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from sso.batch.axes import Axis, base_case, expand_points, parse_axes
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.report import SWEEP_PLOT, render_sweep
 from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,
+    HASH_COLUMN,
     MANIFEST_NAME,
+    append_rows,
     columns,
     done_rows,
+    format_cell,
     format_row,
     manifest,
+    start_file,
     typed_rows,
-    write_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import check_report_folder, remove_stale_temporaries, write_text_atomic
-from sso.limits import OUTPUT_FORMATS
-from sso.reports.kinds import write_report
+from sso.files import remove_stale_temporaries, write_bytes_atomic, write_text_atomic
+from sso.folder_lock import folder_lock
 from sso.shafts.options import build_problem
 from sso.shafts.quadrature import rule_for_bounds
 from sso.solvers.progress import ProgressBar, interactive
@@ -40,6 +43,9 @@ MAX_CHUNK_SIZE = 10_000
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
+DOCUMENT_FORMATS = ("md", "html", "png")
+SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT)
+"""The files a sweep writes into its folder; it refuses a folder holding anything else."""
 
 
 def sweep(
@@ -76,15 +82,16 @@ def sweep(
     action : {"optimise", "evaluate"}
         Optimise each point's case, or evaluate its design as given.
     out_dir : str or pathlib.Path, optional
-        Folder for ``sweep.csv`` (rewritten atomically as chunks finish; every
-        digit), ``sweep.json`` (what the sweep is), ``report.md``, ``report.html``
-        and ``sweep_re.png``. When the sweep ends the whole folder is written
-        afresh (:func:`sso.write_report`). It must be new, empty or hold report
-        files only. Without it nothing is written.
+        Folder for ``sweep.csv`` (each chunk's rows appended as it finishes, in
+        that order; every digit), ``sweep.json`` (what the sweep is),
+        ``report.md``, ``report.html`` and ``sweep_re.png`` (written when the sweep
+        ends). It must be new, empty or hold these files only; one sweep at a time
+        writes into it (a lock file beside it, :mod:`sso.folder_lock`). Without it
+        nothing is written.
     resume : bool
         Continue the sweep already in ``out_dir``: compute only its missing
-        points. The final ``sweep.csv`` equals that of an uninterrupted run
-        (apart from the wall-time columns).
+        points. Every row found is checked against ``sweep.json`` (point index,
+        axis values, the sweep's hash); a row that does not belong is refused.
     client : dask.distributed.Client, optional
         Run the chunks on this Dask cluster instead of local processes.
     workers : int, optional
@@ -112,8 +119,11 @@ def sweep(
     ValueError
         For a bad base case, a case kind that cannot be swept, a bad axis, mode,
         action or count, or an ``out_dir`` that holds a different sweep (or any
-        sweep, without ``resume``) or files that are not a report's; or, before
-        any point is computed, if the memory estimate exceeds the limit.
+        sweep, without ``resume``), rows that are not this sweep's, or files a
+        sweep does not write; or, before any point is computed, if the memory
+        estimate exceeds the limit.
+    sso.folder_lock.FolderLockedError
+        (a ValueError) If another process writes into ``out_dir``.
     """
     started = time.perf_counter()
     case = base_case(base)  # refuses the kinds a sweep cannot vary
@@ -128,52 +138,112 @@ def sweep(
     points = expand_points(parsed_axes, mode)
     header = columns([axis.path for axis in parsed_axes])
     identity = manifest(document, parsed_axes, mode, action, len(points))
-
-    rows: dict[int, dict[str, str]] = {}
-    csv_path = None
-    if out_dir is not None:
-        out_dir = check_report_folder(out_dir)
-        out_dir.mkdir(parents=True, exist_ok=True)
-        remove_stale_temporaries(out_dir)  # of a sweep killed mid-write
-        csv_path = out_dir / CSV_NAME
-        if resume:
-            rows = done_rows(out_dir, identity, header)
-        elif csv_path.exists() or (out_dir / MANIFEST_NAME).exists():
-            raise ValueError(f"out_dir = {str(out_dir)!r} already holds a sweep; pass "
-                             "resume=True (--resume) to complete it, or choose another folder")
-        write_text_atomic(out_dir / MANIFEST_NAME, json.dumps(identity, indent=2) + "\n")
-    resumed = len(rows)
-
-    pending = [(index, point) for index, point in enumerate(points) if index not in rows]
-    parallelism = _parallelism(client, worker_count)
-    size = _chunk_size(chunk_size, len(pending), parallelism)
-    chunks = [SweepChunk(document, action, tuple(pending[start:start + size]))
-              for start in range(0, len(pending), size)]
-    bar = ProgressBar(len(pending), "points", interactive() if progress is None else progress)
-    try:
-        for index, chunk_rows, error in run_tasks(run_sweep_chunk, chunks, client,
-                                                   worker_count):
-            if error is not None:
-                chunk_rows = failed_rows(chunks[index], error)
-            for row in chunk_rows:
-                rows[row["point"]] = format_row(row, header)
-            if csv_path is not None:
-                write_rows(csv_path, header, rows.values())
-            bar.advance(len(chunk_rows), sum(row["status"] != "ok" for row in chunk_rows))
-    finally:
-        bar.close()
-    if csv_path is not None:  # also when a resumed sweep had nothing left to compute
-        write_rows(csv_path, header, rows.values())
-
-    ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
-    result = SweepResult(axes=parsed_axes, mode=mode, action=action, rows=ordered,
-                         computed=len(pending), resumed=resumed,
-                         elapsed_s=time.perf_counter() - started, out_dir=out_dir,
-                         manifest=identity)
+    job = _Job(document, action, points, header, identity, client, worker_count, chunk_size,
+               interactive() if progress is None else progress)
     if out_dir is None:
-        return result
-    formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
-    return replace(result, files=tuple(write_report(result, out_dir, formats)))
+        rows = job.run({}, None)
+        return _result(job, parsed_axes, mode, rows, 0, started, None)
+    out_dir = Path(out_dir)
+    with folder_lock(out_dir, "run a sweep"):
+        earlier = _open_folder(out_dir, resume, job)
+        resumed = len(earlier)
+        rows = job.run(earlier, out_dir / CSV_NAME)
+        result = _result(job, parsed_axes, mode, rows, resumed, started, out_dir)
+        formats = tuple(name for name in DOCUMENT_FORMATS if plots or name != "png")
+        written = [write_bytes_atomic(out_dir / name, data)
+                   for name, data in render_sweep(result, formats).items()]
+    return replace(result, files=(out_dir / CSV_NAME, out_dir / MANIFEST_NAME, *written))
+
+
+@dataclass(frozen=True)
+class _Job:
+    """What a sweep computes and how: its points, columns, identity and execution."""
+
+    document: dict[str, Any]
+    action: str
+    points: list[dict[str, Any]]
+    header: list[str]
+    identity: dict[str, Any]
+    client: Any
+    workers: int
+    chunk_size: int | None
+    progress: bool
+
+    def axis_cells(self, index: int) -> list[str]:
+        """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them."""
+        return [format_cell(value) for value in self.points[index].values()]
+
+    def run(self, rows: dict[int, dict[str, str]],
+            csv_path: Path | None) -> dict[int, dict[str, str]]:
+        """Compute the points not in ``rows``, appending each chunk's rows to ``csv_path``."""
+        pending = [(index, point) for index, point in enumerate(self.points)
+                   if index not in rows]
+        size = _chunk_size(self.chunk_size, len(pending),
+                           _parallelism(self.client, self.workers))
+        chunks = [SweepChunk(self.document, self.action, tuple(pending[start:start + size]))
+                  for start in range(0, len(pending), size)]
+        sweep_hash = self.identity[HASH_COLUMN]
+        bar = ProgressBar(len(pending), "points", self.progress)
+        try:
+            for index, chunk_rows, error in run_tasks(run_sweep_chunk, chunks, self.client,
+                                                       self.workers):
+                if error is not None:
+                    chunk_rows = failed_rows(chunks[index], error)
+                formatted = [format_row({**row, HASH_COLUMN: sweep_hash}, self.header)
+                             for row in chunk_rows]
+                if csv_path is not None:
+                    append_rows(csv_path, self.header, formatted)
+                for row in formatted:
+                    rows[int(row["point"])] = row
+                bar.advance(len(chunk_rows),
+                            sum(row["status"] != "ok" for row in chunk_rows))
+        finally:
+            bar.close()
+        return rows
+
+
+def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, str]]:
+    """Make ``out_dir`` the sweep's folder (its lock held); the rows of an earlier run.
+
+    Raises
+    ------
+    ValueError
+        If ``out_dir`` is a file, holds anything a sweep does not write (a case's
+        report, the user's files), holds a sweep without ``resume``, or holds
+        another sweep or rows that do not belong to this one.
+    """
+    if out_dir.exists() and not out_dir.is_dir():
+        raise ValueError(f"out_dir = {str(out_dir)!r} is a file, not a folder")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
+    foreign = sorted(entry.name for entry in out_dir.iterdir()
+                     if entry.name not in SWEEP_FILES or not entry.is_file())
+    if foreign:
+        shown_names = ", ".join(foreign[:5]) + (" and more" if len(foreign) > 5 else "")
+        why = ("a case's report: a sweep and a case never share a folder"
+               if "result.json" in foreign else "which a sweep does not write")
+        raise ValueError(f"out_dir = {str(out_dir)!r} holds {shown_names}, {why}; choose "
+                         "another folder (or --out) for the sweep")
+    csv_path = out_dir / CSV_NAME
+    if resume:
+        rows = done_rows(out_dir, job.identity, job.header, job.axis_cells)
+    elif csv_path.exists() or (out_dir / MANIFEST_NAME).exists():
+        raise ValueError(f"out_dir = {str(out_dir)!r} already holds a sweep; pass "
+                         "resume=True (--resume) to complete it, or choose another folder")
+    else:
+        rows = {}
+    write_text_atomic(out_dir / MANIFEST_NAME, json.dumps(job.identity, indent=2) + "\n")
+    start_file(csv_path, job.header)
+    return rows
+
+
+def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: dict[int, dict[str, str]],
+            resumed: int, started: float, out_dir: Path | None) -> SweepResult:
+    ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
+    return SweepResult(axes=axes, mode=mode, action=job.action, rows=ordered,
+                       computed=len(rows) - resumed, resumed=resumed,
+                       elapsed_s=time.perf_counter() - started, out_dir=out_dir,
+                       manifest=job.identity)
 
 
 def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,

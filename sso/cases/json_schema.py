@@ -11,11 +11,9 @@ other (phase counts, the crank-angle grid, that a linkage assembles).
 A key's parser is a closure made by one of the engine's factories (``number``,
 ``whole_number``, ``choice``, ...); its range is read from the closure's variables.
 The few parsers written as named functions (:data:`NAMED_PARSERS`) are translated
-here from the constants they check against. A key renamed in
-:data:`~sso.cases.schema.RENAMED_KEYS` is accepted under its old name too, marked
-``deprecated``. A parser this module does not know yields a schema that accepts any
-value, with the key's ``allowed`` text as its description (:func:`opaque_keys` lists
-such keys).
+here from the constants they check against. A parser this module does not know
+yields a schema that accepts any value, with the key's ``allowed`` text as its
+description (:func:`opaque_keys` lists such keys).
 
 Regenerate the shipped file with::
 
@@ -42,7 +40,6 @@ from sso.cases.schema import (
     COMMON_KEYS,
     DEFAULT_KIND,
     NAME_PATTERN,
-    RENAMED_KEYS,
     REQUIRED,
     Key,
 )
@@ -155,14 +152,6 @@ def _kind_schema(kind: str) -> JsonSchema:
         )
         if key.default is REQUIRED:
             holder["required"].append(key.name)
-    by_label = {key.label: key for key in keys}
-    for old_label, new_label in RENAMED_KEYS.items():
-        old_table, old_name = old_label.split(".")
-        if new_label in by_label and old_table in tables:
-            renamed = _key_schema(by_label[new_label])
-            renamed.pop("default", None)
-            renamed.update(deprecated=True, description=f"deprecated name of {new_label}")
-            tables[old_table]["properties"][old_name] = renamed
     for name, table in tables.items():
         top["properties"][name] = table
         if table["required"] and name not in case_kind.optional_tables:

@@ -22,9 +22,8 @@ from __future__ import annotations
 import difflib
 import re
 import tomllib
-import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -36,9 +35,6 @@ DEFAULT_KIND = "shaft_series"
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 
 MAX_TEXT_LENGTH = 10_000
-# Keys renamed since v0.1, old label -> new label. An old one is read for one more
-# release, with a deprecation note in the case's warnings.
-RENAMED_KEYS = {"solver.tolerance": "solver.solver_tol"}
 
 
 class CaseError(ValueError):
@@ -400,7 +396,6 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                         _line_of_key(source, "", "kind"))
     case_kind = CASE_KINDS[kind_value]
     keys = COMMON_KEYS + case_kind.keys
-    document, renamed = rename_old_keys(document, path, source)
     _refuse_unknown_keys(document, keys, path, source)
 
     values: dict[str, Any] = {}
@@ -432,34 +427,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
         raise CaseError(path, f"the values do not fit together ({type(error).__name__}: "
                         f"{shown(str(error))}); check the keys against the case-file "
                         "reference") from None
-    for note in renamed:
-        warnings.warn(note, DeprecationWarning, stacklevel=2)
-    return replace(case, warnings=(*renamed, *case.warnings)) if renamed else case
-
-
-def rename_old_keys(document: Mapping[str, Any], path: str,
-                     source: str) -> tuple[Mapping[str, Any], tuple[str, ...]]:
-    """The document with each key of :data:`RENAMED_KEYS` under its new name, and a note
-    for each one renamed."""
-    notes = []
-    for old_label, new_label in RENAMED_KEYS.items():
-        old_table, old_name = old_label.split(".")
-        new_table, new_name = new_label.split(".")
-        table = document.get(old_table)
-        if not isinstance(table, Mapping) or old_name not in table:
-            continue
-        target = document.get(new_table, {})
-        if isinstance(target, Mapping) and new_name in target:
-            raise CaseError(path, f"{old_label} and {new_label} are both given; keep only "
-                            f"{new_label} ({old_label} is its deprecated name)",
-                            _line_of_key(source, old_table, old_name))
-        value = table[old_name]
-        document = {**document,
-                    old_table: {name: item for name, item in table.items() if name != old_name}}
-        document = {**document, new_table: {**document.get(new_table, {}), new_name: value}}
-        notes.append(f"{old_label} is deprecated and will be removed in the next release; "
-                     f"name it {new_label}")
-    return document, tuple(notes)
+    return case
 
 
 def _refuse_unknown_keys(document: Mapping[str, Any], keys: tuple[Key, ...], path: str,

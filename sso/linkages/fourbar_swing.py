@@ -27,7 +27,6 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from sso.deprecation import renamed_keywords
 from sso.display import Part, TextTable, format_number
 from sso.limits import (
     DEFAULT_FOURBAR_SOLVER_TOL,
@@ -132,7 +131,6 @@ class FourBarDesignResult(DesignResult):
         }
 
 
-@renamed_keywords(tolerance="solver_tol")
 def design_fourbar(
     start: FourBar,
     *,

@@ -14,7 +14,6 @@ from typing import Any
 
 from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
-from sso.cases.schema import rename_old_keys
 from sso.record import RecordError, read_json_object
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
@@ -143,9 +142,6 @@ def read_result(path: str | Path) -> dict[str, Any]:
     missing = [key for key in required if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")
-    if isinstance(document["case"], dict):
-        # A result saved by v0.1 names its case's keys as v0.1 did.
-        document["case"], _ = rename_old_keys(document["case"], str(path), "")
     return document
 
 

@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from sso.deprecation import renamed_keywords
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.kinematics.hooke import MODELS
 from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
@@ -170,7 +169,6 @@ class BatchResult(Record, Readable):
         }
 
 
-@renamed_keywords(tolerance="solver_tol")
 def optimise_batch(
     beta_deg: Any,
     phase_deg: Any,

@@ -10,7 +10,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from sso.deprecation import renamed_keywords
 from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_INPUT_SPEED_RPM,
@@ -191,7 +190,6 @@ class OptimisationResult(DesignResult):
         }
 
 
-@renamed_keywords(tolerance="solver_tol")
 def optimise(
     series: ShaftSeries,
     option: int | str = 3,
@@ -242,8 +240,7 @@ def optimise(
         Input speed, rpm (> 0); it scales the reported figures, not the optimum.
     solver_tol : float
         The solvers' stopping tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's
-        ``ftol`` relative to the starting objective. (Its name until v0.1,
-        ``tolerance``, still works with a DeprecationWarning.)
+        ``ftol`` relative to the starting objective.
     max_iterations : int
         Iteration limit of each run, >= 1.
     seed : int

@@ -16,7 +16,7 @@ import pytest
 import sso
 from sso.batch.batched import BatchedPoints, batchable
 from sso.batch.point_row import PointRow
-from sso.batch.table import TIME_COLUMNS, read_rows, write_rows
+from sso.batch.table import TIME_COLUMNS, read_rows, render_rows
 from sso.batch.worker import SweepChunk, run_point, run_sweep_chunk
 from sso.cases.schema import parse_case
 from sso.solvers.least_squares import STATUS_MESSAGES
@@ -185,15 +185,16 @@ def test_a_resumed_batched_sweep_writes_the_file_of_an_uninterrupted_run(tmp_pat
     partial = tmp_path / "partial"
     partial.mkdir()
     (partial / "sweep.json").write_bytes((tmp_path / "whole" / "sweep.json").read_bytes())
-    write_rows(partial / "sweep.csv", list(written[0]), written[::3])
+    (partial / "sweep.csv").write_text(render_rows(list(written[0]), written[::3]))
     resumed = sso.sweep(base, axes, mode="listed", out_dir=partial, workers=1, chunk_size=2,
                         plots=False, progress=False, resume=True)
     assert resumed.resumed == 3 and resumed.computed == POINTS_PER_SHAPE - 3
 
     def without_times(rows):
         return [{key: value for key, value in row.items() if key not in TIME_COLUMNS}
-                for row in rows]
+                for row in sorted(rows, key=lambda row: int(row["point"]))]
 
+    # The file holds the earlier rows first, then the new ones as they were appended.
     assert without_times(read_rows(partial / "sweep.csv")) == without_times(written)
 
 

@@ -34,7 +34,7 @@ def test_a_killed_sweep_resumes_to_the_file_an_uninterrupted_run_writes(tmp_path
     csv_path = interrupted / "sweep.csv"
     deadline = time.monotonic() + KILL_DEADLINE_S
     try:
-        while not csv_path.exists() and process.poll() is None:
+        while not (csv_path.exists() and read_rows(csv_path)) and process.poll() is None:
             assert time.monotonic() < deadline, "the sweep wrote no chunk in time"
             time.sleep(0.002)
     finally:

@@ -39,7 +39,7 @@ def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
         assert row["design_beta_deg"] == [beta_deg]
     with open(tmp_path / "sweep.csv", newline="") as handle:
         table = list(csv.DictReader(handle))
-    assert list(table[0]) == ["point", "design.beta_deg[0]", *RESULT_COLUMNS]
+    assert list(table[0]) == ["point", "design.beta_deg[0]", *RESULT_COLUMNS, "sweep_hash"]
     assert [float(row["residual_error"]) for row in table] == [
         row["residual_error"] for row in result.rows]  # shortest round-trip floats
 

@@ -323,18 +323,6 @@ def test_schema_ships_as_package_data_and_taplo_config_points_at_it():
     )
 
 
-def test_a_renamed_key_is_accepted_under_its_old_name_and_marked_deprecated(schema):
-    document = {**SHAFT_CASE, "solver": {"tolerance": 1e-10}}
-    with pytest.warns(Warning, match="solver.tolerance is deprecated"):
-        case = parse_case(document, "old.toml")
-    assert case.solver_tol == 1e-10
-    for validator in VALIDATORS:
-        assert list(validator(schema).iter_errors(document)) == []
-    solver = schema["$defs"]["shaft_series"]["properties"]["solver"]["properties"]
-    assert solver["tolerance"]["deprecated"] is True
-    assert solver["tolerance"]["exclusiveMaximum"] == solver["solver_tol"]["exclusiveMaximum"]
-
-
 def test_the_schema_accepts_lm_for_a_shaft_series_only(schema):
     lm_case = {**SHAFT_CASE, "solver": {"solvers": ["lm"]}}
     parse_case(lm_case, "lm.toml")
