@@ -78,7 +78,7 @@ def test_one_panel_per_axis_and_a_small_multiples_grid_for_two(tmp_path):
                     {"design.beta_deg[0]": [10.0, 20.0], "design.phase_deg[0]": [0.0, 45.0, 90.0]},
                     action="evaluate", out_dir=tmp_path / "two", workers=1)
     assert {path.name for path in one.files} == {"sweep.csv", "sweep.json", "report.md",
-                                                 "report.html", "sweep_re.png", "result.json"}
+                                                 "report.html", "sweep_re.png"}
     assert png_size(tmp_path / "one" / "sweep_re.png") == (840, 540)  # one panel, 7 x 4.5 in
     assert png_size(tmp_path / "two" / "sweep_re.png") == (864, 396)  # 2 panels side by side
     # Equal joints at 90 deg cancel exactly: the lowest RE is that point, round-off.
