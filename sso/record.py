@@ -8,6 +8,9 @@ no class keeps a hand-written JSON form that could drift from its fields:
 - a registered object is ``{"type": class name, field: value, ...}`` (the fields
   its constructor takes, plus the cached figures a class lists in
   ``_record_derived``, which are saved so that a reloaded result computes nothing);
+  a class with a checked form of its own (a case: the case file's tables, read
+  back through the case-file checks) defines ``_record_save()`` and the class
+  method ``_record_load(saved, where)`` instead;
 - a float that is NaN or infinite is ``{"float": "nan" | "inf" | "-inf"}`` (strict
   JSON has no such numbers), a numpy array ``{"dtype", "shape", "data"}``, a tuple
   a list;
@@ -212,6 +215,9 @@ def encode(value: Any) -> Any:
         if record_classes().get(cls.__name__) is not cls:
             raise TypeError(f"{cls.__name__} is not a registered record class")
         saved: dict[str, Any] = {"type": cls.__name__}
+        if hasattr(cls, "_record_save"):  # a class with a checked form of its own
+            own: dict[str, Any] = getattr(value, "_record_save")()  # noqa: B009 - mypy
+            return {**saved, **own}
         for field in _init_fields(cls):
             saved[field.name] = encode(getattr(value, field.name))
         for name in getattr(cls, "_record_derived", ()):
@@ -338,7 +344,10 @@ def _decode_float(value: Any, where: str) -> float:
         return _NON_FINITE[value["float"]]
     if type(value) not in (int, float):
         raise RecordError(f"{where} = {shown(value)}; allowed: a number")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        raise RecordError(f"{where} = {shown(value)}; allowed: a number a float can hold") from None
 
 
 def _decode_array(value: Any, where: str) -> np.ndarray:
@@ -357,7 +366,10 @@ def _decode_array(value: Any, where: str) -> np.ndarray:
     data = decode(value["data"], list[item_type], f"{where}.data")  # type: ignore[valid-type]
     if any(size < 0 for size in shape) or math.prod(shape) != len(data):
         raise RecordError(f"{where}: shape {list(shape)} does not hold {len(data)} values")
-    return np.asarray(data, dtype=dtype).reshape(shape)
+    try:
+        return np.asarray(data, dtype=dtype).reshape(shape)
+    except (OverflowError, ValueError):
+        raise RecordError(f"{where}: a value does not fit the dtype {dtype.str}") from None
 
 
 def _decode_object(value: Any, declared: type, path: str) -> Any:
@@ -370,6 +382,13 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
         raise RecordError(f"{where}.type = {shown(name)}; allowed: a result type's name")
     if not _is_protocol(declared) and not issubclass(cls, declared):
         raise RecordError(f"{where}.type = {shown(name)}; allowed: {declared.__name__}")
+    if hasattr(cls, "_record_load"):
+        try:
+            return cls._record_load({key: item for key, item in value.items() if key != "type"},
+                                    where)
+        except (ValueError, TypeError, ArithmeticError, IndexError, KeyError,
+                RecursionError) as error:
+            raise RecordError(f"{where} ({cls.__name__}): {error}") from None
     hints = _hints(cls)
     fields = _init_fields(cls)
     derived = tuple(getattr(cls, "_record_derived", ()))
@@ -388,7 +407,7 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
         check_field(_join(path, field_name), field_name, field_value, arguments, rules)
     try:
         made = cls(**arguments)
-    except (ValueError, TypeError) as error:
+    except (ValueError, TypeError, ArithmeticError, IndexError, KeyError) as error:
         raise RecordError(f"{where} ({cls.__name__}): {error}") from None
     for name_derived in derived:
         cached = decode(value[name_derived], _derived_hint(cls, name_derived),
@@ -490,6 +509,12 @@ def json_schema(results: tuple[type, ...]) -> JsonSchema:
         if cls.__name__ in definitions:
             continue
         properties: dict[str, JsonSchema] = {"type": {"const": cls.__name__}}
+        if hasattr(cls, "_record_save"):
+            definitions[cls.__name__] = {
+                "type": "object", "required": ["type"], "properties": properties,
+                "description": f"{cls.__name__} in a form of its own, checked on reading by "
+                               "its own rules (a case: as a case file)"}
+            continue
         if cls in results:
             properties["version"] = {"const": RECORD_VERSION}
         hints = _hints(cls)

@@ -92,10 +92,12 @@ def _report_saved_result(args: argparse.Namespace, path: str) -> int:
     except RecordError as error:
         print_error(str(error))
         return EXIT_BAD_INPUT
-    formats = report_formats(args, [name for name in OUTPUT_FORMATS if name != "json"])
+    case = getattr(result, "case", None)  # a case run's result holds its case
+    case_formats = OUTPUT_FORMATS if case is None else case.formats
+    formats = report_formats(args, [name for name in case_formats if name != "json"])
     folder = Path(path).parent if args.out is None else Path(args.out)
     if args.out is not None and len(args.results) > 1:
-        folder = folder / Path(path).resolve().parent.name
+        folder = folder / (Path(path).resolve().parent.name if case is None else case.name)
     try:
         check_report_folder(folder)
         written = write_report(result, folder, ("json", *formats))

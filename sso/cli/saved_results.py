@@ -1,8 +1,8 @@
 """Saved results: which classes a ``result.json`` may name, reading one, and their schema.
 
-Every public result class (a :class:`sso.record.Record` in ``sso.__all__``) can be
-saved; ``sso report`` reads a saved one back with the ``from_dict`` of the class
-its ``type`` names. The published JSON Schema of the saved form
+Every public result class (a :class:`sso.record.Record` in ``sso.__all__``) and the
+result of a case run can be saved; ``sso report`` reads a saved one back with the
+``from_dict`` of the class its ``type`` names. The published JSON Schema of the saved form
 (``sso/result.schema.json``) is generated from the same classes; regenerate it
 with::
 
@@ -27,9 +27,14 @@ SHIPPED_SCHEMA = "result.schema.json"
 
 
 def result_classes() -> dict[str, type[Record]]:
-    """Every public result class, by name (importing the modules that define them)."""
+    """Every public result class and the case runs' results, by name.
+
+    Importing the modules that define them.
+    """
+    from sso.run.shaft_series import ShaftSeriesRun
+
     package = import_module("sso")
-    classes: dict[str, type[Record]] = {}
+    classes: dict[str, type[Record]] = {"ShaftSeriesRun": ShaftSeriesRun}
     for name in package.__all__:
         value = getattr(package, name)
         if isinstance(value, type) and issubclass(value, Record):

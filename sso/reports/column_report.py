@@ -89,8 +89,8 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
                    *_joint_blocks(document)]
     blocks += robust_blocks(document)
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
-    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
-                                              for name in image_files])
+    images = [Image(name, CAPTIONS[name]) for name in image_files]
+    return blocks + closing_blocks(document["warnings"], document["versions"], images)
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:

@@ -5,11 +5,13 @@ A report kind renders one kind of result into the contents of its report files
 the whole report folder (:func:`sso.files.replace_folder`). The command line calls
 the same function, so a report written from Python is the one ``sso`` writes.
 
-Kinds of this layer and below are registered here: ``"document"`` (a result
-document, e.g. read from ``result.json``), ``"optimisation"``
-(:class:`sso.OptimisationResult`), ``"fourbar_design"``
-(:class:`sso.FourBarDesignResult`) and ``"mechanism_table"`` (a
-:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns). The studies
+Kinds of this layer and below are registered here: ``"document"`` (the result
+document of a mechanism or column case, e.g. read from ``result.json``),
+``"optimisation"`` (:class:`sso.OptimisationResult`), ``"shaft_series_run"`` (a
+shaft-series case run, :class:`sso.run.shaft_series.ShaftSeriesRun`),
+``"fourbar_design"`` (:class:`sso.FourBarDesignResult`), ``"mechanism_table"`` (a
+:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns) and
+``"record"`` (every other result: its summary). The studies
 above this layer register their own (``"sweep"``, ``"tolerance"`` in
 :mod:`sso.batch.report`) when their result module is imported, so any result that
 exists has its kind registered. A result names its kind in its ``report_kind``
@@ -164,10 +166,15 @@ def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> d
 
 
 def _render_optimisation(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    from sso.reports.writer import render
-    from sso.run.document import optimisation_document
+    from sso.reports.shaft_report import optimisation_files
 
-    return render(optimisation_document(result), formats)
+    return optimisation_files(result, formats)
+
+
+def _render_shaft_series_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.shaft_report import run_files
+
+    return run_files(run, formats)
 
 
 def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
@@ -191,6 +198,7 @@ def _render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
 
 register_report_kind("document", _render_document)
 register_report_kind("optimisation", _render_optimisation)
+register_report_kind("shaft_series_run", _render_shaft_series_run)
 register_report_kind("fourbar_design", _render_fourbar_design)
 register_report_kind("mechanism_table", _render_mechanism_table)
 register_report_kind(RECORD_KIND, _render_record)

@@ -7,7 +7,8 @@ or an entity (``<`` before a letter, ``/``, ``!`` or ``?``; ``&`` before a lette
 ``#``) and every ``>`` is written as an entity; a ``<`` or ``&`` that cannot start
 markup stays as it is, so ``< 1e-15`` reads as itself in the file too. The
 characters that make links, images, emphasis and code (backslash, backtick, ``*``,
-``[``, ``]``, and ``_`` outside a word) are escaped with a backslash; line breaks
+``[``, which opens every link, image and link definition, and ``_`` outside a word)
+are escaped with a backslash; line breaks
 are folded into spaces, and a paragraph that would start a heading, a list or a
 quote has that character escaped. Table cells also have their pipes escaped.
 """
@@ -41,7 +42,7 @@ MARKUP = re.compile(r"<(?=[A-Za-z/!?])|&(?=[A-Za-z#])|>")
 ENTITIES = {"<": "&lt;", "&": "&amp;", ">": "&gt;"}
 
 
-INLINE = re.compile(r"[\\`*\[\]]|(?<![A-Za-z0-9])_|_(?![A-Za-z0-9])")
+INLINE = re.compile(r"[\\`*\[]|(?<![A-Za-z0-9])_|_(?![A-Za-z0-9])")
 BLOCK_START = re.compile(r"^(\s*)(?:([#+\-=|~])|(\d+)([.)]))")
 
 

@@ -103,8 +103,8 @@ def mechanism_blocks(document: Mapping[str, Any], image_files: Sequence[str]) ->
     for role in document["tables"]:
         blocks += [Heading(2, f"Table ({ROLE_NAMES[role]}; every column is in the CSV)"),
                    _rows_table(document, role)]
-    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
-                                              for name in image_files])
+    images = [Image(name, CAPTIONS[name]) for name in image_files]
+    return blocks + closing_blocks(document["warnings"], document["versions"], images)
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:

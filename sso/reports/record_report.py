@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from sso.display import TextTable
+from sso.reports.documents import render_documents
 from sso.reports.summary import Block, Heading, Paragraph, Table
 
 
@@ -29,14 +30,4 @@ def record_blocks(result: Any) -> list[Block]:
 
 def render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     """``report.md`` and ``report.html`` of ``result``, as asked for in ``formats``."""
-    blocks = record_blocks(result)
-    files: dict[str, bytes] = {}
-    if "md" in formats:
-        from sso.reports.markdown import render_markdown
-
-        files["report.md"] = render_markdown(blocks).encode("utf-8")
-    if "html" in formats:
-        from sso.reports.html import render_html
-
-        files["report.html"] = render_html(blocks, {}).encode("utf-8")
-    return files
+    return render_documents(record_blocks(result), {}, formats)

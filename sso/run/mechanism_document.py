@@ -33,7 +33,7 @@ from sso.linkages.mechanisms import (
 )
 from sso.linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso.linkages.table import MechanismTable
-from sso.run.document import _verdict, document_header, package_versions
+from sso.run.document import document_header, package_versions
 
 if TYPE_CHECKING:
     from sso.linkages.fourbar_swing import FourBarDesignResult
@@ -90,7 +90,7 @@ def mechanism_document(case: MechanismCase, optimising: bool,
             caught_messages = [str(warning.message) for warning in caught]
         linkages = {"initial": start, "optimum": result.optimum}
         document.update(mode="optimise", design=result._document_dict(), success=result.success,
-                        verdict=_verdict(result))
+                        verdict=result.verdict)
     else:
         linkages = {"initial": start}
         document.update(mode="evaluate", success=True,

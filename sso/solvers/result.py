@@ -81,6 +81,15 @@ class DesignResult(Record, Readable):
         """Solver message of the best answer's run."""
         return self.best.message
 
+    @property
+    def verdict(self) -> str:
+        """What the solvers found, in words: a failure, one solver alone, or the cross-check."""
+        if not self.best.success:
+            return f"solver failed: {self.best.solver}: {self.best.message}"
+        if self.crosscheck is None:
+            return f"solved by {self.best.solver} alone (no cross-check): {self.best.message}"
+        return self.crosscheck.message
+
     def solver_dict(self) -> dict[str, Any]:
         """JSON-ready solver part: best, solutions, runs, cross-check, minima, success."""
         return {

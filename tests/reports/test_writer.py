@@ -8,13 +8,8 @@ from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
 from sso.reports.kinds import write_report
-from sso.reports.writer import (
-    ResultFileError,
-    read_result,
-    render,
-    result_json,
-)
-from sso.run.document import evaluate_case
+from sso.reports.writer import ResultFileError, read_result, result_json
+from sso.run.shaft_series import ShaftSeriesRun, run_shaft_series
 
 
 def test_result_json_is_strict_json():
@@ -22,21 +17,25 @@ def test_result_json_is_strict_json():
     assert json.loads(text) == {"finite": 1.5, "nested": [None, {"value": None}]}
 
 
-def test_evaluation_document_round_trips_through_result_json(tmp_path):
-    document = evaluate_case(load_case(paper_trial_case(2, "paper", tmp_path)))
-    write_report(document, tmp_path / "report", ["json", "csv"])
-    assert read_result(tmp_path / "report" / "result.json") == json.loads(result_json(document))
-    evaluation = document["designs"]["initial"]["evaluation"]
+def test_evaluation_round_trips_through_result_json(tmp_path):
+    run = run_shaft_series(load_case(paper_trial_case(2, "paper", tmp_path)), optimising=False)
+    write_report(run, tmp_path / "report", ["json", "csv"])
+    saved = json.loads((tmp_path / "report" / "result.json").read_text())
+    again = ShaftSeriesRun.from_dict(saved)
+    assert again == run
+    evaluation = again.designs[0].evaluation
     # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
-    assert evaluation["speed_min_rpm"] == pytest.approx(22.07, abs=5e-3)
-    assert evaluation["speed_max_rpm"] == pytest.approx(28.31, abs=5e-3)
-    assert render(document, ["csv"]) == {"speeds.csv":
-                                         (tmp_path / "report" / "speeds.csv").read_bytes()}
+    assert evaluation.speed_min_rpm == pytest.approx(22.07, abs=5e-3)
+    assert evaluation.speed_max_rpm == pytest.approx(28.31, abs=5e-3)
+    write_report(again, tmp_path / "again", ["csv"])
+    assert ((tmp_path / "again" / "speeds.csv").read_bytes()
+            == (tmp_path / "report" / "speeds.csv").read_bytes())
 
 
 @pytest.mark.parametrize("content, message", [
     ("[1, 2]", "not a result document"),
-    ('{"schema_version": 1}', "result document lacks kind, mode, case"),
+    ('{"schema_version": 1}', "kind = None is no result document this sso reads"),
+    ('{"schema_version": 1, "kind": "column"}', "result document lacks mode, case"),
     ("\u00ff", "not a JSON result file"),
 ])
 def test_read_result_refuses_what_it_cannot_render(tmp_path, content, message):
