@@ -10,6 +10,10 @@ Tables (every key is listed in the README):
   phase) and whether the joint-position design may change it (``mode``);
 * ``[splines] teeth``: spline teeth per intermediate shaft (optional table);
 * ``[excitation]``: rpm range, rows, vehicle class of the published limits;
+* ``[steering]``: the lock-to-lock range of the steering figures (``lock_deg``,
+  ``straight_ahead_deg``, ``on_centre_deg``; default from ``[feel]`` when given);
+* ``[limits]``: limits of the steering criteria and the joint maker's largest
+  operating angle (:mod:`sso.column.steering_criteria`);
 * ``[joint_boxes] min_mm / max_mm``: a box per joint centre (optional table);
   with it ``sso run`` also moves the joints, within ``[bounds]`` on every
   operating angle and shaft length;
@@ -20,7 +24,8 @@ Tables (every key is listed in the README):
 
 The builder checks the keys against each other: the points make a column
 (:class:`sso.ColumnGeometry`), counts match the joints and shafts, every joint
-lies in its box.
+lies in its box; it notes where the column leaves practice
+(:mod:`sso.column.practice`) in the case's warnings.
 """
 
 from __future__ import annotations
@@ -36,14 +41,19 @@ from sso.cases.schema import (
     Key,
     bounds_list,
     choice,
+    number,
     number_list,
     register_case_kind,
     whole_number,
 )
 from sso.cases.shaft_series import checked_solvers, solver_keys
-from sso.column.excitation import INERTIAL_LIMIT_RAD_S2
+from sso.column.excitation import APPLICATIONS, INERTIAL_LIMIT_RAD_S2
+from sso.column.feel import DEFAULT_WINDOW_DEG
 from sso.column.geometry import ColumnGeometry
+from sso.column.practice import DEFAULT_MAX_OPERATING_ANGLE_DEG, practice_notes
 from sso.column.splines import MAX_TEETH
+from sso.column.steering_criteria import SteeringLimits
+from sso.column.steering_range import DEFAULT_LOCK_DEG, DEFAULT_STRAIGHT_AHEAD_DEG, MAX_LOCK_DEG
 from sso.column.tolerances import Tolerances
 from sso.limits import BETA_LIMIT_DEG
 
@@ -71,6 +81,15 @@ def _rpm_range(label: str, value: Any) -> tuple[float, float]:
     return (low, high)
 
 
+def _from_feel(label: str, default: float) -> Any:
+    """A default that is the ``[feel]`` key ``label`` when the case gives one."""
+    def value(values: dict[str, Any], path: str) -> Any:
+        given = values.get(label)
+        return default if given is None else given
+
+    return value
+
+
 def _default_yoke_phases(values: dict[str, Any], path: str) -> tuple[float, ...]:
     points = values.get("hardpoints.points_mm") or ()
     return (0.0,) * max(len(points) - 3, 0)
@@ -96,6 +115,9 @@ COLUMN_KEYS: tuple[Key, ...] = (
         f"[2, {MAX_EXCITATION_ROWS}] speeds, evenly spaced from min to max"),
     Key("excitation", "vehicle", choice(tuple(INERTIAL_LIMIT_RAD_S2)), "car", "",
         "'car' (inertial 1000, torsional 300 rad/s^2) or 'truck' (2000, 500)"),
+    Key("excitation", "application", choice(APPLICATIONS), "steering", "",
+        "'steering' (the SAE AE-7 driveline limits judge nothing) or 'driveline' (they judge "
+        "every row)"),
     Key("joint_boxes", "min_mm", point_list, REQUIRED, "mm",
         "lower corner [x, y, z] of each joint centre's box, one per joint"),
     Key("joint_boxes", "max_mm", point_list, REQUIRED, "mm",
@@ -107,6 +129,29 @@ COLUMN_KEYS: tuple[Key, ...] = (
         "[lower, upper] or one pair per shaft, lower > 0 (default: each shaft at least half "
         "its given length)"),
     *ROBUST_KEYS,
+    # After [feel], whose keys are their defaults.
+    Key("steering", "lock_deg", number(0.0, MAX_LOCK_DEG, "deg", lower_open=True),
+        _from_feel("feel.lock_deg", DEFAULT_LOCK_DEG), "deg",
+        f"(0, {MAX_LOCK_DEG:g}]: steering-wheel angle from straight ahead to each lock"),
+    Key("steering", "straight_ahead_deg", number(-360.0, 360.0, "deg"),
+        _from_feel("feel.straight_ahead_deg", DEFAULT_STRAIGHT_AHEAD_DEG), "deg",
+        "[-360, 360]: input angle theta at straight ahead (from the first bend plane's normal)"),
+    Key("steering", "on_centre_deg", number(0.0, 90.0, "deg", lower_open=True, upper_open=True),
+        _from_feel("feel.window_deg", DEFAULT_WINDOW_DEG), "deg",
+        "(0, 90): half-width of the on-centre window, steering-wheel deg"),
+    Key("limits", "speed_fluctuation_percent",
+        number(0.0, math.inf, "%", lower_open=True, upper_open=True), None, "%",
+        "(0, inf): largest speed-ratio fluctuation from lock to lock (no published default)"),
+    Key("limits", "torque_fluctuation_percent",
+        number(0.0, math.inf, "%", lower_open=True, upper_open=True), None, "%",
+        "(0, inf): largest output-torque fluctuation from lock to lock (no published default)"),
+    Key("limits", "transmission_error_deg",
+        number(0.0, math.inf, "deg", lower_open=True, upper_open=True), None, "deg",
+        "(0, inf): largest |transmission error| from lock to lock (no published default)"),
+    Key("limits", "max_operating_angle_deg",
+        number(0.0, BETA_LIMIT_DEG, "deg", lower_open=True, upper_open=True),
+        DEFAULT_MAX_OPERATING_ANGLE_DEG, "deg",
+        "(0, 90): the joint maker's largest operating angle"),
     *solver_keys(COLUMN_SOLVER_DEFAULTS),
 )
 
@@ -172,6 +217,19 @@ class ColumnCase:
             return None
         return {name: self.values[f"feel.{name}"]
                 for name in ("straight_ahead_deg", "window_deg", "lock_deg", "on_centre_weight")}
+
+    def steering_options(self) -> dict[str, float]:
+        """Keyword arguments of :func:`sso.column.steering_range.steering_range`."""
+        return {name: self.values[f"steering.{name}"]
+                for name in ("lock_deg", "straight_ahead_deg", "on_centre_deg")}
+
+    def steering_limits(self) -> SteeringLimits:
+        """The ``[limits]`` as :class:`sso.column.steering_criteria.SteeringLimits`."""
+        return SteeringLimits(**{name: self.values[f"limits.{name}"]
+                                 for name in ("speed_fluctuation_percent",
+                                              "torque_fluctuation_percent",
+                                              "transmission_error_deg",
+                                              "max_operating_angle_deg")})
 
     def excitation_speeds_rpm(self) -> tuple[float, ...]:
         """The excitation table's speeds, evenly spaced, rpm."""
@@ -281,7 +339,18 @@ def _build(values: dict[str, Any], path: str) -> ColumnCase:
                       description=values["description"],
                       values={label: value for label, value in values.items()
                               if "." in label and not label.startswith("output.")},
-                      formats=values["output.formats"], source=path)
+                      formats=values["output.formats"], source=path,
+                      warnings=_practice_warnings(values, geometry))
+
+
+def _practice_warnings(values: dict[str, Any], geometry: ColumnGeometry) -> tuple[str, ...]:
+    """Where the hardpoints, and every named position, leave practice."""
+    limit = values["limits.max_operating_angle_deg"]
+    columns = {"hardpoints.points_mm": geometry}
+    for name, points in (values.get("hardpoints.positions") or {}).items():
+        columns[f"hardpoints.positions.{name}"] = ColumnGeometry(points)
+    return tuple(note.text for label, column in columns.items()
+                 for note in practice_notes(column, max_operating_angle_deg=limit, label=label))
 
 
 def _check_count(label: str, items: tuple[Any, ...], expected: int, what: str) -> None:

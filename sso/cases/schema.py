@@ -443,7 +443,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                 values[key.label] = key.parse(key.label, table[key.name])
             except ValueError as error:
                 raise CaseError(path, str(error),
-                                _line_of_key(source, key.table, key.name)) from None
+                                _line_of_item(source, key, str(error))) from None
             except (TypeError, ArithmeticError, RecursionError):
                 raise CaseError(path, f"{key.label} = {shown(table[key.name])} is not "
                                 f"allowed: give {key.allowed}",
@@ -523,7 +523,47 @@ def _line_of_first_label(source: str, message: str, keys: tuple[Key, ...]) -> in
     if not positions:
         return None
     key = min(positions, key=lambda position: position[0])[1]
-    return _line_of_key(source, key.table, key.name)
+    return _line_of_item(source, key, message)
+
+
+def _line_of_item(source: str, key: Key, message: str) -> int | None:
+    """Line of ``key``, or of its item ``[i]`` where ``message`` names one (an array
+    written over several lines, ``hardpoints.points_mm[2]``: the line of point 2)."""
+    line = _line_of_key(source, key.table, key.name)
+    found = re.search(rf"(?<![\w.]){re.escape(key.label)}\[(\d+)\]", message)
+    if line is None or found is None:
+        return line
+    return line + _array_item_offset(source.splitlines()[line - 1:], int(found.group(1)))
+
+
+def _array_item_offset(lines: list[str], index: int) -> int:
+    """Lines from an array's ``key = [`` line to the line where item ``index`` starts
+    (0 when it cannot be found: the key's own line)."""
+    depth, count, expecting = 0, -1, False
+    for offset, text in enumerate(lines):
+        quote = ""
+        for char in text[text.index("=") + 1 if offset == 0 and "=" in text else 0:]:
+            if quote:
+                quote = "" if char == quote else quote
+                continue
+            if char == "#":
+                break
+            if depth == 1 and expecting and char not in " \t,]":
+                count, expecting = count + 1, False
+                if count == index:
+                    return offset
+            if char in "\"'":
+                quote = char
+            elif char == "[":
+                depth += 1
+                expecting = expecting or depth == 1
+            elif char == "]":
+                depth -= 1
+                if depth <= 0:
+                    return 0
+            elif char == "," and depth == 1:
+                expecting = True
+    return 0
 
 
 _TABLE_HEADER = re.compile(r"^\s*\[\s*([A-Za-z0-9_.-]+)\s*\]")

@@ -14,6 +14,8 @@ One job per module:
   objective (:class:`Tolerances`, :func:`optimise_robust`);
 * :mod:`sso.column.band`: :func:`tolerance_band`;
 * :mod:`sso.column.feel`: steering feel on-centre and at lock;
+* :mod:`sso.column.steering_range`: speed and torque ratio, transmission error from
+  lock to lock (exact extremes);
 * :mod:`sso.column.design`: a column and its phasing, given either way;
 * :mod:`sso.column.robust`: the robust API in one import.
 

@@ -2,7 +2,8 @@
 
 * a :class:`sso.ShaftSeries` goes to :func:`sso.shafts.optimise.optimise`
   unchanged (every argument as before);
-* a :class:`ColumnGeometry` goes to :func:`sso.column.phasing.optimise_phasing`
+* a :class:`ColumnGeometry` (after a :class:`sso.column.practice.PracticeWarning` for
+  each way it leaves practice) goes to :func:`sso.column.phasing.optimise_phasing`
   (best yoke phasing for fixed hardpoints); with ``joint_boxes_mm=`` to
   :func:`sso.column.joint_positions.optimise_joint_positions` (joint centres free
   in boxes); with ``tolerances=`` to ``sso.column.robust.optimise_robust``;
@@ -21,6 +22,7 @@ from importlib import import_module
 from typing import Any
 
 from sso.column.geometry import ColumnGeometry
+from sso.column.practice import PracticeWarning, practice_notes
 from sso.shafts.series import ShaftSeries
 
 
@@ -67,6 +69,8 @@ def _dispatch(problem: Any, args: tuple[Any, ...], options: dict[str, Any]) -> A
         if args:
             raise TypeError("sso.optimise(geometry, ...) takes keyword options only; "
                             f"got {len(args)} positional")
+        for note in practice_notes(problem):
+            warnings.warn(note.text, PracticeWarning, stacklevel=2)
         if "tolerances" in options:
             return _robust("optimise_robust")(problem, **options)
         if "joint_boxes_mm" in options:

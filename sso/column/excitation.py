@@ -25,7 +25,9 @@ acceleration amplitude is the largest ``|d w_out / dt|`` of
 :meth:`sso.ShaftSeries.evaluate`.
 
 Published limits (as used by driveline makers): inertial 1000 rad/s^2 for cars
-and 2000 for trucks; torsional 300 / 500 rad/s^2.
+and 2000 for trucks; torsional 300 / 500 rad/s^2. They are limits for propeller
+shafts at driveline speeds, so they judge a driveline (``application="driveline"``)
+and never a steering column, whose rows carry no limit and no verdict.
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ if TYPE_CHECKING:
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
 TORSIONAL_LIMIT_RAD_S2 = {"car": 300.0, "truck": 500.0}
+APPLICATIONS = ("steering", "driveline")
 
 
 @register_record
@@ -82,11 +85,11 @@ class ExcitationRow:
         ``omega^2 sin^2 beta_eq`` of the exact chain.
     exact_output_accel_rad_s2 : float
         Largest output angular acceleration of the exact model at constant input speed.
-    inertial_limit_rad_s2, torsional_limit_rad_s2 : float
-        Published limits for the vehicle kind.
-    within_limits : bool
+    inertial_limit_rad_s2, torsional_limit_rad_s2 : float or None
+        Published limits for the vehicle kind; None for a steering column.
+    within_limits : bool or None
         Drive and coast at or below the inertial limit, torsional at or below the
-        torsional limit.
+        torsional limit; None for a steering column (the limits do not apply).
     """
 
     input_speed_rpm: float
@@ -95,9 +98,9 @@ class ExcitationRow:
     torsional_rad_s2: float
     exact_torsional_rad_s2: float
     exact_output_accel_rad_s2: float
-    inertial_limit_rad_s2: float
-    torsional_limit_rad_s2: float
-    within_limits: bool
+    inertial_limit_rad_s2: float | None
+    torsional_limit_rad_s2: float | None
+    within_limits: bool | None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -114,6 +117,8 @@ class ExcitationTable(Record, Readable):
     ----------
     vehicle : {"car", "truck"}
         Whose published limits the rows compare with.
+    application : {"driveline", "steering"}
+        A driveline is judged by the published limits; a steering column is not.
     angles : EquivalentAngles
         The design's equivalent angles, deg (the rows' excitations follow from them).
     rows : tuple of ExcitationRow
@@ -121,13 +126,21 @@ class ExcitationTable(Record, Readable):
     """
 
     vehicle: str
+    application: str
     angles: EquivalentAngles
     rows: tuple[ExcitationRow, ...]
 
     @property
-    def within_limits(self) -> bool:
-        """True when every row is within the published limits."""
+    def within_limits(self) -> bool | None:
+        """True when every row is within the published limits; None where none apply."""
+        if self.application != "driveline":
+            return None
         return all(row.within_limits for row in self.rows)
+
+    def _verdict(self) -> str:
+        if self.within_limits is None:
+            return "not judged (the published limits are a driveline's)"
+        return "within" if self.within_limits else "NOT within"
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -145,16 +158,18 @@ class ExcitationTable(Record, Readable):
         return self.rows[index]
 
     def _repr_text(self) -> str:
-        verdict = "within" if self.within_limits else "NOT within"
         speeds = [row.input_speed_rpm for row in self.rows]
-        return (f"{self.vehicle}, {len(self.rows)} speeds {format_number(min(speeds))} to "
-                f"{format_number(max(speeds))} rpm, {verdict} the published limits")
+        return (f"{self.application}, {self.vehicle}, {len(self.rows)} speeds "
+                f"{format_number(min(speeds))} to {format_number(max(speeds))} rpm, "
+                f"{self._verdict()}")
 
     def _summary_parts(self) -> list[Part]:
         angles = self.angles
+        def judged(value: bool | None) -> str:
+            return "n/a" if value is None else "yes" if value else "no"
+
         return [
-            f"Excitation ({self.vehicle} limits): "
-            f"{'within' if self.within_limits else 'NOT within'} the published limits",
+            f"Excitation ({self.application}, {self.vehicle} limits): {self._verdict()}",
             f"equivalent angles (deg): drive {format_number(angles.drive_deg)}, coast "
             f"{format_number(angles.coast_deg)}, torsional {format_number(angles.torsional_deg)}"
             f", exact {format_number(angles.exact_deg)}",
@@ -165,7 +180,7 @@ class ExcitationTable(Record, Readable):
                              format_number(row.coast_rad_s2), format_number(row.torsional_rad_s2),
                              format_number(row.exact_torsional_rad_s2),
                              format_number(row.exact_output_accel_rad_s2),
-                             "yes" if row.within_limits else "no") for row in self.rows)),
+                             judged(row.within_limits)) for row in self.rows)),
             f"limits (rad/s^2): inertial {format_number(self.rows[0].inertial_limit_rad_s2)}, "
             f"torsional {format_number(self.rows[0].torsional_limit_rad_s2)}",
         ]
@@ -196,7 +211,8 @@ def equivalent_angles(series: ShaftSeries) -> EquivalentAngles:
 
 
 def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
-                     vehicle: str = "car") -> ExcitationTable:
+                     vehicle: str = "car",
+                     application: str = "driveline") -> ExcitationTable:
     """Excitation of a design over input speeds, beside the published limits.
 
     Parameters
@@ -208,6 +224,9 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
         Input speeds, rpm, each finite and > 0.
     vehicle : {"car", "truck"}
         Which published limits apply.
+    application : {"driveline", "steering"}
+        A driveline is judged by the published limits; a steering column is not
+        (its rows carry ``None`` limits and verdicts).
 
     Returns
     -------
@@ -221,12 +240,14 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
         If ``series`` is not a :class:`sso.ShaftSeries`.
     ValueError
         If a speed is not finite and positive, the list is empty, or the vehicle
-        kind is unknown.
+        kind or the application is unknown.
     """
     from sso.validation import as_float_tuple, check_choice, validate_speed
 
     _check_series(series)
     check_choice("vehicle", vehicle, tuple(INERTIAL_LIMIT_RAD_S2))
+    check_choice("application", application, APPLICATIONS)
+    judged = application == "driveline"
     speeds = as_float_tuple("input_speed_rpm", input_speed_rpm)
     if not speeds:
         raise ValueError("input_speed_rpm is empty: give at least one speed in rpm")
@@ -251,11 +272,13 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
             torsional_rad_s2=torsional,
             exact_torsional_rad_s2=omega_squared * math.sin(math.radians(angles.exact_deg)) ** 2,
             exact_output_accel_rad_s2=accel_per_rpm2 * speed**2,
-            inertial_limit_rad_s2=inertial,
-            torsional_limit_rad_s2=torsional_limit,
-            within_limits=drive <= inertial and coast <= inertial and torsional <= torsional_limit,
+            inertial_limit_rad_s2=inertial if judged else None,
+            torsional_limit_rad_s2=torsional_limit if judged else None,
+            within_limits=(drive <= inertial and coast <= inertial
+                           and torsional <= torsional_limit) if judged else None,
         ))
-    return ExcitationTable(vehicle=vehicle, angles=angles, rows=tuple(rows))
+    return ExcitationTable(vehicle=vehicle, application=application, angles=angles,
+                           rows=tuple(rows))
 
 
 def _exact_copy(series: ShaftSeries) -> ShaftSeries:

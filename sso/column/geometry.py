@@ -14,7 +14,9 @@ Conventions (``docs/column.md`` draws them):
 * yoke phasing ``delta_k`` on intermediate shaft ``k``: angle about ``u_k`` from the
   pin axis of its yoke at joint ``k`` to the pin axis of its yoke at joint ``k+1``;
   ``delta = 0`` is "in phase";
-* the model's phase is ``phi_k = 90 + delta_k - gamma_k (mod 180)`` deg.
+* the model's phase is ``phi_k = 90 + delta_k - gamma_k (mod 180)`` deg;
+* in words (:func:`shaft_name`) shaft 0 is the input shaft, shaft ``n`` the output
+  shaft, and the intermediate shafts keep their numbers ``1 .. n-1``, everywhere.
 
 A straight joint (``beta_k = 0``) has no bend plane of its own. It borrows one: the
 plane of the nearest bent joint upstream, else downstream. Only sums of bend-plane
@@ -229,6 +231,19 @@ class ColumnGeometry:
         return np.asarray(numbers, dtype=float), np.asarray(self.plane_angle_deg)
 
 
+def shaft_name(index: int, shafts: int) -> str:
+    """The name of shaft ``index`` (0-based, ``P(index)`` to ``P(index + 1)``) of ``shafts``.
+
+    The end shafts are the input and output shafts; the intermediate shafts are
+    numbered from 1, as their yoke phasings ``delta_1 .. delta_(n-1)`` are.
+    """
+    if index == 0:
+        return "input shaft"
+    if index == shafts - 1:
+        return "output shaft"
+    return f"intermediate shaft {index}"
+
+
 def _floats(values: np.ndarray) -> tuple[float, ...]:
     return tuple(float(value) for value in values)
 
@@ -263,7 +278,8 @@ def _validated_points(points_mm: Any) -> np.ndarray:
         if length <= COINCIDENT_RELATIVE * max(extent, 1.0):
             raise ValueError(
                 f"points_mm[{index}] and points_mm[{index + 1}] coincide "
-                f"(distance {length:g} mm): shaft {index} has no direction")
+                f"(distance {length:g} mm): the {shaft_name(index, len(lengths))} has no "
+                "direction")
     return points
 
 
@@ -284,7 +300,7 @@ def _operating_angles(directions: np.ndarray) -> tuple[tuple[float, ...], tuple[
         beta = 0.0 if is_straight else float(np.degrees(np.arctan2(sine, cosine)))
         if beta >= BETA_LIMIT_DEG:
             raise ValueError(
-                f"beta at joint {joint} (points_mm[{joint}]) = {beta:g} deg is outside the "
+                f"points_mm[{joint}]: joint {joint} bends by beta = {beta:g} deg, outside the "
                 f"allowed range [0, {BETA_LIMIT_DEG:g}) deg")
         beta_deg.append(beta)
         straight.append(is_straight)

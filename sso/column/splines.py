@@ -124,7 +124,8 @@ class SplineResult(Record, Readable):
                          zip(self.teeth, self.tooth_offset, self.yoke_phase_deg, strict=True)))
         title = (f"Spline teeth ({self.method}): RE {format_number(self.residual_error)}, "
                  f"loss against the continuous optimum {format_number(self.loss)}")
-        return [title, TextTable(("shaft", "teeth", "tooth offset", "yoke phase (deg)"), rows),
+        return [title, TextTable(("intermediate shaft", "teeth", "tooth offset",
+                                  "yoke phase (deg)"), rows),
                 *self.assembly_text().splitlines()]
 
     def assembly_text(self) -> str:
@@ -305,16 +306,17 @@ def _branch_and_bound(beta_rad: np.ndarray, choices: list[np.ndarray]
 
 def _instruction(shaft: int, teeth: int, offset: int) -> YokeInstruction:
     degrees = offset * 360.0 / teeth
+    # "yoke at joint 3: 8 teeth" cannot be misread as "joint 38".
+    where = (f"Intermediate shaft {shaft} (joint {shaft} to joint {shaft + 1}, {teeth} teeth), "
+             f"yoke at joint {shaft + 1}: ")
     if offset == 0:
-        text = (f"Shaft {shaft} (joint {shaft} to joint {shaft + 1}, {teeth} teeth): fit the "
-                f"yoke at joint {shaft + 1} in phase with the yoke at joint {shaft} "
-                "(pin axes parallel).")
+        text = (f"{where}0 teeth, in phase with the yoke at joint {shaft} (pin axes "
+                "parallel).")
     else:
         direction = "clockwise" if offset > 0 else "anticlockwise"
         plural = "tooth" if abs(offset) == 1 else "teeth"
-        text = (f"Shaft {shaft} (joint {shaft} to joint {shaft + 1}, {teeth} teeth): fit the "
-                f"yoke at joint {shaft + 1} {abs(offset)} {plural} ({abs(degrees):.1f} deg) "
-                f"{direction} from the in-phase position, looking along the shaft from "
-                f"joint {shaft} towards joint {shaft + 1}.")
+        text = (f"{where}{abs(offset)} {plural} ({abs(degrees):.1f} deg) {direction} from the "
+                f"in-phase position, looking along the shaft from joint {shaft} towards joint "
+                f"{shaft + 1}.")
     return YokeInstruction(shaft=shaft, teeth=teeth, tooth_offset=offset, offset_deg=degrees,
                            text=text)

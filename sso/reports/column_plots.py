@@ -15,6 +15,7 @@ from sso.reports.plots import _new_figure, _png
 
 # Half the side of a bend-plane patch, as a fraction of the column's extent.
 PATCH_FRACTION = 0.1
+POSITION_COLOURS = ("#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
 ROLE_STYLES = {"as_built": {"linestyle": "--", "linewidth": 1.4},
                "recommended": {"linestyle": "-", "linewidth": 2.2}}
 FIGURE_COLOURS = {"drive_rad_s2": "#1f77b4", "coast_rad_s2": "#ff7f0e",
@@ -30,13 +31,16 @@ def render_column_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
     Returns
     -------
     dict of str to bytes
-        ``"column_3d.png"`` and ``"excitation.png"``, and the robust part's plots
+        ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's plots
         (:mod:`sso.reports.column_robust_plots`) when the document has one.
     """
     from sso.reports.column_robust_plots import render_robust_plots
+    from sso.reports.column_steering_plots import steering_plot
+    from sso.reports.column_steering_report import STEERING_PLOT
 
+    steering = {STEERING_PLOT: steering_plot(document)} if "steering" in document else {}
     return {"column_3d.png": _column_3d(document), "excitation.png": _excitation(document),
-            **render_robust_plots(document)}
+            **steering, **render_robust_plots(document)}
 
 
 def _column_3d(document: Mapping[str, Any]) -> bytes:
@@ -48,15 +52,22 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
     points = np.asarray(geometry["points_mm"], dtype=float)
     moved = document.get("joint_positions")
     _draw_column(axes, points, "#1f77b4", "given hardpoints", "-")
-    patches = _bend_patches(points, geometry["bend_normals"])
+    patches = bend_patches(points, geometry["bend_normals"])
     axes.add_collection3d(Poly3DCollection(patches, facecolors="#ff7f0e", alpha=0.3,
                                            edgecolors="#ff7f0e", linewidths=0.6))
     every = [points]
+    positions = (document.get("robust") or {}).get("positions")
+    for index, (name, entry) in enumerate((positions or {}).get("geometry", {}).items()):
+        position = np.asarray(entry["points_mm"], dtype=float)
+        axes.plot(position[:, 0], position[:, 1], position[:, 2], linestyle=":", linewidth=1.6,
+                  color=POSITION_COLOURS[index % len(POSITION_COLOURS)],
+                  label=f"position {name}")
+        every.append(position)
+    for low, high, _ in joint_boxes(document):
+        _draw_box(axes, np.asarray(low, dtype=float), np.asarray(high, dtype=float))
     if moved is not None:
         moved_points = np.asarray(moved["points_mm"], dtype=float)
         _draw_column(axes, moved_points, "#2ca02c", "joints moved within their boxes", "--")
-        for low, high in moved["joint_boxes_mm"]:
-            _draw_box(axes, np.asarray(low, dtype=float), np.asarray(high, dtype=float))
         every.append(moved_points)
     for index, point in enumerate(points):
         name = f"P{index}" if index in (0, len(points) - 1) else f"joint {index} (P{index})"
@@ -74,6 +85,15 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
     return _png(figure)
 
 
+def joint_boxes(document: Mapping[str, Any]) -> list[tuple[Any, Any, int]]:
+    """``(low, high, joint)`` of each box of ``[joint_boxes]`` (mm; joints from 1), or none."""
+    boxes = document["case"].get("joint_boxes")
+    if not boxes:
+        return []
+    return [(low, high, joint) for joint, (low, high)
+            in enumerate(zip(boxes["min_mm"], boxes["max_mm"], strict=True), start=1)]
+
+
 def _draw_column(axes: Any, points: np.ndarray, colour: str, label: str, style: str) -> None:
     axes.plot(points[:, 0], points[:, 1], points[:, 2], color=colour, linestyle=style,
               linewidth=2.5, label=label)
@@ -83,7 +103,7 @@ def _draw_column(axes: Any, points: np.ndarray, colour: str, label: str, style: 
                  marker="s", s=25, depthshade=False)
 
 
-def _bend_patches(points: np.ndarray, normals: Any) -> list[np.ndarray]:
+def bend_patches(points: np.ndarray, normals: Any) -> list[np.ndarray]:
     """A small square at each joint in its bend plane: one side along the bisector of
     the shafts before and after the joint, the other across it within the plane."""
     differences = np.diff(points, axis=0)
@@ -141,9 +161,13 @@ def _excitation(document: Mapping[str, Any]) -> bytes:
     recommended = document["recommended"]
     labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
     first = next(iter(excitation["rows"].values()))[0]
+    judged = first["inertial_limit_rad_s2"] is not None
     # A log axis cannot show 0: a cancelled figure is drawn on the floor, a millionth
-    # of the torsional limit, and said to be below it in the label.
-    floor = 1e-6 * first["torsional_limit_rad_s2"]
+    # of the largest figure (of the torsional limit where limits apply), and said to
+    # be below it in the label.
+    largest = max(row[name] for rows in excitation["rows"].values() for row in rows
+                  for name in FIGURE_COLOURS)
+    floor = 1e-6 * (first["torsional_limit_rad_s2"] if judged else max(largest, 1e-300))
     for role, rows in excitation["rows"].items():
         style = ROLE_STYLES["recommended" if role == recommended else "as_built"]
         speeds = [row["input_speed_rpm"] for row in rows]
@@ -152,14 +176,17 @@ def _excitation(document: Mapping[str, Any]) -> bytes:
             below = " (below the plot)" if np.all(values < floor) else ""
             axes.plot(speeds, np.maximum(values, floor), color=colour, **style,
                       label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
-    axes.axhline(first["inertial_limit_rad_s2"], color="black", linestyle=":", linewidth=1.5,
-                 label=f"inertial limit ({excitation['vehicle']})")
-    axes.axhline(first["torsional_limit_rad_s2"], color="grey", linestyle="-.", linewidth=1.5,
-                 label=f"torsional limit ({excitation['vehicle']})")
+    if judged:
+        axes.axhline(first["inertial_limit_rad_s2"], color="black", linestyle=":",
+                     linewidth=1.5, label=f"inertial limit ({excitation['vehicle']})")
+        axes.axhline(first["torsional_limit_rad_s2"], color="grey", linestyle="-.",
+                     linewidth=1.5, label=f"torsional limit ({excitation['vehicle']})")
     axes.set_yscale("log")
     axes.set_xlabel("input speed (rpm)")
     axes.set_ylabel("angular acceleration excitation (rad/s^2)")
-    axes.set_title("Excitation over the rpm range against the published limits")
+    axes.set_title("Excitation over the rpm range against the published driveline limits"
+                   if judged else "Excitation over the rpm range (steering column: the "
+                   "driveline limits do not apply)")
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=7, loc="lower right")
     return _png(figure)

@@ -11,13 +11,16 @@ import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from sso.column.geometry import shaft_name
 from sso.limits import REPORT_DIGITS
 from sso.reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
+from sso.reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
 from sso.reports.summary import (
     Block,
     Heading,
     Image,
     Paragraph,
+    Scene,
     Table,
     closing_blocks,
     number,
@@ -30,13 +33,19 @@ EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsio
 CAPTIONS = {
     "column_3d.png": "The column in vehicle coordinates: shafts, joints (dots), the end points "
                      "on the input and output axes (squares) and each joint's bend plane "
-                     "(orange patch, spanned by the shafts before and after the joint); with "
-                     "joint boxes, the moved column (dashed) and the boxes.",
+                     "(orange patch, spanned by the shafts before and after the joint); the "
+                     "named tilt positions (dotted), the joint boxes and the moved column "
+                     "(dashed) where the case has them. report.html has this view to turn.",
     "excitation.png": "SAE AE-7 small-angle excitations and the exact output acceleration over "
                       "the rpm range (solid: recommended assembly, dashed: as built), with the "
-                      "published limits.",
+                      "published driveline limits where they apply.",
+    STEERING_PLOT: STEERING_CAPTION,
     **ROBUST_CAPTIONS,
 }
+VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate, the wheel to "
+                "zoom, double-click for the first view; the pointer names each part. Shafts "
+                "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
+                "positions (dashed), the joint boxes and the moved column (green).")
 CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
               "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
               "yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
@@ -70,7 +79,7 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     blocks += [_case_table(document), Heading(2, "Verdict"),
                Paragraph(f"{status}: {document['verdict']}"),
                Heading(2, "Geometry from the hardpoints"), _geometry_table(document),
-               _shaft_table(document), Paragraph(CONVENTION),
+               _shaft_table(document), Paragraph(CONVENTION), _scene(document),
                Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
                Heading(2, "Assemblies compared"), _assembly_table(document),
                Heading(2, "Yoke phasing for the fitter"), _phasing_table(document)]
@@ -87,10 +96,17 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     if "joint_positions" in document:
         blocks += [Heading(2, "Joint positions moved within their boxes"),
                    *_joint_blocks(document)]
+    blocks += steering_blocks(document)
     blocks += robust_blocks(document)
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
     images = [Image(name, CAPTIONS[name]) for name in image_files]
     return blocks + closing_blocks(document["warnings"], document["versions"], images)
+
+
+def _scene(document: Mapping[str, Any]) -> Scene:
+    from sso.reports.column_scene import column_scene
+
+    return Scene(column_scene(document), VIEW_CAPTION)
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:
@@ -100,6 +116,7 @@ def _case_table(document: Mapping[str, Any]) -> Table:
             ("run", {"optimise": "phasing, spline teeth and joint-position optimisation",
                      "evaluate": "analysis of the assembly as built"}[document["mode"]]),
             ("joints", str(len(geometry["beta_deg"]))),
+            ("application", document["excitation"].get("application", "driveline")),
             ("vehicle (limits)", document["excitation"]["vehicle"]),
             ("spline teeth", ", ".join(str(t) for t in case.get("splines", {}).get("teeth", []))
              or "not given")]
@@ -129,7 +146,8 @@ def _shaft_table(document: Mapping[str, Any]) -> Table:
     rows = []
     for shaft, length in enumerate(lengths):
         gamma = number(gammas[shaft - 1], ".4f") if 1 <= shaft <= len(gammas) else "-"
-        rows.append((str(shaft), f"P{shaft} to P{shaft + 1}", number(length, ".1f"), gamma))
+        rows.append((shaft_name(shaft, len(lengths)), f"P{shaft} to P{shaft + 1}",
+                     number(length, ".1f"), gamma))
     return Table(("shaft", "from, to", "length (mm)", "bend-plane angle gamma (deg)"),
                  tuple(rows))
 
@@ -218,12 +236,18 @@ def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
                         number(angles["coast_deg"], ".4f"), number(angles["torsional_deg"], ".4f"),
                         number(angles["exact_deg"], ".4f"))
                        for role, angles in excitation["angles"].items())
+    judged = excitation.get("application", "driveline") == "driveline"
+    limits = (f"Limits ({excitation['vehicle']}): inertial (drive, coast) and torsional, as "
+              "used by driveline makers." if judged else
+              "The SAE AE-7 limits (inertial 1000 / 2000, torsional 300 / 500 rad/s^2) are "
+              "for propeller shafts at driveline speeds: they do not judge a steering column, "
+              "so no row is marked within or outside them (excitation.application = "
+              "'steering'); the steering criteria above judge it.")
     blocks: list[Block] = [
         Paragraph("Equivalent angles (deg): SAE AE-7 small-angle figures, and the exact chain "
                   "as one joint (beta_eq). Excitation = omega^2 sin^2(angle), rad/s^2; the "
                   "exact output acceleration is the largest |d w_out/dt| at constant input "
-                  f"speed. Limits ({excitation['vehicle']}): inertial (drive, coast) and "
-                  "torsional, as used by driveline makers."),
+                  f"speed. {limits}"),
         Table(("assembly", "drive", "coast", "torsional", "exact beta_eq"), angle_rows)]
     for role, rows in excitation["rows"].items():
         table_rows = tuple((number(row["input_speed_rpm"], ".4g"),
@@ -231,13 +255,14 @@ def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
                             number(row["torsional_rad_s2"], ".4g"),
                             number(row["exact_torsional_rad_s2"], ".4g"),
                             number(row["exact_output_accel_rad_s2"], ".4g"),
-                            f"{row['inertial_limit_rad_s2']:g} / {row['torsional_limit_rad_s2']:g}",
-                            "yes" if row["within_limits"] else "NO")
+                            *((f"{row['inertial_limit_rad_s2']:g} / "
+                               f"{row['torsional_limit_rad_s2']:g}",
+                               "yes" if row["within_limits"] else "NO") if judged else ()))
                            for row in rows)
+        limit_header = ("limits inertial / torsional", "within") if judged else ()
         blocks += [Heading(3, labels[role]),
                    Table(("rpm", "drive", "coast", "torsional", "exact torsional",
-                          "exact output accel", "limits inertial / torsional", "within"),
-                         table_rows)]
+                          "exact output accel", *limit_header), table_rows)]
     return blocks
 
 

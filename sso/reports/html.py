@@ -1,7 +1,8 @@
 """``report.html``: the report blocks as one self-contained HTML page.
 
-Images are embedded as base64 data URIs; every string is passed through
-:func:`html.escape`. Each table sits in a box that scrolls sideways
+Images are embedded as base64 data URIs; an interactive 3D view carries its own
+renderer inline (:mod:`sso.reports.view3d`), so the page asks no host for anything;
+every string is passed through :func:`html.escape`. Each table sits in a box that scrolls sideways
 (``overflow-x: auto``), so a wide table never widens the page.
 """
 
@@ -11,7 +12,7 @@ import base64
 import html
 from collections.abc import Mapping, Sequence
 
-from sso.reports.summary import Block, Heading, Image, Paragraph, Table
+from sso.reports.summary import Block, Heading, Image, Paragraph, Scene, Table
 
 STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; padding: 0 1rem;
@@ -38,6 +39,7 @@ def render_html(blocks: Sequence[Block], images: Mapping[str, bytes]) -> str:
     """
     title = next((block.text for block in blocks if isinstance(block, Heading)), "SSO report")
     body = []
+    style = STYLE
     for block in blocks:
         if isinstance(block, Heading):
             body.append(f"<h{block.level}>{_escape(block.text)}</h{block.level}>")
@@ -54,8 +56,13 @@ def render_html(blocks: Sequence[Block], images: Mapping[str, bytes]) -> str:
             body.append(f'<figure><img src="data:image/png;base64,{data}" '
                         f'alt="{_escape(block.caption)}"><figcaption>{_escape(block.caption)}'
                         "</figcaption></figure>")
+        elif isinstance(block, Scene):
+            from sso.reports.view3d import VIEW_STYLE, scene_html
+
+            style = STYLE + VIEW_STYLE
+            body.append(scene_html(block.scene, block.caption, f"sso-view-{len(body)}"))
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>{_escape(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
+            f"<title>{_escape(title)}</title>\n<style>{style}</style>\n</head>\n<body>\n"
             + "\n".join(body) + "\n</body>\n</html>\n")
 
 

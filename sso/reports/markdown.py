@@ -18,7 +18,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from sso.reports.summary import Block, Heading, Image, Paragraph, Table
+from sso.reports.summary import Block, Heading, Image, Paragraph, Scene, Table
 
 
 def render_markdown(blocks: Sequence[Block]) -> str:
@@ -35,6 +35,8 @@ def render_markdown(blocks: Sequence[Block]) -> str:
             parts.append("\n".join(lines))
         elif isinstance(block, Image):
             parts.append(f"![{_escape(block.caption)}]({block.file_name})")
+        elif isinstance(block, Scene):
+            parts.append(f"{_escape(block.caption)} (an interactive 3D view: open report.html)")
     return "\n\n".join(parts) + "\n"
 
 

@@ -143,10 +143,10 @@ def _polar(plot: _Plot) -> bytes:
     figure = _new_figure()
     axes = figure.add_axes((0.06, 0.06, 0.46, 0.74), projection="polar")
     low, high = _plot_speeds(axes, np.radians(plot.input_angle_deg), plot)
+    # The radius starts at 0: a scale from the least speed would magnify the ripple
+    # (the cartesian plot zooms on it, and says so).
     margin = max(0.15 * (high - low), 0.02 * plot.input_speed_rpm)
-    inner = max(0.0, low - margin)
-    axes.set_rlim(inner, high + margin)
-    axes.set_rorigin(inner - 0.35 * (high + margin - inner))
+    axes.set_rlim(0.0, high + margin)
     axes.set_thetagrids(np.arange(0, 360, 45),
                         labels=[f"{angle} deg" for angle in range(0, 360, 45)])
     axes.set_rlabel_position(22.5)
@@ -156,6 +156,6 @@ def _polar(plot: _Plot) -> bytes:
     figure.legend(*axes.get_legend_handles_labels(), loc="center left",
                   bbox_to_anchor=(0.57, 0.55), fontsize="small", framealpha=0.9)
     figure.text(0.575, 0.38, "angle: input shaft angle (deg), counter-clockwise from 0\n"
-                f"radius: shaft speed (rpm); the scale starts at {inner:.4g} rpm\n"
-                "on the inner circle", fontsize="small", va="top", ha="left")
+                "radius: shaft speed (rpm), from 0 at the centre\n"
+                f"(speeds {low:.4g} to {high:.4g} rpm)", fontsize="small", va="top", ha="left")
     return _png(figure)

@@ -212,5 +212,6 @@ def _crosscheck_text(result: OptimisationResult) -> str:
 
 def _caption(file_name: str) -> str:
     if file_name.startswith("polar"):
-        return "Input and output speed (rpm, radius) against input shaft angle (deg), polar."
+        return ("Input and output speed (rpm, radius from 0 at the centre) against input shaft "
+                "angle (deg), polar.")
     return "Input and output speed (rpm) against input shaft angle (deg)."

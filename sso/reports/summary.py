@@ -46,7 +46,15 @@ class Image:
     caption: str
 
 
-Block = Heading | Paragraph | Table | Image
+@dataclass(frozen=True)
+class Scene:
+    """An interactive 3D view (:mod:`sso.reports.view3d`): drawn in HTML, named in Markdown."""
+
+    scene: Mapping[str, Any]
+    caption: str
+
+
+Block = Heading | Paragraph | Table | Image | Scene
 
 def number(value: Any, spec: str = ".6g") -> str:
     """Format a number for a report cell.

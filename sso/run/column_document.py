@@ -13,7 +13,9 @@ Layout (``schema_version`` as :data:`sso.run.document.SCHEMA_VERSION`)::
     joint_positions? (optimise with [joint_boxes]): JointPositionResult.to_dict(),
     robust? (positions, tolerances, band or feel given):
         :mod:`sso.run.column_robust_document`,
-    excitation: {vehicle, rows: {role -> [ExcitationRow]}, angles: {role -> ...}},
+    excitation: {vehicle, application, rows: {role -> [ExcitationRow]}, angles: {role -> ...}},
+    steering: SteeringAssessment.to_dict() of every assembly compared (and the
+        robust part's designs),
     designs: {initial, optimum?} -> {label, evaluation: {residual_error}},
     success, verdict, warnings, versions
 
@@ -37,6 +39,7 @@ from sso.column.cancel import can_cancel
 from sso.column.chain_matrix import residual_error
 from sso.column.excitation import equivalent_angles, excitation_table
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
+from sso.column.steering_criteria import assess_steering
 from sso.run.column_robust_document import has_robust_part, robust_part
 from sso.run.document import document_header, package_versions
 
@@ -119,6 +122,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
                                  ("as_built", recommended))
     document["assemblies"] = assemblies
     document["excitation"] = excitation
+    document["steering"] = _steering(geometry, case, assemblies, document.get("robust"))
     document["designs"] = _designs(assemblies, recommended, document.get("joint_positions"))
     document.update(
         success=success,
@@ -161,12 +165,26 @@ def _excitation(geometry: ColumnGeometry, case: ColumnCase, assemblies: dict[str
                 roles: Sequence[str]) -> dict[str, Any]:
     speeds = case.excitation_speeds_rpm()
     vehicle = case.values["excitation.vehicle"]
+    application = case.values["excitation.application"]
     rows, angles = {}, {}
     for role in dict.fromkeys(roles):
         series = geometry.series(assemblies[role]["yoke_phase_deg"])
-        rows[role] = [row.to_dict() for row in excitation_table(series, speeds, vehicle)]
+        rows[role] = [row.to_dict() for row in excitation_table(series, speeds, vehicle,
+                                                                application)]
         angles[role] = asdict(equivalent_angles(series))
-    return {"vehicle": vehicle, "rows": rows, "angles": angles}
+    return {"vehicle": vehicle, "application": application, "rows": rows, "angles": angles}
+
+
+def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: list[dict[str, Any]],
+              robust: dict[str, Any] | None) -> dict[str, Any]:
+    """Steering figures and criteria of every assembly, and of the robust part's designs
+    not among them."""
+    designs = [(entry["role"], entry["label"], entry["yoke_phase_deg"]) for entry in assemblies]
+    roles = {entry["role"] for entry in assemblies} | {"nominal"}
+    designs += [(entry["role"], entry["label"], entry["yoke_phase_deg"])
+                for entry in (robust or {}).get("designs", []) if entry["role"] not in roles]
+    return assess_steering(geometry, designs, limits=case.steering_limits(),
+                           **case.steering_options()).to_dict()
 
 
 def _designs(assemblies: list[dict[str, Any]], recommended: str,

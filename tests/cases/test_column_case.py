@@ -153,3 +153,55 @@ def test_an_error_inside_the_positions_table_names_its_line(tmp_path):
                     f'[hardpoints.positions]\nup = {TRUCK}\ndown = [[0, 0, 0], [1, 0, "a"]]\n')
     with pytest.raises(CaseError, match=r"line 4: hardpoints.positions.down\[1\]\[2\] = 'a'"):
         load_case(path)
+
+
+METRES_AND_SMALL = [
+    ([[c / 1000.0 for c in point] for point in TRUCK],
+     "hardpoints.points_mm: the shortest shaft (output shaft, P3 to P4) is 0.15 mm long: "
+     "the hardpoints look like metres; give them in mm"),
+    ([[0, 0, 0], [400, 0, 0], [800, 2.0944, 0], [1200, 100, 30]],
+     "hardpoints.points_mm[1]: joint 1 runs at 0.3 deg, below about 0.5 deg (needle bearings "
+     "that hardly roll brinell the trunnions"),
+]
+
+
+@pytest.mark.parametrize("points, warning", METRES_AND_SMALL)
+def test_a_column_leaving_practice_warns_with_the_reason(points, warning):
+    # 2.0944 mm across 400 mm bends joint 1 by atan(2.0944 / 400) = 0.300 deg.
+    case = parse_case({"kind": "column", "hardpoints": {"points_mm": points}}, "case.toml")
+    (text,) = case.warnings
+    assert text.startswith(warning), text
+
+
+def test_a_named_position_leaving_practice_warns_naming_it():
+    tilted = [list(point) for point in TRUCK]
+    tilted[0][1] += 300.0  # the steering wheel 300 mm to the right: joint 1 at 32.2 deg
+    case = parse_case(truck(hardpoints={"points_mm": TRUCK, "positions": {
+        "up": tilted, "down": TRUCK}}, limits={"max_operating_angle_deg": 30.0}), "case.toml")
+    (text,) = case.warnings
+    assert text.startswith("hardpoints.positions.up[1]: joint 1 runs at 32.2 deg")
+    assert "above the maker's limit of 30 deg" in text
+
+
+BEND_SOURCE = ('kind = "column"\n\n[hardpoints]\npoints_mm = [\n  [0, 0, 0],  # P0\n'
+               '  [100, 0, 0],\n  [90, 100, 0],\n  [200, 130, 40],\n]\n')
+
+
+@pytest.mark.parametrize("source, line, message", [
+    (BEND_SOURCE, 6, "hardpoints.points_mm[1]: joint 1 bends by beta = 95.7106 deg, outside "
+     "the allowed range [0, 90) deg"),
+    (BEND_SOURCE.replace("[90, 100, 0]", "[90, nan, 0]"), 7,
+     "hardpoints.points_mm[2][1] = nan"),
+    (BEND_SOURCE.replace("[100, 0, 0]", "[0, 0, 0]"), 5,
+     "hardpoints.points_mm[0] and points_mm[1] coincide"),
+    ('kind = "column"\n[hardpoints]\npoints_mm = [[0, 0, 0], [100, 0, 0], [90, 100, 0], '
+     '[200, 130, 40]]\n', 3, "hardpoints.points_mm[1]: joint 1 bends"),
+])
+def test_a_bad_point_names_its_key_and_the_line_it_is_on(source, line, message):
+    # The line of the point itself when the array spans several lines.
+    import tomllib
+
+    with pytest.raises(CaseError) as raised:
+        parse_case(tomllib.loads(source), "bend.toml", source)
+    assert raised.value.line == line
+    assert str(raised.value).startswith(f"bend.toml, line {line}: {message}"), str(raised.value)

@@ -15,8 +15,8 @@ from test_cli import png_size, sso, sso_loading, write_case
 ROOT = Path(__file__).resolve().parents[2]
 CASES = [ROOT / "cases" / "column_car_intermediate_shaft.toml",
          ROOT / "cases" / "column_truck_three_joints.toml"]
-FILES = ("result.json", "excitation.csv", "column_3d.png", "excitation.png", "report.md",
-         "report.html")
+FILES = ("result.json", "excitation.csv", "column_3d.png", "excitation.png", "steering.png",
+         "report.md", "report.html")
 
 
 @pytest.fixture(scope="module")
@@ -57,9 +57,32 @@ def test_truck_report_compares_in_phase_textbook_and_best(column_run):
     assert moved["yoke_phase_deg"] == [10.0, -80.0]  # phasing.mode = "fixed"
     report = (folder / "column_truck_three_joints" / "report.md").read_text()
     for text in ("phi_k = 90 + delta_k - gamma_k", "margin cos(beta_max)",
-                 "fit the yoke at joint 3 8 teeth (80.0 deg) anticlockwise",
-                 "Joint positions moved within their boxes", "limits inertial / torsional"):
+                 "yoke at joint 3: 8 teeth (80.0 deg) anticlockwise",
+                 "Joint positions moved within their boxes", "Steering from lock to lock",
+                 "do not judge a steering column"):
         assert text in report, text
+    assert "limits inertial / torsional" not in report
+
+
+def test_truck_steering_figures_of_every_assembly(column_run):
+    # Reference figures: tests/column/test_column_steering_range.py checks the same
+    # function against the 3D simulation; here the case's lock (900 deg, whole
+    # periods) gives the chain's s_max / s_min, and every excitation row is unjudged.
+    _, folder = column_run
+    document = json.loads((folder / "column_truck_three_joints" / "result.json").read_text())
+    steering = document["steering"]
+    assert steering["lock_deg"] == 900.0 and steering["straight_ahead_deg"] == 0.0
+    by_role = {design["role"]: design for design in steering["designs"]}
+    assert set(by_role) == {"as_built", "in_phase", "textbook", "best", "splines"}
+    assert by_role["splines"]["range"]["speed_fluctuation_percent"] == pytest.approx(4.26,
+                                                                                    abs=0.01)
+    assert by_role["in_phase"]["range"]["speed_fluctuation_percent"] == pytest.approx(19.73,
+                                                                                     abs=0.01)
+    criteria = {item["name"]: item for item in by_role["best"]["criteria"]}
+    assert criteria["speed-ratio fluctuation, lock to lock (peak to peak)"]["within"] is None
+    assert criteria["largest operating angle"]["within"] is True
+    assert all(row["within_limits"] is None and row["inertial_limit_rad_s2"] is None
+               for rows in document["excitation"]["rows"].values() for row in rows)
 
 
 def test_excitation_csv_has_both_assemblies_over_the_rpm_range(column_run):
@@ -69,8 +92,9 @@ def test_excitation_csv_has_both_assemblies_over_the_rpm_range(column_run):
     assert {row["assembly"] for row in rows} == {"as_built", "splines"}
     speeds = sorted({float(row["input_speed_rpm"]) for row in rows})
     assert speeds[0] == 20.0 and speeds[-1] == 120.0 and len(speeds) == 11
-    # Six significant digits, %g style.
-    assert all(row["inertial_limit_rad_s2"] == "1000" for row in rows)
+    # A steering column: the driveline limits judge no row.
+    assert all(row["inertial_limit_rad_s2"] == "" and row["within_limits"] == ""
+               for row in rows)
 
 
 def test_report_renders_again_from_result_json(column_run, tmp_path):
@@ -101,3 +125,22 @@ def test_bad_column_case_exits_2_naming_the_key(tmp_path):
     assert completed.returncode == 2
     assert "splines.teeth has 2 entries; the column has 1 intermediate shaft" in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+def test_a_driveline_column_is_judged_by_the_driveline_limits(tmp_path):
+    # The truck column's points as a driveline at 2000 to 3000 rpm (truck limits):
+    # every row carries the published limits and a verdict, and the report says so.
+    truck = json.loads((ROOT / "tests" / "data" / "columns" / "truck_three_joints.json")
+                       .read_text())["points_mm"]
+    path = write_case(tmp_path, 'kind = "column"\nname = "driveline"\n[hardpoints]\n'
+                      f"points_mm = {truck}\n[excitation]\nrpm = [2000.0, 3000.0]\nrows = 3\n"
+                      'vehicle = "truck"\napplication = "driveline"\n')
+    completed = sso("evaluate", path, "--out", tmp_path, "--no-plots", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    document = json.loads((tmp_path / "driveline" / "result.json").read_text())
+    rows = document["excitation"]["rows"]["as_built"]
+    assert [row["inertial_limit_rad_s2"] for row in rows] == [2000.0] * 3
+    assert all(isinstance(row["within_limits"], bool) for row in rows)
+    report = (tmp_path / "driveline" / "report.md").read_text()
+    assert "limits inertial / torsional" in report
+    assert "the SAE AE-7 driveline limits judge the excitation rows" in report

@@ -35,6 +35,22 @@ def speed_ratio(points_mm: np.ndarray, yoke_phase_deg: np.ndarray, theta_rad: np
     unit vector normal to the input shaft); ``theta`` turns it about the input
     shaft's axis by the right-hand rule.
     """
+    return _turn(points_mm, yoke_phase_deg, theta_rad, input_pin_reference)[0]
+
+
+def output_angle(points_mm: np.ndarray, yoke_phase_deg: np.ndarray, theta_rad: np.ndarray,
+                 input_pin_reference: np.ndarray, output_reference: np.ndarray) -> np.ndarray:
+    """Angle (rad) of the output yoke's pin axis about the output shaft, from
+    ``output_reference`` (right-hand rule), modulo pi (a pin axis is a line)."""
+    axes = shaft_axes(points_mm)
+    pin = _turn(points_mm, yoke_phase_deg, theta_rad, input_pin_reference)[1]
+    sine = np.cross(output_reference, pin) @ axes[-1]
+    return np.mod(np.arctan2(sine, pin @ output_reference), np.pi)
+
+
+def _turn(points_mm: np.ndarray, yoke_phase_deg: np.ndarray, theta_rad: np.ndarray,
+          input_pin_reference: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Speed ratio and the output yoke's pin axis at each input angle."""
     axes = shaft_axes(points_mm)
     theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
     pin_in = rotate(axes[0], theta, np.tile(input_pin_reference, (len(theta), 1)))
@@ -50,7 +66,7 @@ def speed_ratio(points_mm: np.ndarray, yoke_phase_deg: np.ndarray, theta_rad: np
         if joint < joints:
             pin_in = rotate(axis_out, np.full(len(theta), np.radians(yoke_phase_deg[joint - 1])),
                             pin_out)
-    return ratio
+    return ratio, pin_out
 
 
 def residual_error(points_mm: np.ndarray, yoke_phase_deg: np.ndarray,

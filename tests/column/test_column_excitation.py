@@ -92,10 +92,24 @@ def test_rows_scale_with_speed_squared_and_use_the_vehicle_limits():
     assert (car.inertial_limit_rad_s2, car.torsional_limit_rad_s2) == (1000.0, 300.0)
 
 
+def test_a_steering_column_is_never_judged_by_the_driveline_limits():
+    # The row at 2100 rpm is outside the truck limits as a driveline (above); as a
+    # steering column the same figures carry no limit and no verdict.
+    series = sso.ShaftSeries([5.0, 4.0, 3.0, 2.0], [0.0, 90.0, 90.0])
+    driveline = excitation_table(series, [20.0, 2100.0], vehicle="truck")
+    steering = excitation_table(series, [20.0, 2100.0], vehicle="truck", application="steering")
+    for judged, unjudged in zip(driveline, steering, strict=True):
+        assert unjudged.within_limits is None and unjudged.inertial_limit_rad_s2 is None
+        assert unjudged.torsional_limit_rad_s2 is None
+        assert unjudged.torsional_rad_s2 == judged.torsional_rad_s2
+    assert driveline[0].within_limits and not driveline[1].within_limits
+
+
 @pytest.mark.parametrize("kwargs, error, message", [
     ({"input_speed_rpm": []}, ValueError, "input_speed_rpm is empty"),
     ({"input_speed_rpm": [1000.0, -5.0]}, ValueError, r"input_speed_rpm\[1\] = -5"),
     ({"input_speed_rpm": [1000.0], "vehicle": "bus"}, ValueError, "vehicle = 'bus'"),
+    ({"input_speed_rpm": [1000.0], "application": "boat"}, ValueError, "application = 'boat'"),
 ])
 def test_bad_input_is_refused(kwargs, error, message):
     series = sso.ShaftSeries([5.0, 4.0], [90.0])

@@ -205,7 +205,7 @@ def test_leading_straight_joint_borrows_the_plane_downstream():
     ([[0, 0, 0], [100, 0, 0], [100, 0, 0], [200, 50, 0]],
      r"points_mm\[1\] and points_mm\[2\] coincide"),
     ([[0, 0, 0], [100, 0, 0], [200, 0, 0], [300, 0, 0]], "collinear"),
-    ([[0, 0, 0], [100, 0, 0], [100, 100, 0]], r"beta at joint 1 .* = 90 deg"),
+    ([[0, 0, 0], [100, 0, 0], [100, 100, 0]], r"points_mm\[1\]: joint 1 bends by beta = 90 deg"),
     ([[0, 0, 0], [100, 0, 0], [0, 10, 0]], r"joint 1 .*outside the allowed range \[0, 90\)"),
 ])
 def test_bad_points_are_refused_naming_the_point(points, message):

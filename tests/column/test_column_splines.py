@@ -52,9 +52,9 @@ def test_truck_column_on_36_tooth_splines():
     assert result.yoke_phase_deg == pytest.approx((10.0, -80.0))
     assert 0.0 <= result.loss < 1e-9
     assert result.instructions[1].text == (
-        "Shaft 2 (joint 2 to joint 3, 36 teeth): fit the yoke at joint 3 8 teeth (80.0 deg) "
-        "anticlockwise from the in-phase position, looking along the shaft from joint 2 "
-        "towards joint 3.")
+        "Intermediate shaft 2 (joint 2 to joint 3, 36 teeth), yoke at joint 3: 8 teeth "
+        "(80.0 deg) anticlockwise from the in-phase position, looking along the shaft from "
+        "joint 2 towards joint 3.")
     assert "1 tooth (10.0 deg) clockwise" in result.assembly_text()
 
 
