@@ -156,7 +156,8 @@ def write_report(result: Any, folder: str | Path,
     """
     if not isinstance(folder, (str, Path)):
         raise TypeError(f"folder must be a str or pathlib.Path, not {type(folder).__name__}")
-    return replace_folder(folder, render_report(result, formats))
+    files = render_report(result, formats)
+    return replace_folder(folder, files)
 
 
 def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> dict[str, bytes]:

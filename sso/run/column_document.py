@@ -184,7 +184,7 @@ def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: list[dict[
     designs += [(entry["role"], entry["label"], entry["yoke_phase_deg"])
                 for entry in (robust or {}).get("designs", []) if entry["role"] not in roles]
     return assess_steering(geometry, designs, limits=case.steering_limits(),
-                           **case.steering_options()).to_dict()
+                           **case.steering_options())._document_dict()
 
 
 def _designs(assemblies: list[dict[str, Any]], recommended: str,

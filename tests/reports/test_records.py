@@ -53,6 +53,10 @@ MAKERS: dict[str, Callable[[], Any]] = {
     "JointPositionResult": lambda: sso.optimise_joint_positions(
         column(), joint_boxes_mm=[[[x - 5.0, y - 5.0, z - 5.0], [x + 5.0, y + 5.0, z + 5.0]]
                                   for x, y, z in TILT_DOWN[1:-1]], starts=2),
+    "SteeringRange": lambda: sso.steering_range((column(), (10.0, -60.0)), lock_deg=540.0),
+    "SteeringAssessment": lambda: sso.assess_steering(
+        column(), [("as_built", "as built", (0.0, 0.0)), ("best", "best", phasing().x)],
+        lock_deg=540.0),
     "ExcitationTable": lambda: sso.excitation_table(SERIES, [1000.0, 2500.0], vehicle="car"),
     "SweepResult": lambda: sso.sweep({"design": {"beta_deg": [20.0]}},
                                      {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate",
