@@ -78,6 +78,8 @@ class SteeringRange(Record, Readable):
         Exact extremes of the transmission error over the range, deg (0 lies between).
     largest_transmission_error_deg : float
         The largest ``|TE|`` over the range, deg.
+    transmission_error_peak_to_peak_deg : float
+        ``transmission_error_max_deg - transmission_error_min_deg``, deg.
     on_centre_speed_ratio, on_centre_torque_ratio : float
         Ratios at straight ahead.
     on_centre_fluctuation_percent : float
@@ -100,6 +102,7 @@ class SteeringRange(Record, Readable):
     transmission_error_min_deg: float
     transmission_error_max_deg: float
     largest_transmission_error_deg: float
+    transmission_error_peak_to_peak_deg: float
     on_centre_speed_ratio: float
     on_centre_torque_ratio: float
     on_centre_fluctuation_percent: float
@@ -196,6 +199,7 @@ def steering_range(design: Any, *, lock_deg: float = DEFAULT_LOCK_DEG,
         torque_fluctuation_percent=100.0 * (1.0 / ratio_low - 1.0 / ratio_high),
         transmission_error_min_deg=error_low, transmission_error_max_deg=error_high,
         largest_transmission_error_deg=max(abs(error_low), abs(error_high)),
+        transmission_error_peak_to_peak_deg=error_high - error_low,
         on_centre_speed_ratio=at_centre, on_centre_torque_ratio=1.0 / at_centre,
         on_centre_fluctuation_percent=100.0 * (window_high - window_low),
         lock_speed_ratio=(float(end_ratio[0]), float(end_ratio[1])),

@@ -46,13 +46,14 @@ VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate
                 "zoom, double-click for the first view; the pointer names each part. Shafts "
                 "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
                 "positions (dashed), the joint boxes and the moved column (green).")
-CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1); gamma_k is the angle about "
-              "intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); the "
-              "yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
+CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k = 0), the "
+              "intermediate shafts 1 to n-1 and the output shaft (k = n); gamma_k is the angle "
+              "about intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); "
+              "the yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
               "joint k to that of its yoke at joint k+1, 0 = in phase (pin axes parallel); the "
-              "model phase is phi_k = 90 + delta_k - gamma_k (mod 180). phi = 90 deg means yokes "
-              "in phase only for a planar column (gamma = 0 or 180); here it means each yoke "
-              "turned by its bend-plane angle (the textbook correction).")
+              "model phase is phi_k = 90 + delta_k - gamma_k (mod 180). phi = 90 deg means yokes in"
+              " phase only for a planar column (gamma = 0 or 180); here it means each yoke turned "
+              "by its bend-plane angle (the textbook correction).")
 
 
 def excitation_csv(document: Mapping[str, Any]) -> str:

@@ -39,7 +39,7 @@ def steering_blocks(document: Mapping[str, Any]) -> list[Block]:
     figure_rows = tuple(_figure_row(design) for design in designs)
     return [Heading(2, "Steering from lock to lock"), Paragraph(settings),
             Table(("assembly", "speed-ratio fluctuation (%)", "output-torque fluctuation (%)",
-                   "transmission error min / max (deg)", "speed ratio on-centre",
+                   "transmission error min / max, peak to peak (deg)", "speed ratio on-centre",
                    "on-centre fluctuation (%)", "speed ratio at the locks (acw / cw)",
                    "transmission error at the locks (acw / cw, deg)"), figure_rows),
             Heading(3, "Steering criteria"), _criteria_table(designs),
@@ -58,7 +58,8 @@ def _figure_row(design: Mapping[str, Any]) -> tuple[str, ...]:
     return (design["label"], number(figures["speed_fluctuation_percent"], ".4g"),
             number(figures["torque_fluctuation_percent"], ".4g"),
             f"{number(figures['transmission_error_min_deg'], '.4g')} / "
-            f"{number(figures['transmission_error_max_deg'], '.4g')}",
+            f"{number(figures['transmission_error_max_deg'], '.4g')}, "
+            f"{number(figures['transmission_error_peak_to_peak_deg'], '.4g')}",
             number(figures["on_centre_speed_ratio"], ".6g"),
             number(figures["on_centre_fluctuation_percent"], ".4g"),
             " / ".join(number(value, ".6g") for value in figures["lock_speed_ratio"]),

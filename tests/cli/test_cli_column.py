@@ -144,3 +144,22 @@ def test_a_driveline_column_is_judged_by_the_driveline_limits(tmp_path):
     report = (tmp_path / "driveline" / "report.md").read_text()
     assert "limits inertial / torsional" in report
     assert "the SAE AE-7 driveline limits judge the excitation rows" in report
+
+
+def test_validate_warns_of_hardpoints_in_metres_and_of_a_joint_under_half_a_degree(tmp_path):
+    # The truck's points divided by 1000 (shortest shaft 0.15 mm), and a column whose
+    # first joint bends by atan(2.0944 / 400) = 0.300 deg.
+    truck = json.loads((ROOT / "tests" / "data" / "columns" / "truck_three_joints.json")
+                       .read_text())["points_mm"]
+    metres = [[coordinate / 1000.0 for coordinate in point] for point in truck]
+    first = write_case(tmp_path, f'kind = "column"\n[hardpoints]\npoints_mm = {metres}\n',
+                       "metres.toml")
+    second = write_case(tmp_path, 'kind = "column"\n[hardpoints]\npoints_mm = [[0, 0, 0], '
+                        "[400, 0, 0], [800, 2.0944, 0], [1200, 100, 30]]\n", "small.toml")
+    completed = sso("validate", first, second, cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert ("warning: metres: hardpoints.points_mm: the shortest shaft (output shaft, P3 to "
+            "P4) is 0.15 mm long: the hardpoints look like metres; give them in mm"
+            in completed.stderr)
+    assert ("warning: small: hardpoints.points_mm[1]: joint 1 runs at 0.3 deg, below about "
+            "0.5 deg (needle bearings that hardly roll brinell the trunnions" in completed.stderr)

@@ -93,6 +93,8 @@ def test_fluctuation_and_transmission_error_are_the_3d_simulation(seed, joints, 
     assert result.transmission_error_max_deg == pytest.approx(error_high, rel=1e-9)
     assert result.largest_transmission_error_deg == pytest.approx(
         max(-error_low, error_high), rel=1e-9)
+    assert result.transmission_error_peak_to_peak_deg == pytest.approx(
+        error_high - error_low, rel=1e-9)
 
     theta = np.radians(centre_deg + np.asarray(result.wheel_angle_deg))
     assert len(theta) == CURVE_POINTS

@@ -34,7 +34,7 @@ def test_the_section_tabulates_every_assembly_and_judges_nothing_without_limits(
     figures, criteria = (block for block in blocks if isinstance(block, Table))
     assert [row[:3] for row in figures.rows] == [("best on the splines", "4.26", "4.26"),
                                                  ("yokes in phase", "19.73", "19.73")]
-    assert figures.rows[0][3] == "-0.6112 / 0.6091"
+    assert figures.rows[0][3] == "-0.6112 / 0.6091, 1.22"
     speed = criteria.rows[0]
     assert speed[:2] == ("speed-ratio fluctuation, lock to lock (peak to peak) (%)", "not set")
     assert speed[3:] == ("4.26 (no limit)", "19.73 (no limit)")
