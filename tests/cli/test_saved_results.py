@@ -4,6 +4,7 @@ as a case file (issue 23 item 9): exit 2 and the field named, never a report of 
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -81,3 +82,52 @@ def test_report_refuses_what_is_no_saved_result(tmp_path, content):
     path.write_text(content)
     completed = sso_report(path)
     assert completed.returncode == 2 and "Traceback" not in completed.stderr
+
+
+@pytest.fixture(scope="module")
+def case_run(tmp_path_factory):
+    """The result.json of ``sso run`` on a shipped shaft-series case."""
+    folder = tmp_path_factory.mktemp("run")
+    completed = subprocess.run(
+        [sys.executable, "-m", "sso", "run", "cases/paper_option1_exact.toml", "--out",
+         str(folder), "--formats", "json", "--quiet"], capture_output=True, text=True,
+        timeout=300)
+    assert completed.returncode == 0, completed.stderr
+    return json.loads((folder / "paper_option1_exact" / "result.json").read_text())
+
+
+def _set(path):
+    def edit(data, value):
+        for key in path[:-1]:
+            data = data[key]
+        data[path[-1]] = value
+    return edit
+
+
+@pytest.mark.parametrize(("path", "value", "message"), [
+    # issue 23, item 9: each of these rendered with exit 0 before
+    (("optimisation", "compared", 1, "evaluation", "residual_error"), -5.0,
+     "optimisation.compared\\[1\\].evaluation.residual_error = -5.0; allowed: a finite "
+     "number >= 0"),
+    (("optimisation", "best", "fun"), {"float": "nan"},
+     "optimisation.best.fun = nan with success = true"),
+    (("optimisation", "input_speed_rpm"), -25.0,
+     "optimisation.input_speed_rpm = -25.0; allowed: a finite number > 0"),
+    (("case", "case", "input_speed_rpm"), -25.0,
+     "case \\(Case\\): .*input_speed_rpm = -25 is outside the allowed range"),
+    (("optimisation", "option"), 99, "optimisation.option = 99; allowed: 1, 2 or 3"),
+    (("case", "case", "option"), 99, "option = 99 is not one of 1, 2, 3"),
+    (("case", "case", "kind"), "bogus", "kind = 'bogus' is not one of"),
+    (("type",), "bogus", "type = 'bogus'; allowed: "),
+])
+def test_report_of_a_case_run_refuses_nonsense_naming_the_field(case_run, tmp_path, path,
+                                                                 value, message):
+    edited = json.loads(json.dumps(case_run))
+    _set(path)(edited, value)
+    saved = tmp_path / "result.json"
+    saved.write_text(json.dumps(edited))
+    completed = sso_report(saved, "--quiet")
+    assert completed.returncode == 2, completed.stdout
+    assert re.search(message, completed.stderr), completed.stderr
+    assert "Traceback" not in completed.stderr
+    assert sorted(item.name for item in tmp_path.iterdir()) == ["result.json"]
