@@ -38,8 +38,11 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
 
     Returns
     -------
-    sso.OptimisationResult, sso.PhasingResult, sso.JointPositionResult, or the
-    robust optimiser's result.
+    result : OptimisationResult or PhasingResult or JointPositionResult or robust result
+        The result of the optimiser ``problem`` went to: ``sso.OptimisationResult``
+        for a series, ``sso.PhasingResult`` or ``sso.JointPositionResult`` for a
+        column, ``sso.PositionsResult`` or ``sso.RobustResult`` for the robust
+        phasing.
 
     Raises
     ------

@@ -80,6 +80,12 @@ DEFAULT_SHORTEST_FRACTION = 0.5
 class JointPositionResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
+    The solver fields (``best``, ``solutions``, ``runs``, ``crosscheck``,
+    ``local_minima``) and ``x`` (joint centres ``P1 .. Pn``, x, y, z each in mm, then
+    the yoke phasings in deg when they are free), ``fun`` (RE), ``success`` (the best
+    run converged, feasible, and the solvers agree) come from
+    :class:`sso.solvers.result.DesignResult`.
+
     Attributes
     ----------
     initial : ColumnGeometry
@@ -91,6 +97,7 @@ class JointPositionResult(DesignResult):
     yoke_phase_deg : tuple of float
         Yoke phasing at the optimum (the fixed one when not free), deg, in ``[-90, 90)``.
     phasing_free : bool
+        Whether the yoke phasing was a design variable (else held as given).
     initial_re : float
         RE of the given points with the start phasing: the best phasing of those
         points when the phasing is free, else the fixed phasing.
@@ -106,11 +113,6 @@ class JointPositionResult(DesignResult):
         Largest violation of a box, angle or length bound at the optimum, in the
         NLP's units (m; cosine of an angle).
 
-    The solver fields (``best``, ``solutions``, ``runs``, ``crosscheck``,
-    ``local_minima``) and ``x`` (joint centres ``P1 .. Pn``, x, y, z each in mm, then
-    the yoke phasings in deg when they are free), ``fun`` (RE), ``success`` (the best
-    run converged, feasible, and the solvers agree) come from
-    :class:`sso.solvers.result.DesignResult`.
     """
 
     _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}

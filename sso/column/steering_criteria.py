@@ -202,11 +202,14 @@ def assess_steering(geometry: ColumnGeometry,
     Raises
     ------
     TypeError, ValueError
-        For a bad design or option, naming the field, or no designs.
+        For a bad design or option, naming the field, no designs, or limits that are
+        not a :class:`SteeringLimits`.
     """
     if not designs:
         raise ValueError("designs is empty: give at least one (role, label, yoke_phase_deg)")
     limits = SteeringLimits() if limits is None else limits
+    if not isinstance(limits, SteeringLimits):
+        raise TypeError(f"limits must be an sso.SteeringLimits, not {type(limits).__name__}")
     options = {"lock_deg": lock_deg, "straight_ahead_deg": straight_ahead_deg,
                "on_centre_deg": on_centre_deg}
     assessed = []

@@ -29,7 +29,7 @@ ends. Fluctuations are peak-to-peak in percent of the mean ratio over a turn (1)
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -91,10 +91,11 @@ class SteeringRange(Record, Readable):
     straight_ahead_deg: float
     lock_deg: float
     on_centre_deg: float
-    wheel_angle_deg: tuple[float, ...]
-    speed_ratio: tuple[float, ...]
-    torque_ratio: tuple[float, ...]
-    transmission_error_deg: tuple[float, ...]
+    # The curves would fill a repr with thousands of numbers.
+    wheel_angle_deg: tuple[float, ...] = field(repr=False)
+    speed_ratio: tuple[float, ...] = field(repr=False)
+    torque_ratio: tuple[float, ...] = field(repr=False)
+    transmission_error_deg: tuple[float, ...] = field(repr=False)
     speed_ratio_min: float
     speed_ratio_max: float
     speed_fluctuation_percent: float

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from sso.cases.column import ColumnCase
-from sso.cases.schema import CaseError, load_case, parse_case, schema
+from sso.cases.schema import CaseError, load_case, parse_case
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data" / "columns"
@@ -78,12 +78,6 @@ def test_joint_position_options_carry_boxes_bounds_and_fixed_phasing():
 def test_bad_column_case_names_the_key(tables, message):
     with pytest.raises(CaseError, match=message):
         parse_case(truck(**tables), "truck.toml")
-
-
-def test_every_column_key_is_documented_in_the_readme():
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    for key in schema("column"):
-        assert f"| `{key.label}` |" in readme, key.label
 
 
 POSITIONS = json.loads((DATA / "truck_three_positions.json").read_text())["positions"]

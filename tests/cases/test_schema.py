@@ -175,12 +175,6 @@ def test_every_kind_lists_unique_keys():
         assert len(labels) == len(set(labels))
 
 
-def test_readme_documents_every_shaft_series_key():
-    readme = (CASES.parent / "README.md").read_text(encoding="utf-8")
-    for key in schema("shaft_series"):
-        assert f"| `{key.label}` |" in readme, key.label
-
-
 def test_one_joint_case_round_trips_with_empty_phase_list():
     # a single joint has no phases; its document writes phase_deg = [] and reads back
     case = parse_case({"name": "one_joint", "option": 2, "design": {"beta_deg": [20.0]},

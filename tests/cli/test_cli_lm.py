@@ -45,7 +45,8 @@ def test_lm_on_the_command_line_replaces_the_case_solvers(tmp_path):
     run = ShaftSeriesRun.from_dict(
         json.loads((tmp_path / "out" / "paper_option1_exact" / "result.json").read_text()))
     assert run.optimisation is not None and list(run.optimisation.solutions) == ["lm"]
-    # README's table: option 1 of the exact model reaches RE 1.15e-4 (the pair's answer).
+    # docs/guide/python-api.md, the paper's cases: option 1 of the exact model reaches RE
+    # 1.15e-4 (the pair's answer).
     assert run.optimisation.solutions["lm"].fun == pytest.approx(1.15e-4, rel=0.01)
 
 

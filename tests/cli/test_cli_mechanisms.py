@@ -12,8 +12,7 @@ import pytest
 from reference_tables import REFERENCE
 from test_cli import png_size, sso, sso_loading, write_case
 
-from sso.cases.mechanism import MECHANISM_KINDS
-from sso.cases.schema import load_case, schema
+from sso.cases.schema import load_case
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases" / "mechanisms"
@@ -264,15 +263,6 @@ def test_escaping_in_reports(tmp_path):
         report = (tmp_path / "case" / name).read_text()
         assert "<script>" not in report
         assert f"&lt;script&gt;alert(1)&lt;/script&gt; {ampersand} co" in report
-
-
-def test_readme_documents_every_mechanism_key():
-    readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("## Planar mechanisms"):]
-    for kind in MECHANISM_KINDS:
-        assert f"`{kind}`" in section
-        for key in schema(kind):
-            assert f"`{key.label}`" in section, (kind, key.label)
 
 
 def test_design_from_a_start_that_cannot_assemble(tmp_path):

@@ -73,3 +73,10 @@ def test_the_case_sets_the_range_and_limits_and_feel_gives_their_defaults():
 def test_bad_limits_name_the_field(keywords, match):
     with pytest.raises(ValueError, match=match):
         SteeringLimits(**keywords)
+
+
+def test_limits_of_another_type_are_refused():
+    with pytest.raises(TypeError, match="limits must be an sso.SteeringLimits, not dict"):
+        assess_steering(ColumnGeometry(TRUCK), DESIGNS, limits={"transmission_error_deg": 1.0})
+    with pytest.raises(ValueError, match="designs is empty"):
+        assess_steering(ColumnGeometry(TRUCK), [])

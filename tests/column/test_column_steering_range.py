@@ -126,6 +126,7 @@ def test_truck_column_over_its_lock_range():
     assert result.torque_ratio == pytest.approx([1.0 / value for value in result.speed_ratio])
     assert result.transmission_error_deg[CURVE_POINTS // 2] == 0.0
     assert result.transmission_error_min_deg < 0.0 < result.transmission_error_max_deg
+    assert "speed_ratio_max=1.0215" in repr(result) and "wheel_angle_deg" not in repr(result)
 
 
 def _matrix(geometry: ColumnGeometry, yoke):
