@@ -111,8 +111,8 @@ def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str
     kind = report_kind_of(result)
     chosen = validate_formats(formats)
     files = kind.render(result, chosen)
-    if "json" in chosen and isinstance(result, Record):
-        files[RESULT_FILE] = record_json(result).encode("utf-8")
+    if "json" in chosen and isinstance(result, Record):  # the saved result comes first
+        files = {RESULT_FILE: record_json(result).encode("utf-8"), **files}
     return files
 
 
