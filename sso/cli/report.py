@@ -69,14 +69,15 @@ def _report(args: argparse.Namespace) -> int:
 
 
 def _is_saved_result(path: str) -> bool:
-    """True for a ``result.json`` that holds a saved result object (``"version"``)."""
-    from sso.files import read_input_bytes
+    """True unless ``path`` holds a result document (a mechanism's or a column's, with
+    ``"schema_version"``); an unreadable file counts as a saved result, whose reading
+    then says what is wrong."""
+    from sso.record import RecordError, read_json_object
 
     try:
-        head = read_input_bytes(path)[:4096].decode("utf-8", errors="replace")
-    except ValueError:
-        return False
-    return '"schema_version"' not in head
+        return "schema_version" not in read_json_object(path)
+    except RecordError:
+        return True
 
 
 def _report_saved_result(args: argparse.Namespace, path: str) -> int:
