@@ -111,12 +111,6 @@ class SteeringRange(Record, Readable):
     lock_torque_ratio: tuple[float, float]
     lock_transmission_error_deg: tuple[float, float]
 
-    def _repr_text(self) -> str:
-        return (f"lock +-{format_number(self.lock_deg)} deg: speed fluctuation "
-                f"{format_number(self.speed_fluctuation_percent)} %, torque fluctuation "
-                f"{format_number(self.torque_fluctuation_percent)} %, largest transmission "
-                f"error {format_number(self.largest_transmission_error_deg)} deg")
-
     def _summary_parts(self) -> list[Part]:
         figures = (
             ("speed ratio, min .. max", f"{format_number(self.speed_ratio_min)} .. "

@@ -112,7 +112,8 @@ def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str
     chosen = validate_formats(formats)
     files = kind.render(result, chosen)
     if "json" in chosen and isinstance(result, Record):  # the saved result comes first
-        files = {RESULT_FILE: record_json(result).encode("utf-8"), **files}
+        files = {RESULT_FILE: record_json(result).encode("utf-8"),
+                 **{name: data for name, data in files.items() if name != RESULT_FILE}}
     return files
 
 
