@@ -8,7 +8,8 @@ start) timed in the same process:
    option-3 starts (beta in [10, 40] deg, phase in [0, 180] deg): designs per
    second (best of ``--repeats``), against the baseline's solves per second on the
    same starts; the fraction reaching RE <= 1e-10, and that fraction among the
-   starts where the baseline reaches it.
+   starts where the baseline reaches it; and the time per design against the
+   arithmetic it must do (:func:`arithmetic_figures`).
 2. **Shapes.** ``--shape-starts`` (default 300) random starts of 3 to 6 joints for
    each option (beta in [5, 35] deg; option 1 keeps the start's angles): designs
    per second against the baseline's solves per second on the same starts, and how
@@ -51,9 +52,14 @@ REACHED = 1e-10
 BETA_BOUNDS_DEG = (10.0, 40.0)
 PHASE_BOUNDS_DEG = (0.0, 180.0)
 SEED = 20261123
-TARGET_DESIGNS_PER_S = 5000.0
+TARGET_DESIGNS_PER_S = 100_000.0
 TARGET_BATCH_RATIO = 20.0
-TARGET_FASTEST_RATIO = 5.0
+TARGET_FASTEST_RATIO = 10.0
+# Element-wise numpy operations timed for the arithmetic floor: as many elements as the
+# batch has designs, and a longer array that still stays in cache (the per-call
+# overhead spread thin: the arithmetic alone).
+FLOOR_REPEATS = 200
+LONG_ELEMENTS = 65_536
 TARGET_DEFAULT_RATIO = 5.0
 # The paper's cases (cases/paper_option*_exact.toml): start, beta bounds.
 PAPER_CASES = {
@@ -84,7 +90,9 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
     batch_reached = result.fun <= REACHED
     designs_per_s = count / min(times)
     baseline_per_s = count / baseline_time
+    arithmetic = arithmetic_figures(result, min(times), count)
     return {
+        **arithmetic,
         "starts": count,
         "batch_time_s": min(times),
         "batch_times_s": times,
@@ -102,6 +110,53 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
         "lower_re_than_baseline": int(np.sum(result.fun < baseline_fun - 1e-12)),
         "higher_re_than_baseline": int(np.sum(result.fun > baseline_fun + 1e-12)),
     }
+
+
+def arithmetic_figures(result: Any, batch_time_s: float, count: int) -> dict[str, Any]:
+    """The batch's time per design against the arithmetic it must do.
+
+    The arithmetic of one iteration is the operations of the rules' iteration for the
+    shape (:func:`sso.solvers.lm_kernel.iteration_operations`: one residual-and-Jacobian
+    evaluation and the step, every branch computed, as the batch computes them); a
+    design does it once per evaluation (``nfev``, the start's included). The floor is
+    that many element-wise numpy operations, timed in this run on arrays of ``count``
+    elements (what array-at-a-time code can do at this batch size) and on a longer
+    array that stays in cache (the arithmetic alone, numpy's call overhead spread thin).
+    """
+    from sso.shafts.options import build_problem
+    from sso.shafts.problem import compiled_nlp
+    from sso.solvers.lm_kernel import iteration_operations
+
+    problem = build_problem([20.0] * 3, [90.0] * 2, "exact", 3, BETA_BOUNDS_DEG, PHASE_BOUNDS_DEG)
+    operations = iteration_operations(compiled_nlp(problem, 0))
+    per_design = operations * float(np.mean(result.nfev))
+    short = _element_time_s(count)
+    long = _element_time_s(LONG_ELEMENTS)
+    time_per_design = batch_time_s / count
+    return {
+        "operations_per_iteration": operations,
+        "evaluations_per_design": float(np.mean(result.nfev)),
+        "operations_per_design": per_design,
+        "time_per_design_s": time_per_design,
+        "element_op_s_at_batch_size": short,
+        "element_op_s_long_array": long,
+        "over_array_floor": time_per_design / (per_design * short),
+        "over_long_array_floor": time_per_design / (per_design * long),
+    }
+
+
+def _element_time_s(elements: int) -> float:
+    """Seconds per element of one element-wise numpy operation (a multiply into a buffer)
+    on arrays of ``elements`` entries: the best of :data:`FLOOR_REPEATS` timings."""
+    first, second, out = np.random.default_rng(SEED).uniform(1.0, 2.0, (3, elements))
+    best = np.inf
+    repeats = max(1, FLOOR_REPEATS * 2000 // elements)
+    for _ in range(5):
+        started = time.perf_counter()
+        for _ in range(repeats):
+            np.multiply(first, second, out=out)
+        best = min(best, (time.perf_counter() - started) / repeats)
+    return best / elements
 
 
 def shape_figures(count: int) -> list[dict[str, Any]]:
@@ -211,6 +266,15 @@ def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[s
         (f"- iterations: batch median {batch['batch_nit_median']:g} "
          f"(max {batch['batch_nit_max']}), "
         f"baseline median {batch['baseline_nit_median']:g}"),
+        (f"- arithmetic: {batch['operations_per_iteration']} operations per iteration x "
+         f"{batch['evaluations_per_design']:.2f} evaluations = "
+         f"{batch['operations_per_design']:,.0f} per design; "
+         f"{batch['time_per_design_s'] * 1e9:,.0f} ns per design is "
+         f"{batch['over_array_floor']:.1f}x that many element-wise numpy operations on "
+         f"{batch['starts']:,}-element arrays "
+         f"({batch['element_op_s_at_batch_size'] * 1e9:.2f} ns each) and "
+         f"{batch['over_long_array_floor']:.1f}x on {LONG_ELEMENTS:,}-element arrays "
+         f"({batch['element_op_s_long_array'] * 1e9:.2f} ns each)"),
         "",
         "## optimise_batch by shape (beta in [5, 35] deg, phase in [0, 180] deg)",
         "",

@@ -23,8 +23,10 @@ paper model.
 
 The summary ends with the performance targets, each met or missed with the
 ratio measured in this run (:func:`issue_12_targets`): the fastest sso solver
-against the skilled baseline at its error, the default call, ``optimise_batch``
-throughput, the 30-joint first call and its memory, and the cold start.
+against the skilled baseline on every case (the paper's options and random cases of
+every option, the worst one named), the default call, ``optimise_batch``
+throughput and its time against its arithmetic, the 30-joint first call and its
+memory, and the cold start.
 """
 
 from __future__ import annotations
@@ -315,45 +317,49 @@ def targets(rows: list[Measurement], ratios: dict[str, Any]) -> dict[str, Any]:
 def random_single_solves(per_shape: int, passes: int) -> dict[str, Any]:
     """The fastest sso solver (``"lm"``, one start) against the skilled baseline on random cases.
 
-    ``per_shape`` random option-3 starts for each of 3 to 6 joints (beta in [5, 35]
-    deg, phase in [0, 180] deg). After one warm-up per shape, both solve every start
-    once per pass, the two methods' passes interleaved; each method's time is the
-    median of ``passes`` passes (one pass is a few milliseconds, which one burst of
-    the machine's other work can double). Also counted: sso answers with a higher
-    RE than the skilled baseline's (above round-off zero, 1e-20).
+    ``per_shape`` random starts for each option and each of 3 to 6 joints (beta in
+    [5, 35] deg, phase in [0, 180] deg; option 1 keeps the start's angles, option 2
+    its phases at 90 deg). After one warm-up per shape, both solve every start once
+    per pass, the two methods' passes interleaved; each method's time is the median
+    of ``passes`` passes (one pass is a few milliseconds, which one burst of the
+    machine's other work can double). Also counted: sso answers with a higher RE than
+    the skilled baseline's (above round-off zero, 1e-20).
     """
     rng = np.random.default_rng(20261123)
     rows = []
-    for joints in range(3, 7):
-        starts = [(rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1))
-                  for _ in range(per_shape)]
+    for option in (1, 2, 3):
+        for joints in range(3, 7):
+            starts = [(rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1))
+                      for _ in range(per_shape)]
 
-        def sso_lm(beta: np.ndarray, phase: np.ndarray) -> float:
-            return float(sso.optimise(sso.ShaftSeries(beta, phase), 3, solvers=("lm",), starts=1,
-                                      beta_bounds_deg=(5.0, 35.0),
-                                      phase_bounds_deg=(0.0, 180.0)).fun)
+            def sso_lm(beta: np.ndarray, phase: np.ndarray, option: int = option) -> float:
+                return float(sso.optimise(sso.ShaftSeries(beta, phase), option, solvers=("lm",),
+                                          starts=1, beta_bounds_deg=(5.0, 35.0),
+                                          phase_bounds_deg=(0.0, 180.0)).fun)
 
-        def skilled(beta: np.ndarray, phase: np.ndarray) -> float:
-            return skilled_solve(beta, phase, 3, (5.0, 35.0), (0.0, 180.0)).fun
+            def skilled(beta: np.ndarray, phase: np.ndarray, option: int = option) -> float:
+                return skilled_solve(beta, phase, option, (5.0, 35.0), (0.0, 180.0)).fun
 
-        methods = {"skilled": skilled, "sso-lm": sso_lm}
-        pass_times: dict[str, list[float]] = {name: [] for name in methods}
-        results: dict[str, list[float]] = {}
-        for call in methods.values():
-            call(*starts[0])
-        for _ in range(passes):
-            for name, call in methods.items():
-                started = time.perf_counter()
-                results[name] = [call(beta, phase) for beta, phase in starts]
-                pass_times[name].append(time.perf_counter() - started)
-        timings = {name: statistics.median(times) for name, times in pass_times.items()}
-        worse = sum(lm > max(base, 1e-20) for lm, base in zip(results["sso-lm"],
-                                                                 results["skilled"], strict=True))
-        rows.append({"joints": joints, "starts": per_shape, "passes": passes,
-                     "skilled_ms_per_solve": 1e3 * timings["skilled"] / per_shape,
-                     "lm_ms_per_solve": 1e3 * timings["sso-lm"] / per_shape,
-                     "ratio": timings["skilled"] / timings["sso-lm"],
-                     "lm_higher_re": int(worse)})
+            methods = {"skilled": skilled, "sso-lm": sso_lm}
+            pass_times: dict[str, list[float]] = {name: [] for name in methods}
+            results: dict[str, list[float]] = {}
+            for call in methods.values():
+                for beta, phase in starts:  # every start once: Newton kernels built too
+                    call(beta, phase)
+            for _ in range(passes):
+                for name, call in methods.items():
+                    started = time.perf_counter()
+                    results[name] = [call(beta, phase) for beta, phase in starts]
+                    pass_times[name].append(time.perf_counter() - started)
+            timings = {name: statistics.median(times) for name, times in pass_times.items()}
+            worse = sum(lm > max(base, 1e-20)
+                        for lm, base in zip(results["sso-lm"], results["skilled"], strict=True))
+            rows.append({"option": option, "joints": joints, "starts": per_shape,
+                         "passes": passes,
+                         "skilled_ms_per_solve": 1e3 * timings["skilled"] / per_shape,
+                         "lm_ms_per_solve": 1e3 * timings["sso-lm"] / per_shape,
+                         "ratio": timings["skilled"] / timings["sso-lm"],
+                         "lm_higher_re": int(worse)})
     return {"rows": rows}
 
 
@@ -382,26 +388,36 @@ def issue_12_targets(quick: bool) -> dict[str, Any]:
     fastest_reached = {option: case[case["fastest_sso_solver"]]["fun"]
                        <= max(case["skilled_baseline"]["fun"], 1e-20)
                        for option, case in latency.items()}
-    random_ratio = min(row["ratio"] for row in random_cases["rows"])
+    worst_random = min(random_cases["rows"], key=lambda row: row["ratio"])
+    random_ratio = worst_random["ratio"]
     random_worse = sum(row["lm_higher_re"] for row in random_cases["rows"])
+    cases = {**{f"paper {option}": ratio for option, ratio in fastest.items()},
+             **{f"random option {row['option']}, {row['joints']} joints": row["ratio"]
+                for row in random_cases["rows"]}}
+    worst_case = min(cases, key=lambda name: cases[name])
     default = {option: case["default_over_baseline"] for option, case in latency.items()}
     peak = max(row["peak_mb"] for entry in first_calls.values() for row in entry["rows"].values())
     cold_ratio = cold[no_plots_name] / cold[bare_name]
-    worst_fastest = min([*fastest.values(), random_ratio])
     targets = {
-        "fastest solver, one start, >= 5x the skilled baseline at its error": {
-            "met": worst_fastest >= 5.0 and all(fastest_reached.values()) and not random_worse,
+        "fastest solver, one start, >= 10x the skilled baseline on every case": {
+            "met": (cases[worst_case] >= 10.0 and all(fastest_reached.values())
+                    and not random_worse),
             "measured": (", ".join(f"{option} {ratio:.2f}x" for option, ratio in fastest.items())
-                         + f"; random 3-6 joints worst {random_ratio:.2f}x, "
+                         + f"; random options 1-3, 3-6 joints: worst {random_ratio:.2f}x; "
+                         f"worst case: {worst_case} ({cases[worst_case]:.2f}x); "
                          f"{random_worse} answers above the baseline's RE")},
         "default call <= 5x the skilled baseline's single solve": {
             "met": max(default.values()) <= 5.0,
             "measured": ", ".join(f"{option} {ratio:.2f}x" for option, ratio in default.items())},
-        "optimise_batch >= 5,000 designs/s and >= 20x the skilled baseline": {
-            "met": batch["designs_per_s"] >= 5000 and batch["ratio"] >= 20,
+        "optimise_batch >= 100,000 designs/s and >= 20x the skilled baseline": {
+            "met": batch["designs_per_s"] >= 100_000 and batch["ratio"] >= 20,
             "measured": (f"{batch['designs_per_s']:,.0f} designs/s, {batch['ratio']:.1f}x; "
                          f"RE <= 1e-10 where the baseline reaches it: "
-                         f"{batch['batch_reached_where_baseline_did']:.2%}")},
+                         f"{batch['batch_reached_where_baseline_did']:.2%}; "
+                         f"{batch['over_array_floor']:.1f}x the time of its arithmetic "
+                         f"({batch['operations_per_design']:,.0f} operations per design) as "
+                         f"element-wise numpy operations on arrays of its size, "
+                         f"{batch['over_long_array_floor']:.1f}x on long arrays in cache")},
         "30-joint first call <= 5x the 3-joint one, peak < 500 MB": {
             "met": first_calls["default"]["ratio"] <= 5.0 and peak < 500.0,
             "measured": f"{first_calls['default']['ratio']:.2f}x, peak {peak:.0f} MB"},
@@ -480,11 +496,13 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
             if isinstance(figures, dict):
                 lines.append(f"| {option} | {name} | {figures['time_s'] * 1e3:.3f} | "
                              f"{figures['fun']:.3e} | {figures['baseline_over_method']:.2f} |")
-    lines += ["", "Random option-3 cases, one start (`lm`) against the skilled baseline "
+    lines += ["", "Random cases of every option, one start (`lm`) against the skilled baseline "
               "(per method, the median of its passes over the starts):", "",
-              "| joints | starts | skilled (ms/solve) | lm (ms/solve) | ratio | lm RE higher |",
-              "|---|---|---|---|---|---|"]
-    lines.extend(f"| {row['joints']} | {row['starts']} | {row['skilled_ms_per_solve']:.3f} | "
+              "| option | joints | starts | skilled (ms/solve) | lm (ms/solve) | ratio "
+              "| lm RE higher |",
+              "|---|---|---|---|---|---|---|"]
+    lines.extend(f"| {row['option']} | {row['joints']} | {row['starts']} "
+                 f"| {row['skilled_ms_per_solve']:.3f} | "
                  f"{row['lm_ms_per_solve']:.3f} | {row['ratio']:.2f} | {row['lm_higher_re']} |"
                  for row in issue_12["random_cases"]["rows"])
     (out / "summary.md").write_text("\n".join(lines) + "\n")

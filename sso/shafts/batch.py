@@ -2,11 +2,12 @@
 
 The exact model's residual error is the squared norm of two residuals of the chain
 matrix (``sso.kinematics.hooke_matrix``), so ``m`` starts form ``m`` tiny
-least-squares problems that :func:`sso.solvers.least_squares.batch_least_squares`
-solves together as array work: no quadrature, no CasADi build, no per-design
-Python loop. The paper's model has no closed form and is refused here (use
-:func:`sso.optimise`); falling back to a per-design quadrature solve would silently
-change the speed a caller relies on.
+least-squares problems that the ``"lm"`` solver's rules solve together as array work
+(:mod:`sso.solvers.lm_batch`): no quadrature, no CasADi build, no per-design Python
+loop, and the iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The
+paper's model has no closed form and is refused here (use :func:`sso.optimise`);
+falling back to a per-design quadrature solve would silently change the speed a
+caller relies on.
 """
 
 from __future__ import annotations
@@ -20,7 +21,11 @@ import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.kinematics.hooke import MODELS
-from sso.kinematics.hooke_matrix import ratio_extremes, residuals_and_jacobian_numpy
+from sso.kinematics.hooke_matrix import (
+    ratio_extremes,
+    residual_jacobian,
+    residuals_and_jacobian_numpy,
+)
 from sso.limits import (
     BETA_LIMIT_DEG,
     DEFAULT_INPUT_SPEED_RPM,
@@ -36,7 +41,9 @@ from sso.shafts.options import (
     free_angles,
     validate_option_and_bounds,
 )
-from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
+from sso.solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
+from sso.solvers.lm_batch import solve_batch
+from sso.solvers.lm_rules import NEWTON
 from sso.validation import (
     check_choice,
     validate_count,
@@ -46,6 +53,9 @@ from sso.validation import (
 
 SUMMARY_ROWS = 5
 """Designs a batch's summary lists (the lowest RE first)."""
+ZERO_RESIDUAL_LEVEL = 1e-20
+"""RE at or below this is round-off zero: a global minimum, needing no Newton steps or
+saddle check (the batched least squares' default)."""
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -255,18 +265,8 @@ def optimise_batch(
     if moved:
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
-    design_rad = np.radians(design_deg)
-
-    def residual_and_jacobian(x_rad: np.ndarray,
-                              rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        full = design_rad[rows]
-        full[:, free] = x_rad
-        residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])
-        return residual, jacobian[..., free]
-
-    solved = batch_least_squares(residual_and_jacobian, np.radians(start), np.radians(lower),
-                                 np.radians(upper), gtol=gradient_tolerance,
-                                 max_iterations=iterations)
+    solved = _solve(design_deg, free, n_joints, beta_free, phase_free, np.radians(start),
+                    np.radians(lower), np.radians(upper), gradient_tolerance, iterations)
     # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
     design_deg[:, free] = np.clip(np.degrees(solved.x), lower, upper)
     beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
@@ -281,7 +281,7 @@ def optimise_batch(
         status=solved.status,
         nit=solved.nit,
         nfev=solved.nfev,
-        kkt=solved.projected_gradient,
+        kkt=solved.kkt,
         speed_min_rpm=speed_rpm * np.broadcast_to(least, solved.fun.shape),
         speed_max_rpm=speed_rpm * np.broadcast_to(greatest, solved.fun.shape),
         option=option_number,
@@ -290,6 +290,86 @@ def optimise_batch(
         beta_bounds_deg=beta_bounds,
         phase_bounds_deg=phase_bounds,
     )
+
+
+@dataclass(frozen=True)
+class _Solved:
+    """Each start's answer (rad), as arrays."""
+
+    x: np.ndarray
+    fun: np.ndarray
+    kkt: np.ndarray
+    nit: np.ndarray
+    nfev: np.ndarray
+    status: np.ndarray
+    success: np.ndarray
+
+
+def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: bool,
+           phase_free: bool, start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+           tolerance: float, max_iterations: int) -> _Solved:
+    """Every start by the ``"lm"`` rules in numpy, those above zero finished by the batched
+    least squares (Newton steps and saddle escapes).
+
+    The Gauss-Newton iterations are the single solve's (:mod:`sso.solvers.lm_batch`), so a
+    start that Gauss-Newton takes to round-off zero ends where
+    ``sso.optimise(..., solvers="lm")`` ends. A start whose sum of squares stays above
+    round-off zero goes to :func:`sso.solvers.least_squares.batch_least_squares`, which
+    takes Newton steps from differences of the gradient and leaves saddles: afresh from
+    its start where its steps turned to Newton steps, from where it stopped otherwise.
+    The iterations already taken count against the limit.
+    """
+    design_rad = np.radians(design_deg)
+    fixed = np.setdiff1d(np.arange(design_rad.shape[1]), free)
+
+    def column_residuals(point: list[np.ndarray], parameters: list[np.ndarray]
+                         ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+        if beta_free and phase_free:
+            beta, phase = point[:n_joints], point[n_joints:]
+        else:
+            beta, phase = (point, parameters) if beta_free else (parameters, point)
+        # Real arithmetic: numpy's complex products round differently with the length of
+        # the arrays, which would make a design's answer depend on the batch it is in.
+        (first, second), d_beta, d_phase = residual_jacobian(np, beta, phase)
+        derivatives = [*(d_beta if beta_free else []), *(d_phase if phase_free else [])]
+        return (first, second, [pair[0] for pair in derivatives],
+                [pair[1] for pair in derivatives])
+
+    run = solve_batch(column_residuals, start, design_rad[:, fixed], lower, upper, tolerance,
+                      max_iterations)
+    x, fun, nit, nfev, status = run.x, run.fun, run.nit, run.nfev, run.status
+    # A design that turned to Newton steps on its last allowed iteration ends there, as
+    # the single solve does at the iteration limit.
+    status[(status == NEWTON) & (nit >= max_iterations)] = 0
+    held = ((x <= lower) & (run.gradient > 0)) | ((x >= upper) & (run.gradient < 0))
+    kkt = np.max(np.where(held, 0.0, np.abs(run.gradient)), axis=1, initial=0.0)
+    unfinished = np.flatnonzero((fun > ZERO_RESIDUAL_LEVEL) & (status != -2)
+                                & (nit < max_iterations))
+    # A design that turned to Newton steps starts the batched least squares afresh from
+    # its start (Newton steps from where Gauss-Newton slowed down, taken without the
+    # single solve's eigenvalue shift, can stall); the others continue from where they
+    # stopped (a saddle check of a point that has converged).
+    restart = status[unfinished] == NEWTON
+    if unfinished.size:
+        def residual_and_jacobian(x_rad: np.ndarray,
+                                  rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            full = design_rad[unfinished[rows]]
+            full[:, free] = x_rad
+            residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints],
+                                                              full[:, n_joints:])
+            return residual, jacobian[..., free]
+
+        finished = batch_least_squares(residual_and_jacobian,
+                                       np.where(restart[:, None], start[unfinished],
+                                                x[unfinished]), lower, upper,
+                                       gtol=tolerance, max_iterations=max_iterations,
+                                       iterations_taken=nit[unfinished])
+        x[unfinished], fun[unfinished] = finished.x, finished.fun
+        kkt[unfinished] = finished.projected_gradient
+        nit[unfinished] = finished.nit
+        nfev[unfinished] += finished.nfev
+        status[unfinished] = finished.status
+    return _Solved(x, fun, kkt, nit, nfev, status, np.isin(status, SUCCESS_STATUSES))
 
 
 def _design_array(field: str, values: Any, shape: tuple[int, int] | None) -> np.ndarray:

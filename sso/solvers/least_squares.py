@@ -117,6 +117,7 @@ def batch_least_squares(
     escape_saddles: bool = True,
     max_saddle_escapes: int = 3,
     zero_residual_level: float = 1e-20,
+    iterations_taken: Any = 0,
 ) -> BatchLeastSquaresResult:
     """Minimise ``|r(x)|^2`` under ``lower <= x <= upper`` for ``m`` problems at once.
 
@@ -157,6 +158,9 @@ def batch_least_squares(
         projected gradient falls by less than half in an accepted step, the mark of
         a minimum with nonzero residuals) switches to Newton steps with the true
         Hessian (differences of the gradient, ``2 p`` evaluations per step).
+    iterations_taken : int or array of shape (m,)
+        Iterations each problem has already taken (another solver's, continued
+        here): they count against ``max_iterations`` and are included in ``nit``.
 
     Returns
     -------
@@ -183,19 +187,24 @@ def batch_least_squares(
         x=x, lower=lower_bound, upper=upper_bound,
         residual=np.zeros((count, 0)), jacobian=np.zeros((count, 0, x.shape[1])),
         cost=np.zeros(count), gradient=np.zeros_like(x),
-        nit=np.zeros(count, dtype=int), nfev=np.zeros(count, dtype=int),
+        nit=np.broadcast_to(np.asarray(iterations_taken, dtype=int), (count,)).copy(),
+        nfev=np.zeros(count, dtype=int),
         status=np.zeros(count, dtype=int),
     )
     settings = _Settings(gtol, fatol, ftol, xtol, max_iterations, zero_residual_level)
     _levenberg_marquardt(residual_and_jacobian, state, np.arange(count), settings)
+    # A problem found no saddle keeps its point: only those moved are checked again, so
+    # a problem's counts do not depend on the others in the batch.
+    checked = np.ones(count, dtype=bool)
     for _ in range(max_saddle_escapes * escape_saddles):
-        candidates = np.flatnonzero(np.isin(state.status, SUCCESS_STATUSES)
+        candidates = np.flatnonzero(checked & np.isin(state.status, SUCCESS_STATUSES)
                                     & (state.cost > max(fatol, zero_residual_level))
                                     & (state.nit < max_iterations))
         moved = _leave_saddles(residual_and_jacobian, state, candidates)
         if moved.size == 0:
             break
         _levenberg_marquardt(residual_and_jacobian, state, moved, settings)
+        checked = np.isin(np.arange(count), moved)
 
     return BatchLeastSquaresResult(
         x=state.x,

@@ -59,6 +59,11 @@ class CompiledNLP:
     lm_kernel : BufferedFunction or None
         The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
         first run (:func:`sso.solvers.lm_kernel.kernel_of`).
+    lm_newton_kernel : BufferedFunction or None
+        Its compiled Newton iterations, built once runs have asked for them often
+        enough (:func:`sso.solvers.lm_kernel.newton_kernel_of`).
+    lm_newton_requests : int
+        Runs that asked for the Newton kernel before it was built.
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -80,6 +85,8 @@ class CompiledNLP:
     residuals: Any = None
     nonnegative_objective: bool = False
     lm_kernel: Any = None
+    lm_newton_kernel: Any = None
+    lm_newton_requests: int = 0
 
     def ipopt(self, options: dict[str, Any]) -> Any:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""
@@ -186,6 +193,18 @@ class BufferedFunction:
         if self._scalar_first:
             results[0] = float(results[0][0])
         return tuple(results)
+
+    def flat(self, *arguments: list[float]) -> list[float]:
+        """Evaluate at ``arguments`` (flat lists of floats); the first output as a flat list.
+
+        The lean path for a function called in a loop on lists: no reshaping, and no
+        intermediate array per input.
+        """
+        for destination, value in zip(self._inputs, arguments, strict=True):
+            destination[:] = value
+        self._evaluate()
+        values: list[float] = self._outputs[0].tolist()
+        return values
 
 
 def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,

@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from sso.solvers.kkt import projected_gradient_norm_floats
+from sso.solvers.lm_rules import PYTHON, cholesky
 from sso.solvers.run import RunLimits, RunOutcome
-from sso.solvers.small_matrices import cholesky
 
 MAX_ESCAPES = 3
 # Negative curvature counts when the smallest eigenvalue is below -RELATIVE_CURVATURE
@@ -219,8 +219,8 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
     # that shift has a Cholesky factor, no eigenvalue lies below the threshold, and
     # only when it has none is the eigendecomposition needed.
     largest_diagonal = max(abs(hessian[index][index]) for index in range(len(free)))
-    if cholesky(hessian, max(RELATIVE_CURVATURE * largest_diagonal,
-                             ABSOLUTE_CURVATURE)) is not None:
+    if cholesky(PYTHON, hessian, max(RELATIVE_CURVATURE * largest_diagonal,
+                                     ABSOLUTE_CURVATURE))[1]:
         return None
     eigenvalues, eigenvectors = np.linalg.eigh(np.array(hessian))
     largest = max(abs(float(eigenvalues[0])), abs(float(eigenvalues[-1])))

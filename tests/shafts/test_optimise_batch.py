@@ -158,3 +158,34 @@ def test_non_numeric_starts_are_type_errors():
 def test_unknown_keyword_fails():
     with pytest.raises(TypeError):
         optimise_batch([[10.0, 20.0]], [[90.0]], tolerence=1e-9)  # type: ignore[call-arg]
+
+
+@pytest.mark.parametrize("option", [1, 2, 3])
+def test_a_design_gets_the_same_answer_in_any_batch(option):
+    # Sweeps batch their points in chunks of any size: each design's answer must not
+    # depend on the designs beside it (bit for bit, the status and counts too).
+    rng = np.random.default_rng(40 + option)
+    beta_deg, phase_deg = rng.uniform(3.0, 44.0, (24, 3)), rng.uniform(-20.0, 200.0, (24, 2))
+    whole = optimise_batch(beta_deg, phase_deg, option=option, beta_bounds_deg=(5.0, 35.0))
+    for size in (1, 5, 7):
+        parts = [optimise_batch(beta_deg[row:row + size], phase_deg[row:row + size],
+                                option=option, beta_bounds_deg=(5.0, 35.0))
+                 for row in range(0, 24, size)]
+        for name in ("fun", "beta_deg", "phase_deg", "status", "nit", "nfev", "kkt"):
+            np.testing.assert_array_equal(np.concatenate([getattr(part, name) for part in parts]),
+                                          getattr(whole, name))
+
+
+@pytest.mark.parametrize("option", [1, 2, 3])
+def test_every_design_reaches_the_single_solve_s_residual_error(option):
+    # Reference: sso.optimise with "lm" alone and one start, the same rules one design at
+    # a time; the batch takes its Gauss-Newton steps and hands minima above zero to the
+    # batched least squares, which must not stop higher.
+    rng = np.random.default_rng(50 + option)
+    beta_deg, phase_deg = rng.uniform(5.0, 35.0, (30, 4)), rng.uniform(0.0, 180.0, (30, 3))
+    batch = optimise_batch(beta_deg, phase_deg, option=option, beta_bounds_deg=(5.0, 35.0))
+    assert np.all(batch.success)
+    for row in range(30):
+        single = sso.optimise(sso.ShaftSeries(beta_deg[row], phase_deg[row]), option,
+                              solvers=("lm",), starts=1, beta_bounds_deg=(5.0, 35.0)).fun
+        assert batch.fun[row] == pytest.approx(single, rel=1e-6, abs=1e-20)

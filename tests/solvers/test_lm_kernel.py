@@ -11,7 +11,15 @@ import pytest
 from sso.shafts.options import build_problem
 from sso.shafts.problem import compiled_nlp
 from sso.solvers import lm
-from sso.solvers.lm_kernel import KERNEL_ITERATIONS, NEWTON, RUNNING, kernel_of, run_kernel
+from sso.solvers.lm_kernel import (
+    KERNEL_ITERATIONS,
+    NEWTON_KERNEL_AFTER,
+    kernel_of,
+    newton_kernel_of,
+    run_kernel,
+    run_newton_kernel,
+)
+from sso.solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING
 from sso.solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
@@ -25,7 +33,15 @@ def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0
 
 
 def _kernel(nlp):
-    return kernel_of(nlp, lm.KERNEL_CONSTANTS)
+    return kernel_of(nlp)
+
+
+def _newton_kernel(nlp):
+    # Built once a shape has asked for it NEWTON_KERNEL_AFTER times.
+    for _ in range(NEWTON_KERNEL_AFTER):
+        kernel = newton_kernel_of(nlp)
+    assert kernel is not None
+    return kernel
 
 
 def _python_loop(problem, nlp, max_iterations=3000):
@@ -75,10 +91,11 @@ def test_paper_option_3_ends_within_one_block_as_the_loop_does():
     state = run_kernel(_kernel(nlp), problem.start_rad.tolist(), [],
                        problem.lower_rad.tolist(), problem.upper_rad.tolist(), 1e-12, 3000)
     x_loop, fun_loop, nit_loop, nfev_loop, status_loop = _python_loop(problem, nlp)
-    assert (state.status, state.nit, state.nfev) == (status_loop, nit_loop, nfev_loop) == (1, 4, 5)
-    assert state.nit < KERNEL_ITERATIONS
-    assert state.fun <= 1e-28 and fun_loop <= 1e-28
-    np.testing.assert_allclose(state.x, x_loop, rtol=0, atol=1e-12)
+    assert ((state["status"], state["nit"], state["nfev"]) == (status_loop, nit_loop, nfev_loop)
+            == (1, 4, 5))
+    assert state["nit"] < KERNEL_ITERATIONS
+    assert state["fun"] <= 1e-28 and fun_loop <= 1e-28
+    np.testing.assert_allclose(state["x"], x_loop, rtol=0, atol=1e-12)
 
 
 def test_a_minimum_above_zero_is_handed_to_the_newton_steps():
@@ -88,7 +105,7 @@ def test_a_minimum_above_zero_is_handed_to_the_newton_steps():
     state = run_kernel(_kernel(nlp), problem.start_rad.tolist(),
                        problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
                        problem.upper_rad.tolist(), 1e-12, 3000)
-    assert state.status == NEWTON
+    assert state["status"] == NEWTON
     x_loop, fun_loop, _, _, status_loop = _python_loop(problem, nlp)
     x_kernel, fun_kernel, _, _, status_kernel = _with_kernel(problem, nlp)
     assert status_kernel == status_loop == 1
@@ -115,7 +132,61 @@ def test_a_start_outside_the_bounds_is_moved_onto_them_first():
     outside[2] = np.radians(60.0)
     state = run_kernel(_kernel(nlp), outside, [], problem.lower_rad.tolist(),
                        problem.upper_rad.tolist(), 1e-12, 1)
-    assert state.status == 0 and state.nit == 1
+    assert state["status"] == 0 and state["nit"] == 1
     assert all(low <= value <= high for value, low, high in
-               zip(state.x, problem.lower_rad.tolist(), problem.upper_rad.tolist(), strict=True))
-    assert state.status != RUNNING
+               zip(state["x"], problem.lower_rad.tolist(), problem.upper_rad.tolist(), strict=True))
+    assert state["status"] != RUNNING
+
+
+def test_the_newton_kernel_takes_the_newton_steps_as_the_python_loop_does():
+    # The paper's option-1 case again: the Gauss-Newton kernel hands over (status
+    # NEWTON); the Newton kernel (CasADi's symbolic Hessian) and the Python loop (the
+    # closed-form Hessian) continue from the same state by the same rules.
+    problem, nlp = _problem([15.0, 20.0, 9.0], [30.0, 40.0], 1, (0.0, 40.0))
+    fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                           problem.upper_rad.tolist())
+    handed = run_kernel(_kernel(nlp), problem.start_rad.tolist(), fixed, lower, upper, 1e-12,
+                        3000)
+    assert handed["status"] == NEWTON
+    compiled = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
+                                 1e-12, 3000)
+    loop = lm.minimise(lambda x: nlp.residuals_and_jacobian(x, fixed), [], lower, upper, 1e-12,
+                       3000, lambda x: nlp.objective_hessian(x, fixed), dict(handed))
+    assert (compiled["status"], compiled["nit"], compiled["nfev"]) == (loop[4], loop[2], loop[3])
+    assert compiled["status"] == 1 and compiled["nit"] > handed["nit"]
+    assert compiled["fun"] == pytest.approx(loop[1], rel=1e-12)
+    np.testing.assert_allclose(compiled["x"], loop[0], rtol=0, atol=1e-10)
+
+
+def test_an_indefinite_hessian_is_handed_back_for_one_python_step():
+    # Found by a random search: six joints of option 1 whose Newton steps begin far from
+    # the minimum, where the Hessian is indefinite; the kernel cannot shift it past its
+    # most negative eigenvalue, so it stops with NEWTON_INDEFINITE and leaves the state.
+    problem, nlp = _problem([37.4, 17.0, 16.7, 24.3, 9.7, 11.1],
+                            [45.9, 75.2, -11.2, 143.1, 103.2], 1, (13.2, 25.9))
+    fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                           problem.upper_rad.tolist())
+    handed = run_kernel(_kernel(nlp), problem.start_rad.tolist(), fixed, lower, upper, 1e-12,
+                        3000)
+    stopped = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
+                                1e-12, 3000)
+    assert stopped["status"] == NEWTON_INDEFINITE
+    assert stopped["nit"] >= handed["nit"]
+    # Alternating with the Python loop, the solve ends as the loop alone ends it.
+    x_loop, fun_loop, _, _, status_loop = _python_loop(problem, nlp)
+    x_kernel, fun_kernel, _, _, status_kernel = _with_kernel(problem, nlp)
+    assert status_kernel > 0 and status_loop > 0
+    assert fun_kernel == pytest.approx(fun_loop, rel=1e-9)
+
+
+def test_the_newton_kernel_is_built_only_for_a_shape_solved_repeatedly():
+    # One solve's Newton steps cost less than the kernel's build: the first solves of a
+    # shape take them in the Python loop, with the same answer.
+    problem, nlp = _problem([15.0, 20.0, 9.0], [30.0, 40.0], 1, (0.0, 40.0))
+    answers = [_with_kernel(problem, nlp) for _ in range(NEWTON_KERNEL_AFTER + 1)]
+    assert nlp.lm_newton_kernel is not None
+    assert nlp.lm_newton_requests == NEWTON_KERNEL_AFTER
+    first, last = answers[0], answers[-1]
+    assert first[4] == last[4] == 1
+    assert last[1] == pytest.approx(first[1], rel=1e-12)
+    np.testing.assert_allclose(last[0], first[0], rtol=0, atol=1e-9)
