@@ -1,18 +1,20 @@
 """Atomic writes (a file via a temporary file and ``os.replace``; a whole report folder
-via a temporary sibling folder swapped into place) and guarded reads of input files."""
+via a temporary sibling folder swapped into place), the manifest of the files sso
+wrote into a folder (sso replaces nothing else), and guarded reads of input files."""
 
 from __future__ import annotations
 
+import errno
+import json
 import os
+import re
 import shutil
-import signal
 import stat
 import tempfile
-import threading
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from sso.interrupts import interrupts_held
 from sso.limits import MAX_INPUT_FILE_BYTES
 
 TEMPORARY_PREFIX = ".sso-tmp-"
@@ -114,7 +116,7 @@ def _write_all(descriptor: int, data: bytes) -> None:
 def _write_named_temporary(target: Path, data: bytes) -> Path:
     # Ctrl-C and SIGTERM wait until the named temporary file is renamed or removed, so
     # an interrupted run never leaves one (only SIGKILL can).
-    with _interrupts_held():
+    with interrupts_held():
         descriptor, temporary_name = tempfile.mkstemp(prefix=TEMPORARY_PREFIX,
                                                       suffix=f"-{target.name}",
                                                       dir=target.parent)
@@ -128,30 +130,6 @@ def _write_named_temporary(target: Path, data: bytes) -> Path:
             Path(temporary_name).unlink(missing_ok=True)
             raise
     return target
-
-
-@contextmanager
-def _interrupts_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM (on the main thread, where Python runs their handlers)
-    until the block ends, then deliver them to the handlers as they were."""
-    numbers = (signal.SIGINT, signal.SIGTERM)
-    if (threading.current_thread() is not threading.main_thread()
-            or any(signal.getsignal(number) is None for number in numbers)):
-        yield
-        return
-    caught: list[int] = []
-
-    def hold(number: int, frame: object) -> None:
-        caught.append(number)
-
-    previous = {number: signal.signal(number, hold) for number in numbers}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-        for held in caught:
-            signal.raise_signal(held)
 
 
 def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
@@ -214,87 +192,272 @@ def read_input_bytes(path: str | os.PathLike[str],
     return data
 
 
-REPORT_SUFFIXES = (".json", ".csv", ".md", ".html", ".png")
-"""Files a report folder may hold for :func:`replace_folder` to replace it."""
+FOLDER_MANIFEST = "sso-files.json"
+"""The file in which a folder sso writes lists the files sso wrote there (and what
+the folder holds: a case's report, a sweep, a tolerance study)."""
+
+# Names mkdtemp gives the staging folders of replace_folder (8 random characters).
+_STAGING = re.compile(rf"{re.escape(TEMPORARY_PREFIX)}(?:new|old)-[a-z0-9_]{{8}}-(?P<name>.+)")
+# What a rename of a folder meets where the folder cannot move: a mount point (EBUSY),
+# another file system (EXDEV), a parent this user may not change (EACCES, EPERM),
+# the working directory or one above it (EINVAL, EBUSY).
+_CANNOT_MOVE = frozenset({errno.EBUSY, errno.EXDEV, errno.EACCES, errno.EPERM, errno.EINVAL})
 
 
-def check_report_folder(path: str | os.PathLike[str]) -> Path:
-    """``path`` as a Path, if it is missing or a folder holding report files only.
+def make_folders(path: str | os.PathLike[str]) -> Path:
+    """Create ``path`` and its missing parents, one level at a time.
+
+    Unlike ``Path.mkdir(parents=True)`` it does not recurse, so a path of thousands
+    of parts is made, or fails with the system's reason (``File name too long``);
+    on failure the folders it made are removed again.
 
     Raises
     ------
-    ValueError
-        If ``path`` is a file, or a folder holding a subfolder or a file whose
-        suffix is not one of :data:`REPORT_SUFFIXES`.
+    OSError
+        If a level cannot be created (nothing new is left behind).
     """
     target = Path(path)
-    if target.exists():
-        if not target.is_dir():
-            raise ValueError(f"{target} is a file, not a report folder")
-        foreign = sorted(entry.name for entry in target.iterdir()
-                         if not entry.is_file() or entry.suffix not in REPORT_SUFFIXES)
-        if foreign:
-            raise ValueError(f"{target} holds {', '.join(foreign[:3])}"
-                             f"{' and more' if len(foreign) > 3 else ''}, which is not a "
-                             f"report file ({', '.join(REPORT_SUFFIXES)}); choose an empty or "
-                             "new folder for the report")
+    missing = []
+    for folder in (target, *target.parents):
+        if folder.is_dir():
+            break
+        missing.append(folder)
+    made: list[Path] = []
+    try:
+        for folder in reversed(missing):
+            try:
+                folder.mkdir()
+            except FileExistsError:
+                if not folder.is_dir():
+                    raise
+            else:
+                made.append(folder)
+    except BaseException:
+        for folder in reversed(made):
+            try:
+                folder.rmdir()
+            except OSError:  # another process wrote into it meanwhile: it stays
+                break
+        raise
     return target
 
 
-def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes]) -> list[Path]:
-    """Make ``path`` a folder holding exactly ``files``, never losing the old one on failure.
+def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]:
+    """What the folder ``path`` holds by its manifest: (kind, names of sso's files).
 
-    The files are written (and flushed to disk) into a new temporary folder beside
-    ``path``; then the old folder is renamed aside, the new one renamed into its
-    place, and only then is the old one deleted. Whatever fails before the second
-    rename leaves ``path`` as it was; readers never see a half-written folder.
+    ``(None, empty)`` when the folder has no readable manifest written by sso.
+    """
+    try:
+        data = json.loads(read_input_bytes(Path(path) / FOLDER_MANIFEST))
+    except (ValueError, UnicodeDecodeError, RecursionError):
+        return None, frozenset()
+    if (not isinstance(data, dict) or data.get("written_by") != "sso"
+            or not isinstance(data.get("kind"), str) or not isinstance(data.get("files"), list)
+            or not all(isinstance(name, str) for name in data["files"])):
+        return None, frozenset()
+    return data["kind"], frozenset(data["files"])
+
+
+def check_report_folder(path: str | os.PathLike[str], kind: str,
+                        adopt: tuple[str, ...] = ()) -> Path:
+    """``path`` as a Path, if sso may write a ``kind`` folder there.
+
+    It may if ``path`` is missing, an empty folder, or a folder whose every entry is
+    a file sso wrote there for the same kind (listed in its :data:`FOLDER_MANIFEST`),
+    a temporary file of an interrupted write (``.sso-tmp-*``) or one of ``adopt``.
 
     Parameters
     ----------
     path : path-like
-        The report folder; its parent is created if missing.
-    files : mapping of str to bytes
-        File name (no folders) to complete contents.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files now in ``path``.
+        The folder.
+    kind : str
+        What sso writes there: ``"case report"``, ``"sweep"``, ``"tolerance study"``.
+    adopt : tuple of str
+        Names to treat as sso's even if unlisted (``sso report`` reading the
+        ``result.json`` it will write again).
 
     Raises
     ------
     ValueError
-        If ``path`` exists and holds anything but report files (a subfolder, or
-        a file whose suffix is not one of :data:`REPORT_SUFFIXES`): it is not a
-        report folder, and replacing it would delete what its owner keeps there.
+        If ``path`` is a file; if its manifest says it holds another kind (a sweep
+        where a case's report would go); or naming every entry that sso did not
+        write (a subfolder, a link, a file missing from the manifest). Nothing is
+        deleted.
+    """
+    target = Path(path)
+    if not target.is_dir():
+        if os.path.lexists(target):
+            raise ValueError(f"{target} is a file, not a folder; choose a folder for the {kind}")
+        return target
+    entries = list(os.scandir(target))
+    if not entries:
+        return target
+    found_kind, listed = sso_files(target)
+    if found_kind is not None and found_kind != kind:
+        raise ValueError(f"{target} holds a {found_kind} written by sso: a {kind} and a "
+                         f"{found_kind} never share a folder. Choose another folder (--out), "
+                         f"or delete this one if the {found_kind} is no longer needed")
+    own = listed | set(adopt) | {FOLDER_MANIFEST}
+    foreign = sorted(entry.name for entry in entries
+                     if not entry.is_file(follow_symlinks=False)
+                     or not (entry.name in own or entry.name.startswith(TEMPORARY_PREFIX)))
+    if foreign:
+        shown_names = ", ".join(foreign[:8]) + (f" and {len(foreign) - 8} more"
+                                                if len(foreign) > 8 else "")
+        why = ("they are not in its " + FOLDER_MANIFEST if found_kind is not None
+               else "it has no " + FOLDER_MANIFEST)
+        raise ValueError(f"{target} holds {shown_names}, which sso did not write ({why}); "
+                         "sso replaces only its own files. Choose another folder (--out), "
+                         "or move those files out")
+    return target
+
+
+def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...]) -> Path:
+    """Check ``path`` (:func:`check_report_folder`), create it, and add ``names`` to its
+    manifest, before a writer that fills the folder over time (a sweep) writes them.
+
+    The caller holds the folder's lock (:func:`sso.folder_lock.folder_lock`) over
+    the claim and the writes.
+
+    Raises
+    ------
+    ValueError
+        As :func:`check_report_folder`.
+    """
+    target = check_report_folder(path, kind)
+    make_folders(target)
+    _, listed = sso_files(target)
+    write_bytes_atomic(target / FOLDER_MANIFEST, _manifest(kind, listed | set(names)))
+    return target
+
+
+def _manifest(kind: str, names: Iterable[str]) -> bytes:
+    document = {"written_by": "sso", "kind": kind, "files": sorted(set(names))}
+    return (json.dumps(document, indent=2) + "\n").encode("utf-8")
+
+
+def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kind: str,
+                   adopt: tuple[str, ...] = ()) -> list[Path]:
+    """Make ``path`` a folder holding exactly ``files`` (and their manifest), never
+    losing the old one on failure and never a file sso did not write.
+
+    The caller holds the folder's lock (:func:`sso.folder_lock.folder_lock`;
+    :func:`sso.write_report` takes it). The files and the manifest are written (and
+    flushed to disk) into a new temporary folder beside ``path``; then the old
+    folder is renamed aside, the new one renamed into its place, and only then is
+    the old one deleted: readers never see a half-written folder. Where the folder
+    cannot be renamed (a symbolic link to a folder, a mount point, the working
+    directory or one above it, a parent that may not change), its files are
+    replaced one by one instead, each atomically, the manifest always listing every
+    file present. Ctrl-C and SIGTERM wait until the folder is consistent.
+
+    Parameters
+    ----------
+    path : path-like
+        The folder; its parents are created if missing.
+    files : mapping of str to bytes
+        File name (no folders) to complete contents.
+    kind : str
+        What the folder holds (see :func:`check_report_folder`).
+    adopt : tuple of str
+        Names in the folder to treat as sso's (see :func:`check_report_folder`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files now in ``path`` (the manifest not counted).
+
+    Raises
+    ------
+    ValueError
+        As :func:`check_report_folder` (nothing is touched), or for a file name
+        that is not a plain name.
     OSError
         If the folder cannot be written; ``path`` is then left as it was.
     """
-    target = check_report_folder(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    names = list(files)
+    bad = [name for name in names if name in ("", os.curdir, os.pardir, FOLDER_MANIFEST)
+           or os.sep in name or name.startswith(TEMPORARY_PREFIX)]
+    if bad:
+        raise ValueError(f"file names {bad!r} cannot be written into a report folder")
+    target = check_report_folder(path, kind, adopt)
+    make_folders(target.parent)
+    _remove_stale_staging(target)
+    contents = {**files, FOLDER_MANIFEST: _manifest(kind, names)}
+    if target.is_dir() and not _movable(target):
+        _replace_files(target, contents)
+    else:
+        try:
+            _swap(target, contents)
+        except OSError as error:
+            if error.errno not in _CANNOT_MOVE or not target.is_dir():
+                raise
+            _replace_files(target, contents)
+    return [target / name for name in names]
+
+
+def _movable(folder: Path) -> bool:
+    """Whether renaming ``folder`` moves what its users expect: not a link, not a
+    mount point, not the working directory or a folder above it."""
+    if folder.is_symlink() or os.path.ismount(folder):
+        return False
+    here = os.path.realpath(os.getcwd())
+    there = os.path.realpath(folder)
+    return not (here == there or here.startswith(there.rstrip(os.sep) + os.sep))
+
+
+def _swap(target: Path, contents: Mapping[str, bytes]) -> None:
     staging = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}new-", suffix=f"-{target.name}",
                                     dir=target.parent))
     try:
-        for name, data in files.items():
+        for name, data in contents.items():
             with open(staging / name, "wb") as handle:
                 handle.write(data)
                 handle.flush()
                 os.fsync(handle.fileno())
             os.chmod(staging / name, 0o644)
         os.chmod(staging, 0o755)
-        if target.exists():
-            aside = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}old-",
-                                          suffix=f"-{target.name}", dir=target.parent))
-            os.replace(target, aside)  # onto the empty folder just made: atomic on POSIX
-            try:
+        with interrupts_held():
+            if target.exists():
+                aside = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}old-",
+                                              suffix=f"-{target.name}", dir=target.parent))
+                try:
+                    os.replace(target, aside)  # onto the empty folder just made: atomic
+                except BaseException:
+                    aside.rmdir()
+                    raise
+                try:
+                    os.replace(staging, target)
+                except BaseException:
+                    os.replace(aside, target)
+                    raise
+                shutil.rmtree(aside, ignore_errors=True)
+            else:
                 os.replace(staging, target)
-            except BaseException:
-                os.replace(aside, target)
-                raise
-            shutil.rmtree(aside, ignore_errors=True)
-        else:
-            os.replace(staging, target)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
-    return [target / name for name in files]
+
+
+def _replace_files(target: Path, contents: Mapping[str, bytes]) -> None:
+    """Replace the files of ``target`` one by one; its manifest lists every file present
+    at every moment (first the old and the new, last the new only)."""
+    kind = json.loads(contents[FOLDER_MANIFEST])["kind"]
+    present = {entry.name for entry in os.scandir(target)} - {FOLDER_MANIFEST}
+    with interrupts_held():
+        write_bytes_atomic(target / FOLDER_MANIFEST, _manifest(kind, present | set(contents)))
+        for name, data in contents.items():
+            if name != FOLDER_MANIFEST:
+                write_bytes_atomic(target / name, data)
+        for name in present - set(contents):
+            (target / name).unlink(missing_ok=True)
+        write_bytes_atomic(target / FOLDER_MANIFEST, contents[FOLDER_MANIFEST])
+
+
+def _remove_stale_staging(target: Path) -> None:
+    """Delete the staging folders of ``target`` that a killed writer left beside it
+    (only SIGKILL can; the caller holds the folder's lock, so no writer is alive)."""
+    for entry in os.scandir(target.parent):
+        match = _STAGING.fullmatch(entry.name)
+        if match and match["name"] == target.name and entry.is_dir(follow_symlinks=False):
+            shutil.rmtree(entry.path, ignore_errors=True)

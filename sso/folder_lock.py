@@ -21,6 +21,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from sso.files import make_folders
+
 LOCK_PREFIX = ".sso-lock-"
 ATTEMPTS = 20
 
@@ -61,7 +63,7 @@ def folder_lock(folder: str | os.PathLike[str], purpose: str = "write") -> Itera
     import fcntl
 
     path = lock_path(folder)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folders(path.parent)  # level by level: an --out of thousands of parts is no recursion
     for _ in range(ATTEMPTS):
         descriptor = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
         try:

@@ -18,9 +18,9 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lower layer; parts on one layer do not import each other. ``sso/__init__.py`` (the
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("limits", "distribution", "warning_origin"),
-    ("validation", "files", "folder_lock", "display"),
-    ("kinematics",),
+    ("limits", "distribution", "warning_origin", "interrupts"),
+    ("validation", "files", "display"),
+    ("kinematics", "folder_lock"),
     ("record",),
     ("solvers",),
     ("shafts", "linkages"),

@@ -35,6 +35,8 @@ from sso.reports.summary import Block, Heading, Image, Paragraph, Table
 from sso.validation import shown
 
 REPORT_ROWS = 50
+SWEEP_FOLDER = "sweep"
+TOLERANCE_FOLDER = "tolerance study"
 SWEEP_PLOT = "sweep_re.png"
 TOLERANCE_PLOT = "tolerance_histogram.png"
 TOLERANCE_CSV = "tolerance.csv"
@@ -322,5 +324,5 @@ def _cell(value: Any) -> str:
     return str(value)
 
 
-register_report_kind("sweep", render_sweep)
-register_report_kind("tolerance", render_tolerance)
+register_report_kind("sweep", render_sweep, SWEEP_FOLDER)
+register_report_kind("tolerance", render_tolerance, TOLERANCE_FOLDER)

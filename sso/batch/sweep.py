@@ -14,7 +14,7 @@ from typing import Any
 from sso.batch.axes import Axis, base_case, expand_points, parse_axes
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
-from sso.batch.report import SWEEP_PLOT, render_sweep
+from sso.batch.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
 from sso.batch.results import SweepResult
 from sso.batch.table import (
     CSV_NAME,
@@ -30,7 +30,12 @@ from sso.batch.table import (
     typed_rows,
 )
 from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
-from sso.files import remove_stale_temporaries, write_bytes_atomic, write_text_atomic
+from sso.files import (
+    claim_folder,
+    remove_stale_temporaries,
+    write_bytes_atomic,
+    write_text_atomic,
+)
 from sso.folder_lock import folder_lock
 from sso.shafts.options import build_problem
 from sso.shafts.quadrature import rule_for_bounds
@@ -45,7 +50,8 @@ CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT)
-"""The files a sweep writes into its folder; it refuses a folder holding anything else."""
+"""The files a sweep writes into its folder (its ``sso-files.json`` lists them); it refuses
+a folder holding anything else."""
 
 
 def sweep(
@@ -85,7 +91,8 @@ def sweep(
         Folder for ``sweep.csv`` (each chunk's rows appended as it finishes, in
         that order; every digit), ``sweep.json`` (what the sweep is),
         ``report.md``, ``report.html`` and ``sweep_re.png`` (written when the sweep
-        ends). It must be new, empty or hold these files only; one sweep at a time
+        ends). It must be new, empty or hold only the files sso wrote there for a
+        sweep (its ``sso-files.json`` lists them); one sweep at a time
         writes into it (a lock file beside it, :mod:`sso.folder_lock`). Without it
         nothing is written.
     resume : bool
@@ -208,22 +215,12 @@ def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, 
     Raises
     ------
     ValueError
-        If ``out_dir`` is a file, holds anything a sweep does not write (a case's
-        report, the user's files), holds a sweep without ``resume``, or holds
+        If ``out_dir`` is a file, holds anything sso did not write there for a
+        sweep (a case's report, the user's files), holds a sweep without ``resume``, or holds
         another sweep or rows that do not belong to this one.
     """
-    if out_dir.exists() and not out_dir.is_dir():
-        raise ValueError(f"out_dir = {str(out_dir)!r} is a file, not a folder")
-    out_dir.mkdir(parents=True, exist_ok=True)
+    claim_folder(out_dir, SWEEP_FOLDER, SWEEP_FILES)
     remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
-    foreign = sorted(entry.name for entry in out_dir.iterdir()
-                     if entry.name not in SWEEP_FILES or not entry.is_file())
-    if foreign:
-        shown_names = ", ".join(foreign[:5]) + (" and more" if len(foreign) > 5 else "")
-        why = ("a case's report: a sweep and a case never share a folder"
-               if "result.json" in foreign else "which a sweep does not write")
-        raise ValueError(f"out_dir = {str(out_dir)!r} holds {shown_names}, {why}; choose "
-                         "another folder (or --out) for the sweep")
     csv_path = out_dir / CSV_NAME
     if resume:
         rows = done_rows(out_dir, job.identity, job.header, job.axis_cells)

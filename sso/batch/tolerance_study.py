@@ -22,6 +22,7 @@ import numpy as np
 
 from sso.batch.estimate import tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.report import TOLERANCE_FOLDER
 from sso.batch.results import ToleranceResult
 from sso.files import check_report_folder
 from sso.limits import DEFAULT_INPUT_SPEED_RPM, OUTPUT_FORMATS
@@ -146,7 +147,7 @@ def tolerance_study(
     started = time.perf_counter()
     series, speed_rpm, quadrature, case_settings, study_of = _nominal(design, input_speed_rpm)
     if out_dir is not None:
-        out_dir = check_report_folder(out_dir)
+        out_dir = check_report_folder(out_dir, TOLERANCE_FOLDER)
     given = {"beta_tolerance_deg": beta_tolerance_deg, "phase_tolerance_deg": phase_tolerance_deg,
              "distribution": distribution, "samples": samples, "seed": seed,
              "percentiles": percentiles}

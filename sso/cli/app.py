@@ -16,13 +16,12 @@ from __future__ import annotations
 
 import argparse
 import signal
-import threading
 from collections.abc import Sequence
-from typing import Any
 
 from sso.cli import batch_commands, report, solve, validate
 from sso.cli.common import EXIT_INTERRUPTED, Command, print_error
 from sso.distribution import installed_version
+from sso.interrupts import interrupt_on_sigterm
 
 COMMANDS: tuple[Command, ...] = (
     *solve.COMMANDS,
@@ -53,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
     args = build_parser().parse_args(argv)
-    previous = _interrupt_on_sigterm()
+    previous = interrupt_on_sigterm()
     try:
         code: int = args.handle(args)
         return code
@@ -64,14 +63,3 @@ def main(argv: Sequence[str] | None = None) -> int:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
 
-
-def _interrupt_on_sigterm() -> Any:
-    """Make SIGTERM interrupt the run as Ctrl-C does (workers stopped, temporary files
-    removed); returns the previous handler, or None off the main thread."""
-    if threading.current_thread() is not threading.main_thread():
-        return None
-
-    def interrupt(signal_number: int, frame: Any) -> None:
-        raise KeyboardInterrupt(f"signal {signal_number}")
-
-    return signal.signal(signal.SIGTERM, interrupt)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +28,7 @@ def _configure_report(parser: argparse.ArgumentParser) -> None:
 def _report(args: argparse.Namespace) -> int:
     from sso.cli.tracked import RENDERING_ERRORS
     from sso.files import check_report_folder
-    from sso.reports.kinds import write_report
+    from sso.reports.kinds import CASE_REPORT, write_report
     from sso.reports.writer import ResultFileError, read_result
 
     exit_code = EXIT_OK
@@ -43,7 +44,8 @@ def _report(args: argparse.Namespace) -> int:
             continue
         try:
             folder, formats = _report_folder(args, path, document)
-            check_report_folder(folder)
+            adopt = _rewritten_result(path, folder)
+            check_report_folder(folder, CASE_REPORT, adopt)
         except ValueError as error:  # a folder that is not a report's, or a bad case name
             print_error(f"{path}: cannot write the report: {error}")
             exit_code = EXIT_BAD_INPUT
@@ -54,7 +56,7 @@ def _report(args: argparse.Namespace) -> int:
             continue
         try:
             # The folder is written afresh, so result.json goes into it again.
-            written = write_report(document, folder, ("json", *formats))
+            written = write_report(document, folder, ("json", *formats), adopt)
         except RENDERING_ERRORS as error:
             print_error(_not_a_result(args, path, document, error))
             exit_code = EXIT_BAD_INPUT
@@ -86,7 +88,7 @@ def _report_saved_result(args: argparse.Namespace, path: str) -> int:
     from sso.files import check_report_folder
     from sso.limits import OUTPUT_FORMATS
     from sso.record import RecordError
-    from sso.reports.kinds import write_report
+    from sso.reports.kinds import report_kind_of, write_report
 
     try:
         result = read_saved_result(path)
@@ -100,8 +102,9 @@ def _report_saved_result(args: argparse.Namespace, path: str) -> int:
     if args.out is not None and len(args.results) > 1:
         folder = folder / (Path(path).resolve().parent.name if case is None else case.name)
     try:
-        check_report_folder(folder)
-        written = write_report(result, folder, ("json", *formats))
+        adopt = _rewritten_result(path, folder)
+        check_report_folder(folder, report_kind_of(result).folder, adopt)
+        written = write_report(result, folder, ("json", *formats), adopt)
     except ValueError as error:
         print_error(f"{path}: cannot write the report: {error}")
         return EXIT_BAD_INPUT
@@ -111,6 +114,17 @@ def _report_saved_result(args: argparse.Namespace, path: str) -> int:
     say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
         f"in {folder}")
     return EXIT_OK
+
+
+def _rewritten_result(path: str, folder: Path) -> tuple[str, ...]:
+    """``("result.json",)`` if ``path`` is the ``result.json`` of ``folder``: the report
+    writes it again (its contents are sso's, if not its listing in the manifest)."""
+    from sso.reports.writer import RESULT_FILE
+
+    given = Path(path)
+    if given.name == RESULT_FILE and os.path.realpath(given.parent) == os.path.realpath(folder):
+        return (RESULT_FILE,)
+    return ()
 
 
 def _not_a_result(args: argparse.Namespace, path: str, document: Any,

@@ -87,9 +87,35 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
 
 def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
                started: float) -> Outcome:
+    """Solve one case and write its report, holding its folder from start to end: a
+    second run into the same folder is refused at once, not after its solve."""
+    from sso.files import check_report_folder
+    from sso.folder_lock import folder_lock
+    from sso.reports.kinds import CASE_REPORT
+
+    try:
+        with folder_lock(folder, f"write the report of {case.name}"):
+            check_report_folder(folder, CASE_REPORT)
+            return _solve_in(args, case, folder, optimising, started)
+    except (OSError, ValueError) as error:
+        print_error(f"{case.name}: cannot write the report into {folder}: "
+                    f"{error.strerror if isinstance(error, OSError) and error.strerror else error}")
+        return Outcome(case.name, "cannot write", EXIT_BAD_INPUT)
+
+
+def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
+              started: float) -> Outcome:
+    """Solve (or evaluate) ``case`` and write its report into ``folder``.
+
+    Raises
+    ------
+    OSError, ValueError
+        If the report cannot be written into ``folder``.
+    """
     from sso.cases.column import COLUMN_KIND
     from sso.cases.mechanism import MECHANISM_KINDS
-    from sso.reports.kinds import write_report
+    from sso.files import replace_folder
+    from sso.reports.kinds import CASE_REPORT, render_report
     from sso.run.column_document import column_document
     from sso.run.mechanism_document import mechanism_document
     from sso.run.shaft_series import run_shaft_series
@@ -112,12 +138,7 @@ def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bo
         return Outcome(case.name, "internal error", EXIT_FAILED)
     told = _told(result)
     print_warnings(case.name, told.warnings)
-    try:
-        written = write_report(result, folder, case.formats)
-    except (OSError, ValueError) as error:
-        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
-        print_error(f"{case.name}: cannot write the report into {folder}: {reason}")
-        return Outcome(case.name, "cannot write", EXIT_BAD_INPUT)
+    written = replace_folder(folder, render_report(result, case.formats), CASE_REPORT)
     status, code = _status(told)
     if not told.success:
         print_error(f"{case.name}: {told.verdict}")

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from sso.files import replace_folder
+from sso.folder_lock import folder_lock
 from sso.limits import OUTPUT_FORMATS
 from sso.record import Record
 
@@ -48,18 +49,26 @@ class ReportKind:
         The kind, as results name it in ``report_kind``.
     render : callable
         ``render(result, formats) -> {file name: bytes}``.
+    folder : str
+        What its report folder holds, as the folder's manifest names it
+        (:func:`sso.files.replace_folder`): :data:`CASE_REPORT` for every kind of
+        one case, ``"sweep"``, ``"tolerance study"``. A folder holding one is never
+        replaced by another.
     """
 
     name: str
     render: Renderer
+    folder: str
 
 
 REPORT_KINDS: dict[str, ReportKind] = {}
+CASE_REPORT = "case report"
+"""The folder of one case's report, whichever result it was written from."""
 
 
-def register_report_kind(name: str, render: Renderer) -> None:
-    """Add (or replace) the report kind ``name``."""
-    REPORT_KINDS[name] = ReportKind(name, render)
+def register_report_kind(name: str, render: Renderer, folder: str) -> None:
+    """Add (or replace) the report kind ``name``, whose folders hold a ``folder``."""
+    REPORT_KINDS[name] = ReportKind(name, render, folder)
 
 
 def report_kind_of(result: Any) -> ReportKind:
@@ -122,8 +131,8 @@ def record_json(result: Record) -> str:
     return json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
 
 
-def write_report(result: Any, folder: str | Path,
-                 formats: Sequence[str] | None = None) -> list[Path]:
+def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None = None,
+                 adopt: tuple[str, ...] = ()) -> list[Path]:
     """Write the report of a result into ``folder``, as the ``sso`` command does.
 
     Parameters
@@ -137,10 +146,15 @@ def write_report(result: Any, folder: str | Path,
         The report folder. It is written afresh: the new files go into a
         temporary folder beside it, which replaces it only when complete, so
         nothing of an earlier report survives beside the new one and a failure
-        leaves the earlier report whole.
+        leaves the earlier report whole. It must be new, empty, or hold only
+        files sso wrote there for the same kind of result (its ``sso-files.json``
+        lists them); sso replaces nothing else.
     formats : sequence of {"json", "csv", "md", "html", "png"}, optional
         Files to write (default: all). Without ``"png"`` matplotlib is never
         imported.
+    adopt : tuple of str
+        Files in ``folder`` to treat as sso's although its manifest does not list
+        them (the ``result.json`` a report is written again from).
 
     Returns
     -------
@@ -152,13 +166,17 @@ def write_report(result: Any, folder: str | Path,
     TypeError
         If ``result`` is not a result sso can report.
     ValueError
-        For an unknown format, or a ``folder`` that holds files other than a
-        report's (see :func:`sso.files.replace_folder`).
+        For an unknown format, or a ``folder`` that holds files sso did not write
+        or another kind of result (see :func:`sso.files.replace_folder`).
+    sso.folder_lock.FolderLockedError
+        (a ValueError) If another process is writing ``folder``.
     """
     if not isinstance(folder, (str, Path)):
         raise TypeError(f"folder must be a str or pathlib.Path, not {type(folder).__name__}")
+    kind = report_kind_of(result)
     files = render_report(result, formats)
-    return replace_folder(folder, files)
+    with folder_lock(folder, f"write a {kind.folder}"):
+        return replace_folder(folder, files, kind.folder, adopt)
 
 
 def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> dict[str, bytes]:
@@ -198,9 +216,9 @@ def _render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     return render_record(result, formats)
 
 
-register_report_kind("document", _render_document)
-register_report_kind("optimisation", _render_optimisation)
-register_report_kind("shaft_series_run", _render_shaft_series_run)
-register_report_kind("fourbar_design", _render_fourbar_design)
-register_report_kind("mechanism_table", _render_mechanism_table)
-register_report_kind(RECORD_KIND, _render_record)
+register_report_kind("document", _render_document, CASE_REPORT)
+register_report_kind("optimisation", _render_optimisation, CASE_REPORT)
+register_report_kind("shaft_series_run", _render_shaft_series_run, CASE_REPORT)
+register_report_kind("fourbar_design", _render_fourbar_design, CASE_REPORT)
+register_report_kind("mechanism_table", _render_mechanism_table, CASE_REPORT)
+register_report_kind(RECORD_KIND, _render_record, CASE_REPORT)

@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from sso.interrupts import raised_after_native_call
 from sso.solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
@@ -72,7 +73,8 @@ def solve(
         arguments.update(lbg=limits.constraint_lower, ubg=limits.constraint_upper)
     started = time.perf_counter()
     try:
-        answer = solver(**arguments)
+        with raised_after_native_call():  # CasADi would end the solve and drop Ctrl-C
+            answer = solver(**arguments)
     except RuntimeError as error:
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0,
                           UNKNOWN_STATUS, False, f"IPOPT raised: {error}",

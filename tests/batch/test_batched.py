@@ -184,7 +184,8 @@ def test_a_resumed_batched_sweep_writes_the_file_of_an_uninterrupted_run(tmp_pat
     written = read_rows(tmp_path / "whole" / "sweep.csv")
     partial = tmp_path / "partial"
     partial.mkdir()
-    (partial / "sweep.json").write_bytes((tmp_path / "whole" / "sweep.json").read_bytes())
+    for name in ("sweep.json", "sso-files.json"):  # what an interrupted sweep leaves
+        (partial / name).write_bytes((tmp_path / "whole" / name).read_bytes())
     (partial / "sweep.csv").write_text(render_rows(list(written[0]), written[::3]))
     resumed = sso.sweep(base, axes, mode="listed", out_dir=partial, workers=1, chunk_size=2,
                         plots=False, progress=False, resume=True)

@@ -30,7 +30,7 @@ def test_sso_sweep_writes_the_sweep_and_resumes_it(tmp_path):
     assert "sweep: 6 points (6 computed" in first.stdout
     folder = tmp_path / "results" / "map"
     assert {path.name for path in folder.iterdir()} == {
-        "sweep.csv", "sweep.json", "report.md", "report.html", "sweep_re.png"}
+        "sweep.csv", "sweep.json", "report.md", "report.html", "sweep_re.png", "sso-files.json"}
     again = sso_command("sweep", "map.toml", "--workers", "1", cwd=tmp_path)
     assert again.returncode == 2
     assert "already holds a sweep" in again.stderr and "Traceback" not in again.stderr

@@ -71,7 +71,8 @@ def test_run_writes_every_file_and_exits_0(option3_run):
     completed, report = option3_run
     assert completed.returncode == 0, completed.stderr
     assert sorted(path.name for path in report.iterdir()) == [
-        "cartesian.png", "polar.png", "report.html", "report.md", "result.json", "speeds.csv"]
+        "cartesian.png", "polar.png", "report.html", "report.md", "result.json", "speeds.csv",
+        "sso-files.json"]
     assert "Traceback" not in completed.stderr
     # The paper's start outside its bounds is a warning, not an error.
     assert "warning: paper_option3_exact: start beta_deg[2] = 50 deg" in completed.stderr
@@ -178,7 +179,7 @@ def test_a_folder_with_files_that_are_not_a_report_is_refused(option3_run, tmp_p
     (tmp_path / "notes.txt").write_text("mine")
     completed = sso("report", report / "result.json", "--out", tmp_path, cwd=tmp_path)
     assert completed.returncode == 2
-    assert "notes.txt, which is not a report file" in completed.stderr
+    assert "holds notes.txt, which sso did not write" in completed.stderr
     assert (tmp_path / "notes.txt").read_text() == "mine"
 
 
@@ -247,7 +248,7 @@ def test_case_without_png_never_imports_matplotlib(tmp_path):
     assert completed.returncode == 0, completed.stderr
     assert "matplotlib" not in loaded
     assert sorted(path.name for path in (tmp_path / "quiet").iterdir()) == [
-        "report.html", "report.md", "result.json"]
+        "report.html", "report.md", "result.json", "sso-files.json"]
 
 
 def test_version(tmp_path):

@@ -66,7 +66,8 @@ def test_every_analysis_case_exits_0_and_writes_its_files(analysis_run):
     for name in ANALYSIS_CASES:
         files = {path.name for path in (folder / name).iterdir()}
         plots = PLOTS[re.sub(r"_.*", "", name)]
-        assert files == {"result.json", "table.csv", "report.md", "report.html", *plots}, name
+        assert files == {"result.json", "table.csv", "report.md", "report.html", "sso-files.json",
+                         *plots}, name
         for plot in plots:
             width, height = png_size(folder / name / plot)
             assert width == 1000 and height in (700, 900), (name, plot)

@@ -44,7 +44,7 @@ def test_report_reads_the_result_back_and_writes_its_reports(saved, tmp_path):
     assert completed.returncode == 0, completed.stderr
     assert read_saved_result(path) == result
     assert {item.name for item in tmp_path.iterdir()} == {"result.json", "report.md",
-                                                          "report.html"}
+                                                          "report.html", "sso-files.json"}
     assert (tmp_path / "report.md").read_text().startswith("# Phasing: ")
 
 

@@ -83,13 +83,14 @@ def test_a_sweep_never_shares_the_folder_of_a_case_or_the_user_s_files(tmp_path)
     clash = SMALL.replace('name = "same"', 'name = "paper_option1_exact"')
     swept = sso("sweep", _sweep_file(tmp_path, "clash.toml", clash), "--no-plots", cwd=tmp_path)
     assert swept.returncode == 2
-    assert "a case's report: a sweep and a case never share a folder" in swept.stderr
+    assert "holds a case report written by sso: a sweep and a case report never share a " \
+        "folder" in swept.stderr
     assert {path.name: path.read_bytes() for path in case_folder.iterdir()} == before
     mine = tmp_path / "results" / "same"
     mine.mkdir()
     (mine / "thesis.md").write_text("notes")
     swept = sso("sweep", _sweep_file(tmp_path, "small.toml", SMALL), "--no-plots", cwd=tmp_path)
-    assert swept.returncode == 2 and "holds thesis.md, which a sweep does not write" in \
+    assert swept.returncode == 2 and "holds thesis.md, which sso did not write" in \
         swept.stderr
     assert (mine / "thesis.md").read_text() == "notes"
 

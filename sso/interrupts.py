@@ -1,0 +1,116 @@
+"""Ctrl-C and SIGTERM that reach the caller: held over a short critical step, or
+carried across native code that would swallow them.
+
+Python runs a signal's handler on the main thread, between bytecodes or when native
+code asks (``PyErr_CheckSignals``). CasADi asks at every IPOPT iteration, and when
+the handler raises (``KeyboardInterrupt``), it stops IPOPT, reports the solve as
+``NonIpopt_Exception_Thrown`` and returns normally: the interruption is lost, and
+the interrupted start looks like a failed one. :func:`raised_after_native_call`
+keeps what the handler raised and raises it again when the native call returns.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from types import FrameType
+from typing import Any
+
+INTERRUPTING_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _on_main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+@contextmanager
+def raised_after_native_call() -> Iterator[None]:
+    """Raise, after the block, what a SIGINT or SIGTERM handler raised inside it.
+
+    Wrap a call into native code that runs Python's signal handlers and then
+    discards their exceptions (CasADi's IPOPT). A signal whose handler raises
+    nothing, and signals left to the system (``SIG_DFL``, ``SIG_IGN``), are
+    unchanged. Off the main thread (where no handler runs) the block runs as is.
+
+    Raises
+    ------
+    BaseException
+        The first exception a handler raised during the block (``KeyboardInterrupt``
+        for Ctrl-C, and for SIGTERM under the ``sso`` command), if the block itself
+        ended normally.
+    """
+    if not _on_main_thread():
+        yield
+        return
+    raised: list[BaseException] = []
+
+    def keeping(handler: Callable[[int, FrameType | None], Any]
+                ) -> Callable[[int, FrameType | None], Any]:
+        def handle(number: int, frame: FrameType | None) -> Any:
+            try:
+                return handler(number, frame)
+            except BaseException as error:
+                raised.append(error)
+                raise
+
+        return handle
+
+    previous = {number: signal.getsignal(number) for number in INTERRUPTING_SIGNALS}
+    for number, handler in previous.items():
+        if callable(handler):
+            signal.signal(number, keeping(handler))
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            if callable(handler):
+                signal.signal(number, handler)
+    if raised:
+        raise raised[0]
+
+
+@contextmanager
+def interrupts_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM until the block ends, then deliver them to their handlers.
+
+    For steps that must not stop halfway (renaming a finished file into place). On
+    the main thread only, where Python runs the handlers; elsewhere, or while a
+    signal is left to the system, the block runs as is.
+    """
+    if not _on_main_thread() or any(signal.getsignal(number) is None
+                                    for number in INTERRUPTING_SIGNALS):
+        yield
+        return
+    caught: list[int] = []
+
+    def hold(number: int, frame: FrameType | None) -> None:
+        caught.append(number)
+
+    previous = {number: signal.signal(number, hold) for number in INTERRUPTING_SIGNALS}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        for held in caught:
+            signal.raise_signal(held)
+
+
+def interrupt_on_sigterm() -> Any:
+    """Make SIGTERM interrupt the program as Ctrl-C does (``KeyboardInterrupt``).
+
+    Returns
+    -------
+    object
+        The previous SIGTERM handler, to restore; None off the main thread (nothing
+        changed).
+    """
+    if not _on_main_thread():
+        return None
+
+    def interrupt(signal_number: int, frame: FrameType | None) -> None:
+        raise KeyboardInterrupt(f"signal {signal_number}")
+
+    return signal.signal(signal.SIGTERM, interrupt)
