@@ -1,43 +1,32 @@
-"""Throughput of a 1000-point option-3 sweep: one process, the local pool, Dask, and "lm".
+"""Throughput of sweeps: one process, two local processes, a 2-worker Dask LocalCluster.
 
-Runs the same sweep (the paper's option-3 case in the exact model, the start of
-all three operating angles on a 10 x 10 x 10 grid in [10, 40] deg, one start per
-solver, IPOPT and SLSQP cross-checked) several ways in one run:
+Two sweeps of the paper's option-3 case in the exact model, each run three ways in
+one run of this script (``sso.sweep`` end to end, its rows in memory):
 
-* one process (``workers=1``);
-* the local process pool on every core (the default; its processes start, import
-  CasADi and build the NLP inside the timed run, as they do in every sweep);
-* a Dask ``LocalCluster`` on loopback, one single-threaded worker process per
-  core: the first sweep on fresh workers ("cold") and a second one ("warm", a
-  cluster that is already running and has built its NLP); cluster start-up is
-  timed apart;
-* the pool and warm Dask again with one point per task.
+* **optimise**: the start of all three operating angles on a grid in [10, 40] deg
+  (47^3 = 103,823 points by default), ``"lm"`` alone, one start per point;
+* **evaluate**: the same angles on a 100^3 grid (1,000,000 points), evaluated.
 
-For each it reports points per second, the ratio to one process, and the
-overhead per point: ``(wall time * workers - sum of the points' own times) /
-points``, the time a worker spends on anything but computing a point (process
-start, imports, NLP build, scheduling, transfer). Every run must give the same rows.
+Each runs in one process (``workers=1``), on the local pool of 2 processes, and on
+a Dask ``LocalCluster`` of 2 single-threaded worker processes (started before the
+timed run; its start-up is reported apart). The script prints points per second
+and the ratio to one process, and checks that the three runs give the same rows
+(every column but the wall times).
 
-Then the same sweep with the least-squares solver alone (``solvers = ["lm"]``), in
-one process, three ways on the same chunks (the sweep's own chunking for one
-worker), interleaved and repeated (median):
+Then, against the strongest per-point baseline: the first ``--sample`` points of
+the optimise sweep solved one by one by ``sso.optimise(..., solvers=("lm",))``
+(``run_point``: read the point as a case, solve, evaluate, fill its row), with the
+ratio of rates and the check that both give the same RE (within 1e-12) and success
+flag at every sampled point.
 
-* batched: each chunk's points solved together (``run_sweep_chunk``: one
-  ``sso.optimise_batch`` call per chunk, then each point's row);
-* point by point: the same points, each solved by ``sso.optimise(...,
-  solvers=("lm",))`` and given its row (``run_point``, the path every other solver
-  list takes): the strongest per-point baseline;
-* the ``sso.optimise`` calls alone, on cases read beforehand, with no row (the
-  solver's share of the point-by-point path).
-
-It prints points per second and the ratio batched / point by point, checks that the
-two give the same RE (1e-12) and success flag at every point, and times the parts
-of a batched point (reading its case, the batch call, evaluating the optimum).
+Last, the constant rate of appending (``--constant-rate``): the evaluate sweep in
+one process with ``out_dir``, ``sweep.csv`` watched while it grows; the rate of the
+first 10% of the points against the last 10%.
 
 Usage::
 
-    python -m benchmarks.sweep_throughput [--points-per-axis 10] [--starts 1] [--json]
-    python -m benchmarks.sweep_throughput --lm-only      # the "lm" part alone
+    python -m benchmarks.sweep_throughput [--optimise-per-axis 47]
+        [--evaluate-per-axis 100] [--sample 2000] [--json] [--constant-rate]
 """
 
 from __future__ import annotations
@@ -45,9 +34,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
+import tempfile
+import threading
 import time
-import warnings
 from pathlib import Path
 from typing import Any
 
@@ -59,217 +48,196 @@ for _name, _value in WORKER_ENVIRONMENT.items():
     os.environ.setdefault(_name, _value)
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "paper_option3_exact.toml"
+WORKERS = 2
 
 
-def timed_sweep(base: dict[str, Any], axes: dict[str, Any], parallel: int,
-                **options: Any) -> dict[str, Any]:
-    """Wall time, throughput and overhead per point of one sweep, and its rows."""
+def base_document() -> dict[str, Any]:
+    """The paper's option 3, exact model, "lm" alone from one start."""
+    from sso.batch.axes import base_case
+
+    document = base_case(CASE).to_dict()
+    document["solver"].update({"solvers": ["lm"], "starts": 1})
+    return document
+
+
+def grid(per_axis: int) -> dict[str, Any]:
+    """All three operating angles on ``per_axis`` values in [10, 40] deg."""
+    return {f"design.beta_deg[{joint}]": {"start": 10.0, "stop": 40.0, "num": per_axis}
+            for joint in range(3)}
+
+
+def comparable(result: Any) -> dict[str, Any]:
+    """The rows' columns without the wall times."""
+    from sso.batch.table import TIME_COLUMNS
+
+    table = result.rows.table
+    return {name: column for name, column in table.columns.items()
+            if name not in TIME_COLUMNS}
+
+
+def same_rows(left: dict[str, Any], right: dict[str, Any]) -> bool:
+    """Whether two runs' columns hold the same cells (NaN: an empty cell in both)."""
+    import numpy as np
+
+    if left.keys() != right.keys():
+        return False
+    return all(np.array_equal(left[name], right[name], equal_nan=left[name].dtype.kind == "f")
+               if left[name].dtype != object else bool(np.all(left[name] == right[name]))
+               for name in left)
+
+
+def timed(action: str, axes: dict[str, Any], **options: Any) -> tuple[dict[str, Any], Any]:
     import sso
 
     started = time.perf_counter()
-    result = sso.sweep(base, axes, progress=False, **options)
+    result = sso.sweep(base_document(), axes, action=action, progress=False, **options)
     wall_s = time.perf_counter() - started
-    points = len(result.rows)
-    busy_s = sum(row["time_s"] for row in result.rows)
-    return {"wall_s": wall_s, "points_per_s": points / wall_s,
-            "overhead_per_point_ms": 1e3 * (wall_s * parallel - busy_s) / points,
-            "rows": comparable(result)}
+    return {"points": len(result.rows), "wall_s": wall_s,
+            "points_per_s": len(result.rows) / wall_s}, result
 
 
-def comparable(result: Any) -> list[dict[str, Any]]:
-    """Rows without their wall-time columns."""
-    from sso.batch.table import TIME_COLUMNS
+def three_ways(action: str, axes: dict[str, Any], client: Any) -> dict[str, Any]:
+    """One process, the pool of 2, Dask with 2 workers: rates, ratios, same rows."""
+    runs: dict[str, dict[str, Any]] = {}
+    rows: dict[str, Any] = {}
+    for label, options in (("one process", {"workers": 1}),
+                           (f"{WORKERS} local processes", {"workers": WORKERS}),
+                           (f"Dask LocalCluster, {WORKERS} workers", {"client": client})):
+        runs[label], result = timed(action, axes, **options)
+        rows[label] = comparable(result)
+        del result
+    one = runs["one process"]["points_per_s"]
+    for run in runs.values():
+        run["ratio_to_one_process"] = run["points_per_s"] / one
+    reference = rows["one process"]
+    return {"runs": runs,
+            "identical_rows": all(same_rows(value, reference) for value in rows.values())}
 
-    return [{key: value for key, value in row.items() if key not in TIME_COLUMNS}
-            for row in result.rows]
 
+def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
+    """The engine's rows against each point solved alone by sso.optimise (run_point)."""
+    import warnings
 
-LM_REPEATS = 3
-
-
-def lm_sweep(base: dict[str, Any], axes: dict[str, Any], repeats: int = LM_REPEATS
-             ) -> dict[str, Any]:
-    """Points per second of an "lm" sweep, batched against point by point (one process)."""
     import sso
-    from sso.batch.axes import expand_points, parse_axes, point_document
-    from sso.batch.sweep import _chunk_size
-    from sso.batch.worker import SweepChunk, run_point, run_sweep_chunk
-    from sso.cases.schema import parse_case
+    from sso.batch.worker import run_point
 
-    document = dict(base, solver={**base["solver"], "solvers": ["lm"]})
-    points = list(enumerate(expand_points(parse_axes(axes, document), "product")))
-    size = _chunk_size(None, len(points), 1)
-    chunks = [SweepChunk(document, "optimise", tuple(points[start:start + size]))
-              for start in range(0, len(points), size)]
+    axes = grid(per_axis)
+    document = base_document()
+    started = time.perf_counter()
+    result = sso.sweep(document, axes, workers=1, progress=False)
+    engine_rate = len(result.rows) / (time.perf_counter() - started)
+    rows = result.rows[:sample]
+    started = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        cases = [parse_case(point_document(document, point), "point") for _, point in points]
-
-    def batched() -> list[dict[str, Any]]:
-        return [row for chunk in chunks for row in run_sweep_chunk(chunk)]
-
-    def point_by_point() -> list[dict[str, Any]]:
-        return [run_point(index, chunk.document, point, chunk.action)
-                for chunk in chunks for index, point in chunk.points]
-
-    def optimise_alone() -> list[Any]:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return [sso.optimise(case.series(), case.option, **case.optimise_options())
-                    for case in cases]
-
-    methods = {"batched": batched, "point by point": point_by_point,
-               "sso.optimise calls alone": optimise_alone}
-    for method in methods.values():  # warm-up: imports, the NLP build of the shape
-        method() if method is not batched else run_sweep_chunk(chunks[0])
-    times: dict[str, list[float]] = {label: [] for label in methods}
-    outputs: dict[str, Any] = {}
-    for _ in range(repeats):
-        for label, method in methods.items():
-            started = time.perf_counter()
-            outputs[label] = method()
-            times[label].append(time.perf_counter() - started)
-    fast, slow = outputs["batched"], outputs["point by point"]
-    agree = all(a["status"] == b["status"] == "ok" and a["success"] is b["success"]
-                and abs(a["residual_error"] - b["residual_error"]) <= 1e-12
-                for a, b in zip(fast, slow, strict=True))
-    runs = {label: {"wall_s": statistics.median(seconds),
-                    "points_per_s": len(points) / statistics.median(seconds)}
-            for label, seconds in times.items()}
-    return {"points": len(points), "chunk_size": size, "repeats": repeats, "runs": runs,
-            "ratio_batched_to_point_by_point": (runs["batched"]["points_per_s"]
-                                                / runs["point by point"]["points_per_s"]),
-            "parts_of_a_batched_point_ms": batched_parts(chunks, cases),
-            "rows_agree": agree}
+        slow = [run_point(row["point"], document, {path: row[path] for path in axes},
+                          "optimise") for row in rows]
+    baseline_rate = len(slow) / (time.perf_counter() - started)
+    agree = all(abs(fast["residual_error"] - alone["residual_error"]) <= 1e-12
+                and fast["success"] is alone["success"] for fast, alone in zip(rows, slow,
+                                                                                strict=True))
+    return {"sample": len(rows), "engine_points_per_s": engine_rate,
+            "point_by_point_points_per_s": baseline_rate,
+            "ratio": engine_rate / baseline_rate, "same_re_and_success": agree}
 
 
-def batched_parts(chunks: list[Any], cases: list[Any]) -> dict[str, float]:
-    """Milliseconds per point of each part of the batched path, timed apart."""
-    from sso.batch.axes import point_document
-    from sso.batch.batched import BatchedPoints
-    from sso.batch.point_row import PointRow
-    from sso.cases.schema import parse_case
+def constant_rate(per_axis: int) -> dict[str, Any]:
+    """Rate of the first and the last 10% of an evaluate sweep appended to sweep.csv."""
+    import sso
 
-    points = [(chunk.document, point) for chunk in chunks for _, point in chunk.points]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    samples: list[tuple[float, int]] = []
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "constant" / "sweep.csv"
+        done = threading.Event()
+
+        def watch() -> None:
+            lines, offset = 0, 0
+            while not done.is_set():
+                if path.exists():
+                    with open(path, "rb") as handle:
+                        handle.seek(offset)
+                        data = handle.read()
+                    offset += len(data)
+                    lines += data.count(b"\n")
+                    samples.append((time.perf_counter(), max(lines - 1, 0)))
+                time.sleep(0.02)
+
+        watcher = threading.Thread(target=watch)
+        watcher.start()
         started = time.perf_counter()
-        for document, point in points:
-            parse_case(point_document(document, point), "point")
-        reading_s = time.perf_counter() - started
-        laying_out_s = solving_s = evaluating_s = 0.0
-        position = 0
-        for chunk in chunks:
-            group = BatchedPoints(lambda case: {})
-            rows = [PointRow({}) for _ in chunk.points]
-            started = time.perf_counter()
-            for row, case in zip(rows, cases[position:position + len(rows)], strict=True):
-                group.add(row, case)
-            laying_out_s += time.perf_counter() - started
-            position += len(rows)
-            started = time.perf_counter()
-            group.solve()
-            total_s = time.perf_counter() - started
-            solved_s = sum(row.cells["lm_time_s"] for row in rows)
-            solving_s += solved_s
-            evaluating_s += total_s - solved_s
-    count = len(points)
-    return {"read the case": 1e3 * reading_s / count,
-            "lay out its starts": 1e3 * laying_out_s / count,
-            "optimise_batch (its share)": 1e3 * solving_s / count,
-            "evaluate the optimum, fill the row": 1e3 * evaluating_s / count}
+        try:
+            result = sso.sweep(base_document(), grid(per_axis), action="evaluate", workers=1,
+                               progress=False, plots=False, out_dir=Path(folder) / "constant")
+        finally:
+            done.set()
+            watcher.join()
+        wall_s = time.perf_counter() - started
+    points = len(result.rows)
 
+    def instant(count: float) -> float:
+        return next(moment for moment, rows in samples if rows >= count)
 
-def print_lm(figures: dict[str, Any], starts: int) -> None:
-    print(f"\n{figures['points']}-point option-3 sweep with \"lm\" alone, one process, "
-          f"{starts} start(s), chunks of {figures['chunk_size']} points, median of "
-          f"{figures['repeats']}")
-    print(f"{'run':<32}{'wall s':>8}{'points/s':>10}")
-    for label, run in figures["runs"].items():
-        print(f"{label:<32}{run['wall_s']:>8.2f}{run['points_per_s']:>10.1f}")
-    print(f"batched / point by point: {figures['ratio_batched_to_point_by_point']:.2f}x; "
-          f"same RE (1e-12) and success at every point: {figures['rows_agree']}")
-    print("a batched point, ms: " + ", ".join(
-        f"{label} {value:.3f}" for label, value in figures["parts_of_a_batched_point_ms"].items()))
+    first_s = instant(0.1 * points) - started
+    last_s = instant(points) - instant(0.9 * points)
+    return {"points": points, "wall_s": wall_s, "first_10_percent_s": first_s,
+            "last_10_percent_s": last_s, "last_over_first": last_s / first_s}
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, return the figures."""
     from distributed import Client, LocalCluster
 
-    from sso.batch.axes import base_case
-    from sso.batch.execution import available_cores
-
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--points-per-axis", type=int, default=10,
-                        help="grid values per operating angle (default 10: 1000 points)")
-    parser.add_argument("--starts", type=int, default=1, help="starts per solver (default 1)")
+    parser.add_argument("--optimise-per-axis", type=int, default=47,
+                        help="grid values per angle of the optimise sweep (47: 103,823 points)")
+    parser.add_argument("--evaluate-per-axis", type=int, default=100,
+                        help="grid values per angle of the evaluate sweep (100: 1,000,000)")
+    parser.add_argument("--sample", type=int, default=2000,
+                        help="points solved one by one for the baseline (default 2000)")
+    parser.add_argument("--constant-rate", action="store_true",
+                        help="also time the first and last 10%% of an evaluate sweep on disk")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON too")
-    parser.add_argument("--lm-only", action="store_true",
-                        help='measure only the "lm" sweep, batched against point by point')
     args = parser.parse_args(argv)
 
-    base = base_case(CASE).to_dict()
-    base["solver"]["starts"] = args.starts
-    grid = {"start": 10.0, "stop": 40.0, "num": args.points_per_axis}
-    axes = {f"design.beta_deg[{joint}]": grid for joint in range(3)}
-    points = args.points_per_axis ** 3
-    cores = available_cores()
-    lm_figures = lm_sweep(base, axes)
-    print_lm(lm_figures, args.starts)
-    if args.lm_only:
-        if args.json:
-            print(json.dumps(lm_figures, indent=2))
-        if not lm_figures["rows_agree"]:
-            raise SystemExit("the batched and the point-by-point rows differ")
-        return {"lm": lm_figures}
-
-    runs = {"one process": timed_sweep(base, axes, 1, workers=1),
-            "local pool": timed_sweep(base, axes, cores)}
+    figures: dict[str, Any] = {}
     cluster_started = time.perf_counter()
-    with LocalCluster(n_workers=cores, threads_per_worker=1, processes=True,
+    with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True,
                       host="127.0.0.1", dashboard_address=":0") as cluster, \
             Client(cluster) as client:
-        client.wait_for_workers(cores)
-        cluster_s = time.perf_counter() - cluster_started
-        runs["Dask, cold workers"] = timed_sweep(base, axes, cores, client=client)
-        runs["Dask, warm workers"] = timed_sweep(base, axes, cores, client=client)
-        runs["Dask warm, 1 point per task"] = timed_sweep(base, axes, cores, client=client,
-                                                          chunk_size=1)
-    runs["local pool, 1 point per task"] = timed_sweep(base, axes, cores, chunk_size=1)
-    reference = runs["one process"]["rows"]
-    identical = all(run.pop("rows") == reference for run in runs.values())
-    one_s = runs["one process"]["wall_s"]
-    for run in runs.values():
-        run["ratio_to_one_process"] = one_s / run["wall_s"]
-    pool = runs["local pool"]
-    figures = {
-        "points": points, "cores": cores, "starts_per_solver": args.starts, "runs": runs,
-        "dask_cluster_start_s": cluster_s,
-        "dask_minus_pool_overhead_per_point_ms": {
-            "cold": (runs["Dask, cold workers"]["overhead_per_point_ms"]
-                     - pool["overhead_per_point_ms"]),
-            "warm": (runs["Dask, warm workers"]["overhead_per_point_ms"]
-                     - pool["overhead_per_point_ms"]),
-            "1 point per task": (runs["Dask warm, 1 point per task"]["overhead_per_point_ms"]
-                                 - runs["local pool, 1 point per task"]["overhead_per_point_ms"]),
-        },
-        "identical_rows": identical,
-        "lm": lm_figures,
-    }
-    print(f"{points}-point option-3 sweep, {cores} cores, {args.starts} start(s) per solver")
-    print(f"{'run':<32}{'wall s':>8}{'points/s':>10}{'x one process':>15}{'overhead ms/pt':>16}")
-    for label, run in runs.items():
-        print(f"{label:<32}{run['wall_s']:>8.2f}{run['points_per_s']:>10.1f}"
-              f"{run['ratio_to_one_process']:>15.2f}{run['overhead_per_point_ms']:>16.2f}")
-    extra = figures["dask_minus_pool_overhead_per_point_ms"]
-    print("Dask overhead per point minus the local pool's: "
-          + ", ".join(f"{label} {value:+.2f} ms" for label, value in extra.items())
-          + f"; cluster start {cluster_s:.1f} s (not counted)")
-    print(f"rows identical in every run: {identical}")
+        client.wait_for_workers(WORKERS)
+        figures["dask_cluster_start_s"] = time.perf_counter() - cluster_started
+        figures["optimise"] = three_ways("optimise", grid(args.optimise_per_axis), client)
+        figures["evaluate"] = three_ways("evaluate", grid(args.evaluate_per_axis), client)
+    figures["point_by_point"] = against_point_by_point(args.sample, args.optimise_per_axis)
+    if args.constant_rate:
+        figures["constant_rate"] = constant_rate(args.evaluate_per_axis)
+
+    for action in ("optimise", "evaluate"):
+        runs = figures[action]["runs"]
+        points = next(iter(runs.values()))["points"]
+        print(f"\n{action} sweep, option 3 exact, {points:,} points"
+              + (' ("lm", one start)' if action == "optimise" else ""))
+        print(f"{'run':<34}{'wall s':>9}{'points/s':>12}{'x one process':>15}")
+        for label, run in runs.items():
+            print(f"{label:<34}{run['wall_s']:>9.2f}{run['points_per_s']:>12,.0f}"
+                  f"{run['ratio_to_one_process']:>15.2f}")
+        print(f"identical rows in the three runs: {figures[action]['identical_rows']}")
+    print(f"Dask cluster start: {figures['dask_cluster_start_s']:.1f} s (not counted)")
+    baseline = figures["point_by_point"]
+    print(f"\nengine {baseline['engine_points_per_s']:,.0f} points/s against point by point "
+          f"{baseline['point_by_point_points_per_s']:,.0f} points/s ({baseline['sample']} "
+          f"points): {baseline['ratio']:.1f}x; same RE (1e-12) and success: "
+          f"{baseline['same_re_and_success']}")
+    if args.constant_rate:
+        rate = figures["constant_rate"]
+        print(f"\nconstant rate, {rate['points']:,}-point evaluate sweep to sweep.csv: first "
+              f"10% {rate['first_10_percent_s']:.2f} s, last 10% "
+              f"{rate['last_10_percent_s']:.2f} s (last / first "
+              f"{rate['last_over_first']:.2f}), wall {rate['wall_s']:.1f} s")
     if args.json:
         print(json.dumps(figures, indent=2))
-    if not identical or not lm_figures["rows_agree"]:
+    if not (figures["optimise"]["identical_rows"] and figures["evaluate"]["identical_rows"]
+            and baseline["same_re_and_success"]):
         raise SystemExit("the runs gave different rows")
     return figures
 

@@ -70,14 +70,21 @@ def machine() -> dict[str, Any]:
 
 
 def record(summary: Path, target: Path = RECORD) -> dict[str, Any]:
-    """Write the run record from a benchmark ``summary.json``; returns it."""
+    """Write the run record from a benchmark ``summary.json``; returns it.
+
+    The date and the machine are the benchmark's own when its summary has them
+    (``started_utc``, ``finished_utc``, ``machine``), else the summary file's time
+    and this machine, described now.
+    """
     document = json.loads(summary.read_text(encoding="utf-8"))
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     quick = bool(document.get("settings", {}).get("quick"))
+    finished = document.get("finished_utc") or datetime.fromtimestamp(
+        summary.stat().st_mtime, UTC).strftime("%Y-%m-%d %H:%M")
     document["run"] = {
-        "date_utc": datetime.fromtimestamp(summary.stat().st_mtime, UTC).strftime(
-            "%Y-%m-%d %H:%M"),
+        "date_utc": finished,
+        "started_utc": document.get("started_utc", ""),
         "command": "python -m benchmarks.work_precision" + (" --quick" if quick else ""),
         "commit": commit or "unknown",
         "machine": machine(),
@@ -87,8 +94,29 @@ def record(summary: Path, target: Path = RECORD) -> dict[str, Any]:
     return document
 
 
-def _verdict(met: bool) -> str:
-    return "met" if met else "**MISSED**"
+def target_rows(document: dict[str, Any]) -> list[dict[str, str]]:
+    """Every target of the run: ``target``, ``status``, ``measured`` and ``reason``.
+
+    ``status`` is ``met``, ``MISSED`` or ``retired`` (with the ``reason``).
+
+    The rows are the benchmark's own ``target_table`` when the summary has one; else
+    they are built from its two groups of targets the same way (none retired).
+    """
+    if "target_table" in document:
+        return [{key: str(row.get(key, "")) for key in ("target", "status", "measured", "reason")}
+                for row in document["target_table"]]
+    rows = [{"target": name, "status": "met" if target["met"] else "MISSED",
+             "measured": target["measured"], "reason": ""}
+            for name, target in document["issue_12"]["targets"].items()]
+    rows += [{"target": name, "status": "met" if target["met"] else "MISSED",
+              "measured": "; ".join(target["misses"]) or "met by every case and method",
+              "reason": ""}
+             for name, target in document["targets"].items()]
+    return rows
+
+
+def _verdict(status: str) -> str:
+    return {"met": "met", "MISSED": "**MISSED**"}.get(status, status)
 
 
 def _cell(text: str) -> str:
@@ -104,27 +132,30 @@ def section(document: dict[str, Any]) -> str:
     run = document["run"]
     box = run["machine"]
     memory = f", {box['memory_gib']} GiB" if box.get("memory_gib") else ""
+    when = (f"from {run['started_utc']} to {run['date_utc']} UTC" if run.get("started_utc")
+            else f"on {run['date_utc']} UTC")
+    load = document.get("machine", {}).get("load_average_1_5_15_min")
+    load_text = (f"load average over 1, 5 and 15 min {load} at the end of the run" if load
+                 else f"load average {box['load_average_1min']} when recorded")
     lines = [
-        f"Measured on **{run['date_utc']} UTC** by `{run['command']}` at commit "
-        f"`{run['commit']}`, on {box['cores']} cores of an {box['cpu']}{memory} "
-        f"({box['system']}; Python {box['python']}, NumPy {box['numpy']}, SciPy "
-        f"{box['scipy']}, CasADi {box['casadi']}; load average "
-        f"{box['load_average_1min']} when recorded). The machine is shared with other "
-        "work, so absolute times wander; every ratio is taken within this one run.",
+        f"Measured **{when}** by `{run['command']}` at commit `{run['commit']}`, on "
+        f"{box['cores']} cores of an {box['cpu']}{memory} ({box['system']}; Python "
+        f"{box['python']}, NumPy {box['numpy']}, SciPy {box['scipy']}, CasADi "
+        f"{box['casadi']}; {load_text}). The machine is shared with other work, so "
+        "absolute times wander; every ratio is taken within this one run.",
         "",
         "### Every target the benchmark checks",
         "",
         "| target | verdict | measured in this run |",
         "| --- | --- | --- |",
     ]
-    for name, target in document["issue_12"]["targets"].items():
-        lines.append(f"| {_cell(name)} | {_verdict(target['met'])} | {_cell(target['measured'])} |")
-    for name, target in document["targets"].items():
-        misses = "; ".join(target["misses"]) or "every case and method"
-        retired = target.get("retired")
-        verdict = f"retired: {retired}" if retired else _verdict(target["met"])
-        lines.append(f"| {_cell(name)} (v0.1 target, each case's reference) | "
-                     f"{_cell(verdict)} | {_cell(misses)} |")
+    rows = target_rows(document)
+    lines += [f"| {_cell(row['target'])} | {_verdict(row['status'])} | {_cell(row['measured'])} |"
+              for row in rows]
+    retired = [row for row in rows if row["status"] == "retired"]
+    if retired:
+        lines += ["", "Retired targets are still measured and shown; why each was retired:", ""]
+        lines += [f"- {row['target']}: {row['reason']}" for row in retired]
     lines += [
         "",
         "### One design, the paper's exact-model options",
@@ -142,17 +173,18 @@ def section(document: dict[str, Any]) -> str:
                              f"{figures['fun']:.3g} | {figures['baseline_over_method']:.2f} |")
     lines += [
         "",
-        "### Random option-3 cases, one start",
+        "### Random cases, one start",
         "",
         "`sso.optimise(..., solvers=(\"lm\",), starts=1)` against the skilled baseline, "
         "median of each method's passes over the starts:",
         "",
-        "| joints | starts | baseline (ms/solve) | lm (ms/solve) | ratio "
+        "| option | joints | starts | baseline (ms/solve) | lm (ms/solve) | ratio "
         "| lm RE above the baseline's |",
-        "| --- | --- | --- | --- | --- | --- |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
     ]
-    lines.extend(f"| {row['joints']} | {row['starts']} | {row['skilled_ms_per_solve']:.3f} | "
-                 f"{row['lm_ms_per_solve']:.3f} | {row['ratio']:.2f} | {row['lm_higher_re']} |"
+    lines.extend(f"| {row['option']} | {row['joints']} | {row['starts']} | "
+                 f"{row['skilled_ms_per_solve']:.3f} | {row['lm_ms_per_solve']:.3f} | "
+                 f"{row['ratio']:.2f} | {row['lm_higher_re']} |"
                  for row in document["issue_12"]["random_cases"]["rows"])
     lines += [
         "",

@@ -298,8 +298,10 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
                          f"{found_kind} never share a folder. Choose another folder (--out), "
                          f"or delete this one if the {found_kind} is no longer needed")
     own = listed | set(adopt) | {FOLDER_MANIFEST}
+    # A listed entry may be a folder sso wrote (a sweep's Parquet parts, sweep.parquet/).
     foreign = sorted(entry.name for entry in entries
-                     if not entry.is_file(follow_symlinks=False)
+                     if entry.is_symlink()
+                     or not (entry.is_file() or (entry.is_dir() and entry.name in listed))
                      or not (entry.name in own or entry.name.startswith(TEMPORARY_PREFIX)))
     if foreign:
         shown_names = ", ".join(foreign[:8]) + (f" and {len(foreign) - 8} more"

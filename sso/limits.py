@@ -115,3 +115,14 @@ command (``--memory-limit``) or per session (environment ``SSO_MEMORY_LIMIT_MB``
 
 MEMORY_LIMIT_VARIABLE = "SSO_MEMORY_LIMIT_MB"
 """Environment variable that replaces :data:`DEFAULT_MEMORY_LIMIT_MB`."""
+
+NO_WORKER_TIMEOUT_S = 60.0
+"""How long a sweep or tolerance study on a Dask cluster waits with no worker
+connected, s, before it stops (exit 1, with what to do): the rows done so far are
+on disk, and ``--resume`` completes the sweep once workers are back. A worker that
+restarts (its nanny) reconnects within seconds; a cluster whose last worker is gone
+for a minute is not coming back by itself. Environment variable
+``SSO_NO_WORKER_TIMEOUT_S`` replaces it."""
+
+NO_WORKER_TIMEOUT_VARIABLE = "SSO_NO_WORKER_TIMEOUT_S"
+"""Environment variable that replaces :data:`NO_WORKER_TIMEOUT_S`."""

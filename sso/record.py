@@ -31,7 +31,7 @@ import json
 import math
 import types
 import typing
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, ClassVar, TypeVar
 
@@ -204,7 +204,8 @@ def encode(value: Any) -> Any:
     if isinstance(value, np.ndarray):
         return {"dtype": value.dtype.str, "shape": list(value.shape),
                 "data": [encode(item) for item in value.ravel().tolist()]}
-    if isinstance(value, (tuple, list)):
+    if isinstance(value, (tuple, list)) or (isinstance(value, Sequence)
+                                            and not isinstance(value, (str, bytes))):
         return [encode(item) for item in value]
     if isinstance(value, Mapping):
         return {str(key): encode(item) for key, item in value.items()}
@@ -245,7 +246,9 @@ def decode(value: Any, declared: Any, path: str) -> Any:
             raise RecordError(f"{where} = {shown(value)}; allowed: "
                               f"{', '.join(map(repr, typing.get_args(declared)))}")
         return value
-    if origin in (tuple, list):
+    if origin in (tuple, list, Sequence):
+        if origin is Sequence:  # any sequence reads back as a tuple
+            return tuple(_decode_sequence(value, declared, list, where))
         return _decode_sequence(value, declared, origin, where)
     if origin in (dict, Mapping) or declared is dict:
         return _decode_mapping(value, declared, where)
@@ -547,9 +550,9 @@ def _type_schema(declared: Any, pending: list[type]) -> JsonSchema:
         return {}
     if origin in (typing.Union, types.UnionType):
         return {"anyOf": [_type_schema(option, pending) for option in typing.get_args(declared)]}
-    if origin in (tuple, list):
+    if origin in (tuple, list, Sequence):
         arguments = typing.get_args(declared)
-        if origin is list or (len(arguments) == 2 and arguments[1] is Ellipsis):
+        if origin is not tuple or (len(arguments) == 2 and arguments[1] is Ellipsis):
             return {"type": "array", "items": _type_schema(arguments[0] if arguments else Any,
                                                            pending)}
         items = [_type_schema(argument, pending) for argument in arguments]

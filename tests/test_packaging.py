@@ -54,9 +54,9 @@ def test_python_m_sso_is_the_sso_command(tmp_path):
 def test_readme_quick_start_installs_and_tests_as_ci_does():
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
-    assert ('python3 -m venv .venv && .venv/bin/pip install -e ".[test,dask]" && '
+    assert ('python3 -m venv .venv && .venv/bin/pip install -e ".[test,dask,parquet]" && '
             ".venv/bin/sso run cases/paper_option3_exact.toml") in readme
     assert "python3 -m venv .venv\n" in ci
-    assert '.venv/bin/pip install --quiet -e ".[test,dask]"\n' in ci
+    assert '.venv/bin/pip install --quiet -e ".[test,dask,parquet]"\n' in ci
     assert readme.count("\n.venv/bin/python -m pytest -q\n") == 1
     assert ci.endswith("\n.venv/bin/python -m pytest -q\n")

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import copy
 import difflib
-import itertools
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -143,21 +142,48 @@ def expand_points(axes: Sequence[Axis], mode: str = "product") -> list[dict[str,
         If the mode is unknown, listed axes differ in length, or the product is
         larger than :data:`MAX_POINTS`.
     """
+    count = point_count(axes, mode)
+    positions = [position.tolist() for position in value_positions(axes, mode, range(count))]
+    return [{axis.path: axis.values[column[row]] for axis, column in zip(axes, positions,
+                                                                         strict=True)}
+            for row in range(count)]
+
+
+def point_count(axes: Sequence[Axis], mode: str) -> int:
+    """Points of a sweep over ``axes`` in ``mode`` (see :func:`expand_points`).
+
+    Raises
+    ------
+    ValueError
+        If the mode is unknown, listed axes differ in length, or the product is
+        larger than :data:`MAX_POINTS`.
+    """
     if mode not in MODES:
         raise ValueError(f"mode = {shown(mode)} is not one of {', '.join(map(repr, MODES))}")
-    paths = [axis.path for axis in axes]
     if mode == "listed":
         lengths = {axis.path: len(axis.values) for axis in axes}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"mode 'listed' needs axes of equal length; got {lengths}")
-        combinations: Any = zip(*(axis.values for axis in axes), strict=True)
-    else:
-        count = math.prod(len(axis.values) for axis in axes)
-        if count > MAX_POINTS:
-            raise ValueError(f"the sweep has {count} points, outside the allowed range "
-                             f"[1, {MAX_POINTS}]")
-        combinations = itertools.product(*(axis.values for axis in axes))
-    return [dict(zip(paths, values, strict=True)) for values in combinations]
+        return len(axes[0].values)
+    count = math.prod(len(axis.values) for axis in axes)
+    if count > MAX_POINTS:
+        raise ValueError(f"the sweep has {count} points, outside the allowed range "
+                         f"[1, {MAX_POINTS}]")
+    return count
+
+
+def value_positions(axes: Sequence[Axis], mode: str, indices: Any) -> tuple[Any, ...]:
+    """Per axis, the position of each point's value (``indices``: point indices, an array).
+
+    The inverse of :func:`expand_points`'s order: in ``"product"`` mode the last axis
+    varies fastest, in ``"listed"`` mode point ``i`` takes every axis's ``i``-th value.
+    """
+    import numpy as np
+
+    indices = np.asarray(indices, dtype=np.int64)
+    if mode == "listed":
+        return tuple(indices for _ in axes)
+    return tuple(np.unravel_index(indices, tuple(len(axis.values) for axis in axes)))
 
 
 def point_document(document: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:

@@ -25,6 +25,10 @@ CSV_BYTES_PER_NUMBER = 25
 # tracemalloc for two axes), its formatted CSV row (1.5 KB for 29 columns, measured)
 # and its typed row in the result (about as much again), rounded up.
 SWEEP_BYTES_PER_POINT = 4096
+# A point of an array sweep (sso.batch.array_engine), held as columns: 196 bytes
+# held and 508 at the peak (a chunk's arrays and CSV text on top), measured with
+# tracemalloc on a 216,000-point evaluate sweep of three joints; rounded up.
+ARRAY_SWEEP_BYTES_PER_POINT = 1024
 
 
 def tolerance_estimate(samples: int, joints: int, figure_samples: int,
@@ -54,16 +58,20 @@ def tolerance_estimate(samples: int, joints: int, figure_samples: int,
 
 
 def sweep_estimate(points: int, joints: int, free_variables: int, samples: int,
-                   solves_per_point: int, workers: int, optimising: bool) -> ResourceEstimate:
+                   solves_per_point: int, workers: int, optimising: bool,
+                   arrays: bool = False) -> ResourceEstimate:
     """Memory and solves of a sweep of ``points`` points over a shaft-series case.
 
     Each optimising worker builds the base case's NLP (``joints`` joints,
-    ``free_variables`` free angles, ``samples`` quadrature angles).
+    ``free_variables`` free angles, ``samples`` quadrature angles), unless the
+    sweep runs as arrays (``arrays``), which builds none.
     """
-    worker_mb = nlp_memory_mb(joints, free_variables, samples) if optimising else 0.0
+    worker_mb = (nlp_memory_mb(joints, free_variables, samples) if optimising and not arrays
+                 else 0.0)
+    per_point = ARRAY_SWEEP_BYTES_PER_POINT if arrays else SWEEP_BYTES_PER_POINT
     return ResourceEstimate(
         task=f"sweep ({points:,} points)",
-        memory_mb=points * SWEEP_BYTES_PER_POINT / MB + workers * worker_mb,
+        memory_mb=points * per_point / MB + workers * worker_mb,
         solves=points * solves_per_point,
-        lower_it=f"use fewer points (each needs about {SWEEP_BYTES_PER_POINT // 1024} KB) or "
+        lower_it=f"use fewer points (each needs about {per_point / 1024:g} KB) or "
                  "split the sweep into several sweep files")

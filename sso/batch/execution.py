@@ -14,19 +14,29 @@ it is gone).
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import signal
 import sys
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any
 
+from sso.limits import NO_WORKER_TIMEOUT_S, NO_WORKER_TIMEOUT_VARIABLE
+
 # Thread counts of the numeric libraries in a worker process. One thread each, as
 # Dask's nanny sets them: N busy processes with N BLAS threads each would fight
 # over the cores, and multi-threaded OpenBLAS kernels round differently, so a
 # pool worker and a Dask worker give the same bits only with the same setting.
+DASK_POLL_S = 1.0
+"""How often a Dask run checks that its cluster still has a worker, s."""
+DASK_IDLE_S = 0.02
+"""Pause between looks for finished Dask tasks, s."""
+MAX_NO_WORKER_TIMEOUT_S = 1e6
+
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                       "MKL_NUM_THREADS": "1"}
 
@@ -173,19 +183,92 @@ def _environment(values: dict[str, str]) -> Iterator[None]:
             os.environ.pop(name, None)
 
 
+class NoWorkersError(RuntimeError):
+    """The Dask cluster had no worker for longer than the set time."""
+
+
+def no_worker_timeout_s() -> float:
+    """:data:`sso.limits.NO_WORKER_TIMEOUT_S`, or the environment's replacement.
+
+    Raises
+    ------
+    ValueError
+        If the environment variable is not a number in ``(0, 1e6]``.
+    """
+    text = os.environ.get(NO_WORKER_TIMEOUT_VARIABLE)
+    if text is None:
+        return NO_WORKER_TIMEOUT_S
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value <= MAX_NO_WORKER_TIMEOUT_S:
+        raise ValueError(f"{NO_WORKER_TIMEOUT_VARIABLE} = {text!r} is outside the allowed "
+                         f"range (0, {MAX_NO_WORKER_TIMEOUT_S:g}] s")
+    return value
+
+
+def _quiet_lost_gathers() -> None:
+    """Drop asyncio's report of a gather that distributed gave up when its tasks were
+    cancelled (``AllExit``, "Task exception was never retrieved"): a result lost with
+    its worker and then cancelled, as a run without workers ends. It is no error of
+    the run, and the user would read it as a crash."""
+    import logging
+
+    class _LostGathers(logging.Filter):
+        def filter(self, record: logging.LogRecord) -> bool:
+            error = record.exc_info[1] if record.exc_info else None
+            return type(error).__name__ != "AllExit"
+
+    logger = logging.getLogger("asyncio")
+    if not any(isinstance(item, logging.Filter) and type(item).__name__ == "_LostGathers"
+               for item in logger.filters):
+        logger.addFilter(_LostGathers())
+
+
 def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
                  client: Any) -> Iterator[tuple[int, Any, BaseException | None]]:
     from distributed import as_completed as dask_as_completed
 
+    limit_s = no_worker_timeout_s()
+    _quiet_lost_gathers()
     futures = [client.submit(function, task, pure=False) for task in tasks]
     indices = {future.key: index for index, future in enumerate(futures)}
+    # distributed's as_completed has no annotations
+    completed: Any = dask_as_completed(futures)  # type: ignore[no-untyped-call]
+    checked = alone_since = None
     try:
-        # distributed's as_completed has no annotations
-        for future in dask_as_completed(futures):  # type: ignore[no-untyped-call]
-            index = indices[future.key]
-            if future.status == "finished":
-                yield index, future.result(), None
+        while not completed.is_empty():
+            batch = completed.next_batch(block=False)
+            for future in batch:
+                index = indices[future.key]
+                try:
+                    if future.status == "error":
+                        yield index, None, future.exception(timeout=DASK_POLL_S)
+                    elif future.status == "finished":
+                        yield index, future.result(timeout=DASK_POLL_S), None
+                    else:
+                        raise TimeoutError  # lost with its worker: computed again
+                except TimeoutError:
+                    completed.add(future)  # waited for again
+            now = time.monotonic()
+            if batch:
+                alone_since = None
+            elif checked is None or now - checked >= DASK_POLL_S:
+                checked = now
+                if client.scheduler_info().get("workers"):
+                    alone_since = None
+                elif alone_since is None:
+                    alone_since = now
+                elif now - alone_since > limit_s:
+                    raise NoWorkersError(
+                        f"the Dask scheduler at {client.scheduler.address} has had no worker "
+                        f"for {limit_s:g} s ({completed.count()} of {len(futures)} tasks not "
+                        "done); start workers for it (dask worker ADDRESS) and run the same "
+                        f"command with --resume (wait longer: {NO_WORKER_TIMEOUT_VARIABLE}"
+                        "=SECONDS)")
             else:
-                yield index, None, future.exception()
+                time.sleep(DASK_IDLE_S)
     finally:
+        completed.clear()
         client.cancel([future for future in futures if not future.done()])

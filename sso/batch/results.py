@@ -7,20 +7,74 @@ Kept apart from the code that computes them, so the report writers
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from importlib import import_module
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, overload
 
 import numpy as np
 
 import sso.batch.report  # noqa: F401  (registers the "sweep" and "tolerance" report kinds)
 from sso.batch.axes import Axis
+from sso.batch.columns import RowTable
+from sso.batch.parquet_output import PARQUET_NAME, read_frame
 from sso.batch.table import CSV_NAME
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.record import Record
 from sso.shafts.evaluation import Evaluation
 from sso.shafts.perturbed import METRICS
 from sso.shafts.series import ShaftSeries
+
+
+class SweepRows(Sequence[dict[str, Any]]):
+    """A sweep's rows, sorted by point, held as columns: each row is made a dict only
+    when it is read (a sweep of a million points holds no million dicts).
+
+    Parameters
+    ----------
+    table : sso.batch.columns.RowTable
+        The rows, sorted by point.
+    """
+
+    def __init__(self, table: RowTable) -> None:
+        self.table = table
+
+    def __len__(self) -> int:
+        return self.table.length
+
+    @overload
+    def __getitem__(self, index: int) -> dict[str, Any]: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> list[dict[str, Any]]: ...
+
+    def __getitem__(self, index: int | slice) -> dict[str, Any] | list[dict[str, Any]]:
+        if isinstance(index, slice):
+            return [self.table.row(position) for position in range(len(self))[index]]
+        position = range(len(self))[index]  # negative indices; IndexError past the end
+        return self.table.row(position)
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return self.table.rows()
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Sequence):
+            return NotImplemented
+        return len(self) == len(other) and all(
+            mine == theirs for mine, theirs in zip(self, other, strict=True))
+
+    __hash__ = None  # type: ignore[assignment]  # mutable-looking sequence: no hash
+
+    def __repr__(self) -> str:
+        return f"<{len(self)} sweep rows>"
+
+    def column(self, name: str) -> np.ndarray:
+        """Column ``name`` as an array (numbers where every cell is one, else objects)."""
+        column = self.table.columns.get(name)
+        if column is None or column.ndim != 1:
+            return self.table.object_column(name)
+        return column
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -33,9 +87,11 @@ class SweepResult(Record, Readable):
         The varied keys and their values.
     mode : {"product", "listed"}
     action : {"optimise", "evaluate"}
-    rows : tuple of dict
+    rows : sequence of dict
         One row per point, sorted by point index, with the columns of
-        ``sweep.csv`` (numbers, booleans and lists parsed back).
+        ``sweep.csv`` (numbers, booleans and lists parsed back). A sweep gives a
+        :class:`SweepRows`, which holds them as columns (:meth:`frame` is a
+        ``pandas.DataFrame`` of them).
     computed : int
         Points computed by this run.
     resumed : int
@@ -53,7 +109,7 @@ class SweepResult(Record, Readable):
     axes: tuple[Axis, ...]
     mode: str
     action: str
-    rows: tuple[dict[str, Any], ...]
+    rows: Sequence[dict[str, Any]]
     computed: int
     resumed: int
     elapsed_s: float
@@ -63,21 +119,61 @@ class SweepResult(Record, Readable):
 
     report_kind: ClassVar[str] = "sweep"
 
+    def _column(self, name: str) -> np.ndarray:
+        if isinstance(self.rows, SweepRows):
+            return self.rows.column(name)
+        column = np.empty(len(self.rows), dtype=object)
+        column[:] = [row.get(name) for row in self.rows]
+        return column
+
     @property
     def failed(self) -> tuple[dict[str, Any], ...]:
         """Rows of the points that did not give a result."""
-        return tuple(row for row in self.rows if row["status"] != "ok")
+        return tuple(self.rows[int(index)]
+                     for index in np.flatnonzero(self._column("status") != "ok"))
 
     @property
     def best(self) -> dict[str, Any] | None:
         """Row with the lowest residual error, or None if every point failed."""
-        finished = [row for row in self.rows if row["status"] == "ok"]
-        return min(finished, key=lambda row: row["residual_error"]) if finished else None
+        finished = np.flatnonzero(self._column("status") == "ok")
+        if not len(finished):
+            return None
+        errors = np.array([np.nan if value is None else value
+                           for value in self._column("residual_error")[finished].tolist()],
+                          dtype=float)
+        return self.rows[int(finished[np.nanargmin(errors) if np.isfinite(errors).any() else 0])]
 
     @property
     def success(self) -> bool:
         """Every point finished; when optimising, each converged and cross-checked."""
-        return not self.failed and all(row.get("success") is not False for row in self.rows)
+        return (not np.any(self._column("status") != "ok")
+                and not any(value is False for value in self._column("success").tolist()))
+
+    def frame(self) -> Any:
+        """The rows as a ``pandas.DataFrame``, one column per column of ``sweep.csv``.
+
+        Read from ``sweep.parquet`` when the sweep wrote it, else from the rows.
+
+        Raises
+        ------
+        ImportError
+            If pandas is not installed (the ``parquet`` extra installs it).
+        """
+        try:
+            pandas = import_module("pandas")
+        except ImportError:
+            raise ImportError("SweepResult.frame needs pandas; install the 'parquet' extra "
+                              "(pip install 'sso[parquet]')") from None
+        if self.out_dir is not None and (self.out_dir / PARQUET_NAME).is_dir():
+            return read_frame(self.out_dir)  # loaded only now, from the disk
+        header = list(self.rows[0]) if len(self.rows) else []
+        if isinstance(self.rows, SweepRows):
+            table = self.rows.table
+            data = {name: (table.columns[name] if name in table.columns
+                           and table.columns[name].ndim == 1
+                           else table.object_column(name)) for name in table.header}
+            return pandas.DataFrame(data, columns=list(table.header))
+        return pandas.DataFrame(list(self.rows), columns=header)
 
     def _repr_text(self) -> str:
         axes = " x ".join(f"{axis.path} ({len(axis.values)})" for axis in self.axes)
@@ -94,7 +190,7 @@ class SweepResult(Record, Readable):
                     f"earlier run), {len(self.failed)} failed")
         parts: list[Part] = [headline]
         if self.action == "optimise":
-            unconverged = sum(row.get("success") is False for row in self.rows)
+            unconverged = sum(value is False for value in self._column("success").tolist())
             parts.append(f"  not converged or solvers disagree: {unconverged}")
         best = self.best
         if best is not None:

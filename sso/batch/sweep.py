@@ -11,11 +11,16 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from sso.batch.axes import Axis, base_case, expand_points, parse_axes
+import numpy as np
+
+from sso.batch.array_engine import ArrayPlan, array_plan
+from sso.batch.axes import Axis, base_case, parse_axes, point_count, value_positions
+from sso.batch.columns import RowTable
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
+from sso.batch.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
 from sso.batch.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
-from sso.batch.results import SweepResult
+from sso.batch.results import SweepResult, SweepRows
 from sso.batch.table import (
     CSV_NAME,
     HASH_COLUMN,
@@ -24,7 +29,6 @@ from sso.batch.table import (
     columns,
     done_rows,
     format_cell,
-    format_row,
     manifest,
     start_file,
     typed_rows,
@@ -48,10 +52,13 @@ MAX_CHUNK_SIZE = 10_000
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
+# Points of an array sweep (sso.batch.array_engine) per task: about 0.2 to 0.5 s of
+# work, far above a task's cost to the pool or to Dask (milliseconds).
+ARRAY_CHUNK_CAP = 5_000
 DOCUMENT_FORMATS = ("md", "html", "png")
-SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT)
-"""The files a sweep writes into its folder (its ``sso-files.json`` lists them); it refuses
-a folder holding anything else."""
+SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
+"""The files a sweep writes into its folder (its ``sso-files.json`` lists them; the
+Parquet parts are a folder); it refuses a folder holding anything else."""
 
 
 def sweep(
@@ -68,6 +75,7 @@ def sweep(
     progress: bool | None = None,
     plots: bool = True,
     memory_limit_mb: float | None = None,
+    parquet: bool = False,
 ) -> SweepResult:
     """Optimise or evaluate a base case at every point of a sweep.
 
@@ -114,6 +122,10 @@ def sweep(
     memory_limit_mb : float, optional
         Refuse the sweep if its memory estimate exceeds this, MB (default
         ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
+    parquet : bool
+        Also write the rows as Parquet beside ``sweep.csv`` (``sweep.parquet/``, a
+        part per chunk; needs ``out_dir`` and pyarrow, the ``parquet`` extra). A
+        resumed sweep that has it keeps writing it.
 
     Returns
     -------
@@ -140,26 +152,36 @@ def sweep(
         raise ValueError(f"action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
     worker_count = validate_workers(workers)
+    plan = array_plan(case, parsed_axes, action)
     check_memory(_estimate(case, parsed_axes, mode, action,
-                           worker_count if client is None else 1), memory_limit_mb)
-    points = expand_points(parsed_axes, mode)
+                           worker_count if client is None else 1, plan is not None),
+                 memory_limit_mb)
+    count = point_count(parsed_axes, mode)
     header = columns([axis.path for axis in parsed_axes])
-    identity = manifest(document, parsed_axes, mode, action, len(points))
-    job = _Job(document, action, points, header, identity, client, worker_count, chunk_size,
-               interactive() if progress is None else progress)
+    identity = manifest(document, parsed_axes, mode, action, count)
+    job = _Job(document, action, parsed_axes, mode, count, header, identity, plan, client,
+               worker_count, chunk_size, interactive() if progress is None else progress)
     if out_dir is None:
+        if parquet:
+            raise ValueError("parquet = True writes sweep.parquet into out_dir; give out_dir")
         rows = job.run({}, None)
         return _result(job, parsed_axes, mode, rows, 0, started, None)
     out_dir = Path(out_dir)
+    parquet = bool(parquet) or (resume and (out_dir / PARQUET_NAME).is_dir())
+    schema = arrow_schema(header, parsed_axes) if parquet else None  # pyarrow is there
     with folder_lock(out_dir, "run a sweep"):
         earlier = _open_folder(out_dir, resume, job)
+        if schema is not None:
+            start_parts(out_dir)
         resumed = len(earlier)
-        rows = job.run(earlier, out_dir / CSV_NAME)
+        rows = job.run(earlier, out_dir / CSV_NAME, schema)
         result = _result(job, parsed_axes, mode, rows, resumed, started, out_dir)
         formats = tuple(name for name in DOCUMENT_FORMATS if plots or name != "png")
         written = [write_bytes_atomic(out_dir / name, data)
                    for name, data in render_sweep(result, formats).items()]
-    return replace(result, files=(out_dir / CSV_NAME, out_dir / MANIFEST_NAME, *written))
+    data = (out_dir / CSV_NAME, out_dir / MANIFEST_NAME,
+            *((out_dir / PARQUET_NAME,) if schema is not None else ()))
+    return replace(result, files=(*data, *written))
 
 
 @dataclass(frozen=True)
@@ -168,9 +190,12 @@ class _Job:
 
     document: dict[str, Any]
     action: str
-    points: list[dict[str, Any]]
+    axes: tuple[Axis, ...]
+    mode: str
+    count: int
     header: list[str]
     identity: dict[str, Any]
+    plan: ArrayPlan | None
     client: Any
     workers: int
     chunk_size: int | None
@@ -178,35 +203,58 @@ class _Job:
 
     def axis_cells(self, index: int) -> list[str]:
         """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them."""
-        return [format_cell(value) for value in self.points[index].values()]
+        positions = value_positions(self.axes, self.mode, [index])
+        return [format_cell(axis.values[int(position[0])])
+                for axis, position in zip(self.axes, positions, strict=True)]
 
-    def run(self, rows: dict[int, dict[str, str]],
-            csv_path: Path | None) -> dict[int, dict[str, str]]:
-        """Compute the points not in ``rows``, appending each chunk's rows to ``csv_path``."""
-        pending = [(index, point) for index, point in enumerate(self.points)
-                   if index not in rows]
-        size = _chunk_size(self.chunk_size, len(pending),
-                           _parallelism(self.client, self.workers))
-        chunks = [SweepChunk(self.document, self.action, tuple(pending[start:start + size]))
-                  for start in range(0, len(pending), size)]
-        sweep_hash = self.identity[HASH_COLUMN]
+    def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
+        """The tasks of the pending points (each with its slice of every axis)."""
+        size = _chunk_size(self.chunk_size, len(pending), _parallelism(self.client, self.workers),
+                           self.plan is not None)
+        chunks = []
+        for start in range(0, len(pending), size):
+            indices = pending[start:start + size]
+            positions = value_positions(self.axes, self.mode, indices)
+            bounds = [(int(position.min()), int(position.max()) + 1) for position in positions]
+            chunks.append(SweepChunk(
+                self.document, self.action, tuple(self.header),
+                tuple(axis.path for axis in self.axes), indices,
+                tuple(position - low for position, (low, _) in zip(positions, bounds,
+                                                                   strict=True)),
+                tuple(axis.values[low:high] for axis, (low, high) in zip(self.axes, bounds,
+                                                                         strict=True)),
+                None if self.plan is None else self.plan.sliced(bounds),
+                self.identity[HASH_COLUMN]))
+        return chunks
+
+    def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None,
+            schema: Any = None) -> RowTable:
+        """Compute the points not in ``earlier``, appending each chunk's rows to
+        ``csv_path`` (and a Parquet part beside it, given the parts' ``schema``);
+        every row, sorted by point."""
+        done = np.fromiter(earlier, dtype=np.int64, count=len(earlier))
+        pending = np.setdiff1d(np.arange(self.count, dtype=np.int64), done)
+        chunks = self.chunks(pending)
+        tables = [RowTable.from_rows(self.header, typed_rows(earlier.values()))]
+        if schema is not None and csv_path is not None and tables[0].length:
+            write_part(csv_path.parent, tables[0], schema, resumed=True)
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
-            for index, chunk_rows, error in run_tasks(run_sweep_chunk, chunks, self.client,
-                                                       self.workers):
+            for index, table, error in run_tasks(run_sweep_chunk, chunks, self.client,
+                                                  self.workers):
                 if error is not None:
-                    chunk_rows = failed_rows(chunks[index], error)
-                formatted = [format_row({**row, HASH_COLUMN: sweep_hash}, self.header)
-                             for row in chunk_rows]
+                    table = failed_rows(chunks[index], error)
                 if csv_path is not None:
-                    append_rows(csv_path, self.header, formatted)
-                for row in formatted:
-                    rows[int(row["point"])] = row
-                bar.advance(len(chunk_rows),
-                            sum(row["status"] != "ok" for row in chunk_rows))
+                    append_rows(csv_path, table.csv_text())
+                    if schema is not None:
+                        write_part(csv_path.parent, table, schema)
+                tables.append(table)
+                status = table.columns["status"]
+                bar.advance(table.length, int(np.count_nonzero(status != "ok")))
         finally:
             bar.close()
-        return rows
+        rows = RowTable.concatenate(self.header, tables)
+        return rows.take(np.argsort(rows.columns["point"], kind="stable"))
 
 
 def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, str]]:
@@ -234,17 +282,16 @@ def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, 
     return rows
 
 
-def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: dict[int, dict[str, str]],
-            resumed: int, started: float, out_dir: Path | None) -> SweepResult:
-    ordered = tuple(typed_rows(row for _, row in sorted(rows.items())))
-    return SweepResult(axes=axes, mode=mode, action=job.action, rows=ordered,
-                       computed=len(rows) - resumed, resumed=resumed,
+def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: RowTable, resumed: int,
+            started: float, out_dir: Path | None) -> SweepResult:
+    return SweepResult(axes=axes, mode=mode, action=job.action, rows=SweepRows(rows),
+                       computed=rows.length - resumed, resumed=resumed,
                        elapsed_s=time.perf_counter() - started, out_dir=out_dir,
                        manifest=job.identity)
 
 
 def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
-              workers: int) -> ResourceEstimate:
+              workers: int, arrays: bool) -> ResourceEstimate:
     """Memory and solves of the sweep, from the base case's shape."""
     count = (math.prod(len(axis.values) for axis in axes) if mode != "listed"
              else max(len(axis.values) for axis in axes))
@@ -259,7 +306,7 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
             samples = rule_for_bounds(problem.beta_upper_rad, case.model).samples
         joints, free = problem.n_joints, problem.n_free
     return sweep_estimate(count, joints, free, samples, per_point, workers,
-                          optimising and case.kind == "shaft_series")
+                          optimising and case.kind == "shaft_series", arrays)
 
 
 def _parallelism(client: Any, workers: int) -> int:
@@ -270,9 +317,10 @@ def _parallelism(client: Any, workers: int) -> int:
     return max(1, threads)
 
 
-def _chunk_size(chunk_size: Any, points: int, parallelism: int) -> int:
+def _chunk_size(chunk_size: Any, points: int, parallelism: int, arrays: bool = False) -> int:
     if chunk_size is None:
-        return max(1, min(DEFAULT_CHUNK_CAP, math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
+        cap = ARRAY_CHUNK_CAP if arrays else DEFAULT_CHUNK_CAP
+        return max(1, min(cap, math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
     if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
             or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
         raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "

@@ -109,10 +109,9 @@ def start_file(path: Path, header: Sequence[str]) -> None:
         write_text_atomic(path, _render(header, (), with_header=True))
 
 
-def append_rows(path: Path, header: Sequence[str],
-                rows: Iterable[Mapping[str, str]]) -> None:
-    """Append formatted rows to ``sweep.csv`` in one write, flushed to disk."""
-    data = _render(header, rows, with_header=False).encode("utf-8")
+def append_rows(path: Path, text: str) -> None:
+    """Append rows (lines of ``sweep.csv``) in one write, flushed to disk."""
+    data = text.encode("utf-8")
     descriptor = os.open(path, os.O_WRONLY | os.O_APPEND)
     try:
         view = memoryview(data)

@@ -12,9 +12,14 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
+import numpy as np
+
+from sso.batch.array_engine import ArrayPlan, run_array_points
 from sso.batch.axes import point_document
 from sso.batch.batched import BatchedPoints, batchable
+from sso.batch.columns import RowTable
 from sso.batch.point_row import PointRow, design_columns, solver_columns
+from sso.batch.table import HASH_COLUMN
 
 ACTIONS = ("optimise", "evaluate")
 
@@ -29,26 +34,91 @@ class SweepChunk:
         The base case as a complete case-file document.
     action : {"optimise", "evaluate"}
         What to do at each point.
-    points : tuple of (int, dict)
-        Point index and the point's axis values.
+    header : tuple of str
+        The columns of ``sweep.csv``.
+    paths : tuple of str
+        The axes' paths.
+    indices : numpy.ndarray
+        The points' indices.
+    value_indices : tuple of numpy.ndarray
+        Per axis, the position of each point's value in ``values``.
+    values : tuple of tuple
+        Per axis, the values this chunk's points take (a slice of the axis).
+    plan : ArrayPlan or None
+        The array engine's plan (:mod:`sso.batch.array_engine`), cut to ``values``;
+        None where every point is read and solved on its own.
+    sweep_hash : str
+        The sweep's hash, written into every row.
     """
 
     document: dict[str, Any]
     action: str
-    points: tuple[tuple[int, dict[str, Any]], ...]
+    header: tuple[str, ...]
+    paths: tuple[str, ...]
+    indices: np.ndarray
+    value_indices: tuple[np.ndarray, ...]
+    values: tuple[tuple[Any, ...], ...]
+    plan: ArrayPlan | None
+    sweep_hash: str
+
+    @classmethod
+    def listed(cls, document: dict[str, Any], action: str,
+               points: tuple[tuple[int, dict[str, Any]], ...], sweep_hash: str = "",
+               plan: ArrayPlan | None = None) -> SweepChunk:
+        """A chunk of the given ``(index, {path: value})`` points (the same paths each)."""
+        from sso.batch.table import columns
+
+        paths = tuple(points[0][1]) if points else ()
+        count = len(points)
+        return cls(document, action, tuple(columns(paths)), paths,
+                   np.array([index for index, _ in points], dtype=np.int64),
+                   tuple(np.arange(count) for _ in paths),
+                   tuple(tuple(point[path] for _, point in points) for path in paths),
+                   plan, sweep_hash)
+
+    def points(self, selected: np.ndarray) -> list[tuple[int, dict[str, Any]]]:
+        """``(index, {path: value})`` of the selected points (a boolean mask)."""
+        positions = [index_array[selected].tolist() for index_array in self.value_indices]
+        return [(index, {path: self.values[axis][position[row]]
+                         for axis, (path, position) in enumerate(zip(self.paths, positions,
+                                                                     strict=True))})
+                for row, index in enumerate(self.indices[selected].tolist())]
 
 
-def run_sweep_chunk(chunk: SweepChunk) -> list[dict[str, Any]]:
-    """Rows of the chunk's points, in order; a point that fails gives an error row.
+def run_sweep_chunk(chunk: SweepChunk) -> RowTable:
+    """Rows of the chunk's points; a point that fails gives an error row.
 
-    Optimising, the points whose case the least-squares solver solves alone
-    (:func:`sso.batch.batched.batchable`) are solved together, one
-    :func:`sso.optimise_batch` call per shape (:mod:`sso.batch.batched`); every other
-    point is solved by :func:`sso.optimise` on its own.
+    With a plan, the points every axis value of which the case accepts are computed
+    as arrays (:mod:`sso.batch.array_engine`); every other point is read as a case.
+    Optimising such a point, the points whose case the least-squares solver solves
+    alone from several starts (:func:`sso.batch.batched.batchable`) are solved
+    together, one :func:`sso.optimise_batch` call per shape; every other point is
+    solved by :func:`sso.optimise` on its own.
     """
+    accepted = np.zeros(len(chunk.indices), dtype=bool)
+    tables = []
+    if chunk.plan is not None:
+        accepted[:] = True
+        for axis, positions in zip(chunk.plan.axes, chunk.value_indices, strict=True):
+            accepted &= axis.accepted[positions]
+        if accepted.any():
+            tables.append(run_array_points(
+                chunk.plan, chunk.header, chunk.paths, chunk.indices[accepted],
+                [positions[accepted] for positions in chunk.value_indices], chunk.values))
+    if not accepted.all():
+        tables.append(RowTable.from_rows(chunk.header, _point_rows(chunk, ~accepted)))
+    table = RowTable.concatenate(chunk.header, tables)
+    sweep_hash = np.empty(table.length, dtype=object)
+    sweep_hash[:] = chunk.sweep_hash
+    table.columns[HASH_COLUMN] = sweep_hash
+    return table
+
+
+def _point_rows(chunk: SweepChunk, selected: np.ndarray) -> list[dict[str, Any]]:
+    """Rows of the selected points, each read as a case (see :func:`run_sweep_chunk`)."""
     batched = BatchedPoints(_optimise_row)
     rows = []
-    for index, point in chunk.points:
+    for index, point in chunk.points(selected):
         row = PointRow({"point": index, **point})
         case = _parsed_case(row, index, chunk.document, point)
         if case is not None and chunk.action == "optimise" and batchable(case):
@@ -90,14 +160,16 @@ def _solve_row(case: Any, action: str) -> dict[str, Any]:
     return _optimise_row(case) if action == "optimise" else _evaluate_row(case)
 
 
-def failed_rows(chunk: SweepChunk, error: BaseException) -> list[dict[str, Any]]:
+def failed_rows(chunk: SweepChunk, error: BaseException) -> RowTable:
     """Rows for every point of a chunk whose task itself failed (a lost worker).
 
     Their status is ``"lost"``: a resumed sweep computes them again.
     """
     message = f"{type(error).__name__}: {error}"
-    return [{"point": index, **point, "status": "lost", "error": message}
-            for index, point in chunk.points]
+    everything = np.ones(len(chunk.indices), dtype=bool)
+    return RowTable.from_rows(chunk.header, [
+        {"point": index, **point, "status": "lost", "error": message,
+         HASH_COLUMN: chunk.sweep_hash} for index, point in chunk.points(everything)])
 
 
 def _evaluate_row(case: Any) -> dict[str, Any]:

@@ -26,6 +26,9 @@ def configure_sweep(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--resume", action="store_true",
                         help="complete the sweep already in DIR/<name>/: compute only its "
                         "missing points")
+    parser.add_argument("--parquet", action="store_true",
+                        help="also write the rows as Parquet (sweep.parquet/, a part per "
+                        "chunk; needs the 'parquet' extra)")
     _add_execution_arguments(parser, "write sweep.csv, sweep.json, report.md and the plot "
                              f"into DIR/<sweep name>/ (default: {DEFAULT_OUT})")
 
@@ -62,7 +65,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                        out_dir=Path(args.out or DEFAULT_OUT) / spec.name, resume=args.resume,
                        client=client, workers=args.workers, chunk_size=spec.chunk_size,
                        progress=False if args.quiet else None, plots=not args.no_plots,
-                       memory_limit_mb=args.memory_limit)
+                       memory_limit_mb=args.memory_limit, parquet=args.parquet)
         print(result.summary(), flush=True)
         return EXIT_OK if result.success else EXIT_FAILED
 
@@ -155,14 +158,17 @@ def _add_execution_arguments(parser: argparse.ArgumentParser, out_help: str) -> 
 
 def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], int]) -> int:
     """Connect to ``--scheduler`` if given, run ``work``, report bad input as exit 2."""
-    from sso.batch.execution import connect
-    from sso.cli.common import EXIT_BAD_INPUT
+    from sso.batch.execution import NoWorkersError, connect
+    from sso.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
 
     client = None
     try:
         if args.scheduler:
             client = connect(args.scheduler)
         return work(client)
+    except NoWorkersError as error:  # the work done so far is kept: --resume completes it
+        print(f"error: {source}: {error}", file=sys.stderr, flush=True)
+        return EXIT_FAILED
     except (ValueError, OSError) as error:
         print(f"error: {source}: {error}", file=sys.stderr, flush=True)
         return EXIT_BAD_INPUT

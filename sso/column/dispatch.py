@@ -7,7 +7,8 @@
   (best yoke phasing for fixed hardpoints); with ``joint_boxes_mm=`` to
   :func:`sso.column.joint_positions.optimise_joint_positions` (joint centres free
   in boxes); with ``tolerances=`` to ``sso.column.robust.optimise_robust``;
-* a mapping of names to :class:`ColumnGeometry` (one column in several positions)
+* a mapping of names to :class:`ColumnGeometry` (one column in several positions;
+  a :class:`sso.column.practice.PracticeWarning` for each way one leaves practice)
   goes to ``sso.column.robust.optimise_positions``.
 
 It lives here, above both the shaft series and the column, because the shaft
@@ -87,6 +88,10 @@ def _dispatch(problem: Any, args: tuple[Any, ...], options: dict[str, Any]) -> A
         if args:
             raise TypeError("sso.optimise({name: geometry, ...}, ...) takes keyword options "
                             f"only; got {len(args)} positional")
+        for name, geometry in problem.items():
+            if isinstance(geometry, ColumnGeometry):
+                for note in practice_notes(geometry, label=f"[{name!r}].points_mm"):
+                    warnings.warn(note.text, PracticeWarning, stacklevel=2)
         return _robust("optimise_positions")(problem, **options)
     from sso.shafts.optimise import optimise as optimise_series
 

@@ -75,10 +75,13 @@ def test_each_batched_point_equals_sso_optimise_with_lm(joints, option, starts):
     assert [row["point"] for row in result.rows] == list(range(POINTS_PER_SHAPE))
     assert_equals_sso_optimise(base, result.rows, list(axes))
     for row in result.rows:
-        # The optimum's figures are those of the design the row reports.
+        # The optimum's figures are those of the design the row reports (numpy over the
+        # chunk against math on one design: equal to the last few bits).
         evaluation = sso.ShaftSeries(row["design_beta_deg"], row["design_phase_deg"]).evaluate()
-        assert row["residual_error"] == evaluation.residual_error
-        assert row["max_output_accel_rad_s2"] == evaluation.max_output_accel_rad_s2
+        assert row["residual_error"] == pytest.approx(evaluation.residual_error, rel=1e-12,
+                                                      abs=1e-30)
+        assert row["max_output_accel_rad_s2"] == pytest.approx(
+            evaluation.max_output_accel_rad_s2, rel=1e-12, abs=1e-30)
         assert all(5.0 <= beta <= 40.0 for beta in row["design_beta_deg"]) or option == 1
         assert all(row[column] is not None for column in LM_COLUMNS)
         assert row["lm_time_s"] > 0.0 and row["lm_kkt_per_rad"] >= 0.0
@@ -91,14 +94,16 @@ def test_the_batched_row_has_the_columns_and_warnings_of_the_point_by_point_row(
     # A start outside its bounds (50 > 40 deg) is moved onto them with a warning.
     document = parse_case(lm_base(3, 3, 4), "base.toml").to_dict()
     points = ((0, {"design.beta_deg[2]": 50.0}), (1, {"design.beta_deg[2]": 25.0}))
-    batched = run_sweep_chunk(SweepChunk(document, "optimise", points))
+    batched = list(run_sweep_chunk(SweepChunk.listed(document, "optimise", points)).rows())
     single = [run_point(index, document, point, "optimise") for index, point in points]
     for fast, slow in zip(batched, single, strict=True):
-        assert fast.keys() == slow.keys()
+        assert ({key for key, value in fast.items() if value not in (None, "")}
+                - {"sweep_hash"}
+                == {key for key, value in slow.items() if value not in (None, "")})
         assert fast["residual_error"] == pytest.approx(slow["residual_error"], rel=0,
                                                        abs=RE_ATOL)
         assert fast["success"] is slow["success"] and fast["status"] == "ok"
-        assert fast["warnings"] == slow["warnings"]
+        assert (fast["warnings"] or "") == slow["warnings"]
     assert "start beta_deg[2] = 50 deg lies outside its bounds" in batched[0]["warnings"]
 
 

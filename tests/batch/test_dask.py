@@ -77,3 +77,16 @@ def test_sso_sweep_with_scheduler_runs_on_the_cluster(client, tmp_path):
     rows = [sorted(read_rows(tmp_path / folder / "map" / "sweep.csv"),
                    key=lambda row: int(row["point"])) for folder in ("dask", "local")]
     assert _without_times(rows[0]) == _without_times(rows[1])
+
+
+def test_an_array_sweep_on_dask_gives_the_rows_of_one_process(client):
+    # The array engine's chunks (sso.batch.array_engine) on two Dask workers: the same
+    # rows as one process, every column but the wall times.
+    base = {**BASE, "option": 3, "solver": {"solvers": ["lm"], "starts": 2}}
+    axes = {"design.beta_deg[0]": {"start": 10.0, "stop": 40.0, "num": 20},
+            "design.beta_deg[1]": [10.0, 25.0, 40.0, 95.0],
+            "design.phase_deg[0]": [30.0, 90.0]}
+    one = sso.sweep(base, axes, workers=1, progress=False)
+    on_dask = sso.sweep(base, axes, client=client, chunk_size=17, progress=False)
+    assert _without_times(on_dask.rows) == _without_times(one.rows)
+    assert sum(row["status"] == "failed" for row in one.rows) == 40  # beta 95 deg refused

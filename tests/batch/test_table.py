@@ -16,6 +16,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from sso.batch.columns import RowTable
 from sso.batch.table import (
     CSV_NAME,
     HASH_COLUMN,
@@ -76,13 +77,14 @@ def test_rows_are_appended_and_read_back_typed(tmp_path):
     header = columns(["design.beta_deg[0]"])
     assert header[:2] == ["point", "design.beta_deg[0]"]
     assert header[2:] == [*RESULT_COLUMNS, HASH_COLUMN]
-    rows = [format_row({"point": index, "design.beta_deg[0]": beta, "status": "ok",
-                        NUMBER_COLUMN: beta / 1e4, "success": True}, header)
-            for index, beta in ((2, 30.0), (0, 10.0), (1, 20.0))]
+    values = [{"point": index, "design.beta_deg[0]": beta, "status": "ok",
+               NUMBER_COLUMN: beta / 1e4, "success": True}
+              for index, beta in ((2, 30.0), (0, 10.0), (1, 20.0))]
+    rows = [format_row(row, header) for row in values]
     path = tmp_path / CSV_NAME
     start_file(path, header)
-    append_rows(path, header, rows[:1])
-    append_rows(path, header, rows[1:])
+    append_rows(path, RowTable.from_rows(header, values[:1]).csv_text())
+    append_rows(path, RowTable.from_rows(header, values[1:]).csv_text())
     back = typed_rows(read_rows(path))
     assert [row["point"] for row in back] == [2, 0, 1]  # in the order they were appended
     assert [row[NUMBER_COLUMN] for row in back] == [0.003, 0.001, 0.002]

@@ -44,26 +44,18 @@ def test_a_bad_point_is_an_error_row_naming_the_key():
 
 
 def test_a_chunk_runs_its_points_in_order_and_lost_chunks_are_marked():
-    chunk = SweepChunk(
-        ONE_JOINT,
-        "evaluate",
-        ((7, {"design.beta_deg[0]": 10.0}), (3, {"design.beta_deg[0]": 20.0})),
-    )
-    rows = run_sweep_chunk(chunk)
+    chunk = SweepChunk.listed(ONE_JOINT, "evaluate",
+                              ((7, {"design.beta_deg[0]": 10.0}),
+                               (3, {"design.beta_deg[0]": 20.0})), sweep_hash="abc")
+    rows = list(run_sweep_chunk(chunk).rows())
     assert [row["point"] for row in rows] == [7, 3]
+    assert [row["sweep_hash"] for row in rows] == ["abc", "abc"]
     assert rows[0]["residual_error"] < rows[1]["residual_error"]
-    lost = failed_rows(chunk, MemoryError("worker died"))
+    lost = [{key: value for key, value in row.items() if value is not None}
+            for row in failed_rows(chunk, MemoryError("worker died")).rows()]
     assert lost == [
-        {
-            "point": 7,
-            "design.beta_deg[0]": 10.0,
-            "status": "lost",
-            "error": "MemoryError: worker died",
-        },
-        {
-            "point": 3,
-            "design.beta_deg[0]": 20.0,
-            "status": "lost",
-            "error": "MemoryError: worker died",
-        },
+        {"point": 7, "design.beta_deg[0]": 10.0, "status": "lost",
+         "error": "MemoryError: worker died", "sweep_hash": "abc"},
+        {"point": 3, "design.beta_deg[0]": 20.0, "status": "lost",
+         "error": "MemoryError: worker died", "sweep_hash": "abc"},
     ]

@@ -65,3 +65,15 @@ def test_optimise_warns_at_the_callers_line_with_the_reason(points, reason):
         result = sso.optimise(ColumnGeometry(points))
     assert result.success
     assert caught[0].filename == __file__
+
+
+def test_optimise_of_named_positions_warns_naming_the_position():
+    # Two positions of a planar column, one with a 0.3 deg first joint.
+    positions = {"up": ColumnGeometry(planar_points([0.3, -12.0])),
+                 "down": ColumnGeometry(planar_points([2.0, -12.0]))}
+    with pytest.warns(sso.PracticeWarning) as caught:
+        sso.optimise(positions)
+    texts = [str(warning.message) for warning in caught
+             if issubclass(warning.category, sso.PracticeWarning)]
+    assert texts == ["['up'].points_mm[1]: joint 1 runs at 0.3 deg, below about 0.5 deg ("
+                     + practice_notes(positions["up"])[0].source + ")"]
