@@ -10,10 +10,10 @@ SciPy, matplotlib nor dask; each is imported by the first call that needs it.
 from importlib import import_module
 from typing import Any
 
-__version__ = "0.1.0"
+from sso.distribution import VERSION as __version__  # noqa: F401  (in __all__ below)
 
-# Public name -> module that defines it, or (module, name there) for an alias.
-_EXPORTS: dict[str, str | tuple[str, str]] = {
+# Public name -> module that defines it (docs/architecture.md, "Public API").
+_EXPORTS: dict[str, str] = {
     "ShaftSeries": "sso.shafts.series",
     "Evaluation": "sso.shafts.evaluation",
     "optimise": "sso.column.dispatch",
@@ -26,9 +26,7 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "sweep": "sso.batch.sweep",
     "SweepResult": "sso.batch.results",
     "tolerance_study": "sso.batch.tolerance_study",
-    "tolerance": ("sso.batch.tolerance_study", "tolerance_study"),
     "ToleranceResult": "sso.batch.results",
-    "design_fourbar": "sso.linkages.fourbar_swing",
     "FourBarDesignResult": "sso.linkages.fourbar_swing",
     "FourBar": "sso.linkages.mechanisms",
     "SliderCrank": "sso.linkages.mechanisms",
@@ -38,11 +36,8 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "ColumnGeometry": "sso.column.geometry",
     "can_cancel": "sso.column.cancel",
     "CancelVerdict": "sso.column.cancel",
-    "optimise_phasing": "sso.column.phasing",
-    "optimise_joint_positions": "sso.column.joint_positions",
-    "JointPositionResult": "sso.column.joint_positions",
+    "JointCentresResult": "sso.column.joint_positions",
     "PhasingResult": "sso.column.phasing",
-    "best_spline_teeth": "sso.column.splines",
     "SplineResult": "sso.column.splines",
     "YokeInstruction": "sso.column.splines",
     "excitation_table": "sso.column.excitation",
@@ -50,11 +45,9 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "ExcitationTable": "sso.column.excitation",
     "equivalent_angles": "sso.column.excitation",
     "EquivalentAngles": "sso.column.excitation",
-    "optimise_positions": "sso.column.positions",
     "PositionsResult": "sso.column.positions",
     "Tolerances": "sso.column.tolerances",
     "SampleStudy": "sso.column.tolerances",
-    "optimise_robust": "sso.column.robust_phasing",
     "RobustResult": "sso.column.robust_phasing",
     "tolerance_band": "sso.column.band",
     "ToleranceBand": "sso.column.band",
@@ -62,7 +55,6 @@ _EXPORTS: dict[str, str | tuple[str, str]] = {
     "re_against_phase_error": "sso.column.band",
     "steering_feel": "sso.column.feel",
     "SteeringFeel": "sso.column.feel",
-    "optimise_on_centre": "sso.column.feel",
     "OnCentreResult": "sso.column.feel",
     "steering_range": "sso.column.steering_range",
     "SteeringRange": "sso.column.steering_range",
@@ -85,8 +77,7 @@ def __getattr__(name: str) -> Any:
     where = _EXPORTS.get(name)
     if where is None:
         raise AttributeError(f"module 'sso' has no attribute {name!r}")
-    module_name, attribute = (where, name) if isinstance(where, str) else where
-    value = getattr(import_module(module_name), attribute)
+    value = getattr(import_module(where), name)
     globals()[name] = value
     return value
 

@@ -4,11 +4,10 @@ The import name is ``sso``; the distribution is published under a different,
 unambiguous name, because ``sso`` is taken on the public package index.
 """
 
-from importlib import metadata
-
-import sso
-
 DISTRIBUTION_NAME = "shaft-series-optimisation"
+
+VERSION = "0.1.0"
+"""The package's version (``sso.__version__``); the build reads it from here."""
 
 
 def installed_version() -> str:
@@ -18,10 +17,12 @@ def installed_version() -> str:
     -------
     str
         The version recorded in the installed distribution's metadata, or
-        ``sso.__version__`` when the package runs from a source tree that is not
-        installed (the two agree when it is: the build reads ``sso.__version__``).
+        :data:`VERSION` when the package runs from a source tree that is not
+        installed (the two agree when it is: the build reads :data:`VERSION`).
     """
+    from importlib import metadata  # 0.1 s to import: only when asked
+
     try:
         return metadata.version(DISTRIBUTION_NAME)
     except metadata.PackageNotFoundError:
-        return sso.__version__
+        return VERSION

@@ -26,7 +26,7 @@ starts and 2.1x at 512, with the same RE, since each run's iterations are compil
 DEFAULT_STARTS = 8
 """Start points per solver: the user's start plus seven space-filling points.
 
-One default for the API (:func:`sso.optimise`, :func:`sso.design_fourbar`) and for
+One default for the API (:func:`sso.optimise` of a shaft series or a four-bar) and for
 case files (``solver.starts``); the shipped cases set their own.
 """
 
@@ -62,10 +62,13 @@ read them, and ``result.json`` keeps the full value."""
 REPORT_DIGITS = 6
 """Significant digits of every number in report tables (CSV, Markdown, HTML) and
 summaries; ``result.json`` keeps full precision."""
-SOLVER_NAMES = ("ipopt", "slsqp")
-"""The solvers every design problem can run (and cross-check when both run)."""
 
-SOLVERS = (*SOLVER_NAMES, "lm")
+CROSS_CHECK_SOLVERS = ("ipopt", "slsqp")
+"""The solvers every design problem can run, and the default: two independent methods
+on one NLP, cross-checked when both run. ``"lm"`` is not among them: it needs the
+problem as residuals, which only the exact model of a shaft series has."""
+
+SOLVERS = (*CROSS_CHECK_SOLVERS, "lm")
 """Solver names :func:`sso.optimise` accepts: the two above and ``"lm"``, the
 least-squares solver of the exact model's two residuals (``sso.SOLVERS``)."""
 
@@ -75,6 +78,17 @@ cancelling phasing of a planar column; see docs/model.md for non-planar ones).""
 
 MAX_JOINTS = 64
 """Most Hooke joints of one shaft series in a case file."""
+
+MIN_CHAIN_COSINE_PRODUCT = 1e-140
+"""Least product of the operating angles' cosines over a chain's joints.
+
+The product is the chain matrix's determinant: the speed ratio ranges up to about
+1 / product, its slope (the output acceleration per input speed squared) up to about
+1 / product^2, and at the largest input speed (1e6 rpm, 1e10 (rad/s)^2) the peak
+acceleration must stay a float (below 1.8e308). A design or bounds below it are
+refused with this explanation: 64 equal joints reach it at 89.63 deg, 30 at 89.9988
+deg, 12 at 89.9999999999 deg; 8 joints or fewer never do (the largest float below
+90 deg has a cosine of 2.8e-16)."""
 
 NLP_CACHE_SHAPES = 4
 """Built NLPs (CasADi graphs and their IPOPT instances) kept per thread.
@@ -115,6 +129,99 @@ command (``--memory-limit``) or per session (environment ``SSO_MEMORY_LIMIT_MB``
 
 MEMORY_LIMIT_VARIABLE = "SSO_MEMORY_LIMIT_MB"
 """Environment variable that replaces :data:`DEFAULT_MEMORY_LIMIT_MB`."""
+
+DEFAULT_SEED = 20251122
+"""Seed of the space-filling starts when none is given: the API and case files alike."""
+
+DEFAULT_COLUMN_SEED = 0
+"""Seed of the starts of the column's optimisers (phasing, joint centres, positions,
+tolerances, on-centre) in the Python API. Where a continuum of phasings cancels, the
+seed picks the one reported, and the documented examples show seed 0's; it is to
+become :data:`DEFAULT_SEED`, with those examples, in one step (column case files
+already use that)."""
+
+DEFAULT_WINDOW_DEG = 30.0
+"""Half-width of the on-centre and lock windows of the steering feel, deg."""
+
+DEFAULT_ON_CENTRE_WEIGHT = 10.0
+"""Weight of the on-centre variance in the on-centre phasing's objective."""
+
+DEFAULT_JOINT_BETA_BOUNDS_DEG = (1.0, 45.0)
+"""Bounds on every operating angle while joint centres move in their boxes, deg
+(positive below: a straight joint has no bend plane)."""
+
+DEFAULT_SHORTEST_SHAFT_FRACTION = 0.5
+"""While joint centres move, each shaft may shrink to this fraction of its given
+length (away from zero length, where its direction is undefined); no upper bound."""
+
+DEFAULT_COLUMN_STARTS = 4
+"""Starts per solver of the column's shared-phasing problems (positions, tolerances,
+on-centre), besides the starts each adds of its own; column case files too."""
+
+DEFAULT_COLUMN_SOLVER_TOL = 1e-13
+"""Stopping tolerance of the solvers on the column's shared-phasing problems."""
+
+DEFAULT_LOCK_DEG = 540.0
+"""Steering-wheel angle from straight ahead to each lock when none is given, deg."""
+
+DEFAULT_STRAIGHT_AHEAD_DEG = 0.0
+"""Input angle at straight ahead when none is given, deg (from the first bend plane's
+normal)."""
+
+DEFAULT_ON_CENTRE_DEG = DEFAULT_WINDOW_DEG
+"""Half-width of the on-centre range of the steering figures, deg."""
+
+DEFAULT_TOLERANCE_SAMPLES = 200
+"""Built columns in the seeded sample of a column's tolerances."""
+
+DEFAULT_MAX_OPERATING_ANGLE_DEG = 35.0
+"""The maker's limit on a joint's operating angle when none is given, deg."""
+
+SPLINE_ENUMERATION_LIMIT = 200_000
+"""Most spline-tooth assemblies the best-teeth search enumerates before it branches
+and bounds instead."""
+
+DEFAULT_OPTION = 3
+"""Which angles of a shaft series are free when none is said: 3, operating angles and
+phases (1: phases, 2: operating angles)."""
+
+DEFAULT_BETA_BOUNDS_DEG = (0.0, 40.0)
+"""Bounds on a shaft series' free operating angles when none are given, deg."""
+
+DEFAULT_PHASE_BOUNDS_DEG = (0.0, 180.0)
+"""Bounds on a shaft series' free phases when none are given, deg (one period)."""
+
+DEFAULT_SPLINE_TEETH = 36
+"""Spline teeth per intermediate shaft when none are given (a common steering spline)."""
+
+DEFAULT_PHASE_ERROR_SPAN_DEG = 10.0
+"""Half-width of the yoke-phasing errors of the RE-against-error figure, deg."""
+
+DEFAULT_PHASE_ERROR_POINTS = 201
+"""Errors per curve of the RE-against-error figure."""
+
+CSV_DIGITS = 17
+"""Significant digits of floats in a mechanism table's own CSV (17 round-trip exactly;
+reports show :data:`REPORT_DIGITS`)."""
+
+DEFAULT_QUADRATURE_RTOL = 1e-10
+"""Relative tolerance of the paper model's residual-error quadrature."""
+
+DEFAULT_QUADRATURE_ATOL = 1e-16
+"""Absolute tolerance of the paper model's residual-error quadrature."""
+
+DEFAULT_OBJECTIVE_RTOL = 1e-6
+"""Two solvers agree when their objectives differ by at most this fraction (plus
+:data:`DEFAULT_OBJECTIVE_ATOL`)."""
+
+DEFAULT_OBJECTIVE_ATOL = 1e-14
+"""Objectives closer than this agree whatever their size (round-off near zero)."""
+
+DEFAULT_KKT_TOLERANCE = 1e-6
+"""Largest first-order optimality measure of an answer the cross-check accepts."""
+
+DEFAULT_CHUNK_SAMPLES = 20_000
+"""Samples a tolerance study evaluates per task, in one numpy call."""
 
 NO_WORKER_TIMEOUT_S = 60.0
 """How long a sweep or tolerance study on a Dask cluster waits with no worker

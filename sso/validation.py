@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from sso.limits import MAX_INPUT_SPEED_RPM, SOLVER_NAMES
+from sso.limits import CROSS_CHECK_SOLVERS, MAX_INPUT_SPEED_RPM, MIN_CHAIN_COSINE_PRODUCT
 
 
 class _ShortRepr(reprlib.Repr):
@@ -230,7 +230,7 @@ _PLAIN_NUMBERS = (int, float)
 
 
 def validate_solvers(solvers: Iterable[str] | str,
-                     allowed: tuple[str, ...] = SOLVER_NAMES) -> tuple[str, ...]:
+                     allowed: tuple[str, ...] = CROSS_CHECK_SOLVERS) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
@@ -258,3 +258,33 @@ def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
     if not lower <= value <= upper:
         raise ValueError(f"{field} = {value} is outside the allowed range [{lower}, {upper}]")
     return int(value)
+
+
+def check_chain_cosines(field: str, beta_deg: Iterable[float]) -> None:
+    """Refuse operating angles whose cosines multiply to less than the chain allows.
+
+    Parameters
+    ----------
+    field : str
+        Name of the angles in the message (``beta_deg``, or a bound).
+    beta_deg : iterable of float
+        Operating angle of each joint, deg, each already checked to lie in ``[0, 90)``.
+
+    Raises
+    ------
+    ValueError
+        If the product of ``cos(beta)`` is below
+        :data:`sso.limits.MIN_CHAIN_COSINE_PRODUCT`, naming the field, the product
+        (as a power of ten) and what to change.
+    """
+    angles = list(beta_deg)
+    log10_product = math.fsum(math.log10(math.cos(math.radians(beta))) for beta in angles)
+    if log10_product < math.log10(MIN_CHAIN_COSINE_PRODUCT):
+        exponent = math.floor(log10_product)
+        raise ValueError(
+            f"{field}: the product of cos(beta) over the {len(angles)} joints is "
+            f"{10.0 ** (log10_product - exponent):.2f}e{exponent}, below the allowed "
+            f"{MIN_CHAIN_COSINE_PRODUCT:g}: the "
+            "speed ratio (up to about 1/product) and its slope (about 1/product^2) would "
+            "leave floating point; lower the operating angles or the number of joints"
+        )

@@ -98,6 +98,14 @@ def test_imports_point_down():
     assert upward == []
 
 
+def test_no_module_imports_the_public_facade():
+    """``import sso`` or ``from sso import X`` inside the package is an import of the top:
+    it hides which module (and layer) a name comes from. Import the defining module."""
+    importers = sorted(name for name, targets in import_graph().items()
+                       if name != "sso" and "sso" in targets)
+    assert importers == []
+
+
 def test_no_import_cycle():
     graph = import_graph()
     state: dict[str, int] = {}
@@ -129,6 +137,15 @@ def test_the_walk_sees_imports():
     assert "sso.shafts.evaluation" in graph["sso.shafts.series"]  # inside a method
     assert "sso.cli.app" in graph["sso.cli"]
     assert len(graph) > 50
+
+
+def test_the_walk_sees_the_facade_imported_anywhere(tmp_path):
+    known = set(modules())
+    for index, source in enumerate(("import sso\n",
+                                    "def f():\n    from sso import ShaftSeries\n")):
+        probe = tmp_path / f"probe_{index}.py"
+        probe.write_text(source, encoding="utf-8")
+        assert imported_modules("sso.column.probe", probe, known) == {"sso"}
 
 
 def test_importing_sso_installs_no_import_hook():

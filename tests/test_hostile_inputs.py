@@ -59,32 +59,33 @@ def test_a_tolerance_study_too_large_for_memory_is_refused_before_drawing():
     with pytest.raises(ValueError, match=r"tolerance study \(100,000,000 samples of 64 joints\): "
                                          r"about [\d,]+ MB .* above the memory limit of 4,096 MB; "
                                          r"lower samples"):
-        sso.tolerance(series, samples=100_000_000, memory_limit_mb=4096)
+        sso.tolerance_study(series, samples=100_000_000, memory_limit_mb=4096)
 
 
 def test_the_memory_limit_is_configurable_and_checked():
     series = sso.ShaftSeries([10.0, 20.0], [90.0], "paper")
-    small = sso.tolerance(series, samples=100, memory_limit_mb=1000)
+    small = sso.tolerance_study(series, samples=100, memory_limit_mb=1000)
     assert len(small.residual_error) == 100
     # The paper model evaluates 100 samples in one block of 16 arrays of 100 x 1024
     # angles: 13 MB
     with pytest.raises(ValueError, match="about 13 MB .* above the memory limit of 10 MB"):
-        sso.tolerance(series, samples=100, workers=1, memory_limit_mb=10)
+        sso.tolerance_study(series, samples=100, workers=1, memory_limit_mb=10)
     # The exact model's figures are closed forms (no angle grid): the same study fits
-    exact = sso.tolerance(sso.ShaftSeries([10.0, 20.0], [90.0]), samples=100, workers=1,
+    exact = sso.tolerance_study(sso.ShaftSeries([10.0, 20.0], [90.0]), samples=100, workers=1,
                           memory_limit_mb=10)
     assert len(exact.residual_error) == 100
     with pytest.raises(ValueError, match=r"memory_limit_mb = -1 is outside"):
-        sso.tolerance(series, samples=100, memory_limit_mb=-1)
+        sso.tolerance_study(series, samples=100, memory_limit_mb=-1)
 
 
 def test_a_multistart_too_large_for_memory_is_refused_before_building():
     # 64 joints, option 3 (127 free angles), the paper model (a quadrature graph): the
     # exact Hessian alone is estimated at 10 + 0.26 * 64 * 127 = 2,123 MB (0.26 MB per
-    # joint and free angle, measured); the exact model's closed form is far smaller
+    # joint and free angle, measured), plus the solving process (60 MB) and 20,000
+    # kept runs (200 MB): 2,383 MB; the exact model's closed form is far smaller
     series = sso.ShaftSeries([10.0] * 64, [90.0] * 63, "paper")
     with pytest.raises(ValueError, match=r"multi-start run \(64 joints, 127 free angles, "
-                                         r"10000 starts x 2 solvers\): about 2,3\d\d MB and "
+                                         r"10000 starts x 2 solvers\): about 2,383 MB and "
                                          r"20,000 solves, above the memory limit of 1,000 MB"):
         sso.optimise(series, starts=10_000, memory_limit_mb=1000)
 

@@ -59,7 +59,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/shafts/batch.py",
     "sso/shafts/perturbed.py",
     "sso/solvers/progress.py",
-    "sso/solvers/resources.py",
     "sso/solvers/solution.py",
 }
 

@@ -10,7 +10,10 @@ from __future__ import annotations
 import ast
 import inspect
 import math
+import textwrap
+from importlib import import_module
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -19,29 +22,12 @@ import sso
 from sso import limits
 from sso.cases.schema import COMMON_KEYS
 from sso.cases.shaft_series import SHAFT_SERIES_KEYS
+from sso.column.dispatch import COLUMN_OPTIMISER_OF_KEYWORD
 from sso.kinematics.hooke import speed_ratio
+from sso.linkages.fourbar_swing import design_fourbar
 from sso.shafts.optimise import optimise
 
 PACKAGE = Path(__file__).resolve().parents[1] / "sso"
-
-# Each public default's parameter name and the constant it must take its default from.
-DEFAULT_OF_PARAMETER = {
-    "input_speed_rpm": "DEFAULT_INPUT_SPEED_RPM",
-    "starts": "DEFAULT_STARTS",
-    "max_iterations": "DEFAULT_MAX_ITERATIONS",
-    "transmission_angle_bounds_deg": "TRANSMISSION_BAND_DEG",
-}
-
-# Functions that still write a default as a literal instead of naming the constant.
-# They belong to work in progress elsewhere; delete each line when its module imports
-# the constant, so this list only shrinks.
-LITERAL_DEFAULTS_STILL_ALLOWED = {
-    ("sso/column/feel.py", "optimise_on_centre", "starts"),
-    ("sso/column/joint_positions.py", "optimise_joint_positions", "starts"),
-    # The batched least-squares solver's own iteration default (200), not the design one.
-    ("sso/solvers/least_squares.py", "batch_least_squares", "max_iterations"),
-}
-
 
 def test_documented_values():
     assert limits.BETA_LIMIT_DEG == 90.0
@@ -87,10 +73,10 @@ def test_module_imports_nothing_from_sso():
         (optimise, "starts", "DEFAULT_STARTS"),
         (optimise, "max_iterations", "DEFAULT_MAX_ITERATIONS"),
         (optimise, "solver_tol", "DEFAULT_SHAFT_SOLVER_TOL"),
-        (sso.design_fourbar, "starts", "DEFAULT_STARTS"),
-        (sso.design_fourbar, "max_iterations", "DEFAULT_MAX_ITERATIONS"),
-        (sso.design_fourbar, "solver_tol", "DEFAULT_FOURBAR_SOLVER_TOL"),
-        (sso.design_fourbar, "transmission_angle_bounds_deg", "TRANSMISSION_BAND_DEG"),
+        (design_fourbar, "starts", "DEFAULT_STARTS"),
+        (design_fourbar, "max_iterations", "DEFAULT_MAX_ITERATIONS"),
+        (design_fourbar, "solver_tol", "DEFAULT_FOURBAR_SOLVER_TOL"),
+        (design_fourbar, "transmission_angle_bounds_deg", "TRANSMISSION_BAND_DEG"),
     ],
 )
 def test_public_api_defaults_are_the_limits(function, parameter, constant):
@@ -106,45 +92,71 @@ def test_case_file_defaults_are_the_limits():
     assert default["output.formats"] == limits.OUTPUT_FORMATS
 
 
-def _literal_defaults() -> set[tuple[str, str, str]]:
-    """(module, function, parameter) whose default for a known parameter is a literal."""
-    found = set()
-    for path in sorted(PACKAGE.rglob("*.py")):
-        if path.name == "limits.py":
-            continue
-        name = path.relative_to(PACKAGE.parent).as_posix()
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                continue
-            arguments = node.args
-            positional = arguments.posonlyargs + arguments.args
-            pairs = list(
-                zip(
-                    positional[len(positional) - len(arguments.defaults) :],
-                    arguments.defaults,
-                    strict=True,
-                )
-            )
-            pairs += [
-                (argument, default)
-                for argument, default in zip(
-                    arguments.kwonlyargs, arguments.kw_defaults, strict=True
-                )
-                if default is not None
-            ]
-            for argument, default in pairs:
-                literal = isinstance(default, (ast.Constant, ast.Tuple)) and not (
-                    isinstance(default, ast.Constant) and default.value is None
-                )
-                if argument.arg in DEFAULT_OF_PARAMETER and literal:
-                    found.add((name, node.name, argument.arg))
+def public_functions() -> list[tuple[str, Any]]:
+    """Every function of the public API: those in ``sso.__all__``, the public methods of
+    its classes, and the optimisers ``sso.optimise`` sends each problem to."""
+    found: list[tuple[str, Any]] = []
+    for name in sso.__all__:
+        value = getattr(sso, name)
+        if inspect.isfunction(value):
+            found.append((name, value))
+        elif inspect.isclass(value):
+            for attribute, member in vars(value).items():
+                function = member.__func__ if isinstance(member, (classmethod, staticmethod)) \
+                    else member
+                if inspect.isfunction(function) and not attribute.startswith("_"):
+                    found.append((f"{name}.{attribute}", function))
+    optimisers = [*COLUMN_OPTIMISER_OF_KEYWORD.values(),
+                  ("sso.column.phasing", "optimise_phasing"),
+                  ("sso.column.positions", "optimise_positions"),
+                  ("sso.linkages.fourbar_swing", "design_fourbar"),
+                  ("sso.shafts.optimise", "optimise")]
+    found += [(f"{module}.{name}", getattr(import_module(module), name))
+              for module, name in optimisers]
     return found
 
 
-def test_defaults_are_named_not_written_as_literals():
-    found = _literal_defaults()
-    assert found - LITERAL_DEFAULTS_STILL_ALLOWED == set(), "import the default from sso.limits"
-    assert LITERAL_DEFAULTS_STILL_ALLOWED - found == set(), "fixed: delete it from the list"
+def literal_defaults(function: Any) -> list[str]:
+    """Parameters of ``function`` whose default is a number or a tuple written in place,
+    or a name that is not a constant of :mod:`sso.limits`."""
+    node = ast.parse(textwrap.dedent(inspect.getsource(function))).body[0]
+    assert isinstance(node, ast.FunctionDef)
+    arguments = node.args
+    positional = arguments.posonlyargs + arguments.args
+    pairs = [*zip(positional[len(positional) - len(arguments.defaults):], arguments.defaults,
+                  strict=True),
+             *((argument, default) for argument, default
+               in zip(arguments.kwonlyargs, arguments.kw_defaults, strict=True)
+               if default is not None)]
+    constants = {id(value) for name, value in vars(limits).items() if name.isupper()}
+    found = []
+    for argument, default in pairs:
+        if isinstance(default, ast.Constant) and (default.value is None
+                                                  or isinstance(default.value, (bool, str))):
+            continue  # no default, a switch, or a choice by name
+        if isinstance(default, ast.Tuple) and not default.elts:
+            continue  # nothing given
+        if isinstance(default, (ast.Name, ast.Attribute)) and id(
+                eval(ast.unparse(default), function.__globals__)) in constants:  # noqa: S307
+            continue
+        found.append(f"{argument.arg} = {ast.unparse(default)}")
+    return found
+
+
+def test_every_public_default_is_a_constant_of_the_limits():
+    functions = public_functions()
+    assert len(functions) > 60  # the walk sees the API
+    written_in_place = {name: found for name, function in functions
+                        if (found := literal_defaults(function))}
+    assert written_in_place == {}, "define each default in sso/limits.py and name it there"
+
+
+def test_the_default_check_can_fail():
+    def hard_coded(starts: int = 8, solvers: tuple[str, ...] = ("ipopt",),
+                   seed: int = limits.DEFAULT_SEED, model: str = "exact") -> None:
+        pass
+
+    assert literal_defaults(hard_coded) == ["starts = 8", "solvers = ('ipopt',)"]
 
 
 def test_the_iteration_cap_is_written_once():

@@ -18,7 +18,8 @@ def test_distribution_name_differs_from_the_import_name_and_is_the_one_installed
     # name was chosen); the import name stays sso.
     assert PROJECT["project"]["name"] == DISTRIBUTION_NAME == "shaft-series-optimisation"
     assert PROJECT["project"]["scripts"] == {"sso": "sso.cli:main"}
-    assert PROJECT["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "sso.__version__"}
+    version = PROJECT["tool"]["setuptools"]["dynamic"]["version"]
+    assert version == {"attr": "sso.distribution.VERSION"}
 
 
 def test_installed_version_is_the_package_version():

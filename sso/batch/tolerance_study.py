@@ -1,4 +1,4 @@
-"""``sso.tolerance_study`` (also ``sso.tolerance``): how manufacturing tolerances on
+"""``sso.tolerance_study``: how manufacturing tolerances on
 angles and phases spread the results.
 
 Every sample perturbs the operating angles and phases of one design by draws from
@@ -25,12 +25,18 @@ from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.report import TOLERANCE_FOLDER
 from sso.batch.results import ToleranceResult
 from sso.files import check_report_folder
-from sso.limits import DEFAULT_INPUT_SPEED_RPM, OUTPUT_FORMATS
+from sso.limits import (
+    DEFAULT_CHUNK_SAMPLES,
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_QUADRATURE_ATOL,
+    DEFAULT_QUADRATURE_RTOL,
+    OUTPUT_FORMATS,
+)
 from sso.reports.kinds import write_report
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso.shafts.optimise import OptimisationResult
 from sso.shafts.perturbed import METRICS, ToleranceChunk, draw_samples, evaluate_chunk
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, rule_for_bounds
+from sso.shafts.quadrature import rule_for_bounds
 from sso.shafts.series import ShaftSeries
 from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import check_memory
@@ -46,7 +52,6 @@ DISTRIBUTIONS = ("normal", "uniform")
 DEFAULT_PERCENTILES = (5.0, 50.0, 95.0, 99.0)
 MAX_SAMPLES = 100_000_000
 MAX_TOLERANCE_DEG = 45.0
-DEFAULT_CHUNK_SAMPLES = 20_000
 # Settings of a study when neither the call nor the case's [tolerance] table gives them.
 DEFAULT_SETTINGS: dict[str, Any] = {
     "beta_tolerance_deg": 0.5,
@@ -228,13 +233,13 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     if isinstance(design, OptimisationResult):
         speed = design.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
         return (design.best_series, validate_speed("input_speed_rpm", speed),
-                (DEFAULT_RTOL, DEFAULT_ATOL), {},
+                (DEFAULT_QUADRATURE_RTOL, DEFAULT_QUADRATURE_ATOL), {},
                 f"the optimum ({design.best.solver}) of an optimisation, option "
                 f"{design.option} ({design.option_name})")
     if isinstance(design, ShaftSeries):
         speed = DEFAULT_INPUT_SPEED_RPM if input_speed_rpm is None else input_speed_rpm
-        return (design, validate_speed("input_speed_rpm", speed), (DEFAULT_RTOL, DEFAULT_ATOL),
-                {}, "the given design")
+        return (design, validate_speed("input_speed_rpm", speed),
+                (DEFAULT_QUADRATURE_RTOL, DEFAULT_QUADRATURE_ATOL), {}, "the given design")
     from sso.batch.axes import base_case
 
     case = base_case(design)

@@ -48,20 +48,26 @@ from sso.cases.schema import (
 )
 from sso.cases.shaft_series import checked_solvers, solver_keys
 from sso.column.excitation import APPLICATIONS, INERTIAL_LIMIT_RAD_S2
-from sso.column.feel import DEFAULT_WINDOW_DEG
 from sso.column.geometry import ColumnGeometry
-from sso.column.practice import DEFAULT_MAX_OPERATING_ANGLE_DEG, practice_notes
+from sso.column.practice import practice_notes
 from sso.column.splines import MAX_TEETH
 from sso.column.steering_criteria import SteeringLimits
-from sso.column.steering_range import DEFAULT_LOCK_DEG, DEFAULT_STRAIGHT_AHEAD_DEG, MAX_LOCK_DEG
+from sso.column.steering_range import MAX_LOCK_DEG
 from sso.column.tolerances import Tolerances
-from sso.limits import BETA_LIMIT_DEG
+from sso.limits import (
+    BETA_LIMIT_DEG,
+    DEFAULT_COLUMN_STARTS,
+    DEFAULT_JOINT_BETA_BOUNDS_DEG,
+    DEFAULT_LOCK_DEG,
+    DEFAULT_MAX_OPERATING_ANGLE_DEG,
+    DEFAULT_STRAIGHT_AHEAD_DEG,
+    DEFAULT_WINDOW_DEG,
+)
 
 COLUMN_KIND = "column"
 MAX_EXCITATION_ROWS = 1000
 PHASING_MODES = ("free", "fixed")
 DEFAULT_RPM = (20.0, 120.0)
-DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
 
 
 def teeth_list(label: str, value: Any) -> tuple[int, ...]:
@@ -95,7 +101,7 @@ def _default_yoke_phases(values: dict[str, Any], path: str) -> tuple[float, ...]
     return (0.0,) * max(len(points) - 3, 0)
 
 
-COLUMN_SOLVER_DEFAULTS = {"starts": 4}
+COLUMN_SOLVER_DEFAULTS = {"starts": DEFAULT_COLUMN_STARTS}
 COLUMN_KEYS: tuple[Key, ...] = (
     Key("hardpoints", "points_mm", point_list, REQUIRED, "mm",
         "P0 (input shaft), the joint centres, P(n+1) (output shaft): at least 3 [x, y, z] "
@@ -123,7 +129,7 @@ COLUMN_KEYS: tuple[Key, ...] = (
     Key("joint_boxes", "max_mm", point_list, REQUIRED, "mm",
         "upper corner [x, y, z] of each joint centre's box, one per joint"),
     Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True),
-        DEFAULT_BETA_BOUNDS_DEG, "deg",
+        DEFAULT_JOINT_BETA_BOUNDS_DEG, "deg",
         "[lower, upper] or one pair per joint, lower > 0 (a joint must stay bent), upper < 90"),
     Key("bounds", "shaft_length_mm", bounds_list(0.0, math.inf, "mm"), None, "mm",
         "[lower, upper] or one pair per shaft, lower > 0 (default: each shaft at least half "
@@ -238,7 +244,7 @@ class ColumnCase:
         return tuple(low + (high - low) * index / (rows - 1) for index in range(rows))
 
     def joint_position_options(self) -> dict[str, Any]:
-        """Keyword arguments of :func:`sso.optimise_joint_positions` (with ``[joint_boxes]``)."""
+        """Keyword arguments of :func:`sso.optimise_joint_centres` (with ``[joint_boxes]``)."""
         values = self.values
         fixed = values["phasing.mode"] == "fixed"
         return {

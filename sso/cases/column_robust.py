@@ -22,18 +22,18 @@ from typing import Any
 from sso.cases.column_points import point_list
 from sso.cases.schema import REQUIRED, Key, choice, number, whole_number
 from sso.column.cancel import can_cancel
-from sso.column.feel import DEFAULT_ON_CENTRE_WEIGHT, DEFAULT_WINDOW_DEG, MAX_ON_CENTRE_WEIGHT
+from sso.column.feel import MAX_ON_CENTRE_WEIGHT
 from sso.column.geometry import ColumnGeometry
 from sso.column.positions import POSITIONS_OBJECTIVES
 from sso.column.robust_phasing import LOWEST_PERCENTILE, PERCENTILE_PATTERN
 from sso.column.tolerances import (
-    DEFAULT_SAMPLES,
     DISTRIBUTIONS,
     MAX_HARDPOINT_MM,
     MAX_SAMPLES,
     MAX_YOKE_PHASE_DEG,
     MIN_SAMPLES,
 )
+from sso.limits import DEFAULT_ON_CENTRE_WEIGHT, DEFAULT_TOLERANCE_SAMPLES, DEFAULT_WINDOW_DEG
 
 MAX_POSITIONS = 20
 ROBUST_TABLES = frozenset({"tolerances", "band", "feel"})
@@ -89,7 +89,7 @@ ROBUST_KEYS: tuple[Key, ...] = (
     Key("tolerances", "yoke_phase_deg", number(0.0, MAX_YOKE_PHASE_DEG, "deg"), REQUIRED, "deg",
         f"[0, {MAX_YOKE_PHASE_DEG:g}]: error of each yoke phasing (spline backlash, assembly)"),
     Key("tolerances", "samples", whole_number(MIN_SAMPLES, MAX_SAMPLES),
-        _when_given("tolerances.hardpoint_mm", DEFAULT_SAMPLES), "",
+        _when_given("tolerances.hardpoint_mm", DEFAULT_TOLERANCE_SAMPLES), "",
         f"[{MIN_SAMPLES}, {MAX_SAMPLES}] built columns in the sample"),
     Key("tolerances", "seed", whole_number(0, 2**63 - 1),
         _when_given("tolerances.hardpoint_mm", 0), "", "[0, 2^63 - 1]: seed of the sample"),

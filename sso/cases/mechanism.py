@@ -1,6 +1,6 @@
 """Case files of the planar mechanisms: kinds ``fourbar``, ``slider_crank``,
 ``quick_return`` (analysis over crank angles) and ``fourbar_design`` (the
-rocker-swing design problem of :func:`sso.design_fourbar`).
+rocker-swing design problem of :func:`sso.optimise` of a four-bar).
 
 Each kind registers its keys and builder with :func:`sso.cases.schema.register_case_kind`,
 so the mechanism cases get the same checks as the shaft series: unknown keys with
@@ -132,7 +132,7 @@ PLOT_ANGLE_KEY = Key("plots", "crank_angles_deg",
 COUPLER_POINT_KEY = Key("plots", "coupler_point",
                         number_list(-10.0, 10.0, "", max_length=2), (0.5, 0.0), "coupler lengths",
                         "[along A->B, to the left of A->B], each in [-10, 10] coupler lengths")
-# The shaft series' [solver] keys, with sso.design_fourbar's defaults.
+# The shaft series' [solver] keys, with the four-bar design's defaults.
 DESIGN_SOLVER_DEFAULTS = {"solver_tol": DEFAULT_FOURBAR_SOLVER_TOL}
 SOLVER_KEYS: tuple[Key, ...] = solver_keys(DESIGN_SOLVER_DEFAULTS)
 DESIGN_KEYS: tuple[Key, ...] = (
@@ -225,7 +225,7 @@ class MechanismCase:
         return build_mechanism(self.kind, self.values, self.link_table)
 
     def design_options(self) -> dict[str, Any]:
-        """Keyword arguments of :func:`sso.design_fourbar` for a ``fourbar_design`` case."""
+        """Keyword arguments of :func:`sso.optimise` of a four-bar for a ``fourbar_design`` case."""
         bounds = {f"{name}_bounds": self.values[f"bounds.{name}"] for name in DESIGN_LINKS}
         solver = {name: self.values[f"solver.{name}"]
                   for name in ("solvers", "starts", "solver_tol", "max_iterations", "seed")}

@@ -31,27 +31,29 @@ from sso.cases.schema import (
 from sso.kinematics.hooke import MODELS
 from sso.limits import (
     BETA_LIMIT_DEG,
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_BETA_BOUNDS_DEG,
     DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
+    DEFAULT_QUADRATURE_ATOL,
+    DEFAULT_QUADRATURE_RTOL,
+    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
     MAX_INPUT_SPEED_RPM,
     MAX_ITERATIONS,
     MAX_JOINTS,
     MAX_STARTS,
-    SOLVER_NAMES,
     SOLVERS,
 )
 from sso.record import register_record
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option, warn_moved_starts
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL
 from sso.shafts.series import ShaftSeries
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-)
-from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import shown
 
 KIND = "shaft_series"
@@ -125,7 +127,7 @@ class Case(SavedCase):
         Warnings raised while checking the design (a start moved onto its bounds,
         the paper's inert phase); not part of the case data.
     tolerance_study : dict or None
-        Keyword arguments of :func:`sso.tolerance` from the ``[tolerance]`` table
+        Keyword arguments of :func:`sso.tolerance_study` from the ``[tolerance]`` table
         (only the keys given), or None without one.
     """
 
@@ -266,13 +268,13 @@ def check_solvers_for_model(solvers: tuple[str, ...], model: str) -> None:
     if "lm" in solvers and model != "exact":
         raise ValueError(f"solver.solvers = {shown(list(solvers))} includes 'lm', the "
                          "least-squares solver of the exact model's closed form; "
-                         f"model = {shown(model)} allows {_quoted(SOLVER_NAMES)}")
+                         f"model = {shown(model)} allows {_quoted(CROSS_CHECK_SOLVERS)}")
 
 
 _BETA_RANGE = "each in [0, 90) deg"
 SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("", "model", choice(MODELS), "exact", "", "'exact' or 'paper'"),
-    Key("", "option", option_value, 3, "",
+    Key("", "option", option_value, DEFAULT_OPTION, "",
         "1 or 'phase', 2 or 'angle', 3 or 'both'"),
     Key("", "input_speed_rpm", number(0.0, MAX_INPUT_SPEED_RPM, "rpm", lower_open=True),
         DEFAULT_INPUT_SPEED_RPM, "rpm", f"(0, {MAX_INPUT_SPEED_RPM:g}]"),
@@ -281,11 +283,11 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("design", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("design"),
         "deg", "n-1 entries (n accepted: the paper's inert last phase), each in [-360, 360]"),
-    Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True), (0.0, 40.0),
-        "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
-    Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), (0.0, 180.0), "deg",
+    Key("bounds", "beta_deg", bounds_list(0.0, BETA_LIMIT_DEG, "deg", upper_open=True),
+        DEFAULT_BETA_BOUNDS_DEG, "deg", "[lower, upper] or one pair per joint, within [0, 90)"),
+    Key("bounds", "phase_deg", bounds_list(-360.0, 360.0, "deg"), DEFAULT_PHASE_BOUNDS_DEG, "deg",
         "[lower, upper] or one pair per phase, within [-360, 360]"),
-    Key("solver", "solvers", choice_list(SOLVERS), SOLVER_NAMES, "",
+    Key("solver", "solvers", choice_list(SOLVERS), CROSS_CHECK_SOLVERS, "",
         f"non-empty list of {_quoted(SOLVERS)}; 'lm' with model = 'exact' only"),
     Key("solver", "starts", whole_number(1, MAX_STARTS), DEFAULT_STARTS, "",
         f"[1, {MAX_STARTS}]"),
@@ -295,10 +297,10 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
     Key("solver", "max_iterations", whole_number(1, MAX_ITERATIONS), DEFAULT_MAX_ITERATIONS, "",
         f"[1, {MAX_ITERATIONS}]"),
     Key("solver", "seed", whole_number(0, 2**63 - 1), DEFAULT_SEED, "", "[0, 2^63 - 1]"),
-    Key("quadrature", "rtol", number(0.0, 1.0, lower_open=True, upper_open=True), DEFAULT_RTOL,
-        "", "(0, 1)"),
-    Key("quadrature", "atol", number(0.0, float("inf"), upper_open=True), DEFAULT_ATOL, "",
-        "[0, inf)"),
+    Key("quadrature", "rtol", number(0.0, 1.0, lower_open=True, upper_open=True),
+        DEFAULT_QUADRATURE_RTOL, "", "(0, 1)"),
+    Key("quadrature", "atol", number(0.0, float("inf"), upper_open=True),
+        DEFAULT_QUADRATURE_ATOL, "", "[0, inf)"),
     Key("crosscheck", "objective_rtol", number(0.0, float("inf"), upper_open=True),
         DEFAULT_OBJECTIVE_RTOL, "", "[0, inf)"),
     Key("crosscheck", "objective_atol", number(0.0, float("inf"), upper_open=True),
@@ -311,8 +313,8 @@ SHAFT_SERIES_KEYS: tuple[Key, ...] = (
         "deg", f"as design.beta_deg (same joint count), {_BETA_RANGE}"),
     Key("reference", "phase_deg", number_list(-360.0, 360.0, "deg", min_length=0),
         _default_phases("reference"), "deg", "as design.phase_deg"),
-    # [tolerance]: a Monte Carlo study of the design (sso.tolerance, sso tolerance);
-    # None means "not given": sso.tolerance's own default applies.
+    # [tolerance]: a Monte Carlo study of the design (sso.tolerance_study, sso tolerance);
+    # None means "not given": sso.tolerance_study's own default applies.
     Key("tolerance", "beta_deg", _one_or_list(0.0, 45.0, "deg"), None, "deg",
         "standard deviation (normal) or half-width (uniform), one or one per joint, "
         "each in [0, 45] (default 0.5)"),
@@ -345,7 +347,7 @@ def solver_keys(defaults: dict[str, Any]) -> tuple[Key, ...]:
     """The ``[solver]`` keys for a kind whose problems have no residual form.
 
     As the shaft series' keys, with ``defaults`` replacing theirs by key name, and
-    ``solver.solvers`` limited to :data:`sso.limits.SOLVER_NAMES` (no ``"lm"``).
+    ``solver.solvers`` limited to :data:`sso.limits.CROSS_CHECK_SOLVERS` (no ``"lm"``).
     """
     keys = []
     for key in SHAFT_SERIES_KEYS:
@@ -353,8 +355,8 @@ def solver_keys(defaults: dict[str, Any]) -> tuple[Key, ...]:
             continue
         key = replace(key, default=defaults.get(key.name, key.default))
         if key.name == "solvers":
-            key = replace(key, parse=choice_list(SOLVER_NAMES),
-                          allowed=f"non-empty list of {_quoted(SOLVER_NAMES)}")
+            key = replace(key, parse=choice_list(CROSS_CHECK_SOLVERS),
+                          allowed=f"non-empty list of {_quoted(CROSS_CHECK_SOLVERS)}")
         keys.append(key)
     return tuple(keys)
 
@@ -396,7 +398,7 @@ def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
     )
 
 
-# [tolerance] keys and the sso.tolerance arguments they give.
+# [tolerance] keys and the sso.tolerance_study arguments they give.
 TOLERANCE_ARGUMENTS = {"beta_deg": "beta_tolerance_deg", "phase_deg": "phase_tolerance_deg",
                        "distribution": "distribution", "samples": "samples", "seed": "seed",
                        "percentiles": "percentiles"}

@@ -5,7 +5,8 @@ One job per module:
 * :mod:`sso.column.geometry`: :class:`ColumnGeometry` (angles, bend planes, phases);
 * :mod:`sso.column.chain_matrix`: the exact chain as one 2x2 matrix, vectorised;
 * :mod:`sso.column.cancel`: :func:`can_cancel` and the closed-form optimal phasings;
-* :mod:`sso.column.phasing`: :func:`optimise_phasing` with :func:`sso.optimise`;
+* :mod:`sso.column.phasing`: the best yoke phasing (with the shaft optimiser);
+* :mod:`sso.column.joint_positions`: joint centres moved within boxes;
 * :mod:`sso.column.splines`: :func:`best_spline_teeth`, fitter's instructions;
 * :mod:`sso.column.excitation`: SAE AE-7 figures and the exact model over rpm;
 * :mod:`sso.column.scenarios`: one yoke phasing for many fixed columns (the NLP);
@@ -17,7 +18,8 @@ One job per module:
 * :mod:`sso.column.steering_range`: speed and torque ratio, transmission error from
   lock to lock (exact extremes);
 * :mod:`sso.column.design`: a column and its phasing, given either way;
-* :mod:`sso.column.robust`: the robust API in one import.
+* :mod:`sso.column.dispatch`: :func:`sso.optimise`, which sends each problem (a
+  shaft series, a four-bar, a column) to its optimiser.
 
 Conventions: ``docs/column.md``; robust phasing: ``docs/robust.md``.
 """

@@ -34,7 +34,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
-from sso.limits import BETA_LIMIT_DEG
+from sso.limits import BETA_LIMIT_DEG, DEFAULT_PHASE_ERROR_POINTS, DEFAULT_PHASE_ERROR_SPAN_DEG
 from sso.record import Record, register_record
 from sso.validation import finite_in_range, validate_count
 
@@ -163,7 +163,7 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
     ----------
     design : (ColumnGeometry, sequence of float) or result
         A column and its yoke phasing (deg, fitter's convention), or any result
-        with ``geometry`` and ``yoke_phase_deg`` (:func:`sso.optimise_phasing`,
+        with ``geometry`` and ``yoke_phase_deg`` (:func:`sso.optimise`,
         :func:`optimise_robust`). For :func:`optimise_positions` pass
         ``(result.geometries[name], result.yoke_phase_deg)`` per position.
     re_limit : float
@@ -231,8 +231,10 @@ def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:
         box_grid_max_re=float(re_at(beta, grid).max()), geometry=geometry)
 
 
-def re_against_phase_error(design: Any, span_deg: float = 10.0,
-                           points: int = 201) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+def re_against_phase_error(
+    design: Any, span_deg: float = DEFAULT_PHASE_ERROR_SPAN_DEG,
+    points: int = DEFAULT_PHASE_ERROR_POINTS,
+) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """RE against each yoke phasing's error with the others at nominal (a report's figure).
 
     Parameters

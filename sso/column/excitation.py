@@ -35,16 +35,14 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING, Any, overload
+from typing import Any, overload
 
 import numpy as np
 
 from sso.column.chain_matrix import chain_matrix
 from sso.display import Part, Readable, TextTable, format_number
 from sso.record import Record, register_record
-
-if TYPE_CHECKING:
-    from sso.shafts.series import ShaftSeries
+from sso.shafts.series import ShaftSeries
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
@@ -282,14 +280,9 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
 
 
 def _exact_copy(series: ShaftSeries) -> ShaftSeries:
-    import sso
-
-    exact: ShaftSeries = sso.ShaftSeries(series.beta_deg, series.phase_deg, "exact")
-    return exact
+    return ShaftSeries(series.beta_deg, series.phase_deg, "exact")
 
 
 def _check_series(series: Any) -> None:
-    import sso
-
-    if not isinstance(series, sso.ShaftSeries):
+    if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")

@@ -37,7 +37,6 @@ from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import (
-    DEFAULT_TOLERANCE,
     PhasingOutcome,
     chain_matrix_expression,
     outcome_fields,
@@ -45,7 +44,17 @@ from sso.column.scenarios import (
     yoke_starts,
 )
 from sso.display import Part, Readable, TextTable, format_number
-from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
+from sso.limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
+    DEFAULT_COLUMN_SOLVER_TOL,
+    DEFAULT_COLUMN_STARTS,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_ON_CENTRE_WEIGHT,
+    DEFAULT_WINDOW_DEG,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+)
 from sso.record import Record
 from sso.solvers.run import RunLimits
 from sso.validation import (
@@ -58,8 +67,6 @@ from sso.validation import (
 
 GRID_STEP_DEG = 0.5
 FLUCTUATION_STEP_DEG = 0.05
-DEFAULT_WINDOW_DEG = 30.0
-DEFAULT_ON_CENTRE_WEIGHT = 10.0
 MAX_ON_CENTRE_WEIGHT = 1e6
 
 
@@ -123,7 +130,7 @@ class OnCentreResult(PhasingOutcome):
         (deg), ``fun`` = ``RE + on_centre_weight * V`` at ``x``.
     on_centre_weight : float
     feel, nominal_feel : SteeringFeel
-        Of this phasing and of the RE optimum (:func:`sso.optimise_phasing`).
+        Of this phasing and of the RE optimum (:func:`sso.optimise`).
     nominal : PhasingResult
     """
 
@@ -200,10 +207,11 @@ def steering_feel(design: Any, *, straight_ahead_deg: float, lock_deg: float,
 def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, lock_deg: float,
                        window_deg: float = DEFAULT_WINDOW_DEG,
                        on_centre_weight: float = DEFAULT_ON_CENTRE_WEIGHT,
-                       solvers: tuple[str, ...] = ("ipopt", "slsqp"), starts: int = 4,
-                       solver_tol: float = DEFAULT_TOLERANCE,
+                       solvers: tuple[str, ...] = CROSS_CHECK_SOLVERS,
+                       starts: int = DEFAULT_COLUMN_STARTS,
+                       solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                       seed: int = 0) -> OnCentreResult:
+                       seed: int = DEFAULT_COLUMN_SEED) -> OnCentreResult:
     """Yoke phasing that minimises ``RE + on_centre_weight * V`` (module notes).
 
     Parameters

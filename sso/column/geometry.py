@@ -27,17 +27,15 @@ the listed ``gamma`` and ``phi`` but never the motion (tested).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG
+from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, INPUT_MAGNITUDE_RANGE
 from sso.record import register_record
-from sso.validation import as_float_tuple, finite_float
-
-if TYPE_CHECKING:
-    from sso.shafts.series import ShaftSeries
+from sso.shafts.series import ShaftSeries
+from sso.validation import as_float_tuple, check_chain_cosines, finite_float
 
 # A joint whose |u_(k-1) x u_k| is at or below this is straight (beta = 0 exactly):
 # its bend plane is not defined by the points to better than round-off.
@@ -68,9 +66,11 @@ class ColumnGeometry:
     ------
     ValueError
         If the array is not ``(n + 2) x 3`` with ``n >= 1``, a coordinate is not
-        finite, two consecutive points coincide, an operating angle reaches the
-        limit of 90 deg, or every joint is straight (input and output collinear,
-        nothing to analyse). The message names the point or joint.
+        finite or its magnitude exceeds 1e100 mm, two consecutive points coincide,
+        an operating angle reaches the limit of 90 deg, the product of the operating
+        angles' cosines is below :data:`sso.limits.MIN_CHAIN_COSINE_PRODUCT`, or
+        every joint is straight (input and output collinear, nothing to analyse).
+        The message names the point or joint.
     """
 
     points_mm: tuple[tuple[float, float, float], ...]
@@ -206,13 +206,9 @@ class ColumnGeometry:
         ValueError
             If the phasing has the wrong count or the model is unknown.
         """
-        import sso
-
         if yoke_phase_deg is None:
             yoke_phase_deg = [0.0] * (self.joint_count - 1)
-        series: ShaftSeries = sso.ShaftSeries(self.beta_deg,
-                                              self.phase_deg_from_yoke(yoke_phase_deg), model)
-        return series
+        return ShaftSeries(self.beta_deg, self.phase_deg_from_yoke(yoke_phase_deg), model)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description: the points and the derived angles."""
@@ -271,7 +267,13 @@ def _validated_points(points_mm: Any) -> np.ndarray:
             raise ValueError(f"points_mm[{index}] = {row!r} must have 3 coordinates "
                              "[x, y, z] in mm")
         for axis, value in enumerate(row):
-            points[index, axis] = finite_float(f"points_mm[{index}][{axis}]", value)
+            coordinate = finite_float(f"points_mm[{index}][{axis}]", value)
+            if abs(coordinate) > INPUT_MAGNITUDE_RANGE[1]:
+                # Beyond it the squared distances overflow (1.4e154 mm squared is inf).
+                raise ValueError(f"points_mm[{index}][{axis}] = {coordinate:g} mm is outside "
+                                 f"the allowed range [-{INPUT_MAGNITUDE_RANGE[1]:g}, "
+                                 f"{INPUT_MAGNITUDE_RANGE[1]:g}] mm")
+            points[index, axis] = coordinate
     extent = float(np.ptp(points, axis=0).max())
     lengths = np.linalg.norm(np.diff(points, axis=0), axis=1)
     for index, length in enumerate(lengths):
@@ -307,6 +309,7 @@ def _operating_angles(directions: np.ndarray) -> tuple[tuple[float, ...], tuple[
     if all(straight):
         raise ValueError("points_mm are collinear: input and output shafts are in line with no "
                          "bend at any joint, so there is no joint angle to analyse")
+    check_chain_cosines("points_mm (the operating angles they give)", beta_deg)
     return tuple(beta_deg), tuple(straight)
 
 

@@ -1,4 +1,4 @@
-"""Joint positions as design variables: move the joint centres within boxes to even the output.
+"""Joint centres as design variables: move them within boxes to even the output.
 
 The design vector holds the joint centres ``P1 .. Pn`` (each free within its box,
 mm) and, when the phasing is free, the yoke phasings ``delta_k``; ``P0`` and
@@ -45,21 +45,26 @@ from sso.column.phasing import PHASE_BOUNDS_DEG, optimise_phasing
 from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
     BETA_LIMIT_DEG,
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
+    DEFAULT_JOINT_BETA_BOUNDS_DEG,
+    DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_SHORTEST_SHAFT_FRACTION,
+    DEFAULT_STARTS,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
 from sso.record import NON_NEGATIVE, FieldRule
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-)
 from sso.solvers.multistart import solution_from_run, solve_from_starts
 from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
 from sso.validation import (
     as_float_tuple,
+    check_chain_cosines,
     finite_float,
     per_item_bounds,
     validate_count,
@@ -70,14 +75,10 @@ from sso.validation import (
 # The NLP works in metres and radians: RE changes by about as much per metre of
 # joint travel as per radian of phasing, so neither set of variables is flat.
 MM_PER_UNIT = 1000.0
-DEFAULT_BETA_BOUNDS_DEG = (1.0, 45.0)
-# Default shaft-length bounds: each shaft may shrink to this fraction of its length
-# (it stays away from zero length, where its direction is undefined); no upper bound.
-DEFAULT_SHORTEST_FRACTION = 0.5
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
-class JointPositionResult(DesignResult):
+class JointCentresResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
     The solver fields (``best``, ``solutions``, ``runs``, ``crosscheck``,
@@ -154,7 +155,7 @@ class JointPositionResult(DesignResult):
                                    format_number(solution.fun), str(solution.nit),
                                    solution.message)
                                   for name, solution in self.solutions.items()))
-        return [f"Joint positions: {verdict}; RE {format_number(self.initial_re)} as given, "
+        return [f"Joint centres: {verdict}; RE {format_number(self.initial_re)} as given, "
                 f"{format_number(self.fixed_points_re)} with the given points and the best "
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
@@ -181,19 +182,19 @@ class JointPositionResult(DesignResult):
         }
 
 
-def optimise_joint_positions(
+def optimise_joint_centres(
     geometry: ColumnGeometry,
     *,
     joint_boxes_mm: Any,
-    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    beta_bounds_deg: Any = DEFAULT_JOINT_BETA_BOUNDS_DEG,
     shaft_length_bounds_mm: Any = None,
     yoke_phase_deg: Sequence[float] | None = None,
-    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
-    starts: int = 8,
-    solver_tol: float = 1e-12,
+    solvers: Iterable[str] | str = CROSS_CHECK_SOLVERS,
+    starts: int = DEFAULT_STARTS,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-    seed: int = 0,
-) -> JointPositionResult:
+    seed: int = DEFAULT_COLUMN_SEED,
+) -> JointCentresResult:
     """Joint centres (and yoke phasing) that make the output turn most evenly.
 
     Parameters
@@ -218,7 +219,7 @@ def optimise_joint_positions(
 
     Returns
     -------
-    JointPositionResult
+    JointCentresResult
         Solver failures and disagreements are reported in it, not raised.
 
     Raises
@@ -253,6 +254,8 @@ def optimise_joint_positions(
             raise ValueError(f"beta_bounds_deg[{index}] lower = {least_deg:g} is outside the "
                              f"allowed range (0, {BETA_LIMIT_DEG:g}) deg: a straight joint has no "
                              "bend plane, so every joint must stay bent")
+    check_chain_cosines("beta_bounds_deg (their upper bounds)",
+                        [upper for _, upper in beta_bounds])
     length_bounds = _validated_lengths(shaft_length_bounds_mm, geometry)
     phasing_free = yoke_phase_deg is None
     if phasing_free:
@@ -304,7 +307,7 @@ def optimise_joint_positions(
                                    for row in optimum_points))
     best_phase = (tuple(float(value) for value in wrap_half_turn(best.x[3 * joints:]))
                   if phasing_free else tuple(start_phase_deg))
-    return JointPositionResult(
+    return JointCentresResult(
         initial=geometry,
         geometry=optimum,
         points_mm=optimum.points_mm,
@@ -428,7 +431,7 @@ def _validated_lengths(shaft_length_bounds_mm: Any, geometry: ColumnGeometry
                        ) -> tuple[tuple[float, float], ...]:
     shafts = geometry.joint_count + 1
     if shaft_length_bounds_mm is None:
-        return tuple((DEFAULT_SHORTEST_FRACTION * length, math.inf)
+        return tuple((DEFAULT_SHORTEST_SHAFT_FRACTION * length, math.inf)
                      for length in geometry.shaft_length_mm)
     bounds = per_item_bounds("shaft_length_bounds_mm", shaft_length_bounds_mm, shafts, 0.0,
                              math.inf, "mm")

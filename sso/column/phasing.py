@@ -12,16 +12,18 @@ from sso.column.chain_matrix import residual_error
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
-    SOLVER_NAMES,
 )
 from sso.record import NON_NEGATIVE, FieldRule, Record
 
 if TYPE_CHECKING:
     from sso.shafts.optimise import OptimisationResult
+from sso.shafts.optimise import OptimisationResult, optimise
 
 # Phase bounds of the NLP: one and a half periods, so every minimum (period 180 deg)
 # lies strictly inside them at least once and no start stalls on a bound.
@@ -106,11 +108,11 @@ class PhasingResult(Record, Readable):
 
 
 def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
-                     solvers: tuple[str, ...] = SOLVER_NAMES,
+                     solvers: tuple[str, ...] = CROSS_CHECK_SOLVERS,
                      input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
                      solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
                      max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                     seed: int = 0) -> PhasingResult:
+                     seed: int = DEFAULT_COLUMN_SEED) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every
@@ -144,8 +146,6 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
     ValueError
         If the column has one joint (nothing to phase), or an option is bad.
     """
-    import sso
-
     if not isinstance(geometry, ColumnGeometry):
         raise TypeError(f"geometry must be a ColumnGeometry, not {type(geometry).__name__}")
     if geometry.joint_count < 2:
@@ -156,11 +156,11 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
     in_phase = geometry.series()
     # Every solver from every start (no least-squares screening): where a continuum of
     # phasings cancels, this keeps the one the position and robust studies measured.
-    run = sso.optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
-                       solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
-                       solver_tol=solver_tol, max_iterations=max_iterations, seed=seed,
-                       screen_starts=False)
-    best_phase = np.mod(np.asarray(run.best.series.phase_deg), 180.0)
+    run = optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
+                   solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
+                   solver_tol=solver_tol, max_iterations=max_iterations, seed=seed,
+                   screen_starts=False)
+    best_phase = np.mod(np.asarray(run.best_series.phase_deg), 180.0)
     verdict = can_cancel(geometry.beta_deg)
     closed = minimising_phases_deg(geometry.beta_deg)
     if closed is None:

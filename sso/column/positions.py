@@ -18,14 +18,16 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
-from sso.column.scenarios import (
-    DEFAULT_TOLERANCE,
-    PhasingOutcome,
-    outcome_fields,
-    scenario_re,
-    solve_scenarios,
+from sso.column.scenarios import PhasingOutcome, outcome_fields, scenario_re, solve_scenarios
+from sso.limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
+    DEFAULT_COLUMN_SOLVER_TOL,
+    DEFAULT_COLUMN_STARTS,
+    DEFAULT_MAX_ITERATIONS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
 )
-from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
 from sso.record import register_record
 from sso.validation import (
     check_choice,
@@ -38,7 +40,6 @@ from sso.validation import (
 POSITIONS_OBJECTIVES = ("worst", "mean")
 # A position is active when its RE is within this fraction of the worst position's RE.
 ACTIVE_RELATIVE = 1e-6
-DEFAULT_POSITION_STARTS = 4
 
 
 @register_record
@@ -49,7 +50,7 @@ class SinglePositionOptimum:
     Attributes
     ----------
     yoke_phase_deg : tuple of float
-        Its best yoke phasing, deg (:func:`sso.optimise_phasing`).
+        Its best yoke phasing, deg (:func:`sso.optimise`).
     position_re : dict of str to float
         RE of that phasing at every position.
     worst_re : float
@@ -114,11 +115,11 @@ class PositionsResult(PhasingOutcome):
 def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
                        positions_objective: str = "worst",
                        weights: Mapping[str, float] | None = None,
-                       solvers: tuple[str, ...] = ("ipopt", "slsqp"),
-                       starts: int = DEFAULT_POSITION_STARTS,
-                       solver_tol: float = DEFAULT_TOLERANCE,
+                       solvers: tuple[str, ...] = CROSS_CHECK_SOLVERS,
+                       starts: int = DEFAULT_COLUMN_STARTS,
+                       solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                        max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                       seed: int = 0) -> PositionsResult:
+                       seed: int = DEFAULT_COLUMN_SEED) -> PositionsResult:
     """One yoke phasing for several positions of a column.
 
     Parameters

@@ -25,9 +25,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from sso.column.geometry import ColumnGeometry, shaft_name
+from sso.limits import DEFAULT_MAX_OPERATING_ANGLE_DEG
 
 MIN_OPERATING_ANGLE_DEG = 0.5
-DEFAULT_MAX_OPERATING_ANGLE_DEG = 35.0
 SHORTEST_SHAFT_MM = 10.0
 BRINELLING_SOURCE = ("needle bearings that hardly roll brinell the trunnions; driveline makers "
                      "(Dana Spicer's driveshaft installation guides) advise at least 1/2 deg")

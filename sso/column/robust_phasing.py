@@ -19,21 +19,21 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
-from sso.column.scenarios import (
-    DEFAULT_TOLERANCE,
-    PhasingOutcome,
-    cvar,
-    outcome_fields,
-    scenario_re,
-    solve_scenarios,
-)
+from sso.column.scenarios import PhasingOutcome, cvar, outcome_fields, scenario_re, solve_scenarios
 from sso.column.tolerances import SampleStudy, Tolerances
-from sso.limits import DEFAULT_MAX_ITERATIONS, MAX_ITERATIONS, MAX_STARTS
+from sso.limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_COLUMN_SEED,
+    DEFAULT_COLUMN_SOLVER_TOL,
+    DEFAULT_COLUMN_STARTS,
+    DEFAULT_MAX_ITERATIONS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+)
 from sso.validation import validate_count, validate_solver_tol, validate_solvers
 
 PERCENTILE_PATTERN = re.compile(r"p(\d+(?:\.\d+)?)")
 LOWEST_PERCENTILE = 50.0
-DEFAULT_ROBUST_STARTS = 4
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -53,7 +53,7 @@ class RobustResult(PhasingOutcome):
     nominal_re : float
         RE of the robust phasing on the nominal column.
     nominal_optimum_re : float
-        RE of the nominal optimum (:func:`sso.optimise_phasing`) there.
+        RE of the nominal optimum (:func:`sso.optimise`) there.
     nominal_re_given_up : float
         ``nominal_re - nominal_optimum_re`` (>= 0 up to solver tolerance).
     robust_study, nominal_study : SampleStudy
@@ -98,11 +98,11 @@ class RobustResult(PhasingOutcome):
 
 def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                     robust_objective: str = "p95",
-                    solvers: tuple[str, ...] = ("ipopt", "slsqp"),
-                    starts: int = DEFAULT_ROBUST_STARTS,
-                    solver_tol: float = DEFAULT_TOLERANCE,
+                    solvers: tuple[str, ...] = CROSS_CHECK_SOLVERS,
+                    starts: int = DEFAULT_COLUMN_STARTS,
+                    solver_tol: float = DEFAULT_COLUMN_SOLVER_TOL,
                     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                    seed: int = 0) -> RobustResult:
+                    seed: int = DEFAULT_COLUMN_SEED) -> RobustResult:
     """Yoke phasing that minimises RE over a sample of built columns.
 
     Parameters

@@ -30,13 +30,9 @@ import numpy as np
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
 from sso.display import Readable
+from sso.limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
 from sso.record import NON_NEGATIVE, FieldRule, Record, register_record
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-    crosscheck,
-)
+from sso.solvers.crosscheck import crosscheck
 from sso.solvers.multistart import best_solution, run_starts, solution_from_run
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import CrossCheck, Solution
@@ -45,7 +41,6 @@ from sso.solvers.starts import start_points
 # Yoke phasing bounds of the NLP, deg: two periods (RE has period 180 deg in each
 # phasing), so every minimum lies strictly inside them and no start stalls on a bound.
 YOKE_BOUNDS_DEG = (-180.0, 180.0)
-DEFAULT_TOLERANCE = 1e-13
 
 
 @register_record

@@ -35,10 +35,9 @@ from sso.column.chain_matrix import (
 )
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number
-from sso.limits import CONVENTIONAL_PHASE_DEG
+from sso.limits import CONVENTIONAL_PHASE_DEG, DEFAULT_SPLINE_TEETH, SPLINE_ENUMERATION_LIMIT
 from sso.record import Record, register_record
 
-ENUMERATION_LIMIT = 200_000
 CHUNK_ROWS = 65_536
 # Assemblies whose RE is within this of the best are reported as ties (round-off).
 TIE_RELATIVE, TIE_ABSOLUTE = 1e-12, 1e-18
@@ -133,9 +132,10 @@ class SplineResult(Record, Readable):
         return "\n".join(instruction.text for instruction in self.instructions)
 
 
-def best_spline_teeth(geometry: ColumnGeometry, teeth: int | Sequence[int] = 36, *,
+def best_spline_teeth(geometry: ColumnGeometry,
+                      teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH, *,
                       method: str = "auto",
-                      enumeration_limit: int = ENUMERATION_LIMIT) -> SplineResult:
+                      enumeration_limit: int = SPLINE_ENUMERATION_LIMIT) -> SplineResult:
     """Exact best tooth positions of the yokes on the intermediate shafts.
 
     Parameters

@@ -22,20 +22,15 @@ from dataclasses import dataclass
 from typing import Any
 
 from sso.column.geometry import ColumnGeometry
-from sso.column.practice import (
-    BRINELLING_SOURCE,
-    DEFAULT_MAX_OPERATING_ANGLE_DEG,
-    MAKER_LIMIT_SOURCE,
-    MIN_OPERATING_ANGLE_DEG,
-)
-from sso.column.steering_range import (
+from sso.column.practice import BRINELLING_SOURCE, MAKER_LIMIT_SOURCE, MIN_OPERATING_ANGLE_DEG
+from sso.column.steering_range import SteeringRange, steering_range
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.limits import (
     DEFAULT_LOCK_DEG,
+    DEFAULT_MAX_OPERATING_ANGLE_DEG,
     DEFAULT_ON_CENTRE_DEG,
     DEFAULT_STRAIGHT_AHEAD_DEG,
-    SteeringRange,
-    steering_range,
 )
-from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.record import Record, register_record
 from sso.validation import finite_in_range
 

@@ -36,14 +36,11 @@ import numpy as np
 
 from sso.column.chain_matrix import chain_matrix
 from sso.column.design import column_design
-from sso.column.feel import DEFAULT_WINDOW_DEG
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.limits import DEFAULT_LOCK_DEG, DEFAULT_ON_CENTRE_DEG, DEFAULT_STRAIGHT_AHEAD_DEG
 from sso.record import Record
 from sso.validation import finite_float, finite_in_range
 
-DEFAULT_LOCK_DEG = 540.0
-DEFAULT_STRAIGHT_AHEAD_DEG = 0.0
-DEFAULT_ON_CENTRE_DEG = DEFAULT_WINDOW_DEG
 MAX_LOCK_DEG = 3600.0
 CURVE_POINTS = 721
 # Stationary angles closer than this (rad) to the range's ends are the ends themselves.

@@ -16,6 +16,7 @@ import numpy as np
 from sso.column.geometry import ColumnGeometry
 from sso.column.scenarios import cvar, scenario_re
 from sso.display import Part, Readable, TextTable, format_number
+from sso.limits import DEFAULT_TOLERANCE_SAMPLES
 from sso.record import Record, register_record
 from sso.validation import check_choice, finite_in_range, validate_count
 
@@ -26,7 +27,6 @@ MAX_YOKE_PHASE_DEG = 45.0
 # SLSQP's dense subproblem grows with their cube (about 1 s per run at 200).
 MIN_SAMPLES = 2
 MAX_SAMPLES = 1_000
-DEFAULT_SAMPLES = 200
 
 
 @register_record
@@ -39,7 +39,7 @@ class Tolerances:
     hardpoint_mm : float
         Error of every coordinate of every hardpoint (``P0 .. P(n+1)``), mm:
         the standard deviation (``"normal"``) or the half-width (``"uniform"``),
-        as in :func:`sso.tolerance`. In ``[0, 100]``.
+        as in :func:`sso.tolerance_study`. In ``[0, 100]``.
     yoke_phase_deg : float
         Error of each yoke phasing ``delta_k`` (spline backlash and assembly),
         deg, same meaning. In ``[0, 45]``.
@@ -62,7 +62,7 @@ class Tolerances:
     hardpoint_mm: float = 0.0
     yoke_phase_deg: float = 0.0
     cross_angle_deg: float = 0.0
-    samples: int = DEFAULT_SAMPLES
+    samples: int = DEFAULT_TOLERANCE_SAMPLES
     seed: int = 0
     distribution: str = "normal"
 

@@ -237,7 +237,10 @@ def peak_ratio_slope(xp: Any, beta_rad: Sequence[Any], phase_rad: Sequence[Any])
     least = squared / (mean + amplitude)
     one_plus_cosine = (least + squared / (root + 3.0 * amplitude)) / (mean + root)
     sine = xp.sqrt(one_plus_cosine * (2.0 - one_plus_cosine))
-    return 2.0 * amplitude * determinant * sine / (least + amplitude * one_plus_cosine) ** 2
+    # Divided twice rather than by the square: near the floor on det M the
+    # denominator (about det^2) squared would underflow.
+    denominator = least + amplitude * one_plus_cosine
+    return 2.0 * amplitude * (determinant * sine / denominator) / denominator
 
 
 def lag_swing(beta_rad: Sequence[float], phase_rad: Sequence[float]) -> tuple[float, float]:

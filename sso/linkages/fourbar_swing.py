@@ -29,22 +29,21 @@ import numpy as np
 
 from sso.display import Part, TextTable, format_number
 from sso.limits import (
+    CROSS_CHECK_SOLVERS,
     DEFAULT_FOURBAR_SOLVER_TOL,
+    DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_SEED,
     DEFAULT_STARTS,
     MAX_ITERATIONS,
     MAX_STARTS,
     TRANSMISSION_BAND_DEG,
 )
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-)
 from sso.solvers.multistart import solution_from_run, solve_from_starts
 from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
-from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     per_item_bounds,
     validate_count,
@@ -139,7 +138,7 @@ def design_fourbar(
     rocker_bounds: tuple[float, float],
     ground_bounds: tuple[float, float] | None = None,
     transmission_angle_bounds_deg: tuple[float, float] = TRANSMISSION_BAND_DEG,
-    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
+    solvers: Iterable[str] | str = CROSS_CHECK_SOLVERS,
     starts: int = DEFAULT_STARTS,
     solver_tol: float = DEFAULT_FOURBAR_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,

@@ -13,6 +13,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number
+from sso.limits import CSV_DIGITS
 from sso.record import Record
 
 # How a unit reads at the end of a column name (``"length"``: the links' unit).
@@ -160,7 +161,7 @@ class MechanismTable(Record, Readable):
         _write_text_atomically(path, self.csv_text())
         return path
 
-    def csv_text(self, length_unit: str | None = None, digits: int = 17) -> str:
+    def csv_text(self, length_unit: str | None = None, digits: int = CSV_DIGITS) -> str:
         """The table as CSV text; by default exactly as :meth:`to_csv` writes it.
 
         Parameters
@@ -202,7 +203,7 @@ def _plain(value: np.generic) -> bool | float | None:
     return None if math.isnan(number) else number
 
 
-def _csv_cell(value: np.generic, digits: int = 17) -> str:
+def _csv_cell(value: np.generic, digits: int = CSV_DIGITS) -> str:
     if isinstance(value, np.bool_):
         return str(bool(value))
     return format(float(value), f".{digits}g")

@@ -90,7 +90,7 @@ def report_kind_of(result: Any) -> ReportKind:
         name = None
     if not isinstance(name, str) or name not in REPORT_KINDS:
         raise TypeError("result must be an sso result (an object sso.optimise, "
-                        "sso.optimise_phasing, sso.sweep or another sso function returns) "
+                        "sso.sweep or another sso function returns) "
                         f"or a result document, not {type(result).__name__}")
     return REPORT_KINDS[name]
 

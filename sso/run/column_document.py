@@ -10,7 +10,7 @@ Layout (``schema_version`` as :data:`sso.run.document.SCHEMA_VERSION`)::
     assemblies: [{role, label, yoke_phase_deg, phase_deg, residual_error}],
     phasing? (optimise): best continuous phasing, its optima and the cross-check,
     splines? ([splines] given): best teeth, loss, fitter's instructions,
-    joint_positions? (optimise with [joint_boxes]): JointPositionResult.to_dict(),
+    joint_positions? (optimise with [joint_boxes]): JointCentresResult.to_dict(),
     robust? (positions, tolerances, band or feel given):
         :mod:`sso.run.column_robust_document`,
     excitation: {vehicle, application, rows: {role -> [ExcitationRow]}, angles: {role -> ...}},
@@ -106,9 +106,9 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             document["splines"] = asdict(splines)
             recommended = "splines"
         if optimising and case.has_joint_boxes:
-            from sso.column.joint_positions import optimise_joint_positions
+            from sso.column.joint_positions import optimise_joint_centres
 
-            moved = optimise_joint_positions(geometry, **case.joint_position_options())
+            moved = optimise_joint_centres(geometry, **case.joint_position_options())
             document["joint_positions"] = moved._document_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")

@@ -122,13 +122,13 @@ def fourbar_design_document(result: FourBarDesignResult) -> dict[str, Any]:
     case = parse_case({
         "kind": DESIGN_KIND,
         "name": "fourbar_design",
-        "description": "A four-bar design made with sso.design_fourbar in Python.",
+        "description": "A four-bar design made with sso.optimise in Python.",
         "start": {**{name: getattr(start, name) for name in DESIGN_LINKS},
                   "branch": start.branch},
         "bounds": {**{name: list(result.link_bounds[name]) for name in DESIGN_LINKS},
                    "transmission_angle_deg": list(result.transmission_angle_bounds_deg)},
         "solver": {"solvers": list(result.solutions)},
-    }, "<sso.design_fourbar>")
+    }, "<sso.optimise>")
     return mechanism_document(case, True, result)
 
 

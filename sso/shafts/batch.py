@@ -13,7 +13,7 @@ caller relies on.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from importlib import import_module
 from typing import Any
 
@@ -28,8 +28,11 @@ from sso.kinematics.hooke_matrix import (
 )
 from sso.limits import (
     BETA_LIMIT_DEG,
+    DEFAULT_BETA_BOUNDS_DEG,
     DEFAULT_INPUT_SPEED_RPM,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
     DEFAULT_SHAFT_SOLVER_TOL,
     MAX_ITERATIONS,
 )
@@ -44,6 +47,12 @@ from sso.shafts.options import (
 from sso.solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
 from sso.solvers.lm_batch import solve_batch
 from sso.solvers.lm_rules import NEWTON
+from sso.solvers.resources import (
+    batch_estimate,
+    batch_least_squares_mb,
+    check_memory,
+)
+from sso.solvers.resources import memory_limit_mb as resolve_memory_limit
 from sso.validation import (
     check_choice,
     validate_count,
@@ -183,13 +192,14 @@ def optimise_batch(
     beta_deg: Any,
     phase_deg: Any,
     *,
-    option: int | str = 3,
-    beta_bounds_deg: Any = (0.0, 40.0),
-    phase_bounds_deg: Any = (0.0, 180.0),
+    option: int | str = DEFAULT_OPTION,
+    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    phase_bounds_deg: Any = DEFAULT_PHASE_BOUNDS_DEG,
     model: str = "exact",
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
     solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    memory_limit_mb: float | None = None,
 ) -> BatchResult:
     """Optimise ``m`` start designs of one shape at once (exact model, closed form).
 
@@ -218,6 +228,11 @@ def optimise_batch(
         most this, as :func:`sso.optimise`'s default cross-check measures it.
     max_iterations : int
         Iteration limit of each start, ``1..1000000``.
+    memory_limit_mb : float, optional
+        Memory the call may be estimated to need, MB (default: ``SSO_MEMORY_LIMIT_MB``
+        or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`). The solver's arrays grow with
+        the starts and the square of the free angles; starts estimated above the limit
+        are solved in consecutive parts that fit it, with the same answers.
 
     Returns
     -------
@@ -227,8 +242,9 @@ def optimise_batch(
     Raises
     ------
     ValueError
-        For bad input (naming the field, the value and the allowed range), and for
-        ``model = "paper"``, which has no closed form.
+        For bad input (naming the field, the value and the allowed range), for
+        ``model = "paper"``, which has no closed form, and when not even one start
+        fits the memory limit (with the estimate).
     TypeError
         If the start angles are not arrays of numbers, or a keyword is unknown.
     """
@@ -265,8 +281,12 @@ def optimise_batch(
     if moved:
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
-    solved = _solve(design_deg, free, n_joints, beta_free, phase_free, np.radians(start),
-                    np.radians(lower), np.radians(upper), gradient_tolerance, iterations)
+    parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,
+                    np.radians(start[part]), np.radians(lower), np.radians(upper),
+                    gradient_tolerance, iterations)
+             for part in _parts(len(start), n_joints, len(free), memory_limit_mb)]
+    solved = _Solved(*(np.concatenate([getattr(part, field.name) for part in parts])
+                       for field in fields(_Solved)))
     # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
     design_deg[:, free] = np.clip(np.degrees(solved.x), lower, upper)
     beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
@@ -290,6 +310,24 @@ def optimise_batch(
         beta_bounds_deg=beta_bounds,
         phase_bounds_deg=phase_bounds,
     )
+
+
+def _parts(starts: int, joints: int, free_variables: int,
+           memory_limit: float | None) -> list[slice]:
+    """Consecutive parts of the starts, each estimated to fit the memory limit.
+
+    Raises
+    ------
+    ValueError
+        If not even one start fits (with the estimate of one and of all).
+    """
+    limit = resolve_memory_limit(memory_limit)
+    if batch_estimate(starts, joints, free_variables).memory_mb <= limit:
+        return [slice(0, starts)]
+    check_memory(batch_estimate(1, joints, free_variables), limit)
+    per_start = batch_least_squares_mb(1, free_variables)
+    size = max(1, int((limit - batch_estimate(0, joints, free_variables).memory_mb) // per_start))
+    return [slice(first, first + size) for first in range(0, starts, size)]
 
 
 @dataclass(frozen=True)

@@ -17,16 +17,10 @@ from sso.kinematics.hooke_matrix import (
     ratio_extremes,
     residual_error,
 )
-from sso.limits import DEFAULT_INPUT_SPEED_RPM
+from sso.limits import DEFAULT_INPUT_SPEED_RPM, DEFAULT_QUADRATURE_ATOL, DEFAULT_QUADRATURE_RTOL
 from sso.record import register_record
 from sso.shafts.objective import angle_grid, squared_ratio_error
-from sso.shafts.quadrature import (
-    DEFAULT_ATOL,
-    DEFAULT_RTOL,
-    EVALUATION_MAX_SAMPLES,
-    adaptive_rule,
-    resolving_samples,
-)
+from sso.shafts.quadrature import EVALUATION_MAX_SAMPLES, adaptive_rule, resolving_samples
 from sso.validation import finite_in_range, validate_speed
 
 
@@ -142,8 +136,8 @@ class Evaluation(Readable):
 def evaluate(
     series: JointAngles,
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
-    quadrature_rtol: float = DEFAULT_RTOL,
-    quadrature_atol: float = DEFAULT_ATOL,
+    quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL,
+    quadrature_atol: float = DEFAULT_QUADRATURE_ATOL,
 ) -> Evaluation:
     """Evaluate a design: residual error and the figures docs/model.md lists.
 

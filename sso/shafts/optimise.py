@@ -12,8 +12,18 @@ import numpy as np
 
 from sso.display import Part, TextTable, format_number, format_numbers
 from sso.limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_BETA_BOUNDS_DEG,
     DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_KKT_TOLERANCE,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
+    DEFAULT_QUADRATURE_ATOL,
+    DEFAULT_QUADRATURE_RTOL,
+    DEFAULT_SEED,
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
     MAX_ITERATIONS,
@@ -29,20 +39,14 @@ from sso.shafts.options import (
     warn_moved_starts,
 )
 from sso.shafts.problem import compiled_nlp
-from sso.shafts.quadrature import DEFAULT_ATOL, DEFAULT_RTOL, QuadratureRule, rule_for_bounds
+from sso.shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries, checked_series
-from sso.solvers.crosscheck import (
-    DEFAULT_KKT_TOLERANCE,
-    DEFAULT_OBJECTIVE_ATOL,
-    DEFAULT_OBJECTIVE_RTOL,
-)
 from sso.solvers.multistart import MeasuredRun, solution_from_run, solve_from_starts
 from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import check_memory, multistart_estimate
 from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
 from sso.solvers.solution import Solution
-from sso.solvers.starts import DEFAULT_SEED
 from sso.validation import (
     validate_count,
     validate_solver_tol,
@@ -123,8 +127,8 @@ class OptimisationResult(DesignResult):
     quadrature_error: float
     starts: int
     warnings: tuple[str, ...]
-    quadrature_rtol: float = DEFAULT_RTOL
-    quadrature_atol: float = DEFAULT_ATOL
+    quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL
+    quadrature_atol: float = DEFAULT_QUADRATURE_ATOL
 
     @functools.cached_property
     def initial(self) -> Evaluation:
@@ -217,18 +221,18 @@ class OptimisationResult(DesignResult):
 
 def optimise(
     series: ShaftSeries,
-    option: int | str = 3,
+    option: int | str = DEFAULT_OPTION,
     *,
-    beta_bounds_deg: Any = (0.0, 40.0),
-    phase_bounds_deg: Any = (0.0, 180.0),
-    solvers: Iterable[str] | str = ("ipopt", "slsqp"),
+    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    phase_bounds_deg: Any = DEFAULT_PHASE_BOUNDS_DEG,
+    solvers: Iterable[str] | str = CROSS_CHECK_SOLVERS,
     starts: int = DEFAULT_STARTS,
     input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
     solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     seed: int = DEFAULT_SEED,
-    quadrature_rtol: float = DEFAULT_RTOL,
-    quadrature_atol: float = DEFAULT_ATOL,
+    quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL,
+    quadrature_atol: float = DEFAULT_QUADRATURE_ATOL,
     objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
@@ -333,10 +337,18 @@ def optimise(
     else:
         rule = CLOSED_FORM_RULE
     check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
-                                     len(solver_names)), memory_limit_mb)
+                                     len(solver_names), _screened(series, solver_names, starts,
+                                                                  screen_starts)),
+                 memory_limit_mb)
     return _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                   max_iterations, seed, quadrature_rtol, quadrature_atol, objective_rtol,
                   objective_atol, kkt_tolerance, screen_starts, setup_warnings)
+
+
+def _screened(series: ShaftSeries, solver_names: tuple[str, ...], starts: int,
+              screen_starts: bool) -> bool:
+    """Whether the starts are screened with "lm" first (the exact model's residuals)."""
+    return screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
 
 
 def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
@@ -344,7 +356,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...]) -> OptimisationResult:
-    screened = screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
+    screened = _screened(series, solver_names, starts, screen_starts)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
     bar = (ProgressBar(runs, "runs", True)

@@ -29,10 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sso.limits import DEFAULT_QUADRATURE_ATOL, DEFAULT_QUADRATURE_RTOL
 from sso.shafts.objective import angle_grid, squared_ratio_error
 
-DEFAULT_RTOL = 1e-10
-DEFAULT_ATOL = 1e-16
 MIN_SAMPLES = 8
 MAX_SAMPLES = 8192
 """Cap of the optimiser's rule (the graph's evaluation cost grows with it)."""
@@ -72,8 +71,8 @@ def adaptive_residual_error(
     beta_rad: Sequence[float],
     phase_rad: Sequence[float],
     model: str,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
+    rtol: float = DEFAULT_QUADRATURE_RTOL,
+    atol: float = DEFAULT_QUADRATURE_ATOL,
     max_samples: int = MAX_SAMPLES,
 ) -> tuple[float, QuadratureRule]:
     """Residual error with the fewest angles whose doubling changes it within tolerance.
@@ -128,8 +127,8 @@ def resolving_samples(beta_rad: Sequence[float], model: str) -> float:
 
 def adaptive_rule(
     squared_errors: Callable[[int], np.ndarray],
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
+    rtol: float = DEFAULT_QUADRATURE_RTOL,
+    atol: float = DEFAULT_QUADRATURE_ATOL,
     max_samples: int = MAX_SAMPLES,
     least_samples: float = MIN_SAMPLES,
 ) -> tuple[float, QuadratureRule]:
@@ -184,8 +183,8 @@ def adaptive_rule(
 def rule_for_bounds(
     beta_upper_rad: Sequence[float],
     model: str,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
+    rtol: float = DEFAULT_QUADRATURE_RTOL,
+    atol: float = DEFAULT_QUADRATURE_ATOL,
     max_samples: int = MAX_SAMPLES,
 ) -> QuadratureRule:
     """Angle count that serves every design whose operating angles stay in bounds.

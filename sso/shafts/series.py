@@ -14,7 +14,7 @@ from sso.kinematics.hooke import MODELS, ChainKinematics, chain_kinematics
 from sso.kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso.record import register_record
-from sso.validation import as_float_tuple, check_choice, check_in_range
+from sso.validation import as_float_tuple, check_chain_cosines, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso.shafts.evaluation import Evaluation
@@ -50,7 +50,9 @@ class ShaftSeries:
     ------
     ValueError
         If there are no joints, an angle is NaN, infinite or out of range, the
-        phase list has the wrong length, or the model is unknown.
+        product of the angles' cosines is below
+        :data:`sso.limits.MIN_CHAIN_COSINE_PRODUCT`, the phase list has the wrong
+        length, or the model is unknown.
     """
 
     beta_deg: tuple[float, ...]
@@ -71,6 +73,7 @@ class ShaftSeries:
         for index, beta in enumerate(beta_deg):
             check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg",
                            upper_open=True)
+        check_chain_cosines("beta_deg", beta_deg)
         expected = len(beta_deg) - 1
         if self.phase_deg is None:
             phase_deg = (CONVENTIONAL_PHASE_DEG,) * expected

@@ -5,11 +5,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from sso.display import format_number
+from sso.limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
 from sso.solvers.solution import CrossCheck, Solution
-
-DEFAULT_OBJECTIVE_RTOL = 1e-6
-DEFAULT_OBJECTIVE_ATOL = 1e-14
-DEFAULT_KKT_TOLERANCE = 1e-6
 
 
 def crosscheck(

@@ -27,6 +27,21 @@ NLP_MB_PER_JOINT_VARIABLE_ANGLE = 0.26 / 16
 NLP_BASE_MB = 10.0
 # A finished run as kept in a result (its design, figures and solver record), MB.
 RUN_MB = 0.01
+# Peak memory of the batched least squares per start, bytes, where every start goes on
+# to the Newton steps and saddle tests (RE = 0 out of reach): it grows with the square
+# and the cube of the free angles (the Jacobians at the saddle test's 2 x free points),
+# plus each start's own record. Measured (benchmarks/memory_estimate.py): sso.optimise's
+# screening 265 KB a start at 31 free angles and 1.6 MB at 63 (32 and 64 joints,
+# option 1: peaks of 232 MB from 400 starts and over 1.7 GB from 1,000), 7 KB at 5
+# (10,000 starts: 195 MB); sso.optimise_batch 5.6, 38 and 398 KB a start at 3, 9 and 31.
+SCREEN_BYTES_PER_VARIABLE_PAIR = 135
+SCREEN_BYTES_PER_VARIABLE_CUBE = 4.5
+SCREEN_BYTES_PER_START = 8000
+# Peak of a process that has imported sso and numpy (an optimise_batch call), and of one
+# that has also built and run a CasADi NLP with IPOPT and SLSQP (a multi-start run), MB:
+# measured 45 and 55 MB (benchmarks/memory_estimate.py).
+NUMPY_PROCESS_MB = 50.0
+SOLVER_PROCESS_MB = 60.0
 
 MB = 2**20
 FLOAT_BYTES = 8
@@ -110,14 +125,41 @@ def nlp_memory_mb(joints: int, free_variables: int, samples: int) -> float:
     return NLP_BASE_MB + NLP_MB_PER_JOINT_VARIABLE_ANGLE * joints * free_variables * written_out
 
 
+def batch_least_squares_mb(problems: int, variables: int) -> float:
+    """Peak memory of the batched least squares (the screening of sso.optimise's starts,
+    sso.optimise_batch) on ``problems`` problems of ``variables`` variables each, MB."""
+    per_problem = (SCREEN_BYTES_PER_VARIABLE_PAIR * variables**2
+                   + SCREEN_BYTES_PER_VARIABLE_CUBE * variables**3 + SCREEN_BYTES_PER_START)
+    return problems * per_problem / MB
+
+
 def multistart_estimate(joints: int, free_variables: int, samples: int, starts: int,
-                        solvers: int) -> ResourceEstimate:
-    """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver."""
-    runs = starts * solvers
+                        solvers: int, screened: bool) -> ResourceEstimate:
+    """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver.
+
+    ``screened``: the starts are first solved by the batched least-squares solver (the
+    exact model), whose memory grows with the starts and the square and cube of the
+    free angles: 1,000 starts of 64 joints with 63 free angles need about 1.6 GB.
+    """
+    runs = kept_runs = starts * solvers
+    screening_mb = 0.0
+    if screened:  # "lm" screens every start; only IPOPT's and SLSQP's runs are kept
+        screening_mb = batch_least_squares_mb(starts, free_variables)
+        kept_runs = solvers
     return ResourceEstimate(
         task=f"multi-start run ({joints} joints, {free_variables} free angles, {starts} starts x "
              f"{solvers} solvers)",
-        memory_mb=nlp_memory_mb(joints, free_variables, samples) + RUN_MB * runs,
+        memory_mb=(SOLVER_PROCESS_MB + nlp_memory_mb(joints, free_variables, samples)
+                   + screening_mb + RUN_MB * kept_runs),
         solves=runs,
         lower_it="fix more angles (option 1 or 2, or equal bounds pin a joint), use fewer "
                  "joints or fewer starts")
+
+
+def batch_estimate(starts: int, joints: int, free_variables: int) -> ResourceEstimate:
+    """Memory and solves of :func:`sso.optimise_batch` on ``starts`` starts at once."""
+    return ResourceEstimate(
+        task=f"batch ({starts:,} starts of {joints} joints, {free_variables} free angles)",
+        memory_mb=NUMPY_PROCESS_MB + batch_least_squares_mb(starts, free_variables),
+        solves=starts,
+        lower_it="fix more angles (option 1 or 2) or use fewer joints")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-DEFAULT_SEED = 20251122
+from sso.limits import DEFAULT_SEED
 
 
 def start_points(

@@ -57,8 +57,8 @@ def test_a_batched_lm_sweep_on_dask_gives_the_local_pool_results_exactly(client)
 
 def test_a_tolerance_study_on_dask_gives_the_local_numbers_exactly(client):
     series = sso.ShaftSeries([15.8362, 10.0, 15.8387], [90.0053, 89.9695])
-    local = sso.tolerance(series, samples=600, seed=3, chunk_size=150, workers=2)
-    on_dask = sso.tolerance(series, samples=600, seed=3, chunk_size=150, client=client)
+    local = sso.tolerance_study(series, samples=600, seed=3, chunk_size=150, workers=2)
+    on_dask = sso.tolerance_study(series, samples=600, seed=3, chunk_size=150, client=client)
     for metric in ("residual_error", "fluctuation", "max_output_accel_rad_s2"):
         np.testing.assert_array_equal(getattr(on_dask, metric), getattr(local, metric))
 

@@ -15,7 +15,7 @@ if __name__ == "__main__":
                         "solver": {"starts": 1, "solvers": ["slsqp"]}},
                        {"design.beta_deg[0]": [10.0, 20.0, 30.0, 40.0]},
                        out_dir=sys.argv[1], workers=2, chunk_size=1, plots=False)
-    tolerance = sso.tolerance(sso.ShaftSeries([20.0, 30.0]), samples=40, chunk_size=10,
+    tolerance = sso.tolerance_study(sso.ShaftSeries([20.0, 30.0]), samples=40, chunk_size=10,
                               workers=2)
     loaded = sorted(name for name in sys.modules
                     if name.split(".")[0] in ("dask", "distributed", "matplotlib"))

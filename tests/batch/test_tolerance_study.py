@@ -1,4 +1,4 @@
-"""``sso.tolerance``: seeded, reproducible, and equal to evaluating each sample directly."""
+"""``sso.tolerance_study``: seeded, reproducible, and equal to evaluating each sample directly."""
 
 import json
 
@@ -13,8 +13,9 @@ PERCENTILES = (5.0, 50.0, 95.0)
 
 
 def test_percentiles_equal_numpy_over_directly_evaluated_samples():
-    result = sso.tolerance(SERIES, beta_tolerance_deg=[0.5, 0.3, 0.5], phase_tolerance_deg=2.0,
-                           samples=120, seed=11, percentiles=PERCENTILES, input_speed_rpm=25.0)
+    result = sso.tolerance_study(SERIES, beta_tolerance_deg=[0.5, 0.3, 0.5],
+                                 phase_tolerance_deg=2.0, samples=120, seed=11,
+                                 percentiles=PERCENTILES, input_speed_rpm=25.0)
     # The documented draw, made here independently.
     generator = np.random.default_rng(11)
     beta_deg = np.array(SERIES.beta_deg) + generator.normal(0.0, [0.5, 0.3, 0.5], (120, 3))
@@ -36,10 +37,10 @@ def test_percentiles_equal_numpy_over_directly_evaluated_samples():
 
 
 def test_the_same_seed_gives_the_same_numbers_for_any_chunking():
-    first = sso.tolerance(SERIES, samples=500, seed=7, distribution="uniform")
-    again = sso.tolerance(SERIES, samples=500, seed=7, distribution="uniform", chunk_size=77,
+    first = sso.tolerance_study(SERIES, samples=500, seed=7, distribution="uniform")
+    again = sso.tolerance_study(SERIES, samples=500, seed=7, distribution="uniform", chunk_size=77,
                           workers=1)
-    other = sso.tolerance(SERIES, samples=500, seed=8, distribution="uniform")
+    other = sso.tolerance_study(SERIES, samples=500, seed=8, distribution="uniform")
     for metric in ("residual_error", "fluctuation", "max_output_accel_rad_s2"):
         np.testing.assert_array_equal(getattr(first, metric), getattr(again, metric))
     assert not np.array_equal(first.residual_error, other.residual_error)
@@ -49,17 +50,17 @@ def test_the_same_seed_gives_the_same_numbers_for_any_chunking():
 
 
 def test_zero_tolerance_gives_the_nominal_design_in_every_sample():
-    result = sso.tolerance(SERIES, beta_tolerance_deg=0.0, phase_tolerance_deg=0.0, samples=4)
+    result = sso.tolerance_study(SERIES, beta_tolerance_deg=0.0, phase_tolerance_deg=0.0, samples=4)
     np.testing.assert_allclose(result.residual_error, SERIES.evaluate().residual_error,
                                rtol=1e-12)
 
 
 def test_one_joint_and_a_case_file_as_the_design(tmp_path):
-    one_joint = sso.tolerance(sso.ShaftSeries([20.0]), samples=50, beta_tolerance_deg=0.1)
+    one_joint = sso.tolerance_study(sso.ShaftSeries([20.0]), samples=50, beta_tolerance_deg=0.1)
     assert one_joint.phase_deg.shape == (50, 0)
     cos_beta = np.cos(np.radians(one_joint.beta_deg[:, 0]))
     np.testing.assert_allclose(one_joint.fluctuation, 1 / cos_beta - cos_beta, rtol=1e-9)
-    result = sso.tolerance("cases/paper_option3_exact.toml", samples=200, out_dir=tmp_path)
+    result = sso.tolerance_study("cases/paper_option3_exact.toml", samples=200, out_dir=tmp_path)
     assert {path.name for path in result.files} == {
         "tolerance.csv", "tolerance.json", "report.md", "report.html",
         "tolerance_histogram.png", "result.json"}
@@ -89,27 +90,27 @@ def test_one_joint_and_a_case_file_as_the_design(tmp_path):
 ])
 def test_bad_input_is_refused_naming_the_field_and_range(keywords, message):
     with pytest.raises(ValueError, match=message):
-        sso.tolerance(SERIES, **{"samples": 10, **keywords})
+        sso.tolerance_study(SERIES, **{"samples": 10, **keywords})
 
 
 def test_a_case_tolerance_table_sets_the_study_and_arguments_override_it():
     case = {"design": {"beta_deg": [20.0, 30.0], "phase_deg": [90.0]},
             "tolerance": {"beta_deg": [0.1, 0.2], "distribution": "uniform", "samples": 30,
                           "seed": 5, "percentiles": [50, 90]}}
-    from_table = sso.tolerance(case)
+    from_table = sso.tolerance_study(case)
     assert (from_table.samples, from_table.seed, from_table.distribution) == (30, 5, "uniform")
     assert from_table.beta_tolerance_deg == (0.1, 0.2)
     assert from_table.phase_tolerance_deg == (1.0,)  # not in the table: the default
     assert from_table.percentiles == (50.0, 90.0)
     assert np.all(np.max(np.abs(from_table.beta_deg - [20.0, 30.0]), axis=0) <= [0.1, 0.2])
-    overridden = sso.tolerance(case, samples=12, seed=6)
+    overridden = sso.tolerance_study(case, samples=12, seed=6)
     assert (overridden.samples, overridden.seed) == (12, 6)
 
 
 def test_a_study_of_an_optimisation_result_perturbs_its_optimum(tmp_path):
     # Two equal joints: the optimum phase is 90 deg and cancels exactly (docs/model.md).
     optimum = sso.optimise(sso.ShaftSeries([20.0, 20.0], [40.0], "exact"), 1, starts=1)
-    result = sso.tolerance(optimum, samples=400, beta_tolerance_deg=0.5,
+    result = sso.tolerance_study(optimum, samples=400, beta_tolerance_deg=0.5,
                            phase_tolerance_deg=1.0, out_dir=tmp_path / "study", plots=False)
     assert result.design == optimum.best.series
     assert result.study_of.startswith("the optimum (")
@@ -126,7 +127,8 @@ def test_a_study_of_an_optimisation_result_perturbs_its_optimum(tmp_path):
 def test_samples_below_zero_degrees_are_reflected_and_counted():
     # A joint at 0.2 deg with a 0.5 deg standard deviation: P(beta + d < 0) =
     # Phi(-0.4) = 0.3446, so about 34 % of the samples go below 0 and are reflected.
-    result = sso.tolerance(sso.ShaftSeries([0.2]), samples=4000, beta_tolerance_deg=0.5, seed=1)
+    result = sso.tolerance_study(sso.ShaftSeries([0.2]), samples=4000, beta_tolerance_deg=0.5,
+                                 seed=1)
     assert result.reflected_samples / result.samples == pytest.approx(0.3446, abs=0.025)
     assert np.all(result.beta_deg >= 0.0)
     assert "reflected to |beta|: " + str(result.reflected_samples) in result.summary()
@@ -139,7 +141,7 @@ def test_exact_model_samples_agree_with_an_independent_quadrature():
     from sso.kinematics.hooke import chain_kinematics
     from sso.shafts.objective import residual_error
 
-    result = sso.tolerance(SERIES, samples=40, seed=3, beta_tolerance_deg=2.0)
+    result = sso.tolerance_study(SERIES, samples=40, seed=3, beta_tolerance_deg=2.0)
     assert result.quadrature_samples == 0
     theta = np.linspace(0.0, np.pi, 100_001)
     for row in range(0, 40, 7):

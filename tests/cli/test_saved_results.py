@@ -26,7 +26,7 @@ def sso_report(*arguments):
 @pytest.fixture(scope="module")
 def saved(tmp_path_factory):
     folder = tmp_path_factory.mktemp("saved") / "phasing"
-    result = sso.optimise_phasing(GEOMETRY, starts=2)
+    result = sso.optimise(GEOMETRY, starts=2)
     sso.write_report(result, folder, formats=("json",))
     return result, json.loads((folder / "result.json").read_text())
 

@@ -1,4 +1,4 @@
-"""sso.optimise sends a column to the column optimisers and a shaft series where it always went."""
+"""sso.optimise, the one optimiser entry point, sends each problem to its optimiser."""
 
 from __future__ import annotations
 
@@ -7,8 +7,11 @@ import pytest
 from column_cases import load
 
 import sso
-from sso.column.joint_positions import JointPositionResult
+from sso.column.feel import OnCentreResult, optimise_on_centre
+from sso.column.joint_positions import JointCentresResult
 from sso.column.phasing import PhasingResult
+from sso.column.splines import SplineResult, best_spline_teeth
+from sso.linkages.fourbar_swing import design_fourbar
 
 TRUCK = load("truck_three_joints")["points_mm"]
 
@@ -32,7 +35,7 @@ def test_joint_boxes_send_a_geometry_to_the_joint_position_design():
     boxes = [[list(point - 5.0), list(point + 5.0)] for point in points[1:-1]]
     result = sso.optimise(sso.ColumnGeometry(TRUCK), joint_boxes_mm=boxes,
                           yoke_phase_deg=[0.0, 0.0], starts=2)
-    assert isinstance(result, JointPositionResult)
+    assert isinstance(result, JointCentresResult)
     assert result.fun < result.initial_re
 
 
@@ -53,9 +56,7 @@ def test_unknown_keyword_and_positional_options_fail():
         sso.optimise([20.0, 20.0])
 
 
-def test_positions_and_tolerances_go_to_the_robust_optimisers():
-    robust = pytest.importorskip("sso.column.robust")
-    assert callable(robust.optimise_positions) and callable(robust.optimise_robust)
+def test_positions_go_to_the_phasing_for_every_position():
     geometry = sso.ColumnGeometry(TRUCK)
     result = sso.optimise({"up": geometry, "down": geometry}, positions_objective="worst")
     assert result.fun == pytest.approx(sso.optimise(geometry).fun, rel=1e-6)
@@ -67,7 +68,33 @@ def test_a_joint_position_result_reads_well():
     result = sso.optimise(sso.ColumnGeometry(TRUCK), joint_boxes_mm=boxes,
                           yoke_phase_deg=[0.0, 0.0], starts=2)
     assert len(repr(result)) <= 400 and "\n" not in repr(result)
-    assert repr(result).startswith("JointPositionResult(")
+    assert repr(result).startswith("JointCentresResult(")
     summary = result.summary()
-    assert "Joint positions: " in summary and "P0" in summary and "ipopt" in summary
+    assert "Joint centres: " in summary and "P0" in summary and "ipopt" in summary
     assert "<table>" in result._repr_html_()
+
+
+def test_a_fourbar_goes_to_the_fourbar_design():
+    start = sso.FourBar(ground=12, crank=2, coupler=15, rocker=9)
+    bounds = {"crank_bounds": (1, 6), "coupler_bounds": (5, 20), "rocker_bounds": (5, 15)}
+    result = sso.optimise(start, **bounds, starts=2)
+    assert isinstance(result, sso.FourBarDesignResult)
+    assert result.x == design_fourbar(start, **bounds, starts=2).x  # same seed, same run
+    with pytest.raises(TypeError, match="keyword options only"):
+        sso.optimise(start, (1, 6))
+
+
+def test_teeth_and_lock_send_a_geometry_to_the_splines_and_the_on_centre_phasing():
+    geometry = sso.ColumnGeometry(TRUCK)
+    teeth = sso.optimise(geometry, teeth=12)
+    assert isinstance(teeth, SplineResult)
+    assert teeth.yoke_phase_deg == best_spline_teeth(geometry, 12).yoke_phase_deg
+    feel = {"straight_ahead_deg": 45.0, "lock_deg": 600.0, "starts": 0}
+    centred = sso.optimise(geometry, **feel)
+    assert isinstance(centred, OnCentreResult)
+    assert centred.yoke_phase_deg == optimise_on_centre(geometry, **feel).yoke_phase_deg
+
+
+def test_two_selecting_keywords_are_refused():
+    with pytest.raises(TypeError, match="got lock_deg and teeth; give at most one of"):
+        sso.optimise(sso.ColumnGeometry(TRUCK), teeth=12, lock_deg=600.0)

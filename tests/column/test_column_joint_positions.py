@@ -15,7 +15,7 @@ from cross_and_yoke import residual_error as simulated_residual_error
 
 from sso.column.cancel import can_cancel
 from sso.column.geometry import ColumnGeometry
-from sso.column.joint_positions import column_residual_error, optimise_joint_positions
+from sso.column.joint_positions import column_residual_error, optimise_joint_centres
 
 TRUCK = np.asarray(load("truck_three_joints")["points_mm"])
 CAR = np.asarray(load("car_intermediate_shaft")["points_mm"])
@@ -54,7 +54,7 @@ def test_graph_residual_error_matches_the_3d_simulation(joints):
 
 def test_fixed_in_phase_truck_moves_its_joints_to_a_lower_re_within_the_boxes():
     geometry = ColumnGeometry(TRUCK)
-    result = optimise_joint_positions(geometry, joint_boxes_mm=boxes(TRUCK, 5.0),
+    result = optimise_joint_centres(geometry, joint_boxes_mm=boxes(TRUCK, 5.0),
                                       beta_bounds_deg=(5.0, 20.0), yoke_phase_deg=[0.0, 0.0])
     assert result.success, result.message
     assert result.crosscheck.agree
@@ -82,7 +82,7 @@ def test_free_phasing_reaches_the_closed_form_least_re_of_the_bound_angles():
     bounds = [(9.0, 9.5), (13.0, 13.5), (19.5, 20.0)]
     assert not can_cancel([9.5, 13.5, 19.5]).possible
     expected = can_cancel([9.5, 13.5, 19.5]).minimum_residual_error
-    result = optimise_joint_positions(geometry, joint_boxes_mm=boxes(TRUCK, 10.0),
+    result = optimise_joint_centres(geometry, joint_boxes_mm=boxes(TRUCK, 10.0),
                                       beta_bounds_deg=bounds)
     assert result.success, result.message
     assert result.fun == pytest.approx(expected, rel=1e-7)
@@ -98,7 +98,7 @@ def test_free_phasing_car_column_cancels_by_equalising_its_angles():
     # Two joints cancel exactly when their angles are equal (can_cancel); the car
     # column's 24.0 / 24.5 deg can be equalised within 10 mm boxes.
     geometry = ColumnGeometry(CAR)
-    result = optimise_joint_positions(geometry, joint_boxes_mm=boxes(CAR, 10.0),
+    result = optimise_joint_centres(geometry, joint_boxes_mm=boxes(CAR, 10.0),
                                       beta_bounds_deg=(10.0, 30.0))
     assert result.success, result.message
     assert result.initial_re == pytest.approx(result.fixed_points_re, rel=1e-9)
@@ -111,7 +111,7 @@ def test_free_phasing_car_column_cancels_by_equalising_its_angles():
 
 def test_pinned_boxes_give_back_the_given_points():
     geometry = ColumnGeometry(TRUCK)
-    result = optimise_joint_positions(geometry, joint_boxes_mm=boxes(TRUCK, 0.0),
+    result = optimise_joint_centres(geometry, joint_boxes_mm=boxes(TRUCK, 0.0),
                                       beta_bounds_deg=(5.0, 25.0), yoke_phase_deg=[10.0, -80.0],
                                       solvers="ipopt", starts=1)
     assert result.points_mm == geometry.points_mm
@@ -128,7 +128,7 @@ def test_pinned_boxes_give_back_the_given_points():
 def test_bad_input_is_refused_naming_the_field(options, message):
     arguments = {"joint_boxes_mm": boxes(TRUCK, 5.0), **options}
     with pytest.raises(ValueError, match=message):
-        optimise_joint_positions(ColumnGeometry(TRUCK), **arguments)
+        optimise_joint_centres(ColumnGeometry(TRUCK), **arguments)
 
 
 def test_a_straight_joint_at_the_start_is_refused():
@@ -138,4 +138,4 @@ def test_a_straight_joint_at_the_start_is_refused():
     geometry = ColumnGeometry(points)
     assert geometry.straight_joints == (False, True, False)
     with pytest.raises(ValueError, match=r"joint 2 \(points_mm\[2\]\) is straight"):
-        optimise_joint_positions(geometry, joint_boxes_mm=boxes(np.asarray(points), 5.0))
+        optimise_joint_centres(geometry, joint_boxes_mm=boxes(np.asarray(points), 5.0))

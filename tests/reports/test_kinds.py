@@ -65,8 +65,8 @@ def test_batch_phasing_and_spline_results_read_well():
                                option=1)
     column = json.loads((DATA / "columns" / "truck_three_joints.json").read_text())
     geometry = sso.ColumnGeometry(np.asarray(column["points_mm"]))
-    phasing = sso.optimise_phasing(geometry)
-    splines = sso.best_spline_teeth(geometry, 12)
+    phasing = sso.optimise(geometry)
+    splines = sso.optimise(geometry, teeth=12)
     for item in (batch, phasing, splines):
         assert len(repr(item)) <= 400 and "\n" not in repr(item), repr(item)
         assert "<table>" in item._repr_html_()

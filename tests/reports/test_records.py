@@ -29,7 +29,7 @@ def column() -> sso.ColumnGeometry:
 
 
 def phasing() -> sso.PhasingResult:
-    return sso.optimise_phasing(column(), starts=2)
+    return sso.optimise(column(), starts=2)
 
 
 def tolerances() -> sso.Tolerances:
@@ -39,18 +39,18 @@ def tolerances() -> sso.Tolerances:
 MAKERS: dict[str, Callable[[], Any]] = {
     "OptimisationResult": lambda: sso.optimise(SERIES, 1, starts=2),
     "PhasingResult": phasing,
-    "SplineResult": lambda: sso.best_spline_teeth(column(), 24),
+    "SplineResult": lambda: sso.optimise(column(), teeth=24),
     "CancelVerdict": lambda: sso.can_cancel(column().beta_deg),
     "ToleranceBand": lambda: sso.tolerance_band(phasing(), re_limit=2.0 * phasing().fun + 1e-6),
-    "SampleStudy": lambda: sso.optimise_robust(column(), tolerances(), starts=2).robust_study,
+    "SampleStudy": lambda: sso.optimise(column(), tolerances=tolerances(), starts=2).robust_study,
     "SteeringFeel": lambda: sso.steering_feel((column(), (10.0, -60.0)),
                                               straight_ahead_deg=20.0, lock_deg=540.0),
-    "OnCentreResult": lambda: sso.optimise_on_centre(column(), straight_ahead_deg=45.0,
-                                                     lock_deg=600.0, starts=2),
-    "PositionsResult": lambda: sso.optimise_positions(
+    "OnCentreResult": lambda: sso.optimise(column(), straight_ahead_deg=45.0, lock_deg=600.0,
+                                             starts=2),
+    "PositionsResult": lambda: sso.optimise(
         {"tilt_down": column(), "tilt_up": sso.ColumnGeometry(TILT_UP)}, starts=2),
-    "RobustResult": lambda: sso.optimise_robust(column(), tolerances(), starts=2),
-    "JointPositionResult": lambda: sso.optimise_joint_positions(
+    "RobustResult": lambda: sso.optimise(column(), tolerances=tolerances(), starts=2),
+    "JointCentresResult": lambda: sso.optimise(
         column(), joint_boxes_mm=[[[x - 5.0, y - 5.0, z - 5.0], [x + 5.0, y + 5.0, z + 5.0]]
                                   for x, y, z in TILT_DOWN[1:-1]], starts=2),
     "SteeringRange": lambda: sso.steering_range((column(), (10.0, -60.0)), lock_deg=540.0),
@@ -63,7 +63,7 @@ MAKERS: dict[str, Callable[[], Any]] = {
                                      workers=1, plots=False, progress=False),
     "ToleranceResult": lambda: sso.tolerance_study(SERIES, beta_tolerance_deg=0.5, samples=30,
                                                    seed=1),
-    "FourBarDesignResult": lambda: sso.design_fourbar(
+    "FourBarDesignResult": lambda: sso.optimise(
         sso.FourBar(ground=12, crank=2, coupler=15, rocker=9), crank_bounds=(1.0, 3.0),
         coupler_bounds=(12.0, 18.0), rocker_bounds=(6.0, 12.0), starts=2),
     "MechanismTable": lambda: sso.FourBar(ground=12, crank=4, coupler=15, rocker=9).analyse(

@@ -54,7 +54,7 @@ def test_option_one_needs_two_joints():
 
 
 def test_series_must_be_a_shaft_series():
-    with pytest.raises(TypeError, match="series must be an sso.ShaftSeries, not list"):
+    with pytest.raises(TypeError, match="problem must be an sso.ShaftSeries, .*, not list"):
         sso.optimise([30, 40, 50])
 
 
@@ -198,9 +198,9 @@ def test_many_starts_above_zero_are_screened_in_one_batch():
     # share the batch's wall time equally. The best of them must equal the best of
     # the same starts solved one by one with "lm" (independent single runs, within
     # 1e-12 absolute), and the solvers then run from it.
-    from sso.limits import BATCH_SCREEN_STARTS
+    from sso.limits import BATCH_SCREEN_STARTS, DEFAULT_SEED
     from sso.shafts.options import build_problem
-    from sso.solvers.starts import DEFAULT_SEED, start_points
+    from sso.solvers.starts import start_points
 
     starts = 81
     assert starts - 1 >= BATCH_SCREEN_STARTS

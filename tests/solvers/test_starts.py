@@ -12,7 +12,8 @@ import sys
 
 import numpy as np
 
-from sso.solvers.starts import DEFAULT_SEED, rotated_halton, start_points
+from sso.limits import DEFAULT_SEED
+from sso.solvers.starts import rotated_halton, start_points
 
 LOWER, UPPER = np.array([0.0, -10.0, 5.0]), np.array([1.0, 10.0, 5.0])
 USER = np.array([0.5, 3.0, 5.0])

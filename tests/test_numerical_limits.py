@@ -1,0 +1,294 @@
+"""Every computation is safe at the documented limits: a clear error or a correct result.
+
+The limits: 64 joints (``sso.limits.MAX_JOINTS``, the most a case file takes) and
+operating angles up to the largest float below 90 deg. Below a product of the
+angles' cosines of ``sso.limits.MIN_CHAIN_COSINE_PRODUCT`` (1e-140) the chain's
+figures leave floating point, and such a design (or such upper bounds on free
+angles) is refused naming the field. On generated cases ``sso validate`` and then
+``sso evaluate`` / ``sso run`` agree: both refuse with exit 2, or validate accepts
+and the evaluation exits 0 with figures equal to mpmath's at 700 digits. No run ends
+in an internal error.
+
+The reference (:func:`reference_figures`) multiplies the chain matrix
+``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` (``D_k = diag(1, cos beta_k)``, docs/model.md)
+in mpmath and reads every figure off ``G = M^T M``; the ratio's slope peak is checked
+against a direct numerical maximisation in mpmath below. It takes each angle in
+radians exactly as the package converts it (one rounding of ``deg * pi / 180``,
+1.1e-16 rad, smaller than half the spacing of floats at 90 deg, 7e-15 deg): what is
+asserted is that nothing after that conversion loses accuracy.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+import pytest
+from fuzzing import run_sso
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import sso
+from sso.cases.schema import load_case
+from sso.limits import INPUT_MAGNITUDE_RANGE, MAX_JOINTS, MIN_CHAIN_COSINE_PRODUCT
+
+LARGEST_BELOW_90 = math.nextafter(90.0, 0.0)
+SPEED_RPM = 25.0
+DIGITS = 700  # det M down to 1e-140: A - R = det^2 / (A + R) needs about 600 digits
+
+CASES = settings(max_examples=30, deadline=None,
+                 suppress_health_check=[HealthCheck.function_scoped_fixture])
+
+
+def mp_radians(angle_deg: float) -> mpmath.mpf:
+    return mpmath.mpf(math.radians(angle_deg))
+
+
+def mp_chain_matrix(beta_deg: list[float], phase_deg: list[float]) -> mpmath.matrix:
+    """``M = D_n R(phi_(n-1)) ... R(phi_1) D_1`` at mpmath's working precision."""
+    matrix = mpmath.eye(2)
+    for index, beta in enumerate(beta_deg):
+        if index:
+            phase = mp_radians(phase_deg[index - 1])
+            matrix = mpmath.matrix([[mpmath.cos(phase), -mpmath.sin(phase)],
+                                    [mpmath.sin(phase), mpmath.cos(phase)]]) * matrix
+        matrix = mpmath.matrix([[1, 0], [0, mpmath.cos(mp_radians(beta))]]) * matrix
+    return matrix
+
+
+def reference_figures(beta_deg: list[float], phase_deg: list[float],
+                      speed_rpm: float) -> dict[str, mpmath.mpf]:
+    """The exact model's figures of one design, in mpmath at :data:`DIGITS` digits."""
+    with mpmath.workdps(DIGITS):
+        matrix = mp_chain_matrix(beta_deg, phase_deg)
+        determinant = mpmath.det(matrix)
+        gram = matrix.T * matrix
+        # |M v|^2 = A + R cos(2 theta - delta) and the ratio is det / |M v|^2.
+        mean = (gram[0, 0] + gram[1, 1]) / 2
+        amplitude = mpmath.sqrt(((gram[0, 0] - gram[1, 1]) / 2) ** 2 + gram[0, 1] ** 2)
+        return {
+            "residual_error": mean / determinant - 1,  # |M|_F^2 / (2 det) - 1
+            "speed_min_rpm": speed_rpm * determinant / (mean + amplitude),
+            "speed_max_rpm": speed_rpm * determinant / (mean - amplitude),
+            "fluctuation": determinant / (mean - amplitude) - determinant / (mean + amplitude),
+            "max_output_accel_rad_s2": (mpmath.mpf(speed_rpm) * mpmath.pi / 30) ** 2
+            * peak_slope(mean, amplitude, determinant),
+        }
+
+
+def peak_slope(mean: mpmath.mpf, amplitude: mpmath.mpf, determinant: mpmath.mpf) -> mpmath.mpf:
+    """Largest ``|d ratio / d theta|`` of ``det / (A + R cos u)``, ``u = 2 theta - delta``:
+    where ``R c^2 - A c - 2 R = 0`` for ``c = cos u`` (the slope's derivative vanishes)."""
+    if amplitude == 0:
+        return mpmath.mpf(0)
+    cosine = (mean - mpmath.sqrt(mean**2 + 8 * amplitude**2)) / (2 * amplitude)
+    return (2 * amplitude * determinant * mpmath.sqrt(1 - cosine**2)
+            / (mean + amplitude * cosine) ** 2)
+
+
+def scale_of(figure: str, speed_rpm: float) -> float:
+    """The figure's size for a chain at rest, below which its error is measured absolutely."""
+    return {"speed_min_rpm": speed_rpm, "speed_max_rpm": speed_rpm,
+            "max_output_accel_rad_s2": (speed_rpm * math.pi / 30) ** 2}.get(figure, 1.0)
+
+
+def assert_figures_match(evaluation: sso.Evaluation, beta_deg: list[float],
+                         phase_deg: list[float], speed_rpm: float) -> None:
+    # Measured over 500 random designs of 1 to 64 joints (and 200 near-cancelling
+    # ones): the largest error was 4e-14 of the figure plus its scale.
+    for figure, expected in reference_figures(beta_deg, phase_deg, speed_rpm).items():
+        got = getattr(evaluation, figure)
+        assert math.isfinite(got), (figure, got)
+        assert abs(mpmath.mpf(got) - expected) <= 1e-12 * (abs(expected)
+                                                            + scale_of(figure, speed_rpm)), (
+            figure, got, float(expected))
+
+
+def cosine_product_log10(beta_deg: list[float]) -> mpmath.mpf:
+    with mpmath.workdps(50):
+        return sum(mpmath.log10(mpmath.cos(mp_radians(beta))) for beta in beta_deg)
+
+
+def test_the_reference_slope_is_the_numerical_maximum():
+    """The closed form in :func:`peak_slope` against a search over the turn (mpmath)."""
+    beta_deg, phase_deg = [35.0, 60.0, 20.0], [30.0, 75.0]
+    figures = reference_figures(beta_deg, phase_deg, SPEED_RPM)
+    with mpmath.workdps(40):
+        matrix = mp_chain_matrix(beta_deg, phase_deg)
+        determinant = mpmath.det(matrix)
+
+        def ratio(theta):
+            image = matrix * mpmath.matrix([mpmath.cos(theta), mpmath.sin(theta)])
+            return determinant / (image[0] ** 2 + image[1] ** 2)
+
+        def slope(theta):
+            return mpmath.diff(ratio, theta)
+
+        grid = [mpmath.pi * k / 720 for k in range(720)]
+        start = max(grid, key=lambda theta: abs(slope(theta)))
+        peak = mpmath.findroot(lambda theta: mpmath.diff(ratio, theta, 2), start)
+        largest = abs(slope(peak)) * (mpmath.mpf(SPEED_RPM) * mpmath.pi / 30) ** 2
+    assert float(largest) == pytest.approx(float(figures["max_output_accel_rad_s2"]), rel=1e-12)
+
+
+def readable(value: float) -> float:
+    """A number a case file takes: 0 or of magnitude 1e-100 to 1e100
+    (``sso.limits.INPUT_MAGNITUDE_RANGE``)."""
+    return value if abs(value) >= INPUT_MAGNITUDE_RANGE[0] else 0.0
+
+
+def angles_deg() -> st.SearchStrategy[float]:
+    """Operating angles over the whole allowed range, crowded towards 90 deg."""
+    return st.one_of(
+        st.floats(0.0, 90.0, exclude_max=True),
+        st.floats(-14.0, 1.0).map(lambda power: 90.0 - 10.0**power),
+        st.just(LARGEST_BELOW_90),
+        st.sampled_from([0.0, 10.0, 45.0, 89.9, 89.99999]),
+    ).map(lambda angle: readable(min(max(angle, 0.0), LARGEST_BELOW_90)))
+
+
+@st.composite
+def designs(draw: st.DrawFn) -> tuple[list[float], list[float]]:
+    joints = draw(st.integers(1, MAX_JOINTS))
+    beta_deg = draw(st.one_of(
+        st.lists(angles_deg(), min_size=joints, max_size=joints),
+        angles_deg().map(lambda angle: [angle] * joints),  # the issue's equal joints
+    ))
+    phase_deg = draw(st.lists(
+        st.one_of(st.sampled_from([0.0, 90.0, 180.0]), st.floats(-360.0, 360.0).map(readable)),
+        min_size=joints - 1, max_size=joints - 1))
+    return beta_deg, phase_deg
+
+
+def case_text(name: str, beta_deg: list[float], phase_deg: list[float], option: int) -> str:
+    upper = max(beta_deg)
+    return "\n".join([
+        f'name = "{name}"', 'model = "exact"', f"option = {option}",
+        f"input_speed_rpm = {SPEED_RPM!r}", "[design]",
+        f"beta_deg = [{', '.join(repr(beta) for beta in beta_deg)}]",
+        f"phase_deg = [{', '.join(repr(phase) for phase in phase_deg)}]",
+        "[bounds]", f"beta_deg = [0.0, {upper!r}]", "phase_deg = [-90.0, 270.0]",
+        "[solver]", 'solvers = ["lm"]', "starts = 1", "",
+    ])
+
+
+@CASES
+@given(design=designs())
+def test_validate_then_evaluate_refuses_both_times_or_gives_the_exact_figures(tmp_path, design):
+    beta_deg, phase_deg = design
+    option = 1 if len(beta_deg) > 1 else 2
+    path = tmp_path / "limit.toml"
+    path.write_text(case_text("limit", beta_deg, phase_deg, option), encoding="utf-8")
+    validated, said = run_sso(["validate", str(path)])
+    evaluated, told = run_sso(["evaluate", str(path), "--out", str(tmp_path / "out"),
+                               "--formats", "json", "--quiet"])
+    assert "internal error" not in said + told
+    assert (validated, evaluated) in ((0, 0), (2, 2)), said + told
+    below_floor = cosine_product_log10(beta_deg) < math.log10(MIN_CHAIN_COSINE_PRODUCT)
+    assert (validated == 2) == below_floor, said
+    if below_floor:
+        assert "beta_deg: the product of cos(beta) over the" in said, said
+        return
+    case = load_case(path)
+    assert_figures_match(case.series().evaluate(SPEED_RPM), beta_deg, phase_deg, SPEED_RPM)
+
+
+@settings(max_examples=6, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(design=designs(), option=st.sampled_from([1, 3]))
+def test_validate_then_run_refuses_both_times_or_reports_what_the_solver_did(tmp_path, design,
+                                                                             option):
+    beta_deg, phase_deg = design
+    option = option if len(beta_deg) > 1 else 2
+    path = tmp_path / "limit.toml"
+    path.write_text(case_text("limit", beta_deg, phase_deg, option), encoding="utf-8")
+    validated, said = run_sso(["validate", str(path)])
+    ran, told = run_sso(["run", str(path), "--out", str(tmp_path / "out"),
+                         "--formats", "json", "--quiet"])
+    assert "internal error" not in said + told
+    if validated == 2:
+        assert ran == 2, told
+    else:
+        assert validated == 0 and ran in (0, 1), said + told  # 1: the solver failed, said so
+
+
+def test_the_issues_designs():
+    """Issue reproductions: 30 joints of 89.9 deg (phases 0) and 12 of 89.99999 deg
+    evaluate to the exact figures; 64 of 89.99999 deg (phases 90) are refused."""
+    for beta_deg, phase_deg in (([89.9] * 30, [0.0] * 29), ([89.99999] * 12, [0.0] * 11)):
+        evaluation = sso.ShaftSeries(beta_deg, phase_deg).evaluate(SPEED_RPM)
+        assert_figures_match(evaluation, beta_deg, phase_deg, SPEED_RPM)
+    # cos(89.99999 deg) = 1.745329e-7, and its 64th power is 3.02e-433.
+    with pytest.raises(ValueError, match=r"beta_deg: the product of cos\(beta\) over the 64 "
+                                         r"joints is 3\.02e-433, below the allowed 1e-140"):
+        sso.ShaftSeries([89.99999] * 64, [90.0] * 63)
+
+
+def test_free_angles_whose_upper_bounds_leave_the_floor_are_refused():
+    series = sso.ShaftSeries([10.0] * 64, [90.0] * 63)
+    with pytest.raises(ValueError, match=r"beta_bounds_deg \(their upper bounds\): the "
+                                         r"product of cos\(beta\)"):
+        sso.optimise(series, 3, beta_bounds_deg=(0.0, 89.9))
+    # Option 1 keeps the angles, so their bounds are not the chain's.
+    assert sso.optimise(series, 1, beta_bounds_deg=(0.0, 89.9), solvers="lm", starts=1).success
+
+
+def zigzag_mm(joints: int, offset_mm: float) -> list[list[float]]:
+    """Points of a planar zigzag: every joint bent by ``2 atan(2 offset / 100)``."""
+    return [[0.0, 0.0, 0.0]] + [[100.0 * (index + 1), offset_mm * (2 * (index % 2) - 1), 0.0]
+                                for index in range(joints + 1)]
+
+
+def test_a_thousand_joint_zigzag_column_is_refused_or_evaluated_exactly():
+    steep = zigzag_mm(1000, 30.0)  # 1000 joints of 61.9 deg: product 1e-327
+    with pytest.raises(ValueError, match=r"points_mm \(the operating angles they give\): the "
+                                         r"product of cos\(beta\) over the 1000 joints"):
+        sso.ColumnGeometry(steep)
+    gentle = sso.ColumnGeometry(zigzag_mm(1000, 5.0))  # 11.4 deg each: product 2.6e-9
+    series = gentle.series()
+    assert_figures_match(series.evaluate(SPEED_RPM), list(series.beta_deg),
+                         list(series.phase_deg), SPEED_RPM)
+    verdict = sso.can_cancel(gentle.beta_deg)
+    assert verdict.possible and verdict.minimum_residual_error == 0.0
+
+
+def test_coordinates_beyond_1e100_mm_are_refused_naming_the_coordinate():
+    huge = [[0.0, 0.0, 0.0], [1.4e154, 0.0, 0.0], [2.8e154, 1.4e154, 0.0],
+            [4.2e154, 1.4e154, 1.4e154]]
+    with pytest.raises(ValueError, match=r"points_mm\[1\]\[0\] = 1\.4e\+154 mm is outside "
+                                         r"the allowed range \[-1e\+100, 1e\+100\] mm"):
+        sso.ColumnGeometry(huge)
+    # At the limit the geometry is that of the same column in millimetres (scale-free).
+    scaled = sso.ColumnGeometry([[coordinate * 1e99 / 1.4e154 for coordinate in point]
+                                 for point in huge])
+    unit = sso.ColumnGeometry([[coordinate / 1.4e154 for coordinate in point] for point in huge])
+    assert scaled.beta_deg == pytest.approx(unit.beta_deg, rel=1e-14)
+    assert scaled.plane_angle_deg == pytest.approx(unit.plane_angle_deg, rel=1e-14)
+    assert scaled.shaft_length_mm == pytest.approx(
+        [length * 1e99 for length in unit.shaft_length_mm], rel=1e-14)
+
+
+@settings(max_examples=60, deadline=None)
+@given(first=st.floats(0.0, 88.9), step_exponent=st.floats(-15.0, 0.0),
+       others=st.lists(st.floats(0.0, 60.0), max_size=3))
+def test_can_cancel_keeps_its_digits_for_nearly_equal_angles(first, step_exponent, others):
+    """``can_cancel([10, 10 + 1e-13])`` once gave minimum_residual_error 0 beside
+    possible=False (cancellation in cosh(d) - 1). Margin and least RE against mpmath."""
+    beta_deg = [first, first + 10.0**step_exponent, *others]
+    verdict = sso.can_cancel(beta_deg)
+    with mpmath.workdps(200):  # cosh(d) - 1 of d down to 1e-30 keeps 140 digits
+        cosines = [mpmath.cos(mpmath.radians(mpmath.mpf(beta))) for beta in beta_deg]
+        largest = max(range(len(beta_deg)), key=lambda index: beta_deg[index])
+        product = mpmath.fprod(cosine for index, cosine in enumerate(cosines)
+                               if index != largest)
+        margin = cosines[largest] - product
+        least = (mpmath.cosh(mpmath.log(product / cosines[largest])) - 1 if margin < 0
+                 else mpmath.mpf(0))
+    assert verdict.possible == (margin >= 0) or abs(margin) < 1e-16
+    if len(beta_deg) == 2:  # the difference of two cosines is exact in the angles
+        assert float(margin) == pytest.approx(verdict.margin, rel=1e-12, abs=1e-300)
+        assert float(least) == pytest.approx(verdict.minimum_residual_error, rel=1e-9,
+                                             abs=1e-300)
+    else:  # from the rounded cosines: within a few of their rounding errors (1.1e-16)
+        assert abs(float(margin) - verdict.margin) <= 1e-15
+    assert (verdict.minimum_residual_error > 0.0) == (not verdict.possible)
