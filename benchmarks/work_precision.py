@@ -21,20 +21,25 @@ scipy SLSQP on a numpy objective sampled at 361 angles with finite-difference
 gradients (:func:`benchmarks.cases.baseline_solve`), the only baseline of the
 paper model.
 
-The summary ends with the performance targets, each met or missed with the
-ratio measured in this run (:func:`issue_12_targets`): the fastest sso solver
-against the skilled baseline on every case (the paper's options and random cases of
-every option, the worst one named), the default call, ``optimise_batch``
-throughput and its time against its arithmetic, the 30-joint first call and its
-memory, and the cold start.
+The summary opens with the table of every performance target this benchmark
+checks, dated and with the machine described (:func:`target_table`): each met or
+MISSED with what this run measured, and the retired ones with the reason they no
+longer measure anything (:data:`RETIRED`) and what they would say today. The
+targets: the fastest sso solver against the skilled baseline on every case (the
+paper's options and random cases of every option, the worst one named), the default
+call, ``optimise_batch`` throughput and its time against its arithmetic, the
+30-joint first call and its memory, the cold start (:func:`issue_12_targets`), and
+v0.1's error target (:func:`targets`).
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import datetime
 import json
 import os
+import platform
 import shutil
 import statistics
 import subprocess
@@ -435,18 +440,104 @@ def issue_12_targets(quick: bool) -> dict[str, Any]:
             "batch": batch, "first_calls": first_calls, "cold_start_s": cold}
 
 
+RETIRED = {
+    "speedup_at_least_3": (
+        "v0.1 asked every sso method (IPOPT and SLSQP from one start included) to be 3x "
+        "faster than its case's reference. The speed targets are now measured against "
+        "the skilled hand-written baseline: the fastest sso solver at >= 5x, the default "
+        "call (the IPOPT/SLSQP cross-check included) at <= 5x its single solve. IPOPT runs "
+        "for the cross-check, not for speed: on these 3- to 6-variable problems each of "
+        "its interior-point iterations costs a fixed ~0.3 ms, whatever the model costs."),
+    "nfev_at_most_quarter_of_fmincon": (
+        "Compared objective evaluations with the paper's fmincon counts (120 / 135 / 297), "
+        "which include the evaluations of its finite-difference gradients. sso's solvers "
+        "take exact gradients and Hessians, which an evaluation count leaves out, so a "
+        "count no longer measures work; wall time against the skilled baseline does."),
+}
+"""Targets no longer held, each with why; their figures are still measured and shown."""
+
+
+def machine_description() -> dict[str, Any]:
+    """What ran the benchmark: platform, CPUs, load, Python and the numerical libraries."""
+    import casadi
+    import scipy
+
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    return {"platform": platform.platform(), "machine": platform.machine(),
+            "processor": _cpu_model(), "cpu_count": os.cpu_count(),
+            "load_average_1_5_15_min": [round(value, 2) for value in load],
+            "python": platform.python_version(), "numpy": np.__version__,
+            "scipy": scipy.__version__, "casadi": casadi.__version__, "sso": sso.__version__}
+
+
+def _cpu_model() -> str:
+    """The CPU's model name (Linux: /proc/cpuinfo), else what ``platform`` knows."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def target_table(verdict: dict[str, Any], issue_12: dict[str, Any]) -> list[dict[str, Any]]:
+    """Every target this benchmark checks: name, status (met, MISSED, retired), what was
+    measured, and for a retired one the reason and what it would say today."""
+    rows = [{"target": name, "status": "met" if target["met"] else "MISSED",
+             "measured": target["measured"], "reason": ""}
+            for name, target in issue_12["targets"].items()]
+    for name, target in verdict.items():
+        today = ("met by every case and method" if target["met"]
+                 else "MISSED: " + "; ".join(target["misses"]))
+        if name in RETIRED:
+            rows.append({"target": name, "status": "retired",
+                         "measured": f"would be {today}", "reason": RETIRED[name]})
+        else:
+            rows.append({"target": name, "status": "met" if target["met"] else "MISSED",
+                         "measured": today, "reason": ""})
+    return rows
+
+
+def target_lines(rows: list[dict[str, Any]], machine: dict[str, Any], started_utc: str,
+                 finished_utc: str) -> list[str]:
+    """The dated target table in Markdown, with the machine described."""
+    lines = ["# Performance targets", "",
+             f"Run from {started_utc} to {finished_utc} (UTC) on {machine['platform']} "
+             f"({machine['machine']}, {machine['processor']}), {machine['cpu_count']} CPUs, "
+             f"load average (1, 5, 15 min) at the end {machine['load_average_1_5_15_min']}; "
+             f"Python {machine['python']}, numpy {machine['numpy']}, scipy {machine['scipy']}, "
+             f"casadi {machine['casadi']}, sso {machine['sso']}. Every target this benchmark "
+             "checks is listed, met or missed; a retired one keeps its figures and says why "
+             "it was retired. Times are wall-clock: with a load average above the CPU count "
+             "every method is slowed, and a solve that outlasts a scheduler slice (IPOPT, "
+             "about 4 ms of CPU on these cases) far more than the baseline's 1 ms.", "",
+             "| target | status | measured in this run |", "|---|---|---|"]
+    lines += [f"| {row['target']} | {row['status']} | {row['measured']} |" for row in rows]
+    retired = [row for row in rows if row["status"] == "retired"]
+    if retired:
+        lines += ["", "Retired:", ""]
+        lines += [f"- {row['target']}: {row['reason']}" for row in retired]
+    return lines + [""]
+
+
 def _format(value: Any, spec: str = ".3g") -> str:
     return "n/a" if value is None else format(value, spec)
 
 
 def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                   cold: dict[str, Any], verdict: dict[str, Any], settings: dict[str, Any],
-                  issue_12: dict[str, Any]) -> None:
-    """``summary.json`` and a Markdown table ``summary.md``."""
+                  issue_12: dict[str, Any], started_utc: str) -> None:
+    """``summary.json`` and ``summary.md``: the dated target table first, then the figures."""
+    finished_utc = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M")
+    machine = machine_description()
+    table = target_table(verdict, issue_12)
     (out / "summary.json").write_text(json.dumps(
-        {"settings": settings, "cases": ratios, "batch": batch, "cold_start": cold,
-         "targets": verdict, "issue_12": issue_12}, indent=2) + "\n")
-    lines = ["# Work-precision summary", "",
+        {"settings": settings, "started_utc": started_utc, "finished_utc": finished_utc,
+         "machine": machine, "target_table": table, "cases": ratios, "batch": batch,
+         "cold_start": cold, "targets": verdict, "issue_12": issue_12}, indent=2) + "\n")
+    lines = [*target_lines(table, machine, started_utc, finished_utc),
+             "# Work-precision summary", "",
              f"Settings: {json.dumps(settings)}", "",
              "Speedup = reference time / sso time, each at the reference's best error "
              "(fastest run that reaches it). Reference: the skilled hand-written solver "
@@ -486,13 +577,6 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                      f"(median of {cold['repeats']}).")
     else:
         lines.append(cold["note"])
-    lines += ["", "## Targets of v0.1 (against each case's reference above)", ""]
-    for name, target in verdict.items():
-        lines.append(f"- {name}: {'met' if target['met'] else 'MISSED'}")
-        lines.extend(f"  - {miss}" for miss in target["misses"])
-    lines += ["", "## Performance targets (ratios against the skilled baseline, this run)", ""]
-    for name, target in issue_12["targets"].items():
-        lines.append(f"- {name}: {'met' if target['met'] else 'MISSED'} ({target['measured']})")
     lines += ["", "One design, the paper's options (median wall time after a warm-up):", "",
               "| option | method | time (ms) | RE | skilled time / method time |",
               "|---|---|---|---|---|"]
@@ -545,6 +629,7 @@ def plot(out: Path, rows: list[Measurement]) -> None:
 def run(out: Path, quick: bool) -> dict[str, Any]:
     """Run the whole benchmark and write its files into ``out``."""
     out.mkdir(parents=True, exist_ok=True)
+    started_utc = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M")
     tolerances = QUICK_TOLERANCES if quick else FULL_TOLERANCES
     repeats = QUICK_REPEATS if quick else FULL_REPEATS
     best_known = load_best_known()
@@ -565,7 +650,7 @@ def run(out: Path, quick: bool) -> dict[str, Any]:
     issue_12 = issue_12_targets(quick)
     settings = {"quick": quick, "tolerances": list(tolerances), "repeats": repeats,
                 "cpu_count": os.cpu_count(), "sso": sso.__version__}
-    write_summary(out, ratios, batch, cold, verdict, settings, issue_12)
+    write_summary(out, ratios, batch, cold, verdict, settings, issue_12, started_utc)
     plot(out, rows)
     return {"cases": ratios, "batch": batch, "cold_start": cold, "targets": verdict,
             "issue_12": issue_12}

@@ -7,7 +7,9 @@ no class keeps a hand-written JSON form that could drift from its fields:
 
 - a registered object is ``{"type": class name, field: value, ...}`` (the fields
   its constructor takes, plus the cached figures a class lists in
-  ``_record_derived``, which are saved so that a reloaded result computes nothing);
+  ``_record_derived``, which are saved so that a reloaded result computes nothing;
+  a field marked :data:`NOT_SAVED`, such as a callable computing one of those
+  figures, is left out and reloads as its default);
   a class with a checked form of its own (a case: the case file's tables, read
   back through the case-file checks) defines ``_record_save()`` and the class
   method ``_record_load(saved, where)`` instead;
@@ -427,8 +429,15 @@ def _is_protocol(declared: type) -> bool:
     return bool(getattr(declared, "_is_protocol", False))
 
 
+NOT_SAVED = {"saved": False}
+"""``dataclasses.field(metadata=NOT_SAVED)``: a field the record does not hold (a
+callable that computes a derived figure); it must have a default, which a reloaded
+result gets, and the figure it computes must be listed in ``_record_derived``."""
+
+
 def _init_fields(cls: type) -> tuple[dataclasses.Field[Any], ...]:
-    return tuple(field for field in dataclasses.fields(cls) if field.init)
+    return tuple(field for field in dataclasses.fields(cls)
+                 if field.init and field.metadata.get("saved", True))
 
 
 @functools.cache

@@ -171,11 +171,14 @@ def test_papers_option_three_start_is_left_off_its_saddle(solver):
 def test_inert_phase_gives_a_line_of_optima():
     # joint 2 is straight, so only phi_1 + phi_2 matters: every design with
     # phi_1 + phi_2 = 90 (mod 180) cancels joints 1 and 3 exactly
+    # Each solver's own answer (its iterations from the given start) cancels to its own
+    # accuracy (the cross-check's objective_atol, 1e-14); the reported one to round-off.
     result = optimise(sso.ShaftSeries([20.0, 0.0, 20.0], [10.0, 30.0]), 1, starts=3)
+    assert result.best.fun <= 1e-20
     for name in BOTH:
         solution = result.solutions[name]
         assert solution.success, solution.message
-        assert solution.fun <= 1e-20
+        assert solution.nit > 0 and solution.fun <= 1e-14
         assert sum(solution.series.phase_deg) % 180.0 == pytest.approx(90.0, abs=1e-5)
     assert result.crosscheck.agree, result.crosscheck.message
 
@@ -184,13 +187,19 @@ def test_degenerate_optimum_curve_both_solvers_agree_on_value_not_design():
     # two joints, both free in [5, 30]: every beta_1 = beta_2 with phi = 90 has RE = 0
     result = optimise(sso.ShaftSeries([25.0, 10.0], [30.0]), 3, beta_bounds_deg=(5.0, 30.0),
                       starts=4)
+    # Each solver's own answer (its iterations from the given start) is on the curve to
+    # its own accuracy (RE within the cross-check's objective_atol, 1e-14: SLSQP stops at
+    # 7e-16, 2e-5 deg off it); the reported design, chosen on the curve, to round-off.
+    assert result.best.fun <= 1e-20
+    beta_1, beta_2 = result.best.series.beta_deg
+    assert beta_1 == pytest.approx(beta_2, abs=1e-6)
     for name in BOTH:
         solution = result.solutions[name]
         assert solution.success, solution.message
-        assert solution.fun <= 1e-20
+        assert solution.nit > 0 and solution.fun <= 1e-14
         beta_1, beta_2 = solution.series.beta_deg
-        assert beta_1 == pytest.approx(beta_2, abs=1e-6)
-        assert solution.series.phase_deg[0] == pytest.approx(90.0, abs=1e-6)
+        assert beta_1 == pytest.approx(beta_2, abs=1e-4)
+        assert solution.series.phase_deg[0] == pytest.approx(90.0, abs=1e-3)
     assert result.crosscheck.agree, result.crosscheck.message
 
 

@@ -35,7 +35,16 @@ from sso.limits import (
 from sso.reports.kinds import write_report
 from sso.shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso.shafts.optimise import OptimisationResult
-from sso.shafts.perturbed import METRICS, ToleranceChunk, draw_samples, evaluate_chunk
+from sso.shafts.perturbed import (
+    DEFAULT_TOLERANCES,
+    DISTRIBUTIONS,
+    MAX_SAMPLES,
+    METRICS,
+    ToleranceChunk,
+    draw_samples,
+    evaluate_chunk,
+    per_item_tolerances,
+)
 from sso.shafts.quadrature import rule_for_bounds
 from sso.shafts.series import ShaftSeries
 from sso.solvers.progress import ProgressBar, interactive
@@ -48,19 +57,9 @@ from sso.validation import (
     validate_speed,
 )
 
-DISTRIBUTIONS = ("normal", "uniform")
 DEFAULT_PERCENTILES = (5.0, 50.0, 95.0, 99.0)
-MAX_SAMPLES = 100_000_000
-MAX_TOLERANCE_DEG = 45.0
 # Settings of a study when neither the call nor the case's [tolerance] table gives them.
-DEFAULT_SETTINGS: dict[str, Any] = {
-    "beta_tolerance_deg": 0.5,
-    "phase_tolerance_deg": 1.0,
-    "distribution": "normal",
-    "samples": 10_000,
-    "seed": 0,
-    "percentiles": DEFAULT_PERCENTILES,
-}
+DEFAULT_SETTINGS: dict[str, Any] = {**DEFAULT_TOLERANCES, "percentiles": DEFAULT_PERCENTILES}
 
 
 def tolerance_study(
@@ -170,9 +169,9 @@ def tolerance_study(
                                                                    settings["percentiles"])))
     if not quantiles:
         raise ValueError("percentiles is empty: give one or more values in [0, 100]")
-    beta_tolerance = _tolerances("beta_tolerance_deg", settings["beta_tolerance_deg"],
+    beta_tolerance = per_item_tolerances("beta_tolerance_deg", settings["beta_tolerance_deg"],
                                  series.n_joints)
-    phase_tolerance = _tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
+    phase_tolerance = per_item_tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
     # The exact model's figures are closed forms (one value per sample, no angle
@@ -247,14 +246,3 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     return (case.series(), validate_speed("input_speed_rpm", speed),
             (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},
             f"the design as given (start) in case {case.name!r}")
-
-
-def _tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:
-    values = as_float_tuple(field_name, value)
-    if len(values) == 1:
-        values = values * count
-    elif len(values) != count:
-        raise ValueError(f"{field_name} has {len(values)} entries; give 1 or {count}")
-    return tuple(check_in_range(f"{field_name}[{index}]", item, 0.0, MAX_TOLERANCE_DEG, "deg")
-                 for index, item in enumerate(values))
-

@@ -146,6 +146,9 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
          f"in {folder}")
     initial, optimum, reference = (format_number(value, 3) if value is not None else "-"
                                    for value in told.residual_errors)
+    if told.objective_note is not None:
+        # the recommended teeth were searched for the case's own objective: say it
+        optimum += f" ({told.objective_note})"
     return Outcome(case.name, status, code, (initial, optimum, reference),
                    time.perf_counter() - started, str(folder))
 
@@ -160,6 +163,9 @@ class _Told:
     warnings: tuple[str, ...]
     residual_errors: tuple[float | None, ...]
     """RE of the initial design, the optimum and the reference (None: not in the result)."""
+    objective_note: str | None = None
+    """The objective the recommended teeth were searched for, at the teeth and continuous
+    (a column with positions, tolerances or a steering feel), else None."""
 
 
 def _told(result: Any) -> _Told:
@@ -172,10 +178,14 @@ def _told(result: Any) -> _Told:
                        for design in designs)
         return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
     designs = result.get("designs", {})
+    objective = designs.get("optimum", {}).get("objective")
+    note = None if objective is None else (
+        f"{objective['name']} {format_number(objective['at_teeth'], 3)} at the teeth, "
+        f"{format_number(objective['continuous'], 3)} continuous")
     return _Told(result["mode"], result["success"], result["verdict"],
                  tuple(result["warnings"]),
                  tuple(designs[role]["evaluation"]["residual_error"] if role in designs else None
-                       for role in ("initial", "optimum", "reference")))
+                       for role in ("initial", "optimum", "reference")), note)
 
 
 def _status(told: _Told) -> tuple[str, int]:

@@ -12,6 +12,7 @@ percentiles of the robust design and of the nominal optimum on the same sample.
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -20,6 +21,7 @@ import numpy as np
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import PhasingOutcome, cvar, outcome_fields, scenario_re, solve_scenarios
+from sso.column.splines import SplineResult, best_teeth_for_objective
 from sso.column.tolerances import SampleStudy, Tolerances
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
@@ -27,6 +29,7 @@ from sso.limits import (
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
+    DEFAULT_SPLINE_TEETH,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -34,6 +37,8 @@ from sso.validation import validate_count, validate_solver_tol, validate_solvers
 
 PERCENTILE_PATTERN = re.compile(r"p(\d+(?:\.\d+)?)")
 LOWEST_PERCENTILE = 50.0
+ROWS_PER_BLOCK = 512
+"""Assemblies evaluated over the whole sample at once when searching teeth (memory)."""
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -79,6 +84,36 @@ class RobustResult(PhasingOutcome):
     tolerances: Tolerances
     geometry: ColumnGeometry
     nominal: PhasingResult
+
+    @property
+    def objective_name(self) -> str:
+        """What ``fun`` measures, in words."""
+        if self.robust_objective == "mean":
+            return "mean RE over the built columns"
+        return (f"{self.robust_objective} objective (CVaR of RE at {self.level:g}) over the "
+                "built columns")
+
+    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
+        """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for this
+        objective over the same seeded built columns; ``residual_error`` of the
+        :class:`~sso.column.splines.SplineResult` is the objective at the teeth."""
+        sample = self.tolerances.sample(self.geometry)
+        count = len(sample.beta_rad)
+        weights = np.full(count, 1.0 / count)
+
+        def objective(yokes: np.ndarray) -> np.ndarray:
+            values = np.concatenate([
+                scenario_re(sample.beta_rad, sample.gamma_rad,
+                            yokes[first:first + ROWS_PER_BLOCK, np.newaxis, :])
+                for first in range(0, len(yokes), ROWS_PER_BLOCK)])
+            if self.robust_objective == "mean":
+                means: np.ndarray = values.mean(axis=1)
+                return means
+            return np.array([cvar(row, weights, self.level) for row in values])
+
+        return best_teeth_for_objective(self.geometry.joint_count - 1, teeth, objective,
+                                        continuous_yoke_phase_deg=self.yoke_phase_deg,
+                                        objective_name=self.objective_name)
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -99,6 +99,10 @@ class SplineResult(Record, Readable):
         ``"enumeration"`` or ``"branch_and_bound"``.
     assemblies_evaluated : int
         Complete and partial assemblies whose RE or bound was computed.
+    objective : str
+        What ``residual_error`` and ``continuous_residual_error`` measure: ``"RE"``
+        (the column at its hardpoints) or the case's own objective, e.g. ``"worst-
+        position RE"`` (:func:`best_teeth_for_objective`).
     """
 
     teeth: tuple[int, ...]
@@ -111,18 +115,21 @@ class SplineResult(Record, Readable):
     instructions: tuple[YokeInstruction, ...]
     method: str
     assemblies_evaluated: int
+    objective: str = "RE"
 
     def _repr_text(self) -> str:
-        return (f"teeth {list(self.teeth)}, tooth_offset {list(self.tooth_offset)}, RE "
-                f"{format_number(self.residual_error, 4)} (continuous optimum "
+        return (f"teeth {list(self.teeth)}, tooth_offset {list(self.tooth_offset)}, "
+                f"{self.objective} {format_number(self.residual_error, 4)} (continuous optimum "
                 f"{format_number(self.continuous_residual_error, 4)}), {self.method}")
 
     def _summary_parts(self) -> list[Part]:
         rows = tuple((str(index + 1), str(teeth), str(offset), format_number(phase))
                      for index, (teeth, offset, phase) in enumerate(
                          zip(self.teeth, self.tooth_offset, self.yoke_phase_deg, strict=True)))
-        title = (f"Spline teeth ({self.method}): RE {format_number(self.residual_error)}, "
-                 f"loss against the continuous optimum {format_number(self.loss)}")
+        title = (f"Spline teeth ({self.method}): {self.objective} "
+                 f"{format_number(self.residual_error)} (continuous optimum "
+                 f"{format_number(self.continuous_residual_error)}), loss "
+                 f"{format_number(self.loss)}")
         return [title, TextTable(("intermediate shaft", "teeth", "tooth offset",
                                   "yoke phase (deg)"), rows),
                 *self.assembly_text().splitlines()]
@@ -179,8 +186,11 @@ def best_spline_teeth(geometry: ColumnGeometry,
     total = math.prod(len(choice) for choice in offsets)
     if method == "auto":
         method = "enumeration" if total <= enumeration_limit else "branch_and_bound"
-    search = _enumerate if method == "enumeration" else _branch_and_bound
-    best_re, best_rows, evaluated = search(beta_rad, phase_choices)
+    if method == "enumeration":
+        best_re, best_rows, evaluated = _enumerate(
+            phase_choices, lambda phases: matrix_residual_error(chain_matrix(beta_rad, phases)))
+    else:
+        best_re, best_rows, evaluated = _branch_and_bound(beta_rad, phase_choices)
     best_offsets = [tuple(int(offsets[k][index]) for k, index in enumerate(row))
                     for row in best_rows]
     best_offsets.sort(key=lambda row: (sum(abs(value) for value in row), [-v for v in row]))
@@ -200,6 +210,78 @@ def best_spline_teeth(geometry: ColumnGeometry,
         method=method,
         assemblies_evaluated=evaluated,
     )
+
+
+def best_teeth_for_objective(shafts: int, teeth: int | Sequence[int],
+                             objective: Callable[[np.ndarray], np.ndarray], *,
+                             continuous_yoke_phase_deg: Sequence[float],
+                             objective_name: str,
+                             enumeration_limit: int = SPLINE_ENUMERATION_LIMIT) -> SplineResult:
+    """Best tooth positions for an objective of the yoke phasing itself.
+
+    For a column optimised over several positions, under tolerances or for the
+    steering feel, the teeth are searched for that objective (the worst position's
+    RE, the tail of RE over built columns, ...), not for the RE of one position.
+    Every distinct assembly is evaluated when there are at most ``enumeration_limit``;
+    beyond, the assemblies of each shaft's four tooth offsets nearest the continuous
+    phasing.
+
+    Parameters
+    ----------
+    shafts : int
+        Intermediate shafts (joints - 1), at least 1.
+    teeth : int or sequence of int
+        Spline teeth per intermediate shaft, each in ``[1, 1000]``.
+    objective : callable
+        ``yoke_phase_deg`` of shape ``(m, shafts)`` -> values of shape ``(m,)``, lower
+        is better.
+    continuous_yoke_phase_deg : sequence of float
+        The continuous optimum of the same objective, deg (for ``loss``).
+    objective_name : str
+        What the objective measures, for the record (``SplineResult.objective``).
+    enumeration_limit : int
+        Largest number of assemblies evaluated one by one.
+
+    Returns
+    -------
+    SplineResult
+        ``residual_error`` is the objective at the chosen teeth,
+        ``continuous_residual_error`` at ``continuous_yoke_phase_deg``.
+
+    Raises
+    ------
+    ValueError
+        If a tooth count is not a whole number in range.
+    """
+    counts = _validated_teeth(teeth, shafts)
+    continuous = np.asarray(continuous_yoke_phase_deg, dtype=float)
+    offsets = [_distinct_offsets(count) for count in counts]
+    if math.prod(len(choice) for choice in offsets) > enumeration_limit:
+        offsets = [_nearest_offsets(choice, count, target)
+                   for choice, count, target in zip(offsets, counts, continuous, strict=True)]
+    choices = [choice * 360.0 / count for choice, count in zip(offsets, counts, strict=True)]
+    best_value, best_rows, evaluated = _enumerate(choices, lambda yokes: np.asarray(
+        objective(yokes), dtype=float))
+    best_offsets = sorted((tuple(int(offsets[k][index]) for k, index in enumerate(row))
+                           for row in best_rows),
+                          key=lambda row: (sum(abs(value) for value in row), [-v for v in row]))
+    chosen = best_offsets[0]
+    continuous_value = float(np.asarray(objective(continuous[np.newaxis, :]), dtype=float)[0])
+    return SplineResult(
+        teeth=counts, tooth_offset=chosen,
+        yoke_phase_deg=tuple(offset * 360.0 / count
+                             for offset, count in zip(chosen, counts, strict=True)),
+        residual_error=best_value, continuous_residual_error=continuous_value,
+        loss=max(0.0, best_value - continuous_value), ties=tuple(best_offsets),
+        instructions=tuple(_instruction(k + 1, count, offset)
+                           for k, (count, offset) in enumerate(zip(counts, chosen, strict=True))),
+        method="enumeration", assemblies_evaluated=evaluated, objective=objective_name)
+
+
+def _nearest_offsets(offsets: np.ndarray, teeth: int, target_deg: float) -> np.ndarray:
+    """The four offsets whose phasing is nearest ``target_deg`` (mod 180 deg)."""
+    distance = np.abs(wrap_half_turn(offsets * 360.0 / teeth - target_deg))
+    return np.sort(offsets[np.argsort(distance, kind="stable")[:4]])
 
 
 def _validated_teeth(teeth: Any, shafts: int) -> tuple[int, ...]:
@@ -228,8 +310,10 @@ def _distinct_offsets(teeth: int) -> np.ndarray:
     return np.array(sorted(chosen.values()))
 
 
-def _enumerate(beta_rad: np.ndarray, choices: list[np.ndarray]
+def _enumerate(choices: list[np.ndarray], evaluate: Callable[[np.ndarray], np.ndarray]
                ) -> tuple[float, list[tuple[int, ...]], int]:
+    """Every combination of ``choices`` (one array per shaft), in blocks: ``evaluate``
+    maps a block of rows of chosen values to their objective values."""
     indices = itertools.product(*(range(len(choice)) for choice in choices))
     best_re, evaluated = math.inf, 0
     best_rows: list[tuple[int, ...]] = []
@@ -237,8 +321,8 @@ def _enumerate(beta_rad: np.ndarray, choices: list[np.ndarray]
         block = np.array(list(itertools.islice(indices, CHUNK_ROWS)), dtype=int)
         if block.size == 0:
             break
-        phases = np.stack([choices[k][block[:, k]] for k in range(len(choices))], axis=1)
-        values = matrix_residual_error(chain_matrix(beta_rad, phases))
+        values = evaluate(np.stack([choices[k][block[:, k]] for k in range(len(choices))],
+                                   axis=1))
         evaluated += len(values)
         best_re, best_rows = _merge_best(best_re, best_rows, values, block)
     return best_re, best_rows, evaluated

@@ -86,9 +86,13 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
                Heading(2, "Yoke phasing for the fitter"), _phasing_table(document)]
     if "splines" in document:
         splines = document["splines"]
-        blocks += [Paragraph(f"Best on the splines: RE {number(splines['residual_error'], '.6g')}"
-                             f", against {number(splines['continuous_residual_error'], '.6g')} "
-                             f"for the best continuous phasing (loss "
+        objective = splines.get("objective", "RE")
+        subject = ("the best continuous phasing" if objective == "RE"
+                   else "the continuous phasing of that objective")
+        blocks += [Paragraph(f"Best on the splines for the {objective}: "
+                             f"{number(splines['residual_error'], '.6g')} at the teeth, against "
+                             f"{number(splines['continuous_residual_error'], '.6g')} for "
+                             f"{subject} (loss "
                              f"{number(splines['loss'], '.3g')}; {splines['method']}, "
                              f"{splines['assemblies_evaluated']} assemblies evaluated, "
                              f"{len(splines['ties'])} tied)."),

@@ -18,6 +18,7 @@ from sso.reports.documents import render_documents
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, closing_blocks, number
 from sso.run.shaft_series import ShaftSeriesRun
 from sso.shafts.curves import ComparedDesign
+from sso.shafts.exact_optima import ExactOptimumSet
 from sso.shafts.optimise import OptimisationResult
 
 # (evaluation field, row label with unit, format)
@@ -94,6 +95,9 @@ def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block
                Paragraph(f"{'OK' if report.success else 'FAILED'}: {report.verdict}"),
                Heading(2, "Designs"), _design_table(report.designs),
                Heading(2, "Figures of merit"), _figure_table(report.designs)]
+    if report.optimisation is not None and report.optimisation.exact_optima is not None:
+        blocks += [Heading(2, "Exact optima"),
+                   *_exact_optima_blocks(report.optimisation.exact_optima)]
     if report.optimisation is not None:
         blocks += [Heading(2, "Solvers"), _solver_table(report.optimisation),
                    Heading(2, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
@@ -184,30 +188,57 @@ def _figure_table(designs: Sequence[ComparedDesign]) -> Table:
 
 
 def _solver_table(result: OptimisationResult) -> Table:
-    rows = tuple((name, "yes" if solution.success else "no", str(solution.status),
-                  solution.message, number(solution.fun, ".4g"), number(solution.kkt, ".2g"),
-                  str(solution.nit), str(solution.nfev), str(solution.total_nfev),
-                  number(solution.time_s, ".3f"), str(solution.start_index))
-                 for name, solution in result.solutions.items())
-    return Table(("solver", "success", "status", "message", "RE", "KKT residual (1/rad)",
+    solutions = [*result.solutions.items(),
+                 *[(name, run) for name, run in result.confirmations.items()
+                   if run != result.solutions.get(name)]]
+    rows = tuple((name, solution.role, "yes" if solution.success else "no",
+                  str(solution.status), solution.message, number(solution.fun, ".4g"),
+                  number(solution.kkt, ".2g"), str(solution.nit), str(solution.nfev),
+                  str(solution.total_nfev), number(solution.time_s, ".3f"),
+                  str(solution.start_index))
+                 for name, solution in solutions)
+    return Table(("solver", "run", "success", "status", "message", "RE", "KKT residual (1/rad)",
                   "iterations", "evaluations", "evaluations, all starts", "time (s)", "start"),
                  rows)
 
 
 def _runs_table(result: OptimisationResult) -> Table:
-    rows = tuple((run.solver, str(run.start_index), "yes" if run.success else "no",
+    rows = tuple((run.solver, run.role, str(run.start_index), "yes" if run.success else "no",
                   number(run.fun, ".4g"), number(run.kkt, ".2g"), str(run.nit),
                   number(run.time_s, ".3f"))
                  for run in result.runs)
-    return Table(("solver", "start", "success", "RE", "KKT residual (1/rad)",
+    return Table(("solver", "run", "start", "success", "RE", "KKT residual (1/rad)",
                   "iterations", "time (s)"), rows)
+
+
+def _exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
+    """The set of exact optima: the criterion of the choice, its figures, the set's extent."""
+    text = (f"RE is at round-off zero on a set of designs of dimension {exact.dimension}; "
+            f"the design reported was chosen within it by {exact.criterion}, from "
+            f"{exact.starts} exact optimum(s) found. Margin to the bounds: "
+            f"{number(exact.margin_deg, '.4g')} deg (the first found: "
+            f"{number(exact.first_margin_deg, '.4g')} deg).")
+    tolerances = exact.tolerances
+    if exact.p95_residual_error is not None and tolerances is not None:
+        text += (f" p95 RE under the tolerances ({tolerances.distribution}, beta "
+                 f"{list(tolerances.beta_tolerance_deg)} deg, phase "
+                 f"{list(tolerances.phase_tolerance_deg)} deg, {tolerances.samples} samples, "
+                 f"seed {tolerances.seed}): {number(exact.p95_residual_error, '.4g')} "
+                 f"(the first found: {number(exact.first_p95_residual_error, '.4g')}).")
+    rows = tuple((name, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
+                 for name, (low, high), chosen in zip(exact.variables, exact.extent_deg,
+                                                      exact.chosen_deg, strict=True))
+    return [Paragraph(text), Table(("variable", "set from (deg)", "set to (deg)",
+                                    "chosen (deg)"), rows)]
 
 
 def _crosscheck_text(result: OptimisationResult) -> str:
     check = result.crosscheck
-    verdict = "one solver: no cross-check" if check is None else check.message
+    verdict = ("one solver: no cross-check" if check is None
+               else f"the solvers' own answers: {check.message}")
     minima = ", ".join(number(value, ".4g") for value in result.local_minima)
-    return f"{verdict}. Distinct RE values the successful runs stopped at: {minima or 'none'}."
+    return (f"The reported optimum was found by {result.found_by}. Cross-check of {verdict}. "
+            f"Distinct RE values the successful runs stopped at: {minima or 'none'}.")
 
 
 def _caption(file_name: str) -> str:

@@ -9,7 +9,10 @@ Layout (``schema_version`` as :data:`sso.run.document.SCHEMA_VERSION`)::
     cancel: sso.can_cancel(beta).to_dict(),
     assemblies: [{role, label, yoke_phase_deg, phase_deg, residual_error}],
     phasing? (optimise): best continuous phasing, its optima and the cross-check,
-    splines? ([splines] given): best teeth, loss, fitter's instructions,
+    splines? ([splines] given): best teeth, loss, fitter's instructions, for the
+        case's own objective when it has positions, tolerances or a steering feel
+        (``objective`` says which; the one position's then in
+        ``splines_single_position``),
     joint_positions? (optimise with [joint_boxes]): JointCentresResult.to_dict(),
     robust? (positions, tolerances, band or feel given):
         :mod:`sso.run.column_robust_document`,
@@ -96,15 +99,6 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             success = success and phasing.success
             verdicts.append(f"phasing: {phasing.message}")
             recommended = "best"
-        if case.teeth is not None:
-            from sso.column.splines import best_spline_teeth
-
-            splines = best_spline_teeth(geometry, case.teeth)
-            assemblies.append(_assembly(geometry, "splines",
-                                        "best on the splines (whole teeth)",
-                                        splines.yoke_phase_deg))
-            document["splines"] = asdict(splines)
-            recommended = "splines"
         if optimising and case.has_joint_boxes:
             from sso.column.joint_positions import optimise_joint_centres
 
@@ -112,18 +106,32 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             document["joint_positions"] = moved._document_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")
+        teeth_assembly = None
         if has_robust_part(case):
-            robust, robust_success, robust_verdicts = robust_part(
+            robust, robust_success, robust_verdicts, teeth_assembly = robust_part(
                 case, optimising, list(as_built), phasing)
             document["robust"] = robust
             success = success and robust_success
             verdicts += robust_verdicts
+        if case.teeth is not None:
+            from sso.column.splines import best_spline_teeth
+
+            splines = best_spline_teeth(geometry, case.teeth)
+            label = "best on the splines (whole teeth)"
+            if teeth_assembly is not None:
+                # the fitter gets the teeth of the objective the case optimised
+                document["splines_single_position"] = asdict(splines)
+                label, splines = teeth_assembly
+            assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
+            document["splines"] = asdict(splines)
+            recommended = "splines"
         excitation = _excitation(geometry, case, {entry["role"]: entry for entry in assemblies},
                                  ("as_built", recommended))
     document["assemblies"] = assemblies
     document["excitation"] = excitation
     document["steering"] = _steering(geometry, case, assemblies, document.get("robust"))
-    document["designs"] = _designs(assemblies, recommended, document.get("joint_positions"))
+    document["designs"] = _designs(assemblies, recommended, document.get("joint_positions"),
+                                   document.get("splines"))
     document.update(
         success=success,
         verdict="; ".join(verdicts) if verdicts else "assembly as built analysed; no optimisation",
@@ -188,8 +196,10 @@ def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: list[dict[
 
 
 def _designs(assemblies: list[dict[str, Any]], recommended: str,
-             joint_positions: dict[str, Any] | None) -> dict[str, Any]:
-    """Initial and best RE in the shape the command's summary reads."""
+             joint_positions: dict[str, Any] | None,
+             splines: dict[str, Any] | None) -> dict[str, Any]:
+    """Initial and best RE in the shape the command's summary reads; on the splines for
+    an objective of its own, that objective at the teeth and at the continuous phasing."""
     by_role = {entry["role"]: entry for entry in assemblies}
     designs = {"initial": {"label": by_role["as_built"]["label"],
                            "evaluation": {"residual_error": by_role["as_built"]["residual_error"]}}}
@@ -200,4 +210,8 @@ def _designs(assemblies: list[dict[str, Any]], recommended: str,
         if joint_positions is not None and joint_positions["fun"] < value:
             value, label = joint_positions["fun"], "joints moved within their boxes"
         designs["optimum"] = {"label": label, "evaluation": {"residual_error": value}}
+        if recommended == "splines" and splines is not None and splines["objective"] != "RE":
+            designs["optimum"]["objective"] = {
+                "name": splines["objective"], "at_teeth": splines["residual_error"],
+                "continuous": splines["continuous_residual_error"]}
     return designs

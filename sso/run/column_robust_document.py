@@ -4,7 +4,7 @@ Built when a column case has ``[hardpoints.positions]``, ``[tolerances]``, ``[ba
 or ``[feel]`` (:mod:`sso.cases.column_robust`). Layout::
 
     robust: {
-      designs: [{role, label, yoke_phase_deg, nominal_re,
+      designs: [{role, label, yoke_phase_deg, nominal_re, splines? (a teeth assembly),
                  position_re?, worst_position_re?, active_positions?,
                  study?: SampleStudy.to_dict(), feel?: SteeringFeel.to_dict(),
                  band?: ToleranceBand.to_dict() | band_note?: str}],
@@ -49,8 +49,15 @@ def has_robust_part(case: ColumnCase) -> bool:
 
 
 def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
-                best: Any) -> tuple[dict[str, Any], bool, list[str]]:
-    """The ``robust`` section, whether its solvers succeeded, and their verdicts.
+                best: Any) -> tuple[dict[str, Any], bool, list[str], Any]:
+    """The ``robust`` section, whether its solvers succeeded, their verdicts, and the
+    teeth assembly of the case's own objective (None without teeth or optimisation).
+
+    With ``[splines]`` teeth, each robust design (the positions' shared phasing, the
+    tolerance-aware one, the on-centre one) gets its whole-teeth assembly, searched
+    for its own objective (``on_splines``); the one recommended to the fitter is the
+    first of positions, tolerances, on-centre that the case has (the column is used
+    at every position; the tolerances and the feel refine one position).
 
     Parameters
     ----------
@@ -75,10 +82,21 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
     success = True
     verdicts: list[str] = []
 
+    teeth_assemblies: list[tuple[str, Any]] = []
+
     def add(role: str, label: str, yoke: Any) -> dict[str, Any]:
         entry = {"role": role, "label": label, "yoke_phase_deg": [float(v) for v in yoke]}
         designs.append(entry)
         return entry
+
+    def add_teeth(role: str, label: str, result: Any) -> None:
+        if case.teeth is None:
+            return
+        teeth = result.on_splines(case.teeth)
+        entry = add(f"{role}_splines", f"{label}, on the splines (whole teeth)",
+                    teeth.yoke_phase_deg)
+        entry["splines"] = asdict(teeth)
+        teeth_assemblies.append((f"{label}, on the splines (whole teeth)", teeth))
 
     if optimising:
         add("nominal", "nominal optimum (best phasing of the hardpoints)", best.yoke_phase_deg)
@@ -99,6 +117,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
             section["positions"]["result"] = _without_geometries(shared._document_dict())
             add("positions", f"one phasing for every position ({objective})",
                 shared.yoke_phase_deg)
+            add_teeth("positions", f"one phasing for every position ({objective})", shared)
             success = success and shared.success
             verdicts.append(f"positions: {shared.message}")
     tolerances = case.tolerances()
@@ -113,6 +132,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
                                      **options)
             section["tolerances"]["result"] = _without_geometries(robust._document_dict())
             add("robust", f"tolerance-aware ({robust.robust_objective})", robust.yoke_phase_deg)
+            add_teeth("robust", f"tolerance-aware ({robust.robust_objective})", robust)
             success = success and robust.success
             verdicts.append(f"tolerances: {robust.message}")
     feel: dict[str, Any] | None = case.feel_options()
@@ -133,6 +153,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
                 centred = optimise_on_centre(geometry, **feel, **options)
                 section["feel"]["result"] = centred._document_dict()
                 add("on_centre", "on-centre (steering feel)", centred.yoke_phase_deg)
+                add_teeth("on_centre", "on-centre (steering feel)", centred)
                 success = success and centred.success
                 verdicts.append(f"steering feel: {centred.message}")
     limit = case.values.get("band.re_limit")
@@ -150,7 +171,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
     section["phase_error"] = _phase_error(geometry, designs)
     if feel is not None:
         section["feel"].update(_feel_curves(geometry, designs, feel))
-    return section, success, verdicts
+    return section, success, verdicts, teeth_assemblies[0] if teeth_assemblies else None
 
 
 def _design_figures(entry: dict[str, Any], geometry: ColumnGeometry,

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import functools
+import time
 import warnings
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -32,6 +33,13 @@ from sso.limits import (
 )
 from sso.shafts.curves import ComparedDesign, compared_design
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
+from sso.shafts.exact_optima import (
+    ExactOptimumSet,
+    ToleranceSettings,
+    choose_exact_optimum,
+    is_exact,
+    tolerance_settings,
+)
 from sso.shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     DesignProblem,
@@ -41,12 +49,20 @@ from sso.shafts.options import (
 from sso.shafts.problem import compiled_nlp
 from sso.shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso.shafts.series import ShaftSeries, checked_series
-from sso.solvers.multistart import MeasuredRun, solution_from_run, solve_from_starts
+from sso.solvers import lm
+from sso.solvers.lm_kernel import kernel_of, run_kernel
+from sso.solvers.multistart import (
+    MeasuredRun,
+    SolverFields,
+    measure_run,
+    solution_from_run,
+    solve_from_starts,
+)
 from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import check_memory, multistart_estimate
 from sso.solvers.result import DesignResult
-from sso.solvers.run import RunLimits
-from sso.solvers.solution import Solution
+from sso.solvers.run import RunLimits, RunOutcome
+from sso.solvers.solution import ROLE_SELECTION, Solution
 from sso.validation import (
     validate_count,
     validate_solver_tol,
@@ -98,8 +114,10 @@ class OptimisationResult(DesignResult):
         As in :class:`sso.solvers.result.DesignResult`; ``fun`` is the residual
         error RE and ``x`` is in deg. With ``screen_starts`` (exact model, more
         than one start), ``runs`` holds the screening runs of ``"lm"`` from each
-        start, then each solver's run from the best of them (its
-        ``start_index`` is that start's).
+        start, then each solver's own solve from the common start, then its run
+        from the screen's best point where it had one (``confirmations``); last,
+        the choice within the exact optima when it moved the design (``best``,
+        role ``"selection"``). ``found_by`` says who found ``best``.
     samples : int
         Quadrature angles of the NLP (chosen for the bounds); 0 for the exact
         model, whose RE is evaluated in closed form (no quadrature).
@@ -113,6 +131,10 @@ class OptimisationResult(DesignResult):
         paper model's quadrature notes.
     quadrature_rtol, quadrature_atol : float
         Quadrature tolerance of the evaluations (paper model).
+    exact_optima : sso.shafts.exact_optima.ExactOptimumSet or None
+        Where the least RE is round-off zero (exact model): the criterion the
+        reported design was chosen by within the set of exact optima, its figures
+        and the set's extent per variable; None otherwise.
     """
 
     option: int
@@ -129,6 +151,7 @@ class OptimisationResult(DesignResult):
     warnings: tuple[str, ...]
     quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL
     quadrature_atol: float = DEFAULT_QUADRATURE_ATOL
+    exact_optima: ExactOptimumSet | None = None
 
     @functools.cached_property
     def initial(self) -> Evaluation:
@@ -145,7 +168,7 @@ class OptimisationResult(DesignResult):
         """The initial design and the optimum as a report shows them, with speed curves."""
         return (compared_design("initial", "initial design (as given)", self.initial_series,
                                 self.initial),
-                compared_design("optimum", f"optimum ({self.best.solver})", self.best_series,
+                compared_design("optimum", f"optimum (found by {self.found_by})", self.best_series,
                                 self.optimum))
 
     @property
@@ -175,7 +198,7 @@ class OptimisationResult(DesignResult):
         verdict = "success" if self.success else "FAILED"
         return (f"option {self.option} ({self.option_name}), {self.model} model, "
                 f"{verdict}: RE {format_number(self.initial.residual_error, 4)} -> "
-                f"{format_number(self.fun, 4)} by {self.best.solver}; "
+                f"{format_number(self.fun, 4)} by {self.found_by}; "
                 f"beta_deg [{format_numbers(self.best_series.beta_deg, 6)}], "
                 f"phase_deg [{format_numbers(self.best_series.phase_deg, 6)}]")
 
@@ -185,11 +208,12 @@ class OptimisationResult(DesignResult):
             ("initial", format_numbers(self.initial_series.beta_deg),
              format_numbers(self.initial_series.phase_deg),
              format_number(self.initial.residual_error)),
-            (f"optimum ({self.best.solver})", format_numbers(self.best_series.beta_deg),
+            ("optimum", format_numbers(self.best_series.beta_deg),
              format_numbers(self.best_series.phase_deg), format_number(self.fun))))
         title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
                  f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
-        return [title, designs, *self._solver_parts("RE", "KKT (1/rad)")]
+        exact = [] if self.exact_optima is None else self.exact_optima._summary_parts()
+        return [title, designs, *exact, *self._solver_parts("RE", "KKT (1/rad)")]
 
     @property
     def success(self) -> bool:
@@ -215,6 +239,7 @@ class OptimisationResult(DesignResult):
             "quadrature_error": self.quadrature_error,
             "starts": self.starts,
             "warnings": list(self.warnings),
+            "exact_optima": None if self.exact_optima is None else self.exact_optima.to_dict(),
             **self.solver_dict(),
         }
 
@@ -238,6 +263,10 @@ def optimise(
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
     memory_limit_mb: float | None = None,
     screen_starts: bool = True,
+    beta_tolerance_deg: float | Sequence[float] | None = None,
+    phase_tolerance_deg: float | Sequence[float] | None = None,
+    distribution: str | None = None,
+    samples: int | None = None,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
@@ -273,7 +302,8 @@ def optimise(
     max_iterations : int
         Iteration limit of each run, >= 1.
     seed : int
-        Seed of the space-filling starts.
+        Seed of the space-filling starts and, with tolerances, of their Monte Carlo
+        samples (as :func:`sso.tolerance_study`'s ``seed``).
     quadrature_rtol, quadrature_atol : float
         Tolerance of the adaptive quadrature (relative, absolute floor).
     objective_rtol, objective_atol, kkt_tolerance : float
@@ -311,6 +341,12 @@ def optimise(
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
     solver_names = validate_solvers(solvers, SOLVERS)
+    tolerances = tolerance_settings(series.n_joints, beta_tolerance_deg, phase_tolerance_deg,
+                                    distribution, samples, seed)
+    if tolerances is not None and series.model != "exact":
+        raise ValueError("beta_tolerance_deg, phase_tolerance_deg, distribution and samples "
+                         "choose the most robust of a set of exact optima (RE = 0), which "
+                         f"only the exact model has; series.model = {series.model!r}")
     if "lm" in solver_names and series.model != "exact":
         raise ValueError(f"solvers = {list(solver_names)} includes 'lm', which needs the exact "
                          f"model's closed form; series.model = {series.model!r} allows "
@@ -342,7 +378,7 @@ def optimise(
                  memory_limit_mb)
     return _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                   max_iterations, seed, quadrature_rtol, quadrature_atol, objective_rtol,
-                  objective_atol, kkt_tolerance, screen_starts, setup_warnings)
+                  objective_atol, kkt_tolerance, screen_starts, setup_warnings, tolerances)
 
 
 def _screened(series: ShaftSeries, solver_names: tuple[str, ...], starts: int,
@@ -355,15 +391,17 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
-           setup_warnings: tuple[str, ...]) -> OptimisationResult:
+           setup_warnings: tuple[str, ...],
+           tolerances: ToleranceSettings | None) -> OptimisationResult:
     screened = _screened(series, solver_names, starts, screen_starts)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
     bar = (ProgressBar(runs, "runs", True)
            if runs >= PROGRESS_MIN_RUNS and interactive() else None)
+    nlp = compiled_nlp(problem, rule.samples)
     try:
         solved = solve_from_starts(
-            compiled_nlp(problem, rule.samples), problem.start_rad,
+            nlp, problem.start_rad,
             RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
             solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
             max_iterations=max_iterations,
@@ -380,6 +418,15 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
                                      series.model)
                       if problem.option == 2 else series)
     start_beta, start_phase = problem.design_deg(problem.start_deg)
+    exact_optima = None
+    # The choice is made where solvers are cross-checked, or tolerances ask for it; one
+    # solver's runs report what it reached, as optimise_batch and batched sweeps do.
+    if (series.model == "exact" and problem.n_free and is_exact(solved["best"].fun)
+            and solved["best"].success
+            and (tolerances is not None or len(solver_names) > 1)):
+        chosen, exact_optima = _most_robust(problem, nlp, solved, series.model, tolerances)
+        if chosen is not solved["best"]:
+            solved["best"], solved["runs"] = chosen, (*solved["runs"], chosen)
     return OptimisationResult(
         option=problem.option,
         option_name=problem.option_name,
@@ -395,8 +442,46 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         warnings=setup_warnings,
         quadrature_rtol=quadrature_rtol,
         quadrature_atol=quadrature_atol,
+        exact_optima=exact_optima,
         **solved,
     )
+
+
+def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: str,
+                 tolerances: ToleranceSettings | None) -> tuple[Solution, ExactOptimumSet]:
+    """The chosen design of the set of exact optima, as the reported best."""
+    fixed = problem.parameters_rad.tolist()
+    found = [solved["best"], *(run for run in solved["runs"]
+                                if run.success and is_exact(run.fun))]
+    started = time.perf_counter()
+
+    kernel = kernel_of(nlp)
+
+    def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                     max_iterations: int) -> tuple[np.ndarray, float, int, int]:
+        # Gauss-Newton blocks only: a margin is feasible where they reach round-off zero,
+        # and the same compiled steps give the same design in every process (the Newton
+        # steps after them run compiled or in Python depending on the session's history).
+        if kernel is None:
+            outcome = lm.solve(nlp, start, problem.parameters_rad, RunLimits(lower, upper),
+                               DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
+            return outcome.x, outcome.fun, outcome.nit, outcome.nfev
+        state = run_kernel(kernel, start.tolist(), fixed, lower.tolist(), upper.tolist(),
+                           DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
+        return (np.array(state["x"], dtype=float), float(state["fun"]), int(state["nit"]),
+                int(state["nfev"]))
+
+    choice = choose_exact_optimum(problem, lambda x: nlp.residuals_and_jacobian(x, fixed),
+                                  solve_in_box, [np.radians(solution.x) for solution in found],
+                                  tolerances)
+    if choice.solver is None:
+        return solved["best"], choice.exact_set
+    outcome = RunOutcome(choice.x_rad, float("nan"), choice.nit, choice.nfev, choice.nfev, 0,
+                         True, choice.message, time.perf_counter() - started)
+    run = measure_run(choice.solver, solved["best"].start_index, outcome, nlp,
+                      problem.parameters_rad, RunLimits(problem.lower_rad, problem.upper_rad))
+    chosen = replace(_to_solution(run, problem, model, [run]), role=ROLE_SELECTION)
+    return chosen, choice.exact_set
 
 
 def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,

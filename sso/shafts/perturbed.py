@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -20,8 +21,21 @@ from sso.shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso.shafts.objective import residual_error
 from sso.shafts.series import ShaftSeries
 from sso.solvers.resources import block_samples
+from sso.validation import as_float_tuple, check_in_range
 
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
+DISTRIBUTIONS = ("normal", "uniform")
+MAX_SAMPLES = 100_000_000
+MAX_TOLERANCE_DEG = 45.0
+DEFAULT_TOLERANCES: dict[str, Any] = {
+    "beta_tolerance_deg": 0.5,
+    "phase_tolerance_deg": 1.0,
+    "distribution": "normal",
+    "samples": 10_000,
+    "seed": 0,
+}
+"""Tolerances of a study (:func:`sso.tolerance_study`, and the p95 choice of
+:func:`sso.optimise`) that the call does not give."""
 # A normal draw further than this many standard deviations out is treated as a
 # broken input (probability ~2e-9 per draw), not as a manufacturing deviation.
 NORMAL_REACH_SIGMAS = 6.0
@@ -122,3 +136,21 @@ def periodic_peaks(values: np.ndarray) -> np.ndarray:
                        where=concave)
     peaks: np.ndarray = np.where(concave, centre - 0.25 * (left - right) * offset, centre)
     return peaks
+
+
+def per_item_tolerances(field_name: str, value: Any, count: int) -> tuple[float, ...]:
+    """One tolerance (deg, ``[0, MAX_TOLERANCE_DEG]``) for each of ``count`` angles.
+
+    Raises
+    ------
+    ValueError
+        Naming the field, when ``value`` is neither one number nor ``count`` of them, or
+        an entry is out of range.
+    """
+    values = as_float_tuple(field_name, value)
+    if len(values) == 1:
+        values = values * count
+    elif len(values) != count:
+        raise ValueError(f"{field_name} has {len(values)} entries; give 1 or {count}")
+    return tuple(check_in_range(f"{field_name}[{index}]", item, 0.0, MAX_TOLERANCE_DEG, "deg")
+                 for index, item in enumerate(values))

@@ -8,12 +8,19 @@ from sso.display import format_number
 from sso.limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
 from sso.solvers.solution import CrossCheck, Solution
 
+DEFAULT_DESIGN_TOLERANCE = 1e-5
+"""Largest difference of a design variable (solver units: rad for a shaft series) between
+two answers at one isolated minimum that counts as the same design; both solvers meet
+their stopping tests far closer than this on a strict minimum."""
+
 
 def crosscheck(
     solutions: Mapping[str, Solution],
     objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
     objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
     kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+    design_gap: float | None = None,
+    design_tolerance: float = DEFAULT_DESIGN_TOLERANCE,
 ) -> CrossCheck:
     """Verdict on two or more solvers' best answers to the same problem.
 
@@ -27,6 +34,14 @@ def crosscheck(
     kkt_tolerance : float
         Largest stationarity error (per rad for a shaft series) that counts as
         first-order optimal, and largest constraint violation that counts as feasible.
+    design_gap : float, optional
+        Largest difference of a design variable between the answers, when each is an
+        isolated minimum reached from the same start (None: designs not compared).
+        The message says whether they found one minimum or two of equal objective
+        (two local methods may go to different equal minima, as to mirror-image
+        phasings; that is not a disagreement).
+    design_tolerance : float
+        Largest ``design_gap`` that counts as one design.
 
     Returns
     -------
@@ -69,7 +84,12 @@ def crosscheck(
     else:
         message = (f"solvers agree: objectives within {format_number(gap, 3)}, stationarity "
                    "errors " + ", ".join(f"{name} {format_number(value, 2)}"
-                                         for name, value in kkt.items()))
+                                         for name, value in kkt.items())
+                   + ("" if design_gap is None else
+                      f"; designs within {design_gap:.2g} (one isolated minimum)"
+                      if design_gap <= design_tolerance else
+                      f"; designs differ by {design_gap:.3g}: two isolated minima of equal "
+                      "objective, each stationary"))
     return CrossCheck(
         agree=not problems,
         objective_gap=float(gap),
@@ -80,4 +100,6 @@ def crosscheck(
         objective_atol=objective_atol,
         objective_rtol=objective_rtol,
         kkt_tolerance=kkt_tolerance,
+        design_gap=design_gap,
+        design_tolerance=design_tolerance,
     )

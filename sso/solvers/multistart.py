@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import functools
 import importlib
+import math
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Protocol, TypedDict
 
@@ -16,8 +17,16 @@ from sso.limits import BATCH_SCREEN_STARTS
 from sso.solvers.crosscheck import crosscheck
 from sso.solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
 from sso.solvers.run import RunLimits, RunOutcome
-from sso.solvers.saddle import ZERO_OBJECTIVE, solve_with_second_order_care
-from sso.solvers.solution import CrossCheck, SeriesDesign, Solution
+from sso.solvers.saddle import ZERO_OBJECTIVE, isolated_minimum, solve_with_second_order_care
+from sso.solvers.solution import (
+    ROLE_CONFIRMATION,
+    ROLE_FROM_SCREEN,
+    ROLE_SCREEN,
+    ROLE_SOLVE,
+    CrossCheck,
+    SeriesDesign,
+    Solution,
+)
 from sso.solvers.starts import start_points
 
 
@@ -57,6 +66,7 @@ class SolverFields(TypedDict):
     runs: tuple[Solution, ...]
     crosscheck: CrossCheck | None
     local_minima: tuple[float, ...]
+    confirmations: dict[str, Solution]
 
 
 def solve_from_starts(
@@ -102,12 +112,16 @@ def solve_from_starts(
         than one start or more than one solver (a single solver from a single
         start always runs alone): solve the starts with ``"lm"`` first, stopping at the
         first that reaches a nonnegative objective's round-off zero (a global
-        minimum), then run each of ``solver_names`` once from the best of them.
+        minimum); then each of ``solver_names`` solves from one common start (the
+        user's, unless it is already at round-off zero) with its own iterations, and
+        those answers are cross-checked; a solver whose own answer is worse than the
+        screen's best also runs from that point (``confirmations``).
         When the user's start does not reach zero and at least
         :data:`sso.limits.BATCH_SCREEN_STARTS` starts remain (and the problem has
         ``nlp.batch_residuals_and_jacobian``), the rest are solved in one batch
         (:func:`sso.solvers.least_squares.batch_least_squares`).
-        The screening runs come first in ``runs``.
+        The screening runs come first in ``runs``; each solver's own answer is in
+        ``solutions``; the reported best is the lowest of every run.
 
     Returns
     -------
@@ -115,31 +129,157 @@ def solve_from_starts(
         The fields every :class:`sso.solvers.result.DesignResult` carries.
     """
     points = start_points(user_start, limits.lower, limits.upper, starts, seed)
-    screening: list[Solution] = []
     if (screen_starts and nlp.residuals_and_jacobian is not None
             and (len(points) > 1 or len(solver_names) > 1)):
-        screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
-        screening = [to_solution(run, screened) for run in screened]
-        chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
-        measured = {name: [replace(run, start_index=chosen.start_index) for run in runs]
-                    for name, runs in run_starts(nlp, chosen.outcome.x[np.newaxis, :],
-                                                 parameters, limits, solver_names, solver_tol,
-                                                 max_iterations, progress).items()}
-    else:
-        measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
-                              max_iterations, progress)
-    solver_runs = {name: [to_solution(run, runs) for run in runs]
+        return _screen_then_cross_check(
+            nlp, points, parameters, limits, solver_names=solver_names, solver_tol=solver_tol,
+            max_iterations=max_iterations, to_solution=to_solution,
+            objective_rtol=objective_rtol, objective_atol=objective_atol,
+            kkt_tolerance=kkt_tolerance, progress=progress)
+    measured = run_starts(nlp, points, parameters, limits, solver_names, solver_tol,
+                          max_iterations, progress)
+    solver_runs = {name: [_with_role(to_solution(run, runs), ROLE_SOLVE) for run in runs]
                    for name, runs in measured.items()}
     solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
-    all_runs = screening + [run for runs in solver_runs.values() for run in runs]
+    all_runs = [run for runs in solver_runs.values() for run in runs]
+    chosen = {name: next(run for run, solution in zip(measured[name], solver_runs[name],
+                                                      strict=True)
+                         if solution is solutions[name]) for name in solutions}
     return SolverFields(
         best=best_solution(solutions.values()),
         solutions=solutions,
         runs=tuple(all_runs),
-        crosscheck=(crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance)
+        crosscheck=(_cross_check(nlp, parameters, limits, chosen, solutions, objective_rtol,
+                                 objective_atol, kkt_tolerance) if len(solutions) > 1 else None),
+        local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
+        confirmations={},
+    )
+
+
+def _screen_then_cross_check(
+    nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits, *,
+    solver_names: Sequence[str], solver_tol: float, max_iterations: int,
+    to_solution: Callable[[MeasuredRun, list[MeasuredRun]], Solution],
+    objective_rtol: float, objective_atol: float, kkt_tolerance: float,
+    progress: Callable[[], None] | None,
+) -> SolverFields:
+    """The "lm" screen of every start, each solver's own solve from one common start, and
+    each solver's run from the screen's best point where its own answer is worse.
+
+    The common start is the user's start, or the first start that is not already at
+    round-off zero when the user's is: from there each solver does its own iterations
+    and those answers are cross-checked, their objectives within the larger of
+    ``objective_atol`` and the resolution of the solvers' stopping test (``solver_tol``
+    times the objective at that start). The screen's best point, when it is lower than
+    a solver's own answer, is given to that solver as a start (its run is a
+    confirmation when it takes no iteration). A solver's answer, cross-checked, is the
+    better of its runs that iterated. The reported optimum is the lowest of all;
+    of equal ones (within the cross-check's objective tolerance) a solver's own answer
+    first, then a run from the screen's point, then the screen's.
+    """
+    screened = _screen(nlp, points, parameters, limits, solver_tol, max_iterations)
+    screening = [_with_role(to_solution(run, screened), ROLE_SCREEN) for run in screened]
+    chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
+    common, start_value = _common_start(nlp, points, parameters)
+    own = {name: [replace(run, start_index=common) for run in runs]
+           for name, runs in run_starts(nlp, points[common][np.newaxis, :], parameters, limits,
+                                        solver_names, solver_tol, max_iterations,
+                                        progress).items()}
+    from_screen: dict[str, list[MeasuredRun]] = {}
+    for name, (run,) in own.items():
+        if _lower(chosen, run, objective_rtol, objective_atol):
+            runs = run_starts(nlp, chosen.outcome.x[np.newaxis, :], parameters, limits, (name,),
+                              solver_tol, max_iterations, check_start=False)[name]
+            from_screen[name] = [replace(runs[0], start_index=chosen.start_index)]
+    own_solutions = {name: _with_role(to_solution(runs[0], runs + from_screen.get(name, [])),
+                                      ROLE_SOLVE)
+                     for name, runs in own.items()}
+    confirmations = {name: _with_role(to_solution(runs[0], own[name] + runs),
+                                      ROLE_CONFIRMATION if runs[0].outcome.nit == 0
+                                      else ROLE_FROM_SCREEN)
+                     for name, runs in from_screen.items()}
+    # Each solver's answer is the better of its runs that iterated: its solve from the
+    # common start, and its run from the screen's point when that moved (a run of no
+    # iteration confirms a point; it is never a solver's answer).
+    solutions, answered_from = {}, {}
+    for name, solution in own_solutions.items():
+        solutions[name], answered_from[name] = solution, own[name][0]
+        other = confirmations.get(name)
+        if (other is not None and other.role == ROLE_FROM_SCREEN
+                and best_solution([solution, other]) is other):
+            solutions[name], answered_from[name] = other, from_screen[name][0]
+    all_runs = screening + list(own_solutions.values()) + list(confirmations.values())
+    return SolverFields(
+        best=_first_as_good(
+            [list(own_solutions.values()), list(confirmations.values()), screening],
+            objective_rtol, objective_atol),
+        solutions=solutions,
+        runs=tuple(all_runs),
+        # Each solver's own answer is known to its stopping test: SLSQP stops when RE
+        # changes by less than solver_tol times its value at the start.
+        crosscheck=(_cross_check(nlp, parameters, limits, answered_from, solutions,
+                                 objective_rtol, max(objective_atol, solver_tol * start_value),
+                                 kkt_tolerance)
                     if len(solutions) > 1 else None),
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
+        confirmations=confirmations,
     )
+
+
+def _first_as_good(groups: Sequence[Sequence[Solution]], rtol: float,
+                   atol: float) -> Solution:
+    """The best of the first group whose best is as good as the best of all (within the
+    cross-check's tolerance): a named solver's own answer before a run from the screen's
+    point, and that before the screen's, when they tie."""
+    lowest = best_solution([solution for group in groups for solution in group])
+    for group in groups:
+        if group:
+            candidate = best_solution(group)
+            if (candidate.success == lowest.success
+                    and candidate.fun - lowest.fun <= atol + rtol * abs(lowest.fun)):
+                return candidate
+    return lowest
+
+
+def _common_start(nlp: Any, points: np.ndarray, parameters: np.ndarray) -> tuple[int, float]:
+    """Index and objective of the user's start, or of the first start above round-off zero
+    when the user's is not."""
+    for index, point in enumerate(points):
+        value, _ = nlp.objective_and_gradient(point.tolist(), parameters)
+        if float(value) > ZERO_OBJECTIVE:
+            return index, float(value)
+    return 0, 0.0
+
+
+def _lower(candidate: MeasuredRun, run: MeasuredRun, rtol: float, atol: float) -> bool:
+    """True when ``candidate`` succeeded with an objective below ``run``'s beyond tolerance."""
+    if not candidate.outcome.success:
+        return False
+    if not run.outcome.success or not math.isfinite(run.fun):
+        return True
+    return run.fun - candidate.fun > atol + rtol * abs(run.fun)
+
+
+def _with_role(solution: Solution, role: str) -> Solution:
+    return replace(solution, role=role)
+
+
+def _cross_check(nlp: Any, parameters: np.ndarray, limits: RunLimits,
+                 runs: Mapping[str, MeasuredRun], solutions: Mapping[str, Solution],
+                 objective_rtol: float, objective_atol: float,
+                 kkt_tolerance: float) -> CrossCheck:
+    """The verdict on the solvers' answers, with their designs compared where each answer
+    is an isolated minimum and the answers started from the same point."""
+    same_start = len({run.start_index for run in runs.values()}) == 1
+    isolated = same_start and all(isolated_minimum(nlp, run.outcome.x, parameters, limits)
+                                  for run in runs.values())
+    design_gap = None
+    if isolated:
+        designs = [run.outcome.x for run in runs.values()]
+        design_gap = max(float(np.max(np.abs(first - second)))
+                         for first in designs for second in designs)
+    return crosscheck(solutions, objective_rtol, objective_atol, kkt_tolerance,
+                      design_gap=design_gap)
 
 
 def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
@@ -190,7 +330,7 @@ def _screen_batch(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: 
         outcome = RunOutcome(solved.x[index], float(solved.fun[index]), int(solved.nit[index]),
                              evaluations, evaluations, status, bool(solved.success[index]),
                              STATUS_MESSAGES[status], share)
-        runs.append(_measure("lm", index, outcome, nlp, parameters, limits))
+        runs.append(measure_run("lm", index, outcome, nlp, parameters, limits))
     return runs
 
 
@@ -204,6 +344,7 @@ def run_starts(
     max_iterations: int,
     progress: Callable[[], None] | None = None,
     second_order: bool = True,
+    check_start: bool = True,
 ) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
@@ -232,6 +373,10 @@ def run_starts(
         Check for minima and saddle points around each run (False: the solver
         alone, as the least-squares screening does; the runs from its best point
         are checked).
+    check_start : bool
+        With ``second_order``, look at the start first (False: the solver runs even
+        from a start that is already a minimum, as when it confirms another
+        method's answer itself).
 
     Returns
     -------
@@ -248,9 +393,10 @@ def run_starts(
         for index, point in enumerate(points):
             outcome = (solve_with_second_order_care(solve, nlp, point, parameters, limits,
                                                     solver_tol,
-                                                    check_start=not backend.TESTS_ITS_START)
+                                                    check_start=(check_start and not
+                                                                 backend.TESTS_ITS_START))
                        if second_order else solve(point))
-            runs[name].append(_measure(name, index, outcome, nlp, parameters, limits))
+            runs[name].append(measure_run(name, index, outcome, nlp, parameters, limits))
             if progress is not None:
                 progress()
     return runs
@@ -329,8 +475,9 @@ def _backend(name: str) -> _Backend:
     return backend
 
 
-def _measure(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
-             parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
+def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
+                parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
+    """``outcome`` re-measured on the problem's graph: objective, stationarity, violation."""
     # NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as
     # the vectors are short.
     lower, upper = limits.lower.tolist(), limits.upper.tolist()

@@ -8,7 +8,7 @@ here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from sso.display import Part, Readable, TextTable, format_number
@@ -29,15 +29,23 @@ class DesignResult(Record, Readable):
     Attributes
     ----------
     best : sso.Solution
-        Lowest objective among successful answers (among all, if none succeeded).
+        Lowest objective among successful runs (among all, if none succeeded): a
+        solver's own answer, the "lm" screen's (``best.role == "screen"``) or a
+        solver's run from the screen's point; :attr:`found_by` says which.
     solutions : dict of str to Solution
-        Best answer of each solver.
+        Each solver's own answer (its iterations from its starts; after a screen,
+        the better of its solve from the one common start and its run from the
+        screen's point when that iterated), the answers the cross-check compares.
     runs : tuple of Solution
         Every run, each solver from each start.
     crosscheck : sso.CrossCheck or None
         The solvers' verdict; None when one solver was asked for.
     local_minima : tuple of float
         Distinct objective values the successful runs stopped at, ascending.
+    confirmations : dict of str to Solution
+        After a screen, each solver's run from the screen's best point where its own
+        answer was worse (``role`` ``"confirmation"`` when it took no iteration,
+        ``"from screen"`` when it iterated); empty otherwise.
     """
 
     best: Solution
@@ -45,6 +53,12 @@ class DesignResult(Record, Readable):
     runs: tuple[Solution, ...]
     crosscheck: CrossCheck | None
     local_minima: tuple[float, ...]
+    confirmations: dict[str, Solution] = field(default_factory=dict)
+
+    @property
+    def found_by(self) -> str:
+        """Who found the reported optimum, in words (a solver, or the "lm" screen)."""
+        return self.best.method
 
     @property
     def success(self) -> bool:
@@ -87,7 +101,7 @@ class DesignResult(Record, Readable):
         if not self.best.success:
             return f"solver failed: {self.best.solver}: {self.best.message}"
         if self.crosscheck is None:
-            return f"solved by {self.best.solver} alone (no cross-check): {self.best.message}"
+            return f"solved by {self.found_by} alone (no cross-check): {self.best.message}"
         return self.crosscheck.message
 
     def solver_dict(self) -> dict[str, Any]:
@@ -98,6 +112,9 @@ class DesignResult(Record, Readable):
             "runs": [run.to_dict() for run in self.runs],
             "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
             "local_minima": list(self.local_minima),
+            "confirmations": {name: solution.to_dict()
+                              for name, solution in self.confirmations.items()},
+            "found_by": self.found_by,
             "success": self.success,
         }
 
@@ -109,11 +126,14 @@ class DesignResult(Record, Readable):
         objective, kkt : str
             Column labels (with units) of the objective and the KKT residual.
         """
-        solvers = TextTable(("solver", "converged", objective, kkt, "iterations", "message"),
-                            tuple((name, "yes" if solution.success else "no",
-                                   format_number(solution.fun), format_number(solution.kkt, 2),
-                                   str(solution.nit), solution.message)
-                                  for name, solution in self.solutions.items()))
+        rows = [(name, solution.role, str(solution.start_index),
+                 "yes" if solution.success else "no", format_number(solution.fun),
+                 format_number(solution.kkt, 2), str(solution.nit), solution.message)
+                for name, solution in [*self.solutions.items(),
+                                       *[(name, run) for name, run in self.confirmations.items()
+                                         if run != self.solutions.get(name)]]]
+        solvers = TextTable(("solver", "run", "start", "converged", objective, kkt, "iterations",
+                             "message"), tuple(rows))
         check = ("cross-check: one solver, none made" if self.crosscheck is None
-                 else f"cross-check: {self.crosscheck.message}")
-        return [solvers, check]
+                 else f"cross-check of the solvers' own answers: {self.crosscheck.message}")
+        return [f"found by: {self.found_by}", solvers, check]

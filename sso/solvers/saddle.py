@@ -193,9 +193,9 @@ def _hessian(nlp: Any, point: list[float], parameters: np.ndarray, counts: _Coun
             for row in range(size)]
 
 
-def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
-                        limits: RunLimits, counts: _Counts) -> np.ndarray | None:
-    """Unit direction of most negative curvature over the variables that may move.
+def _free_hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+                  counts: _Counts) -> tuple[list[int], list[list[float]]]:
+    """The variables that may move and the Hessian over them.
 
     A variable is held when its bounds pin it, or when it sits on a bound and the
     gradient pushes it against that bound by more than round-off (at a symmetric
@@ -209,9 +209,15 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
             if not (high - low <= ON_BOUND
                     or (value - low <= ON_BOUND and slope > STATIONARY_START)
                     or (high - value <= ON_BOUND and slope < -STATIONARY_START))]
+    return free, (_hessian(nlp, point, parameters, counts, free) if free else [])
+
+
+def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+                        limits: RunLimits, counts: _Counts) -> np.ndarray | None:
+    """Unit direction of most negative curvature over the variables that may move."""
+    free, hessian = _free_hessian(nlp, x, parameters, limits, counts)
     if not free:
         return None
-    hessian = _hessian(nlp, point, parameters, counts, free)
     if not all(math.isfinite(entry) for row in hessian for entry in row):
         return None
     # The largest eigenvalue magnitude is at least the largest diagonal magnitude, so
@@ -230,6 +236,28 @@ def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
     direction = np.zeros_like(x)
     direction[free] = eigenvectors[:, 0]
     return direction
+
+
+def isolated_minimum(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+                     limits: RunLimits) -> bool:
+    """True when ``x`` is a strict local minimum, so another solver must reach the same design.
+
+    Bound-only problems: every variable that may move (see :func:`_free_hessian`) has
+    positive curvature, the Hessian's smallest eigenvalue above ``RELATIVE_CURVATURE``
+    times its largest (a zero-RE point of more design variables than residuals lies on
+    a set of optima, where it is not). With constraint functions: False (not judged).
+    """
+    if limits.constrained:
+        return False
+    point = np.clip(np.asarray(x, dtype=float), limits.lower, limits.upper)
+    free, hessian = _free_hessian(nlp, point, parameters, limits, _Counts())
+    if not free:
+        return True
+    if not all(math.isfinite(entry) for row in hessian for entry in row):
+        return False
+    eigenvalues = np.linalg.eigvalsh(np.array(hessian))
+    largest = max(abs(float(eigenvalues[0])), abs(float(eigenvalues[-1])))
+    return bool(eigenvalues[0] > max(RELATIVE_CURVATURE * largest, ABSOLUTE_CURVATURE))
 
 
 def _descend_along(nlp: Any, x: np.ndarray, direction: np.ndarray, parameters: np.ndarray,

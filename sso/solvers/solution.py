@@ -9,6 +9,19 @@ from typing import Any, Protocol
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.record import register_record
 
+ROLE_SOLVE = "solve"
+"""A solver's own iterations from a start."""
+ROLE_SCREEN = "screen"
+"""The "lm" screen of one start (the multi-start search of a least-squares problem)."""
+ROLE_CONFIRMATION = "confirmation"
+"""A solver's run from a point another method found, which took no iteration: it
+confirms that point; it did not find it."""
+ROLE_FROM_SCREEN = "from screen"
+"""A solver's run from the point the screen found, which iterated from there."""
+ROLE_SELECTION = "selection"
+"""The choice of the most robust design within a set of exact optima (a solver's run on
+that secondary problem, starting from the exact optima found)."""
+
 
 class SeriesDesign(Protocol):
     """What a solution needs of a shaft-series design (:class:`sso.ShaftSeries` is one).
@@ -63,6 +76,12 @@ class Solution(Readable):
         Objective evaluations over every start this solver ran.
     constraint_violation : float
         Largest violation of a bound or constraint at ``x`` (0 when feasible).
+    role : str
+        What the run was: ``"solve"`` (the solver's own iterations from a start),
+        ``"screen"`` (the "lm" screen of a start), ``"confirmation"`` (a run from a
+        point another method found that took no iteration) or ``"from screen"``
+        (a run from that point that iterated) or ``"selection"`` (the choice of the
+        most robust design within a set of exact optima).
     """
 
     solver: str
@@ -79,10 +98,26 @@ class Solution(Readable):
     start_index: int = 0
     total_nfev: int = 0
     constraint_violation: float = 0.0
+    role: str = ROLE_SOLVE
+
+    @property
+    def method(self) -> str:
+        """Who produced ``x``, in words: ``"ipopt from start 0"``, ``"the 'lm' screen of start
+        3"``, ``"slsqp from the screen's best point"``, ``"ipopt confirming the screen's
+        best point (0 iterations)"`` or ``"slsqp choosing within the exact optima"``."""
+        if self.role == ROLE_SCREEN:
+            return f"the {self.solver!r} screen of start {self.start_index}"
+        if self.role == ROLE_FROM_SCREEN:
+            return f"{self.solver} from the screen's best point"
+        if self.role == ROLE_CONFIRMATION:
+            return f"{self.solver} confirming the screen's best point (0 iterations)"
+        if self.role == ROLE_SELECTION:
+            return f"{self.solver} choosing within the exact optima"
+        return f"{self.solver} from start {self.start_index}"
 
     def _repr_text(self) -> str:
         state = "converged" if self.success else "not converged"
-        return (f"{self.solver}, {state}, fun {format_number(self.fun, 4)}, kkt "
+        return (f"{self.method}, {state}, fun {format_number(self.fun, 4)}, kkt "
                 f"{format_number(self.kkt, 2)}, nit {self.nit}, start {self.start_index}, "
                 f"x [{format_numbers(self.x, 6)}]")
 
@@ -92,11 +127,11 @@ class Solution(Readable):
                 ("KKT residual", format_number(self.kkt, 2)),
                 ("iterations", str(self.nit)), ("evaluations", str(self.nfev)),
                 ("start", str(self.start_index)), ("x", format_numbers(self.x)),
-                ("message", self.message)]
+                ("message", self.message), ("role", self.role)]
         if self.series is not None:
             rows[6:7] = [("beta (deg)", format_numbers(self.series.beta_deg)),
                          ("phase (deg)", format_numbers(self.series.phase_deg))]
-        return [f"Solution by {self.solver}", TextTable(("item", "value"), tuple(rows))]
+        return [f"Solution by {self.method}", TextTable(("item", "value"), tuple(rows))]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (a shaft series' design as ``beta_deg``/``phase_deg``)."""
@@ -117,6 +152,7 @@ class Solution(Readable):
             "start_index": self.start_index,
             "total_nfev": self.total_nfev,
             "constraint_violation": self.constraint_violation,
+            "role": self.role,
         }
 
 
@@ -125,7 +161,8 @@ class Solution(Readable):
 class CrossCheck(Readable):
     """Verdict of comparing solvers by objective value and first-order optimality.
 
-    Design vectors are never compared: optima are often not unique.
+    Design vectors are compared only where each answer is an isolated minimum
+    reached from the same start (optima are often whole sets of designs).
 
     Attributes
     ----------
@@ -146,6 +183,13 @@ class CrossCheck(Readable):
         The verdict in words.
     objective_atol, objective_rtol, kkt_tolerance : float
         The tolerances used.
+    design_gap : float or None
+        Largest difference of a design variable between the answers (the problem's
+        solver units, rad for a shaft series) when they were compared; None when not
+        (an answer is not an isolated minimum, or they started from different points).
+    design_tolerance : float
+        The largest ``design_gap`` that counts as the same design (a larger gap at
+        equal objectives is two minima, each valid: reported in ``message``).
     """
 
     agree: bool
@@ -157,6 +201,8 @@ class CrossCheck(Readable):
     objective_atol: float
     objective_rtol: float
     kkt_tolerance: float
+    design_gap: float | None = None
+    design_tolerance: float = 0.0
 
     def _repr_text(self) -> str:
         return f"agree={self.agree}, {self.message}"
@@ -176,4 +222,6 @@ class CrossCheck(Readable):
             "objective_atol": self.objective_atol,
             "objective_rtol": self.objective_rtol,
             "kkt_tolerance": self.kkt_tolerance,
+            "design_gap": self.design_gap,
+            "design_tolerance": self.design_tolerance,
         }

@@ -87,7 +87,12 @@ def test_a_sweep_without_workers_stops_with_exit_1_and_resumes(tmp_path):
         finally:
             worker.kill()
             worker.wait()
-    assert resumed.returncode == 0, resumed.stderr
     rows = read_rows(csv_path)
     ok = sorted(int(row["point"]) for row in rows if row["status"] == "ok")
     assert ok == list(range(60))
+    # Every point computed; the exit code is then the sweep's verdict on its points: 1 when
+    # a point's solvers disagree or did not converge (one of these 60 does: its IPOPT stops
+    # at an acceptable level that SLSQP improves on), as in a sweep never interrupted.
+    disagreeing = [row for row in rows if row["success"] != "true"]
+    assert resumed.returncode == (1 if disagreeing else 0), resumed.stderr
+    assert "Traceback" not in resumed.stderr

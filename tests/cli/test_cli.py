@@ -104,8 +104,15 @@ def test_result_json_holds_the_whole_story(option3_run):
         assert solution.kkt <= 1e-6
     assert result.crosscheck is not None and result.crosscheck.agree is True
     # Screening: the least-squares solver reaches RE = 0 (a global minimum) from the
-    # first start, so the other starts are skipped; each solver then runs from there.
-    assert [item.solver for item in result.runs] == ["lm", "ipopt", "slsqp"]
+    # first start, so the other starts are skipped; each solver then solves from the
+    # given start with its own iterations, and the design is chosen within the set of
+    # exact optima (largest margin to the bounds).
+    assert [(item.solver, item.role) for item in result.runs] == [
+        ("lm", "screen"), ("ipopt", "solve"), ("slsqp", "solve"), ("lm", "selection")]
+    assert all(result.solutions[name].nit > 0 for name in ("ipopt", "slsqp"))
+    assert result.found_by == "lm choosing within the exact optima"
+    assert result.exact_optima is not None
+    assert result.exact_optima.criterion == "largest margin to the bounds"
     # The exact model's RE is the closed form of the chain matrix: no quadrature angles.
     assert result.samples == 0 and result.quadrature_error == 0.0
     assert run.success is True

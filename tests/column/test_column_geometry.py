@@ -12,6 +12,7 @@ from cross_and_yoke import speed_ratio as simulated_speed_ratio
 import sso
 from sso.column.chain_matrix import residual_error as closed_form_residual_error
 from sso.column.geometry import ColumnGeometry
+from sso.shafts.quadrature import adaptive_residual_error
 
 mpmath.mp.dps = 40
 
@@ -229,12 +230,17 @@ def test_phasing_with_the_wrong_count_is_refused():
 
 
 def test_closed_form_matches_the_package_quadrature():
+    # Reference: the package's adaptive rectangle rule over the angle-by-angle chain
+    # (sso.shafts.quadrature with sso.kinematics.hooke), which never forms the chain matrix.
     rng = np.random.default_rng(11)
     beta = rng.uniform(0.0, 60.0, (40, 4))
     phase = rng.uniform(0.0, 180.0, (40, 3))
     closed = closed_form_residual_error(np.radians(beta[0]), np.radians(phase[:1]))
     assert closed.shape == (1,)
     for row_beta, row_phase in zip(beta, phase, strict=True):
-        expected = sso.ShaftSeries(row_beta, row_phase).evaluate().residual_error
+        expected, rule = adaptive_residual_error(list(np.radians(row_beta)),
+                                                 list(np.radians(row_phase)), "exact",
+                                                 rtol=1e-13, atol=1e-300)
+        assert rule.converged
         got = float(closed_form_residual_error(np.radians(row_beta), np.radians(row_phase)))
         assert got == pytest.approx(expected, rel=1e-9)

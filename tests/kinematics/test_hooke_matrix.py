@@ -1,6 +1,6 @@
 """The closed form of the exact chain against independent formulations.
 
-References: the quadrature of the angle-by-angle chain (``sso.ShaftSeries.evaluate``,
+References: the adaptive quadrature of the angle-by-angle chain (``sso.shafts.quadrature``,
 ``sso.kinematics.hooke``); an mpmath high-precision quadrature of the per-joint angle
 law (paper eq. 5 and 8, no matrices) split at every joint's speed peak; complex-step
 derivatives; the one-joint extremes ``cos b`` and ``1/cos b`` of the spec
@@ -14,8 +14,8 @@ import mpmath
 import numpy as np
 import pytest
 
-import sso
-from sso.kinematics import hooke_matrix
+from sso.kinematics import hooke, hooke_matrix
+from sso.shafts.quadrature import EVALUATION_MAX_SAMPLES, adaptive_residual_error
 
 RNG_SEED = 20261123
 
@@ -27,29 +27,63 @@ def random_chain(rng, n_joints, beta_max_deg=70.0):
 
 
 def test_closed_form_matches_the_quadrature_of_the_angle_chain():
+    # Reference: the adaptive rectangle rule over the angle-by-angle chain
+    # (sso.shafts.quadrature with sso.kinematics.hooke, no chain matrix), and the speed
+    # ratio's extremes read off a dense grid of that chain, refined by a golden-section
+    # search around the grid's best angle.
     rng = np.random.default_rng(RNG_SEED)
     for _ in range(60):
         n_joints = int(rng.integers(1, 9))
         beta_rad, phase_rad = random_chain(rng, n_joints)
-        evaluation = sso.ShaftSeries(np.degrees(beta_rad), np.degrees(phase_rad)).evaluate(
-            25.0, quadrature_rtol=1e-14, quadrature_atol=1e-300)
+        expected, rule = adaptive_residual_error(list(beta_rad), list(phase_rad), "exact",
+                                                 rtol=1e-14, atol=1e-300,
+                                                 max_samples=EVALUATION_MAX_SAMPLES)
+        assert rule.converged
         error = hooke_matrix.residual_error(np, list(beta_rad), list(phase_rad))
         least, greatest = hooke_matrix.ratio_extremes(np, list(beta_rad), list(phase_rad))
-        assert error == pytest.approx(evaluation.residual_error, rel=1e-10)
-        assert 25.0 * least == pytest.approx(evaluation.speed_min_rpm, rel=1e-10)
-        assert 25.0 * greatest == pytest.approx(evaluation.speed_max_rpm, rel=1e-10)
+        assert error == pytest.approx(expected, rel=1e-10, abs=1e-300)
+        assert least == pytest.approx(_angle_chain_extreme(beta_rad, phase_rad, -1.0), rel=1e-10)
+        assert greatest == pytest.approx(_angle_chain_extreme(beta_rad, phase_rad, 1.0),
+                                         rel=1e-10)
+
+
+def _angle_chain_ratio(theta_rad, beta_rad, phase_rad):
+    """Speed ratio of the angle-by-angle chain (sso.kinematics.hooke), no chain matrix."""
+    theta_rad = np.asarray(theta_rad, dtype=float)
+    return hooke.speed_ratio(np, np.cos(theta_rad), np.sin(theta_rad), list(beta_rad),
+                             list(phase_rad), "exact")
+
+
+def _angle_chain_extreme(beta_rad, phase_rad, sign):
+    """Largest (sign 1) or least (sign -1) speed ratio over a revolution of the angle chain."""
+    grid = np.linspace(0.0, np.pi, 4097)
+    values = sign * _angle_chain_ratio(grid, beta_rad, phase_rad)
+    best = int(np.argmax(values))
+    step = grid[1] - grid[0]
+    low, high = grid[best] - step, grid[best] + step
+    golden = (math.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(80):
+        left, right = high - golden * (high - low), low + golden * (high - low)
+        if (sign * _angle_chain_ratio([left], beta_rad, phase_rad)[0]
+                >= sign * _angle_chain_ratio([right], beta_rad, phase_rad)[0]):
+            high = right
+        else:
+            low = left
+    return float(_angle_chain_ratio([0.5 * (low + high)], beta_rad, phase_rad)[0])
 
 
 def test_speed_ratio_matches_the_angle_chain_at_every_angle():
+    # Reference: the angle-by-angle chain of sso.kinematics.hooke (each joint's angle
+    # law applied in turn), which never forms the chain matrix.
     rng = np.random.default_rng(RNG_SEED + 1)
     theta_deg = np.linspace(0.0, 360.0, 73)
     for n_joints in range(1, 9):
         beta_rad, phase_rad = random_chain(rng, n_joints, 85.0)
-        series = sso.ShaftSeries(np.degrees(beta_rad), np.degrees(phase_rad))
         theta_rad = np.radians(theta_deg)
         ratio = hooke_matrix.speed_ratio(np, np.cos(theta_rad), np.sin(theta_rad),
                                          list(beta_rad), list(phase_rad))
-        np.testing.assert_allclose(ratio, series.speed_ratio(theta_deg), rtol=1e-10)
+        np.testing.assert_allclose(ratio, _angle_chain_ratio(theta_rad, beta_rad, phase_rad),
+                                   rtol=1e-10)
 
 
 def _mpmath_residual_error(beta_rad, phase_rad, digits=40):

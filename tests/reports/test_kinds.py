@@ -26,7 +26,8 @@ def test_optimisation_result_reads_well(two_joint_result):
     assert len(text) <= 400 and text.count("\n") <= 2
     assert text.startswith("OptimisationResult(option 1 (phase), exact model, success")
     summary = result.summary()
-    assert "optimum (" in summary and "cross-check: solvers agree" in summary
+    assert "found by: " in summary
+    assert "cross-check of the solvers' own answers: solvers agree" in summary
     # The optimum phase is 90 deg to the solver's tolerance; its RE is round-off.
     optimum_line = next(line for line in summary.splitlines() if line.startswith("optimum"))
     assert optimum_line.split()[-2:] == ["<", "1e-15"]

@@ -115,3 +115,26 @@ def test_a_reloaded_optimisation_recomputes_nothing():
     # the evaluations were saved and are read back, not evaluated again
     assert "initial" in reloaded.__dict__ and "optimum" in reloaded.__dict__
     assert reloaded.optimum.residual_error == result.optimum.residual_error
+
+
+def test_the_set_of_exact_optima_is_saved_without_its_callable(tmp_path):
+    # Option 3 of three joints cancels (RE at round-off zero on a set of designs):
+    # sso.optimise chooses within the set by the largest margin to the bounds.
+    result = sso.optimise(sso.ShaftSeries([20.0, 30.0, 25.0], [0.0, 90.0]), 3, starts=2)
+    exact = result.exact_optima
+    assert exact is not None and exact.extent_of is not None
+    sso.write_report(result, tmp_path / "report", formats=("json", "md"))
+    saved = json.loads((tmp_path / "report" / "result.json").read_text())
+    assert "extent_of" not in saved["exact_optima"]
+    reloaded = sso.OptimisationResult.from_dict(saved)
+    assert reloaded == result
+    assert reloaded.exact_optima is not None and reloaded.exact_optima.extent_of is None
+    # the extent is the one computed before saving, read back, not searched again
+    assert reloaded.exact_optima.extent_deg == exact.extent_deg
+    assert len(exact.extent_deg) == len(exact.variables) == 5
+    for (low, high), chosen in zip(exact.extent_deg, exact.chosen_deg, strict=True):
+        assert low <= chosen <= high
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "## Exact optima" in markdown
+    assert f"optimum (found by {result.found_by})" in markdown
+    assert "| solver | run |" in markdown

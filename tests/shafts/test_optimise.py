@@ -162,9 +162,13 @@ def test_screened_starts_find_what_every_solver_from_every_start_finds():
 
 def test_screening_stops_at_a_global_minimum():
     # Option 3 can cancel (RE = 0): the user's start already reaches round-off zero.
+    # Then IPOPT and SLSQP each solve from that start with their own iterations, and the
+    # design is chosen within the set of exact optima ("lm" bisecting the margin).
     result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0]), 3,
                           beta_bounds_deg=(10, 40))
-    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
+    assert [(run.solver, run.role) for run in result.runs] == [
+        ("lm", "screen"), ("ipopt", "solve"), ("slsqp", "solve"), ("lm", "selection")]
+    assert all(result.solutions[name].nit > 0 for name in ("ipopt", "slsqp"))
     assert result.fun <= 1e-20 and result.crosscheck.agree
 
 
@@ -187,7 +191,8 @@ def test_one_solver_from_one_start_runs_alone_and_a_pair_is_screened():
     alone = sso.optimise(series, 3, solvers=("ipopt",), starts=1)
     pair = sso.optimise(series, 3, starts=1)
     assert [run.solver for run in alone.runs] == ["ipopt"]
-    assert [run.solver for run in pair.runs] == ["lm", "ipopt", "slsqp"]
+    assert [run.solver for run in pair.runs] == ["lm", "ipopt", "slsqp", "lm"]
+    assert pair.best.role == "selection" and alone.best.role == "solve"
     assert alone.fun <= 1e-20 and pair.fun <= 1e-20 and pair.crosscheck.agree
 
 
@@ -229,5 +234,5 @@ def test_many_starts_stop_at_the_first_zero_without_a_batch():
     # Option 3 cancels from the user's start: 200 starts cost one screening run.
     result = sso.optimise(sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0]), 3,
                           beta_bounds_deg=(10, 40), starts=200)
-    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp"]
+    assert [run.solver for run in result.runs] == ["lm", "ipopt", "slsqp", "lm"]
     assert result.fun <= 1e-20 and result.crosscheck.agree

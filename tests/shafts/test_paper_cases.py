@@ -34,24 +34,110 @@ def solve(option, model, **options):
                             input_speed_rpm=25.0, **options)
 
 
-@pytest.mark.parametrize("model", ["exact", "paper"])
-@pytest.mark.parametrize("option", [1, 2, 3])
-def test_beats_the_papers_optimum_and_solvers_agree(option, model):
-    result = solve(option, model)
+def check_paper_case(result, option, model):
+    """What a paper case must show: an optimum well below the paper's, and IPOPT and SLSQP
+    each solving it with their own iterations from the given start and agreeing."""
     paper_design = PAPER_CASES[option][4]
     paper_re = sso.ShaftSeries(*paper_design, model=model).evaluate(25.0).residual_error
     assert result.best.fun < paper_re
     # the paper's optimum is not a stationary point: the gain is large, not round-off
     assert result.best.fun < 0.2 * paper_re
     for name in ("ipopt", "slsqp"):
-        assert result.solutions[name].success, result.solutions[name].message
-        assert result.solutions[name].kkt <= 1e-6
+        solution = result.solutions[name]
+        assert solution.success, solution.message
+        assert solution.kkt <= 1e-6
+        # its own solve (iterations, not a confirmation); after the exact model's screen
+        # the solvers' own solves start from the paper's start, the paper model runs
+        # every solver from every start and keeps each one's best
+        assert solution.role == "solve"
+        assert solution.start_index == 0 or model == "paper"
+        assert solution.nit > 0
+        assert solution.fun <= max(paper_re * 0.2, 1e-20)
     assert result.crosscheck.agree, result.crosscheck.message
     assert result.success
     assert result.optimum.residual_error == pytest.approx(result.best.fun, rel=1e-8, abs=1e-22)
     lower, upper = np.array(PAPER_CASES[option][2])
     assert np.all(np.array(result.best.series.beta_deg) >= lower - 1e-12) or option == 1
     assert np.all(np.array(result.best.series.beta_deg) <= upper + 1e-12) or option == 1
+
+
+@pytest.mark.parametrize("model", ["exact", "paper"])
+@pytest.mark.parametrize("option", [1, 2, 3])
+def test_beats_the_papers_optimum_and_solvers_agree(option, model):
+    check_paper_case(solve(option, model), option, model)
+
+
+class _ShiftedAnswer:
+    """A real IPOPT (CasADi's nlpsol) whose answer is returned moved by 0.05 rad."""
+
+    def __init__(self, solver):
+        self._solver = solver
+
+    def __call__(self, **arguments):
+        answer = dict(self._solver(**arguments))
+        answer["x"] = answer["x"] + 0.05
+        return answer
+
+    def stats(self):
+        return self._solver.stats()
+
+
+@pytest.fixture
+def ipopt_off_by_0_05_rad(monkeypatch):
+    """casadi.nlpsol builds the real solver and wraps it in _ShiftedAnswer; the cached
+    IPOPT instances are dropped before and after, so no other test sees the broken one."""
+    import casadi
+
+    from sso.solvers.nlp import cached_shapes
+
+    real = casadi.nlpsol
+
+    def shifted(*arguments, **options):
+        return _ShiftedAnswer(real(*arguments, **options))
+
+    for nlp in cached_shapes().values():
+        nlp.ipopt_solvers.clear()
+    monkeypatch.setattr(casadi, "nlpsol", shifted)
+    yield
+    monkeypatch.undo()
+    for nlp in cached_shapes().values():
+        nlp.ipopt_solvers.clear()
+
+
+@pytest.mark.usefixtures("ipopt_off_by_0_05_rad")
+def test_a_broken_ipopt_fails_the_cross_check_and_the_paper_case():
+    result = solve(3, "exact")
+    assert result.solutions["ipopt"].nit > 0
+    assert result.solutions["ipopt"].kkt > 1e-3  # 0.05 rad off an optimum: not stationary
+    assert not result.crosscheck.agree
+    assert "ipopt" in result.crosscheck.message
+    assert not result.success
+    with pytest.raises(AssertionError):
+        check_paper_case(result, 3, "exact")
+
+
+@pytest.mark.parametrize("option", [1, 2, 3])
+def test_readme_example_runs_both_solvers_from_the_given_start(option):
+    # README.md's example call, on each of the paper's options: each solver's own answer
+    # comes from its own iterations from the given design, and the result names who
+    # found the reported optimum.
+    series = sso.ShaftSeries(beta_deg=[30, 40, 40], phase_deg=[90, 90], model="exact")
+    result = sso.optimise(series, option=option, beta_bounds_deg=(10, 40),
+                          phase_bounds_deg=(0, 180), solvers=("ipopt", "slsqp"), starts=8,
+                          input_speed_rpm=25)
+    for name in ("ipopt", "slsqp"):
+        solution = result.solutions[name]
+        assert (solution.role, solution.start_index) == ("solve", 0)
+        assert solution.nit > 0, solution.message
+        assert "solver not run" not in solution.message
+    assert result.crosscheck.agree, result.crosscheck.message
+    assert result.found_by == result.best.method
+    assert result.best in result.runs
+    summary = result.summary()
+    assert f"found by: {result.found_by}" in summary
+    assert "cross-check of the solvers' own answers" in summary
+    # the saved result keeps who found the optimum (the best answer with its role)
+    assert sso.OptimisationResult.from_dict(result.to_dict()).found_by == result.found_by
 
 
 @pytest.mark.parametrize("option", [2, 3])
