@@ -22,9 +22,11 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from typing import Any
 
 import mpmath
+import numpy as np
 import pytest
 from fuzzing import run_sso
 from hypothesis import HealthCheck, example, given, settings
@@ -351,6 +353,64 @@ def test_twelve_joints_at_the_floor_never_end_in_a_false_success(tmp_path, solve
         assert_a_minimum_as_reported(result, 1, 89.9999999998)
     else:
         assert "solver failed" in told or "solvers disagree" in told, told
+
+
+def assert_batch_rows_true_minima(beta_deg: np.ndarray, phase_deg: np.ndarray, option: int,
+                                  upper_deg: float) -> sso.BatchResult:
+    """Every row of ``sso.optimise_batch`` that says it converged is a design no
+    neighbour beats (mpmath); the others say why they did not. (The row's RE is not
+    compared with mpmath's at its design in degrees: near 90 deg, where a rounding of a
+    phase moves RE by its own size, the round trip through degrees moves it too.)"""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = sso.optimise_batch(beta_deg, phase_deg, option=option,
+                                    beta_bounds_deg=(0.0, upper_deg),
+                                    phase_bounds_deg=(-90.0, 270.0))
+    for row in range(len(beta_deg)):
+        if not result.success[row]:
+            assert result.message[row], row
+            continue
+        at_design, lowest = lowest_neighbour_re(result.beta_deg[row].tolist(),
+                                                result.phase_deg[row].tolist(), option,
+                                                (0.0, upper_deg), (-90.0, 270.0))
+        assert lowest >= at_design * (1 - 1e-6) - 1e-15, (row, at_design, lowest)
+    return result
+
+
+def test_optimise_batch_at_the_floor_never_reports_a_false_success():
+    """12 joints at 89.9999999998 deg, option 1, from phases of 0, 90 and a spread: the
+    batched solver once called all three converged, at RE 5.5e89, 5.4e-9 and 1.4e107."""
+    beta_deg = np.full((3, 12), 89.9999999998)
+    phase_deg = np.stack([np.zeros(11), np.full(11, 90.0), np.linspace(0.0, 170.0, 11)])
+    result = assert_batch_rows_true_minima(beta_deg, phase_deg, 1, 89.9999999998)
+    assert not result.success.any()  # none is a minimum floating point can resolve
+    assert all("stopped at round-off, but a move of one variable" in text
+               for text in result.message)
+
+
+@settings(max_examples=10, deadline=None)
+@given(design=designs(), option=st.sampled_from([1, 2, 3]))
+def test_optimise_batch_of_what_validate_accepts_is_refused_or_a_true_minimum(design, option):
+    """What ``sso validate`` refuses (angles, or upper bounds on free angles, whose cosines
+    multiply below the floor), ``optimise_batch`` refuses naming the field; anything else
+    ends in rows that are minima or say why not. (A design of option 1 below the floor
+    once ended in numpy's LinAlgError "Singular matrix".)"""
+    beta_deg, phase_deg = design
+    option = option if len(beta_deg) > 1 else 2
+    floor = math.log10(MIN_CHAIN_COSINE_PRODUCT)
+    if option == 1 and cosine_product_log10(beta_deg) < floor:
+        with pytest.raises(ValueError, match=r"^beta_deg\[0\]: the product of cos\(beta\)"):
+            sso.optimise_batch([beta_deg], [phase_deg], option=option,
+                               beta_bounds_deg=(0.0, max(beta_deg)))
+        return
+    if option != 1 and cosine_product_log10([max(beta_deg)] * len(beta_deg)) < floor:
+        with pytest.raises(ValueError, match=r"^beta_bounds_deg \(their upper bounds\): the "
+                                             r"product of cos\(beta\)"):
+            sso.optimise_batch([beta_deg], [phase_deg], option=option,
+                               beta_bounds_deg=(0.0, max(beta_deg)))
+        return
+    assert_batch_rows_true_minima(np.array([beta_deg]), np.array([phase_deg]).reshape(1, -1),
+                                  option, max(beta_deg))
 
 
 def test_free_angles_whose_upper_bounds_leave_the_floor_are_refused():

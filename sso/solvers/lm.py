@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from sso.solvers import round_off_stops
 from sso.solvers.lm_kernel import kernel_of, newton_kernel_of, run_kernel, run_newton_kernel
 from sso.solvers.lm_rules import (
     NEWTON,
@@ -130,40 +131,13 @@ def solve(
             state,
             None if newton_kernel is None else lambda given: run_newton_kernel(
                 newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
-    if status in ROUND_OFF_STOPS:
-        holds, probes = _round_off_stop_holds(lambda point: residual(point, fixed), list(x), fun,
-                                              lower, upper)
+    if status in round_off_stops.ROUND_OFF_STOPS:  # a minimum, or only a vanished step?
+        holds, probes = round_off_stops.holds(lambda point: abs(residual(point, fixed)[0]) ** 2,
+                                              list(x), fun, lower, upper)
         nfev += probes
-        status = status if holds else -4
+        status = status if holds else round_off_stops.REFUTED
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
-
-
-def _round_off_stop_holds(residual: Residual, x: list[float], fun: float, lower: list[float],
-                          upper: list[float]) -> tuple[bool, int]:
-    """Whether no move of one variable by :data:`PROBE_STEPS` (either way, within the
-    bounds) lowers ``fun`` by more than :data:`PROBE_DECREASE` of it; and the
-    evaluations spent.
-
-    A stop at round-off only says that the damped steps stopped moving. At a minimum no
-    such move helps; where the residuals outgrow the linear model within a rounding of
-    ``x`` (12 joints of 89.9999999998 deg: the residual's slope in one phase is 1e15
-    times the residual per rad), the damping grows until the steps vanish although
-    other variables still lower the sum by orders of magnitude.
-    """
-    probes = 0
-    for index, value in enumerate(x):
-        for size in PROBE_STEPS:
-            for moved in (value - size, value + size):
-                if not lower[index] <= moved <= upper[index]:
-                    continue
-                point = list(x)
-                point[index] = moved
-                rho = residual(point)[0]
-                probes += 1
-                if abs(rho) ** 2 < fun * (1.0 - PROBE_DECREASE):
-                    return False, probes
-    return True, probes
 
 
 def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],
