@@ -24,6 +24,9 @@ import numpy as np
 from sso.batch.table import TEXT_COLUMNS, format_cell
 
 _NEEDS_QUOTES = (",", '"', "\n", "\r")
+DISTINCT_SAMPLE = 1024
+"""Values of a number column looked at to decide whether to write each distinct value
+once (when they hold at most a quarter as many distinct values)."""
 
 
 @dataclass(frozen=True)
@@ -128,7 +131,7 @@ class RowTable:
             return ""
         cells = [_cells(self.columns[name]) if name in self.columns
                  else itertools.repeat("", self.length) for name in self.header]
-        return "".join(",".join(row) + "\n" for row in zip(*cells, strict=False))
+        return "\n".join(map(",".join, zip(*cells, strict=False))) + "\n"
 
 
 class TableAssembly:
@@ -278,7 +281,9 @@ def _cells(column: np.ndarray) -> list[str]:
 
     Numbers are written by the ``repr`` of a whole list at once (each element's
     ``repr``, the shortest text that reads back to the same float, in C) and cut
-    at its separators; text is formatted once per distinct value.
+    at its separators; a column of few distinct numbers (an axis, a design that
+    was evaluated, a chunk's time per point) and text are formatted once per
+    distinct value.
     """
     if column.dtype == object:
         return _object_cells(column.tolist())
@@ -288,15 +293,32 @@ def _cells(column: np.ndarray) -> list[str]:
         if not column.shape[1]:
             return ["[]"] * len(column)
         mark = '"' if column.shape[1] > 1 else ""  # a list of two or more holds a comma
-        inner = repr(column.tolist())[2:-2].split("], [")
-        cells = [f"{mark}[{text}]{mark}" for text in inner]
+        parts = zip(*(_number_cells(column[:, index]) for index in range(column.shape[1])),
+                    strict=True)
+        cells = [f"{mark}[{', '.join(items)}]{mark}" for items in parts]
         return _emptied(cells, np.isnan(column[:, 0]))
-    if column.dtype.kind == "f":
-        return _emptied(repr(column.tolist())[1:-1].split(", "), np.isnan(column))
     if column.dtype.kind == "b":
         flags: list[str] = np.where(column, "true", "false").tolist()
         return flags
-    return repr(column.tolist())[1:-1].split(", ")
+    return _number_cells(column)
+
+
+def _number_cells(column: np.ndarray) -> list[str]:
+    """Cells of a 1-D number column; NaN: empty."""
+    sample = column[:DISTINCT_SAMPLE]
+    if len(column) > DISTINCT_SAMPLE and len(np.unique(_bits(sample))) * 4 <= len(sample):
+        # Distinct by their bits: 0.0 and -0.0 are written apart, as repr writes them.
+        _, first, where = np.unique(_bits(column), return_index=True, return_inverse=True)
+        texts = np.empty(len(first), dtype=object)
+        texts[:] = _number_cells(column[first])
+        repeated: list[str] = texts[where.ravel()].tolist()
+        return repeated
+    cells = repr(column.tolist())[1:-1].split(", ")
+    return _emptied(cells, np.isnan(column)) if column.dtype.kind == "f" else cells
+
+
+def _bits(column: np.ndarray) -> np.ndarray:
+    return column.view(np.int64) if column.dtype == np.float64 else column
 
 
 def _emptied(cells: list[str], empty: np.ndarray) -> list[str]:

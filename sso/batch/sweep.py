@@ -33,7 +33,14 @@ from sso.batch.table import (
     start_file,
     typed_rows,
 )
-from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
+from sso.batch.worker import (
+    ACTIONS,
+    ChunkTask,
+    SweepChunk,
+    chunk_output,
+    failed_rows,
+    run_chunk_task,
+)
 from sso.files import (
     claim_folder,
     remove_stale_temporaries,
@@ -118,7 +125,8 @@ def sweep(
         Local processes (default: every available core); 1 runs in this process.
     chunk_size : int, optional
         Points per task, ``1..10000`` (default: about four tasks per worker, at
-        most 25 points each).
+        most 25 points each; a sweep run as arrays, about eight per worker, at most
+        50,000 points each).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -250,14 +258,17 @@ class _Job:
         assembly = TableAssembly(self.header, [len(chunk.indices) for chunk in chunks])
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
-            for index, table, error in run_tasks(run_sweep_chunk, chunks, self.client,
-                                                  self.workers):
+            tasks = [ChunkTask(chunk, csv_path is not None, schema) for chunk in chunks]
+            for index, output, error in run_tasks(run_chunk_task, tasks, self.client,
+                                                   self.workers):
                 if error is not None:
-                    table = failed_rows(chunks[index], error)
+                    output = chunk_output(failed_rows(chunks[index], error),
+                                          csv_path is not None, schema)
+                table = output.table
                 if csv_path is not None:
-                    append_rows(csv_path, table.csv_text())
+                    append_rows(csv_path, output.csv)
                     if schema is not None:
-                        write_part(csv_path.parent, table, schema)
+                        write_part(csv_path.parent, table, schema, data=output.parquet_part)
                 assembly.place(index, table)
                 status = table.columns["status"]
                 bar.advance(table.length, int(np.count_nonzero(status != "ok")))

@@ -120,3 +120,14 @@ def test_a_chunk_of_other_columns_is_joined_at_the_end():
     assert joined.csv_text() == reference_text([ROWS[0], {**ROWS[1], "option": "3"}])
     with pytest.raises(ValueError, match="chunk 0 has 2 rows, not 1"):
         assembly.place(0, RowTable.from_rows(HEADER, ROWS[:2]))
+
+
+def test_a_long_column_of_few_values_writes_each_cell_as_repr_does():
+    # 0.0 and -0.0 are equal as numbers but written apart; NaN is an empty cell.
+    values = np.tile([0.0, -0.0, 1e-05, 12.5, np.nan, 1.0 / 3.0], 400)
+    rows = [{"point": index, "residual_error": None if value != value else float(value),
+             "design_beta_deg": [2.0, -0.0 if value != value else float(value)]}
+            for index, value in enumerate(values)]
+    table = RowTable.from_rows(HEADER, rows)
+    assert table.csv_text() == reference_text(rows)
+    assert table.csv_text().splitlines()[1].startswith("1,,,,,-0.0,")
