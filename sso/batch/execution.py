@@ -51,8 +51,10 @@ MAX_NO_WORKER_TIMEOUT_S = 1e6
 
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                       "MKL_NUM_THREADS": "1"}
-WORKER_PRELOAD = ["sso.batch.worker"]
-"""Modules the fork server imports once, so no pool worker imports them again."""
+WORKER_PRELOAD = ["sso.batch.worker", "sso.batch.parquet_output", "numpy.ma"]
+"""Modules the fork server imports once, so no pool worker imports them again: a
+sweep's worker, its output, and the part of numpy that ``numpy.unique`` imports on
+its first call."""
 
 
 def available_cores() -> int:

@@ -54,7 +54,6 @@ from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import ResourceEstimate, check_memory
 from sso.validation import shown
 
-MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
@@ -67,6 +66,7 @@ DEFAULT_CHUNK_CAP = 25
 # of MB of arrays at the peak.
 ARRAY_CHUNKS_PER_WORKER = 8
 ARRAY_CHUNK_CAP = 50_000
+MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
 """The files a sweep writes into its folder (its ``sso-files.json`` lists them; the
@@ -124,7 +124,7 @@ def sweep(
     workers : int, optional
         Local processes (default: every available core); 1 runs in this process.
     chunk_size : int, optional
-        Points per task, ``1..10000`` (default: about four tasks per worker, at
+        Points per task, ``1..50000`` (default: about four tasks per worker, at
         most 25 points each; a sweep run as arrays, about eight per worker, at most
         50,000 points each).
     progress : bool, optional
@@ -330,7 +330,8 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
             samples = rule_for_bounds(problem.beta_upper_rad, case.model).samples
         joints, free = problem.n_joints, problem.n_free
     return sweep_estimate(count, joints, free, samples, per_point, workers,
-                          optimising and case.kind == "shaft_series", arrays)
+                          optimising and case.kind == "shaft_series", arrays,
+                          min(count, ARRAY_CHUNK_CAP))
 
 
 def _parallelism(client: Any, workers: int) -> int:
