@@ -87,10 +87,11 @@ class RowTable:
         return cls(tuple(header), columns, length)
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
-        """Pickle an object column of text or flags as int32 codes into its distinct
-        values (nothing but the value where every row holds the same): a chunk's
-        status, flags, messages and hash then unpickle in the calling process as one
-        ``take`` (or one fill) instead of one object at a time."""
+        """Pickle compactly: a column of one value as that value, a chunk's point
+        indices as their first, an object column of text or flags as int32 codes into
+        its distinct values. A chunk's status, flags, messages and hash then unpickle
+        in the calling process as one ``take`` (or one fill) instead of one object at
+        a time, and its constant numbers (a time per point, a fixed phase) travel once."""
         return _unpack, (self.header, {name: _packed(column)
                                        for name, column in self.columns.items()},
                          self.length)
@@ -204,9 +205,18 @@ set no value equals a value of another type (unlike ``True == 1``)."""
 
 
 def _packed(column: np.ndarray) -> Any:
-    """An object column of text or flags as ``(codes, distinct values)``, codes None
-    where every row holds the same value; any other column as it is."""
-    if column.dtype != object or not len(column):
+    """A column as it travels: ``("same", first row, rows)`` where every row holds the
+    same bits, ``("range", first, rows)`` for consecutive whole numbers (a chunk's
+    points), ``("codes", codes, distinct values)`` for an object column of text or
+    flags; any other column as it is."""
+    if not len(column):
+        return column
+    if column.dtype != object:
+        raw = np.ascontiguousarray(column).view(np.uint8).reshape(len(column), -1)
+        if np.array_equal(raw, np.broadcast_to(raw[0], raw.shape)):
+            return "same", column[:1].copy(), len(column)
+        if column.dtype == np.int64 and column.ndim == 1 and np.all(np.diff(column) == 1):
+            return "range", int(column[0]), len(column)
         return column
     values = column.tolist()
     kinds = set(map(type, values))
@@ -216,10 +226,10 @@ def _packed(column: np.ndarray) -> Any:
     table = np.empty(len(distinct), dtype=object)
     table[:] = list(distinct)
     if len(distinct) == 1:
-        return None, table, len(values)
+        return "same", table, len(values)
     position = {value: index for index, value in enumerate(distinct)}
     codes = np.fromiter(map(position.__getitem__, values), dtype=np.int32, count=len(values))
-    return codes, table, len(values)
+    return "codes", codes, table
 
 
 def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> RowTable:
@@ -231,12 +241,12 @@ def _unpacked(column: Any) -> np.ndarray:
     if not isinstance(column, tuple):
         kept: np.ndarray = column
         return kept
-    codes, table, length = column
-    if codes is None:
-        whole = np.empty(length, dtype=object)
-        whole[:] = table[0]
-        return whole
-    taken: np.ndarray = table[codes]
+    kind, first, rest = column
+    if kind == "same":
+        return np.repeat(first, rest, axis=0)
+    if kind == "range":
+        return np.arange(first, first + rest, dtype=np.int64)
+    taken: np.ndarray = rest[first]
     return taken
 
 

@@ -90,6 +90,19 @@ def test_a_pickled_table_holds_the_same_cells():
     assert [type(value) for value in back.columns["success"][:3]] == [bool, type(None), bool]
 
 
+def test_constant_numbers_and_point_ranges_travel_compactly_and_come_back_bit_for_bit():
+    columns = {"point": np.arange(7, 5007), "time_s": np.full(5000, -0.0),
+               "design_phase_deg": np.tile([[90.0, np.nan]], (5000, 1)),
+               "residual_error": np.linspace(0.0, 1.0, 5000)}
+    table = RowTable(("point", "time_s", "design_phase_deg", "residual_error"), columns, 5000)
+    data = pickle.dumps(table)
+    back = pickle.loads(data)
+    for name, column in columns.items():
+        assert back.columns[name].dtype == column.dtype
+        assert back.columns[name].tobytes() == column.tobytes()
+    assert len(data) < 5000 * 8 + 2000  # only the residual errors travel in full
+
+
 def test_a_column_of_mixed_kinds_is_pickled_as_it_is():
     mixed = np.empty(3, dtype=object)
     mixed[:] = [True, 1, "1"]  # True == 1: codes would merge them
