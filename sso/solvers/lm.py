@@ -37,7 +37,14 @@ from typing import Any
 import numpy as np
 
 from sso.solvers import round_off_stops
-from sso.solvers.lm_kernel import kernel_of, newton_kernel_of, run_kernel, run_newton_kernel
+from sso.solvers.lm_kernel import (
+    flat_outcome,
+    kernel_of,
+    newton_kernel_of,
+    run_kernel_flat,
+    run_newton_kernel,
+    unpack,
+)
 from sso.solvers.lm_rules import (
     NEWTON,
     NEWTON_INDEFINITE,
@@ -114,24 +121,34 @@ def solve(
                           time.perf_counter() - started)
     fixed = parameters.tolist()
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
-    objective_hessian = getattr(nlp, "objective_hessian", None)
     kernel = kernel_of(nlp)
-    state = (None if kernel is None else
-             run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
-    if state is not None and state["status"] not in (RUNNING, NEWTON):
-        x, fun, nit, nfev, status = (state["x"], state["fun"], int(state["nit"]),
-                                     int(state["nfev"]), int(state["status"]))
-    else:
-        newton_kernel = (newton_kernel_of(nlp) if state is not None
-                         and state["status"] == NEWTON else None)
-        x, fun, nit, nfev, status = minimise(
-            lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
-            max_iterations,
-            None if objective_hessian is None else lambda point: objective_hessian(point, fixed),
-            state,
-            None if newton_kernel is None else lambda given: run_newton_kernel(
-                newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
-    if status in round_off_stops.ROUND_OFF_STOPS:  # a minimum, or only a vanished step?
+    state = None
+    if kernel is not None:
+        values = run_kernel_flat(kernel, start.tolist(), fixed, lower, upper, solver_tol,
+                                 max_iterations)
+        x, fun, nit, nfev, status = flat_outcome(values, len(lower))
+        if status not in (RUNNING, NEWTON):
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
+        state = unpack(values, len(lower))
+    objective_hessian = getattr(nlp, "objective_hessian", None)
+    newton_kernel = (newton_kernel_of(nlp) if state is not None and state["status"] == NEWTON
+                     else None)
+    x, fun, nit, nfev, status = minimise(
+        lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
+        max_iterations,
+        None if objective_hessian is None else lambda point: objective_hessian(point, fixed),
+        state,
+        None if newton_kernel is None else lambda given: run_newton_kernel(
+            newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
+    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
+
+
+def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit: int,
+             nfev: int, status: int, lower: list[float], upper: list[float],
+             started: float) -> RunOutcome:
+    """The outcome of a solve, a stop at round-off tested first: a minimum, or only a
+    vanished step (:mod:`sso.solvers.round_off_stops`)?"""
+    if status in round_off_stops.ROUND_OFF_STOPS:
         holds, probes = round_off_stops.holds(lambda point: abs(residual(point, fixed)[0]) ** 2,
                                               list(x), fun, lower, upper)
         nfev += probes
