@@ -180,6 +180,9 @@ def case_text(name: str, beta_deg: list[float], phase_deg: list[float], option: 
 
 @CASES
 @given(design=designs())
+@example(design=([89.9] * 30, [0.0] * 29))  # the issue's: validated, then ZeroDivisionError
+@example(design=([89.99999] * 12, [0.0] * 11))
+@example(design=([89.99999] * 64, [90.0] * 63))  # below the floor: refused by both
 def test_validate_then_evaluate_refuses_both_times_or_gives_the_exact_figures(tmp_path, design):
     beta_deg, phase_deg = design
     option = 1 if len(beta_deg) > 1 else 2
