@@ -111,6 +111,13 @@ def option_one_trial(words: str) -> str:
     return words.format(low=f"{low:.2f}", high=f"{high:.2f}")
 
 
+def fortran_degree() -> str:
+    """The four-bar paper's degree constant (0.0174532, as printed in its program) against
+    pi / 180: how far short it is, in parts per million."""
+    short_ppm = (1.0 - 0.0174532 / (np.pi / 180.0)) * 1e6
+    return f"converts degrees with 0.0174532, {short_ppm:.1f} ppm short"
+
+
 FIGURES = {
     "truck phasing (docs/column.md)": ("docs/column.md", truck_phasing),
     "SAE AE-7 calibration (docs/column.md)": ("docs/column.md", calibration_table),
@@ -125,6 +132,8 @@ FIGURES = {
         "model gives {low} to {high} rpm")),
     "option-1 trial (docs/guide/limits.md)": ("docs/guide/limits.md", lambda: option_one_trial(
         "the model gives {low} - {high} rpm")),
+    "the paper's degree (docs/tutorials/mechanisms.md)": ("docs/tutorials/mechanisms.md",
+                                                          fortran_degree),
 }
 
 
