@@ -330,8 +330,9 @@ def random_single_solves(per_shape: int, passes: int) -> dict[str, Any]:
     start once per pass, the two methods' passes interleaved; each method's time is the median
     of ``passes`` passes (one pass is a few milliseconds, which one burst of the
     machine's other work can double), in wall time and in this process's CPU time (on a
-    shared machine the work itself; the wall time adds the waits for a core). Also counted: sso answers with a higher RE than
-    the skilled baseline's (above round-off zero, 1e-20).
+    shared machine the work itself; the wall time adds the waits for a core). Also
+    counted: sso answers with a higher RE than the skilled baseline's (above round-off
+    zero, 1e-20).
     """
     rng = np.random.default_rng(20261123)
     rows = []
