@@ -70,3 +70,24 @@ def test_a_design_case_evaluated_holds_no_design():
         MechanismRun(case=run.case, mode="optimise", design=None, linkages=run.linkages,
                      method_difference=None, verdict="", warnings=(), versions={},
                      created_utc=run.created_utc)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda data: data["case"]["case"]["linkage"].update(crank=-2.0),
+     r"case \(MechanismCase\): .*linkage\.crank = -2 is outside the allowed range"),
+    (lambda data: data["case"]["case"].update(kind="bogus"), "kind = 'bogus' is not one of"),
+    (lambda data: data["linkages"][0]["extremes"][0].update(min="low"),
+     r"linkages\[0\]\.extremes\[0\]\.min = 'low'; allowed: a number"),
+    (lambda data: data.update(mode="guess"), "mode = 'guess'"),
+])
+def test_a_saved_run_is_read_as_strictly_as_its_case_file(tmp_path, edit, message):
+    from sso.cli.saved_results import read_saved_result
+    from sso.record import RecordError
+
+    run = run_mechanism(load_case(CASES / "fourbar_crank2.toml"), optimising=False)
+    saved = json.loads(json.dumps(run.to_dict()))
+    edit(saved)
+    path = tmp_path / "result.json"
+    path.write_text(json.dumps(saved))
+    with pytest.raises(RecordError, match=message):
+        read_saved_result(path)
