@@ -18,7 +18,7 @@ from sso.limits import REPORT_DIGITS
 from sso.linkages.fourbar_swing import FourBarDesignResult
 from sso.linkages.registry import linkage_of
 from sso.linkages.table import MechanismTable
-from sso.reports.documents import render_documents
+from sso.reports.documents import report_files
 from sso.reports.html import render_html
 from sso.reports.markdown import render_markdown
 from sso.reports.summary import (
@@ -51,19 +51,10 @@ CAPTIONS = {
 
 def mechanism_files(run: MechanismRun, formats: tuple[str, ...]) -> dict[str, bytes]:
     """The files of a mechanism run's report in ``formats`` (``result.json`` excepted)."""
-    files: dict[str, bytes] = {}
-    if "csv" in formats:
-        files.update({name: text.encode("utf-8") for name, text in table_files(run).items()})
-    images: dict[str, bytes] = {}
-    if "png" in formats:
-        from sso.reports.mechanism_plots import render_mechanism_plots
+    from sso.reports.mechanism_plots import render_mechanism_plots
 
-        images = render_mechanism_plots(run)
-        files.update(images)
-    if "md" in formats or "html" in formats:
-        blocks = mechanism_blocks(run, tuple(images))
-        files.update(render_documents(blocks, images, formats))
-    return files
+    return report_files(formats, lambda: table_files(run), lambda: render_mechanism_plots(run),
+                        lambda images: mechanism_blocks(run, images))
 
 
 def table_files(run: MechanismRun) -> dict[str, str]:

@@ -14,7 +14,7 @@ from typing import Any
 
 from sso.cases.column import COLUMN_KIND
 from sso.record import RecordError, read_json_object
-from sso.reports.documents import render_documents
+from sso.reports.documents import report_files
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
 
@@ -40,22 +40,14 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
         Files to render. Without ``"png"`` matplotlib is never imported and the
         reports carry no plots.
     """
+    from sso.reports.column_plots import render_column_plots
     from sso.reports.column_report import EXCITATION_FILE, column_blocks, excitation_csv
 
-    files: dict[str, bytes] = {}
-    if "json" in formats:
-        files[RESULT_FILE] = result_json(document).encode("utf-8")
-    if "csv" in formats:
-        files[EXCITATION_FILE] = excitation_csv(document).encode("utf-8")
-    images: dict[str, bytes] = {}
-    if "png" in formats:
-        from sso.reports.column_plots import render_column_plots
-
-        images = render_column_plots(document)
-        files.update(images)
-    if "md" in formats or "html" in formats:
-        blocks = column_blocks(document, tuple(images))
-        files.update(render_documents(blocks, images, formats))
+    files = report_files(formats, lambda: {EXCITATION_FILE: excitation_csv(document)},
+                         lambda: render_column_plots(document),
+                         lambda images: column_blocks(document, images))
+    if "json" in formats:  # the document first, as it was written
+        files = {RESULT_FILE: result_json(document).encode("utf-8"), **files}
     return files
 
 
