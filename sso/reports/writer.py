@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from sso.cases.column import COLUMN_KIND
-from sso.record import RecordError, read_json_object
+from sso.record import RecordError, check_values, read_json_object
 from sso.reports.documents import report_files
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
@@ -62,8 +62,10 @@ def read_result(path: str | Path) -> dict[str, Any]:
     Raises
     ------
     ResultFileError
-        If the file is unreadable, not JSON, from another schema version, or
-        lacks a key the reports need.
+        If the file is unreadable, not JSON, from another schema version, lacks a
+        key the reports need, or holds a value out of its range (a residual error
+        below 0, a succeeded solver's objective not finite; as a saved result is
+        checked, :func:`sso.record.check_values`).
     """
     try:
         document = read_json_object(path)
@@ -81,6 +83,10 @@ def read_result(path: str | Path) -> dict[str, Any]:
     missing = [key for key in COLUMN_REQUIRED_KEYS if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")
+    try:
+        check_values(document)
+    except RecordError as error:
+        raise ResultFileError(f"{path}: {error}") from None
     return document
 
 
