@@ -58,13 +58,21 @@ SWEEP_TABLE_COLUMNS = (
     ("fluctuation", "fluctuation (dimensionless)"), ("success", "converged and agree"),
     ("crosscheck_agree", "solvers agree"), ("time_s", "time (s)"),
 )
+# The same for a sweep of a column case: its design and steering figures.
+COLUMN_TABLE_COLUMNS = (
+    ("status", "status"), ("residual_error", "RE (dimensionless)"),
+    ("yoke_phase_deg", "yoke phasing (deg)"),
+    ("speed_fluctuation_percent", "speed fluctuation, lock to lock (%)"),
+    ("largest_transmission_error_deg", "largest |TE| (deg)"),
+    ("success", "converged and agree"), ("time_s", "time (s)"),
+)
 
 
 def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     """Report files of a :class:`sso.SweepResult`, keyed by file name."""
     files: dict[str, bytes] = {}
     if "csv" in formats:
-        header = columns([axis.path for axis in result.axes])
+        header = columns([axis.path for axis in result.axes], _kind(result))
         files[CSV_NAME] = render_rows(header, [format_row(row, header)
                                                for row in result.rows]).encode("utf-8")
     if "json" in formats and result.manifest:
@@ -129,16 +137,23 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
                             f"value (log scale); values {FLOOR_LABEL}."))
     paths = [axis.path for axis in result.axes]
     shown = sorted(result.rows, key=_re_key)[:REPORT_ROWS]
+    table = COLUMN_TABLE_COLUMNS if _kind(result) == "column" else SWEEP_TABLE_COLUMNS
     blocks += [Heading(2, f"Lowest residual error ({len(shown)} of {len(result.rows)} points)"),
-               Table(("point", *paths, *(label for _, label in SWEEP_TABLE_COLUMNS)),
+               Table(("point", *paths, *(label for _, label in table)),
                      tuple((str(row["point"]), *(_cell(row.get(path)) for path in paths),
-                            *(_cell(row.get(column)) for column, _ in SWEEP_TABLE_COLUMNS))
+                            *(_cell(row.get(column)) for column, _ in table))
                            for row in shown))]
     if result.failed:
         blocks += [Heading(2, "Failed points"),
                    Table(("point", "error"), tuple((str(row["point"]), _cell(row["error"]))
                                                    for row in result.failed))]
     return blocks
+
+
+def _kind(result: Any) -> str:
+    """The kind of the sweep's base case (``"shaft_series"`` or ``"column"``)."""
+    kind: str = result.manifest.get("case", {}).get("kind", "shaft_series")
+    return kind
 
 
 def _tolerance_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
