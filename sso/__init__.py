@@ -42,6 +42,7 @@ _EXPORTS: dict[str, str] = {
     "YokeInstruction": "sso.column.splines",
     "excitation_table": "sso.column.excitation",
     "ExcitationRow": "sso.column.excitation",
+    "ExcitationTable": "sso.column.excitation",
     "equivalent_angles": "sso.column.excitation",
     "EquivalentAngles": "sso.column.excitation",
     "PositionsResult": "sso.column.positions",

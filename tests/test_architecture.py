@@ -21,6 +21,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin", "interrupts"),
     ("validation", "files", "display"),
     ("kinematics", "folder_lock"),
+    ("record",),
     ("solvers",),
     ("shafts", "linkages"),
     ("column",),

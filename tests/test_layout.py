@@ -45,7 +45,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/reports/column_report.py",
     "sso/reports/column_robust_plots.py",
     "sso/reports/column_robust_report.py",
-    "sso/reports/curves.py",
     "sso/reports/html.py",
     "sso/reports/markdown.py",
     "sso/reports/mechanism_plots.py",

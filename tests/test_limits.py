@@ -145,7 +145,7 @@ def literal_defaults(function: Any) -> list[str]:
 
 def test_every_public_default_is_a_constant_of_the_limits():
     functions = public_functions()
-    assert len(functions) > 60  # the walk sees the API
+    assert len(functions) > 45  # the walk sees the API (Record methods are inherited)
     written_in_place = {name: found for name, function in functions
                         if (found := literal_defaults(function))}
     assert written_in_place == {}, "define each default in sso/limits.py and name it there"

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sso.record import register_record
 from sso.validation import finite_float, shown
 
 MODES = ("product", "listed")
@@ -29,6 +30,7 @@ UNSWEPT_KEYS = ("kind", "name", "description", "output.formats")
 _PATH = re.compile(r"^(?P<label>[a-z_]+(\.[a-z_]+)?)(?P<indices>(\[\d+\])*)$")
 
 
+@register_record
 @dataclass(frozen=True)
 class Axis:
     """One varied field of a sweep.

@@ -29,6 +29,7 @@ import numpy as np
 from sso.batch.table import CSV_NAME, MANIFEST_NAME, columns, format_row, render_rows
 from sso.display import format_number
 from sso.limits import REPORT_DIGITS, ROUND_OFF_FLOOR
+from sso.reports.documents import render_documents
 from sso.reports.kinds import register_report_kind
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table
 from sso.validation import shown
@@ -89,7 +90,8 @@ def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     if "csv" in formats:
         files[TOLERANCE_CSV] = _tolerance_csv(result).encode("utf-8")
     if "json" in formats:
-        files[TOLERANCE_JSON] = (json.dumps(result.to_dict(), indent=2) + "\n").encode("utf-8")
+        summary = json.dumps(result._document_dict(), indent=2) + "\n"
+        files[TOLERANCE_JSON] = summary.encode("utf-8")
     images = {TOLERANCE_PLOT: _png(_tolerance_figure(result))} if "png" in formats else {}
     files.update(images)
     _add_documents(files, formats, _tolerance_blocks(result, tuple(images)), images)
@@ -98,14 +100,7 @@ def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
 
 def _add_documents(files: dict[str, bytes], formats: tuple[str, ...], blocks: list[Block],
                    images: dict[str, bytes]) -> None:
-    if "md" in formats:
-        from sso.reports.markdown import render_markdown
-
-        files["report.md"] = render_markdown(blocks).encode("utf-8")
-    if "html" in formats:
-        from sso.reports.html import render_html
-
-        files["report.html"] = render_html(blocks, images).encode("utf-8")
+    files.update(render_documents(blocks, images, formats))
 
 
 def _tolerance_csv(result: Any) -> str:

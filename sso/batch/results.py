@@ -21,6 +21,7 @@ from sso.batch.columns import RowTable
 from sso.batch.parquet_output import PARQUET_NAME, read_frame
 from sso.batch.table import CSV_NAME
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.record import Record
 from sso.shafts.evaluation import Evaluation
 from sso.shafts.perturbed import METRICS
 from sso.shafts.series import ShaftSeries
@@ -76,8 +77,8 @@ class SweepRows(Sequence[dict[str, Any]]):
         return column
 
 
-@dataclass(frozen=True, repr=False)
-class SweepResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class SweepResult(Record, Readable):
     """What a sweep computed, one row per point.
 
     Attributes
@@ -204,7 +205,7 @@ class SweepResult(Readable):
             parts.append(f"  results: {self.out_dir / CSV_NAME}")
         return parts
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "axes": [{"path": axis.path, "values": list(axis.values)} for axis in self.axes],
@@ -220,8 +221,8 @@ class SweepResult(Readable):
         }
 
 
-@dataclass(frozen=True, repr=False)
-class ToleranceResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class ToleranceResult(Record, Readable):
     """A Monte Carlo tolerance study of one design.
 
     Attributes
@@ -312,7 +313,7 @@ class ToleranceResult(Readable):
                      f"{self.reflected_samples}")
         return [headline, design, deviations, reflected, TextTable(header, rows)]
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready summary: settings, nominal evaluation and percentiles.
 
         The per-sample arrays are left out (``tolerance.csv`` holds them).

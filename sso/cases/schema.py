@@ -322,6 +322,43 @@ def schema(kind: str = DEFAULT_KIND) -> tuple[Key, ...]:
 
 # ---------------------------------------------------------------- reading
 
+class SavedCase:
+    """How a checked case is saved in a result and read back: as its case file is.
+
+    A result holds its case as the case-file tables (``to_dict()``) and where it
+    came from; reading it back runs every check of a case file, so a saved result
+    can hold no value a case file could not.
+    """
+
+    source: str
+
+    def to_dict(self) -> dict[str, Any]:
+        raise NotImplementedError
+
+    def _record_save(self) -> dict[str, Any]:
+        """The saved form: the case-file tables and where they came from."""
+        return {"case": self.to_dict(), "source": self.source}
+
+    @classmethod
+    def _record_load(cls, saved: Mapping[str, Any], where: str) -> Any:
+        """A saved case read back through every check of a case file.
+
+        Raises
+        ------
+        ValueError
+            Naming the key at fault, as for a case file, or the kind if it is not
+            this class's.
+        """
+        if set(saved) != {"case", "source"} or not isinstance(saved["case"], dict) \
+                or not isinstance(saved["source"], str):
+            raise ValueError('a saved case is {"case": {tables of a case file}, "source": '
+                             f'"where it came from"}}, not {shown(saved)}')
+        case = parse_case(saved["case"], saved["source"])
+        if not isinstance(case, cls):
+            raise ValueError(f"kind = {case.kind!r} is not the kind of case this result holds")
+        return case
+
+
 def load_case(path: str | Path) -> Any:
     """Read and check one case file.
 

@@ -17,6 +17,7 @@ from sso.cases.schema import (
     REQUIRED,
     Bounds,
     Key,
+    SavedCase,
     _quoted,
     bounds_list,
     choice,
@@ -50,6 +51,7 @@ from sso.limits import (
     MAX_STARTS,
     SOLVERS,
 )
+from sso.record import register_record
 from sso.shafts.options import OPTION_NAMES, build_problem, parse_option, warn_moved_starts
 from sso.shafts.series import ShaftSeries
 from sso.validation import shown
@@ -76,8 +78,9 @@ def option_value(label: str, value: Any) -> int:
                          f"{_quoted(tuple(OPTION_NAMES.values()))}") from None
 
 
+@register_record
 @dataclass(frozen=True)
-class Case:
+class Case(SavedCase):
     """A shaft-series design problem as read from a case file, after defaults.
 
     Attributes

@@ -118,16 +118,17 @@ def _studied_design(args: argparse.Namespace, case: Any) -> tuple[Any, str]:
     if args.at == "start":
         return case, f"the design as given (start) in {Path(args.case).name}"
     if args.result is not None:
-        from sso.reports.writer import read_result
-        from sso.shafts.series import ShaftSeries
+        from sso.cli.saved_results import read_saved_result
+        from sso.run.shaft_series import ShaftSeriesRun
+        from sso.shafts.optimise import OptimisationResult
 
-        document = read_result(args.result)
-        optimum = document.get("designs", {}).get("optimum")
-        if optimum is None:
+        saved = read_saved_result(args.result)
+        optimisation = saved.optimisation if isinstance(saved, ShaftSeriesRun) else saved
+        if not isinstance(optimisation, OptimisationResult):
             raise ValueError(f"{args.result} holds no optimum (was it written by sso evaluate?); "
                              "give a result of sso run, or --at start")
-        series = ShaftSeries(optimum["beta_deg"], optimum["phase_deg"], document["model"])
-        return series, f"the {optimum['label']} read from {args.result}"
+        optimum = optimisation.compared[1]
+        return optimum.series, f"the {optimum.label} read from {args.result}"
     from sso.display import format_number
     from sso.shafts.optimise import optimise
 

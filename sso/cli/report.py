@@ -33,6 +33,9 @@ def _report(args: argparse.Namespace) -> int:
 
     exit_code = EXIT_OK
     for path in args.results:
+        if _is_saved_result(path):
+            exit_code = max(exit_code, _report_saved_result(args, path))
+            continue
         try:
             document = read_result(path)
         except ResultFileError as error:
@@ -65,6 +68,52 @@ def _report(args: argparse.Namespace) -> int:
         say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
             f"in {folder}")
     return exit_code
+
+
+def _is_saved_result(path: str) -> bool:
+    """True unless ``path`` holds a result document (a mechanism's or a column's, with
+    ``"schema_version"``); an unreadable file counts as a saved result, whose reading
+    then says what is wrong."""
+    from sso.record import RecordError, read_json_object
+
+    try:
+        return "schema_version" not in read_json_object(path)
+    except RecordError:
+        return True
+
+
+def _report_saved_result(args: argparse.Namespace, path: str) -> int:
+    """Read a saved result back (``from_dict``) and write its report; the exit code."""
+    from sso.cli.saved_results import read_saved_result
+    from sso.files import check_report_folder
+    from sso.limits import OUTPUT_FORMATS
+    from sso.record import RecordError
+    from sso.reports.kinds import report_kind_of, write_report
+
+    try:
+        result = read_saved_result(path)
+    except RecordError as error:
+        print_error(str(error))
+        return EXIT_BAD_INPUT
+    case = getattr(result, "case", None)  # a case run's result holds its case
+    case_formats = OUTPUT_FORMATS if case is None else case.formats
+    formats = report_formats(args, [name for name in case_formats if name != "json"])
+    folder = Path(path).parent if args.out is None else Path(args.out)
+    if args.out is not None and len(args.results) > 1:
+        folder = folder / (Path(path).resolve().parent.name if case is None else case.name)
+    try:
+        adopt = _rewritten_result(path, folder)
+        check_report_folder(folder, report_kind_of(result).folder, adopt)
+        written = write_report(result, folder, ("json", *formats), adopt)
+    except ValueError as error:
+        print_error(f"{path}: cannot write the report: {error}")
+        return EXIT_BAD_INPUT
+    except OSError as error:
+        print_error(f"{path}: cannot write the report into {folder}: {error.strerror or error}")
+        return EXIT_BAD_INPUT
+    say(args, f"{path}: wrote {', '.join(item.name for item in written) or 'nothing'} "
+        f"in {folder}")
+    return EXIT_OK
 
 
 def _rewritten_result(path: str, folder: Path) -> tuple[str, ...]:

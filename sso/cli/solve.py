@@ -117,17 +117,18 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     from sso.files import replace_folder
     from sso.reports.kinds import CASE_REPORT, render_report
     from sso.run.column_document import column_document
-    from sso.run.document import evaluate_case, optimise_case
     from sso.run.mechanism_document import mechanism_document
+    from sso.run.shaft_series import run_shaft_series
 
     say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
+    result: Any
     try:
         if case.kind == COLUMN_KIND:
-            document = column_document(case, optimising)
+            result = column_document(case, optimising)
         elif case.kind in MECHANISM_KINDS:
-            document = mechanism_document(case, optimising)
+            result = mechanism_document(case, optimising)
         else:
-            document = optimise_case(case) if optimising else evaluate_case(case)
+            result = run_shaft_series(case, optimising)
     except ValueError as error:
         print_error(f"{case.source}: {error}")
         return Outcome(case.name, "bad input", EXIT_BAD_INPUT)
@@ -135,38 +136,70 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
         print_error(f"{case.source}: internal error while solving; please report it:\n"
                     + traceback.format_exc())
         return Outcome(case.name, "internal error", EXIT_FAILED)
-    print_warnings(case.name, document["warnings"])
-    written = replace_folder(folder, render_report(document, case.formats), CASE_REPORT)
-    status, code = _status(document)
-    if not document["success"]:
-        print_error(f"{case.name}: {document['verdict']}")
+    told = _told(result)
+    print_warnings(case.name, told.warnings)
+    written = replace_folder(folder, render_report(result, case.formats), CASE_REPORT)
+    status, code = _status(told)
+    if not told.success:
+        print_error(f"{case.name}: {told.verdict}")
     say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
-    designs = document.get("designs", {})
-    initial, optimum, reference = (
-        format_number(designs[role]["evaluation"]["residual_error"], 3)
-        if role in designs else "-" for role in ("initial", "optimum", "reference"))
-    objective = designs.get("optimum", {}).get("objective")
-    if objective is not None:
+    initial, optimum, reference = (format_number(value, 3) if value is not None else "-"
+                                   for value in told.residual_errors)
+    if told.objective_note is not None:
         # the recommended teeth were searched for the case's own objective: say it
-        optimum += (f" ({objective['name']} {format_number(objective['at_teeth'], 3)} at "
-                    f"the teeth, {format_number(objective['continuous'], 3)} continuous)")
+        optimum += f" ({told.objective_note})"
     return Outcome(case.name, status, code, (initial, optimum, reference),
                    time.perf_counter() - started, str(folder))
 
 
-def _status(document: dict[str, Any]) -> tuple[str, int]:
-    from sso.run.document import UNRELIABLE_VERDICT
+@dataclass(frozen=True)
+class _Told:
+    """What the command tells of one case's result."""
 
-    if document["mode"] == "evaluate":
+    mode: str
+    success: bool
+    verdict: str
+    warnings: tuple[str, ...]
+    residual_errors: tuple[float | None, ...]
+    """RE of the initial design, the optimum and the reference (None: not in the result)."""
+    objective_note: str | None = None
+    """The objective the recommended teeth were searched for, at the teeth and continuous
+    (a column with positions, tolerances or a steering feel), else None."""
+
+
+def _told(result: Any) -> _Told:
+    """What to tell of a shaft-series run (a result) or a mechanism or column document."""
+    from sso.run.shaft_series import ShaftSeriesRun
+
+    if isinstance(result, ShaftSeriesRun):
+        designs = (result.design(role) for role in ("initial", "optimum", "reference"))
+        errors = tuple(None if design is None else design.evaluation.residual_error
+                       for design in designs)
+        return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
+    designs = result.get("designs", {})
+    objective = designs.get("optimum", {}).get("objective")
+    note = None if objective is None else (
+        f"{objective['name']} {format_number(objective['at_teeth'], 3)} at the teeth, "
+        f"{format_number(objective['continuous'], 3)} continuous")
+    return _Told(result["mode"], result["success"], result["verdict"],
+                 tuple(result["warnings"]),
+                 tuple(designs[role]["evaluation"]["residual_error"] if role in designs else None
+                       for role in ("initial", "optimum", "reference")), note)
+
+
+def _status(told: _Told) -> tuple[str, int]:
+    from sso.shafts.optimise import UNRELIABLE_VERDICT
+
+    if told.mode == "evaluate":
         return "evaluated", EXIT_OK
-    if document["mode"] == "analyse":
+    if told.mode == "analyse":
         return "analysed", EXIT_OK
-    if document["success"]:
+    if told.success:
         return "solved", EXIT_OK
-    if document["verdict"].startswith("solver failed"):
+    if told.verdict.startswith("solver failed"):
         return "solver failed", EXIT_FAILED
-    if document["verdict"].startswith(UNRELIABLE_VERDICT):
+    if told.verdict.startswith(UNRELIABLE_VERDICT):
         return UNRELIABLE_VERDICT, EXIT_FAILED
     return "solvers disagree", EXIT_FAILED
 

@@ -33,7 +33,9 @@ from sso.column.cancel import can_cancel
 from sso.column.chain_matrix import residual_error
 from sso.column.design import column_design
 from sso.column.geometry import ColumnGeometry
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import BETA_LIMIT_DEG, DEFAULT_PHASE_ERROR_POINTS, DEFAULT_PHASE_ERROR_SPAN_DEG
+from sso.record import Record, register_record
 from sso.validation import finite_in_range, validate_count
 
 SCAN_STEP_DEG = 0.05
@@ -47,6 +49,7 @@ BOX_GRID_POINTS = 21
 BOX_GRID_SIZE = 100_000
 
 
+@register_record
 @dataclass(frozen=True)
 class Interval:
     """Where one angle may lie with the others at nominal and RE at or below the limit.
@@ -79,8 +82,8 @@ class Interval:
         return dict(self.__dict__)
 
 
-@dataclass(frozen=True)
-class ToleranceBand:
+@dataclass(frozen=True, eq=False, repr=False)
+class ToleranceBand(Record, Readable):
     """Outcome of :func:`tolerance_band`.
 
     Attributes
@@ -117,7 +120,32 @@ class ToleranceBand:
     box_grid_max_re: float
     geometry: ColumnGeometry
 
-    def to_dict(self) -> dict[str, Any]:
+    def _repr_text(self) -> str:
+        return (f"re_limit={format_number(self.re_limit)}, nominal_re="
+                f"{format_number(self.nominal_re)}, yoke_phase_deg "
+                f"[{format_numbers(self.yoke_phase_deg)}], box half-widths "
+                f"[{format_numbers(self.box_half_width_deg)}] deg")
+
+    def _summary_parts(self) -> list[Part]:
+        def row(interval: Interval) -> tuple[str, ...]:
+            def edge(value: float, at_limit: bool) -> str:
+                return format_number(value) + ("" if at_limit else " (end of range)")
+
+            return (interval.name, format_number(interval.nominal_deg),
+                    edge(interval.lower_deg, interval.lower_at_limit),
+                    edge(interval.upper_deg, interval.upper_at_limit))
+
+        header = ("angle", "nominal (deg)", "lower (deg)", "upper (deg)")
+        return [f"Tolerance band: RE <= {format_number(self.re_limit)} (nominal RE "
+                f"{format_number(self.nominal_re)})",
+                TextTable(header, tuple(row(item) for item in self.yoke_phase)),
+                TextTable(header, tuple(row(item) for item in self.operating_angle)),
+                f"box of phase errors: half-widths [{format_numbers(self.box_half_width_deg)}] "
+                f"deg (scale {format_number(self.box_scale)}); largest RE at its corners "
+                f"{format_number(self.box_corner_max_re)}, over its grid "
+                f"{format_number(self.box_grid_max_re)}"]
+
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {"re_limit": self.re_limit, "nominal_re": self.nominal_re,
                 "yoke_phase_deg": list(self.yoke_phase_deg),

@@ -32,11 +32,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
 
+from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import BETA_LIMIT_DEG
+from sso.record import Record
 from sso.validation import as_float_tuple, check_chain_cosines, check_in_range
 
 RULE_SINGLE = "one joint: the fluctuation cancels only if the joint is straight"
@@ -45,8 +46,8 @@ RULE_CHAIN = ("three or more joints: the fluctuation cancels if cos(beta_max) >=
               "product of cos(beta) of the other joints")
 
 
-@dataclass(frozen=True)
-class CancelVerdict:
+@dataclass(frozen=True, eq=False, repr=False)
+class CancelVerdict(Record, Readable):
     """Whether free yoke phasing can make the output turn evenly.
 
     Attributes
@@ -75,9 +76,20 @@ class CancelVerdict:
     small_angle_margin_deg2: float
     rule: str
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return asdict(self)
+    def _repr_text(self) -> str:
+        return (f"possible={self.possible}, margin={format_number(self.margin)}, "
+                f"minimum_residual_error={format_number(self.minimum_residual_error)}, "
+                f"limiting joint P{self.limiting_joint}")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = ("yes: some yoke phasing cancels the fluctuation (RE = 0)" if self.possible
+                   else "no: no yoke phasing cancels the fluctuation")
+        return [f"Can the fluctuation cancel? {verdict}", TextTable(("figure", "value"), (
+            ("margin cos(beta_max) - prod cos(beta_other)", format_number(self.margin)),
+            ("least RE of any phasing", format_number(self.minimum_residual_error)),
+            ("limiting joint (largest angle)", f"P{self.limiting_joint}"),
+            ("small-angle margin (deg^2)", format_number(self.small_angle_margin_deg2)))),
+            f"rule: {self.rule}"]
 
 
 def can_cancel(beta_deg: Sequence[float]) -> CancelVerdict:

@@ -33,13 +33,15 @@ and never a steering column, whose rows carry no limit and no verdict.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
 from sso.column.chain_matrix import chain_matrix
+from sso.display import Part, Readable, TextTable, format_number
+from sso.record import Record, register_record
 from sso.shafts.series import ShaftSeries
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
@@ -48,6 +50,7 @@ TORSIONAL_LIMIT_RAD_S2 = {"car": 300.0, "truck": 500.0}
 APPLICATIONS = ("steering", "driveline")
 
 
+@register_record
 @dataclass(frozen=True)
 class EquivalentAngles:
     """Speed-independent excitation angles of a design, deg.
@@ -66,6 +69,7 @@ class EquivalentAngles:
     exact_deg: float
 
 
+@register_record
 @dataclass(frozen=True)
 class ExcitationRow:
     """Excitation at one input speed, rad/s^2, with the published limits.
@@ -101,6 +105,85 @@ class ExcitationRow:
         return asdict(self)
 
 
+@dataclass(frozen=True, eq=False, repr=False)
+class ExcitationTable(Record, Readable):
+    """Outcome of :func:`excitation_table`: one row per input speed, and what they came from.
+
+    It reads as the tuple of its rows (``len``, indexing, iteration, unpacking).
+
+    Attributes
+    ----------
+    vehicle : {"car", "truck"}
+        Whose published limits the rows compare with.
+    application : {"driveline", "steering"}
+        A driveline is judged by the published limits; a steering column is not.
+    angles : EquivalentAngles
+        The design's equivalent angles, deg (the rows' excitations follow from them).
+    rows : tuple of ExcitationRow
+        One per input speed, in the order given.
+    """
+
+    vehicle: str
+    application: str
+    angles: EquivalentAngles
+    rows: tuple[ExcitationRow, ...]
+
+    @property
+    def within_limits(self) -> bool | None:
+        """True when every row is within the published limits; None where none apply."""
+        if self.application != "driveline":
+            return None
+        return all(row.within_limits for row in self.rows)
+
+    def _verdict(self) -> str:
+        if self.within_limits is None:
+            return "not judged (the published limits are a driveline's)"
+        return "within" if self.within_limits else "NOT within"
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def __iter__(self) -> Iterator[ExcitationRow]:
+        return iter(self.rows)
+
+    @overload
+    def __getitem__(self, index: int) -> ExcitationRow: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> tuple[ExcitationRow, ...]: ...
+
+    def __getitem__(self, index: int | slice) -> ExcitationRow | tuple[ExcitationRow, ...]:
+        return self.rows[index]
+
+    def _repr_text(self) -> str:
+        speeds = [row.input_speed_rpm for row in self.rows]
+        return (f"{self.application}, {self.vehicle}, {len(self.rows)} speeds "
+                f"{format_number(min(speeds))} to {format_number(max(speeds))} rpm, "
+                f"{self._verdict()}")
+
+    def _summary_parts(self) -> list[Part]:
+        angles = self.angles
+        def judged(value: bool | None) -> str:
+            return "n/a" if value is None else "yes" if value else "no"
+
+        return [
+            f"Excitation ({self.application}, {self.vehicle} limits): {self._verdict()}",
+            f"equivalent angles (deg): drive {format_number(angles.drive_deg)}, coast "
+            f"{format_number(angles.coast_deg)}, torsional {format_number(angles.torsional_deg)}"
+            f", exact {format_number(angles.exact_deg)}",
+            TextTable(("input speed (rpm)", "drive (rad/s^2)", "coast (rad/s^2)",
+                       "torsional (rad/s^2)", "exact torsional (rad/s^2)",
+                       "exact output accel (rad/s^2)", "within limits"),
+                      tuple((format_number(row.input_speed_rpm), format_number(row.drive_rad_s2),
+                             format_number(row.coast_rad_s2), format_number(row.torsional_rad_s2),
+                             format_number(row.exact_torsional_rad_s2),
+                             format_number(row.exact_output_accel_rad_s2),
+                             judged(row.within_limits)) for row in self.rows)),
+            f"limits (rad/s^2): inertial {format_number(self.rows[0].inertial_limit_rad_s2)}, "
+            f"torsional {format_number(self.rows[0].torsional_limit_rad_s2)}",
+        ]
+
+
 def equivalent_angles(series: ShaftSeries) -> EquivalentAngles:
     """The SAE AE-7 and exact equivalent angles of a design (exact-model phases).
 
@@ -127,7 +210,7 @@ def equivalent_angles(series: ShaftSeries) -> EquivalentAngles:
 
 def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
                      vehicle: str = "car",
-                     application: str = "driveline") -> tuple[ExcitationRow, ...]:
+                     application: str = "driveline") -> ExcitationTable:
     """Excitation of a design over input speeds, beside the published limits.
 
     Parameters
@@ -145,7 +228,9 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
 
     Returns
     -------
-    tuple of ExcitationRow
+    ExcitationTable
+        The rows, one per speed (it reads as their tuple), with the vehicle and the
+        equivalent angles.
 
     Raises
     ------
@@ -190,7 +275,8 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
             within_limits=(drive <= inertial and coast <= inertial
                            and torsional <= torsional_limit) if judged else None,
         ))
-    return tuple(rows)
+    return ExcitationTable(vehicle=vehicle, application=application, angles=angles,
+                           rows=tuple(rows))
 
 
 def _exact_copy(series: ShaftSeries) -> ShaftSeries:

@@ -28,7 +28,7 @@ cross-and-yoke simulation), of period 180 deg and mean 1 over a period.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -45,6 +45,7 @@ from sso.column.scenarios import (
     yoke_starts,
 )
 from sso.column.splines import SplineResult, best_teeth_for_objective
+from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
     DEFAULT_COLUMN_SEED,
@@ -57,6 +58,7 @@ from sso.limits import (
     MAX_ITERATIONS,
     MAX_STARTS,
 )
+from sso.record import Record
 from sso.solvers.run import RunLimits
 from sso.validation import (
     finite_float,
@@ -71,8 +73,8 @@ FLUCTUATION_STEP_DEG = 0.05
 MAX_ON_CENTRE_WEIGHT = 1e6
 
 
-@dataclass(frozen=True)
-class SteeringFeel:
+@dataclass(frozen=True, eq=False, repr=False)
+class SteeringFeel(Record, Readable):
     """The speed ratio on-centre and at lock of one design.
 
     Attributes
@@ -102,12 +104,25 @@ class SteeringFeel:
     on_centre_variance: float
     objective: float
 
-    def to_dict(self) -> dict[str, float]:
-        """JSON-ready dictionary of every field."""
-        return dict(self.__dict__)
+    def _repr_text(self) -> str:
+        return (f"on-centre fluctuation {format_number(self.on_centre_fluctuation)}, at lock "
+                f"{format_number(self.lock_fluctuation)}, RE {format_number(self.re)}")
+
+    def _summary_parts(self) -> list[Part]:
+        return [f"Steering feel: straight ahead at {format_number(self.straight_ahead_deg)} deg, "
+                f"windows +-{format_number(self.window_deg)} deg, lock "
+                f"{format_number(self.lock_deg)} deg",
+                TextTable(("figure", "value"), (
+                    ("speed-ratio fluctuation on-centre (peak to peak)",
+                     format_number(self.on_centre_fluctuation)),
+                    ("speed-ratio fluctuation at lock (peak to peak)",
+                     format_number(self.lock_fluctuation)),
+                    ("residual error RE", format_number(self.re)),
+                    ("on-centre variance V", format_number(self.on_centre_variance)),
+                    ("objective RE + weight V", format_number(self.objective))))]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class OnCentreResult(PhasingOutcome):
     """Outcome of :func:`optimise_on_centre`.
 
@@ -146,10 +161,10 @@ class OnCentreResult(PhasingOutcome):
                                         continuous_yoke_phase_deg=self.yoke_phase_deg,
                                         objective_name=self.objective_name)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {**self.outcome_dict(), "on_centre_weight": self.on_centre_weight,
-                "feel": self.feel.to_dict(), "nominal_feel": self.nominal_feel.to_dict(),
+                "feel": asdict(self.feel), "nominal_feel": asdict(self.nominal_feel),
                 "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg)}
 
 

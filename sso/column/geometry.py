@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, INPUT_MAGNITUDE_RANGE
+from sso.record import register_record
 from sso.shafts.series import ShaftSeries
 from sso.validation import as_float_tuple, check_chain_cosines, finite_float
 
@@ -45,6 +46,7 @@ ROUND_OFF_SINE = 1e-13
 COINCIDENT_RELATIVE = 1e-9
 
 
+@register_record
 @dataclass(frozen=True)
 class ColumnGeometry:
     """Shafts in 3D joined by Hooke joints, given by hardpoints.

@@ -30,7 +30,7 @@ import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -58,6 +58,7 @@ from sso.limits import (
     MAX_ITERATIONS,
     MAX_STARTS,
 )
+from sso.record import NON_NEGATIVE, FieldRule
 from sso.solvers.multistart import solution_from_run, solve_from_starts
 from sso.solvers.result import DesignResult
 from sso.solvers.run import RunLimits
@@ -76,7 +77,7 @@ from sso.validation import (
 MM_PER_UNIT = 1000.0
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class JointCentresResult(DesignResult):
     """The best joint positions (and phasing) within the boxes.
 
@@ -114,6 +115,8 @@ class JointCentresResult(DesignResult):
         NLP's units (m; cosine of an angle).
 
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     initial: ColumnGeometry
     geometry: ColumnGeometry
@@ -157,7 +160,7 @@ class JointCentresResult(DesignResult):
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "initial": self.initial.to_dict(),

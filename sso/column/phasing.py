@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -18,6 +19,10 @@ from sso.limits import (
     DEFAULT_SHAFT_SOLVER_TOL,
     DEFAULT_STARTS,
 )
+from sso.record import NON_NEGATIVE, FieldRule, Record
+
+if TYPE_CHECKING:
+    from sso.shafts.optimise import OptimisationResult
 from sso.shafts.optimise import OptimisationResult, optimise
 
 # Phase bounds of the NLP: one and a half periods, so every minimum (period 180 deg)
@@ -27,8 +32,8 @@ PHASE_BOUNDS_DEG = (-90.0, 270.0)
 SAME_PHASING_DEG = 1e-6
 
 
-@dataclass(frozen=True, repr=False)
-class PhasingResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class PhasingResult(Record, Readable):
     """The best yoke phasing of a column and the reference assemblies.
 
     Attributes
@@ -64,6 +69,8 @@ class PhasingResult(Readable):
     optimisation : sso.OptimisationResult
         The option-1 run of :func:`sso.optimise` (IPOPT and SLSQP, cross-checked).
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     geometry: ColumnGeometry
     x: tuple[float, ...]

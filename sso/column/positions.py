@@ -30,6 +30,7 @@ from sso.limits import (
     MAX_ITERATIONS,
     MAX_STARTS,
 )
+from sso.record import register_record
 from sso.validation import (
     check_choice,
     finite_float,
@@ -43,6 +44,7 @@ POSITIONS_OBJECTIVES = ("worst", "mean")
 ACTIVE_RELATIVE = 1e-6
 
 
+@register_record
 @dataclass(frozen=True)
 class SinglePositionOptimum:
     """The best phasing of one position alone, and what it does at the others.
@@ -62,7 +64,7 @@ class SinglePositionOptimum:
     worst_re: float
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class PositionsResult(PhasingOutcome):
     """Outcome of :func:`optimise_positions`.
 
@@ -123,7 +125,7 @@ class PositionsResult(PhasingOutcome):
                                         continuous_yoke_phase_deg=self.yoke_phase_deg,
                                         objective_name=self.objective_name)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures (not the geometries' internals)."""
         return {
             **self.outcome_dict(), "positions_objective": self.positions_objective,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -41,7 +41,7 @@ ROWS_PER_BLOCK = 512
 """Assemblies evaluated over the whole sample at once when searching teeth (memory)."""
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class RobustResult(PhasingOutcome):
     """Outcome of :func:`optimise_robust`.
 
@@ -115,7 +115,7 @@ class RobustResult(PhasingOutcome):
                                         continuous_yoke_phase_deg=self.yoke_phase_deg,
                                         objective_name=self.objective_name)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""
         return {
             **self.outcome_dict(), "robust_objective": self.robust_objective,
@@ -123,10 +123,10 @@ class RobustResult(PhasingOutcome):
             "nominal_optimum_re": self.nominal_optimum_re,
             "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg),
             "nominal_re_given_up": self.nominal_re_given_up,
-            "robust_study": self.robust_study.to_dict(),
-            "nominal_study": self.nominal_study.to_dict(),
-            "validation_robust_study": self.validation_robust_study.to_dict(),
-            "validation_nominal_study": self.validation_nominal_study.to_dict(),
+            "robust_study": asdict(self.robust_study),
+            "nominal_study": asdict(self.nominal_study),
+            "validation_robust_study": asdict(self.validation_robust_study),
+            "validation_nominal_study": asdict(self.validation_nominal_study),
             "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
         }
 

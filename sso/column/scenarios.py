@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
 from sso.display import Readable
 from sso.limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
+from sso.record import NON_NEGATIVE, FieldRule, Record, register_record
 from sso.solvers.crosscheck import crosscheck
 from sso.solvers.multistart import best_solution, run_starts, solution_from_run
 from sso.solvers.run import RunLimits
@@ -42,6 +43,7 @@ from sso.solvers.starts import start_points
 YOKE_BOUNDS_DEG = (-180.0, 180.0)
 
 
+@register_record
 @dataclass(frozen=True)
 class ScenarioRun:
     """The solvers' answers to one phasing problem, before a result is made of them.
@@ -62,8 +64,8 @@ class ScenarioRun:
         return self.best.success and (self.crosscheck is None or self.crosscheck.agree)
 
 
-@dataclass(frozen=True, repr=False)
-class PhasingOutcome(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class PhasingOutcome(Record, Readable):
     """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
 
     Attributes
@@ -87,6 +89,8 @@ class PhasingOutcome(Readable):
     crosscheck : sso.CrossCheck or None
         Verdict on the solvers (None with one solver).
     """
+
+    _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
 
     x: tuple[float, ...]
     fun: float

@@ -36,6 +36,7 @@ from sso.column.chain_matrix import (
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import CONVENTIONAL_PHASE_DEG, DEFAULT_SPLINE_TEETH, SPLINE_ENUMERATION_LIMIT
+from sso.record import Record, register_record
 
 CHUNK_ROWS = 65_536
 # Assemblies whose RE is within this of the best are reported as ties (round-off).
@@ -44,6 +45,7 @@ METHODS = ("auto", "enumeration", "branch_and_bound")
 MAX_TEETH = 1000
 
 
+@register_record
 @dataclass(frozen=True)
 class YokeInstruction:
     """How a fitter sets the yoke at the downstream end of one intermediate shaft.
@@ -70,8 +72,8 @@ class YokeInstruction:
     text: str
 
 
-@dataclass(frozen=True, repr=False)
-class SplineResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class SplineResult(Record, Readable):
     """Best tooth positions of a column's yokes.
 
     Attributes

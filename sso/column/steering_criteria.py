@@ -24,12 +24,14 @@ from typing import Any
 from sso.column.geometry import ColumnGeometry
 from sso.column.practice import BRINELLING_SOURCE, MAKER_LIMIT_SOURCE, MIN_OPERATING_ANGLE_DEG
 from sso.column.steering_range import SteeringRange, steering_range
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
     DEFAULT_LOCK_DEG,
     DEFAULT_MAX_OPERATING_ANGLE_DEG,
     DEFAULT_ON_CENTRE_DEG,
     DEFAULT_STRAIGHT_AHEAD_DEG,
 )
+from sso.record import Record, register_record
 from sso.validation import finite_in_range
 
 NO_PUBLISHED_LIMIT = "no published limit for steering columns; none set by the case"
@@ -38,6 +40,7 @@ AE7_NOT_APPLICABLE = ("SAE AE-7 inertial and torsional excitation limits are for
                       "propeller-shaft speeds; they do not judge a steering column")
 
 
+@register_record
 @dataclass(frozen=True)
 class SteeringLimits:
     """Limits of the steering criteria (``None``: not set).
@@ -70,6 +73,7 @@ class SteeringLimits:
             lower_open=True, upper_open=True))
 
 
+@register_record
 @dataclass(frozen=True)
 class Criterion:
     """One steering criterion of one assembly.
@@ -103,7 +107,8 @@ class Criterion:
         return dict(self.__dict__)
 
 
-@dataclass(frozen=True)
+@register_record
+@dataclass(frozen=True, eq=False)
 class AssessedDesign:
     """One assembly's steering range and criteria.
 
@@ -125,12 +130,12 @@ class AssessedDesign:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""
         return {"role": self.role, "label": self.label,
-                "yoke_phase_deg": list(self.yoke_phase_deg), "range": self.range.to_dict(),
+                "yoke_phase_deg": list(self.yoke_phase_deg), "range": self.range._document_dict(),
                 "criteria": [criterion.to_dict() for criterion in self.criteria]}
 
 
-@dataclass(frozen=True)
-class SteeringAssessment:
+@dataclass(frozen=True, eq=False, repr=False)
+class SteeringAssessment(Record, Readable):
     """The steering figures and criteria of every assembly a column report compares.
 
     Attributes
@@ -150,8 +155,31 @@ class SteeringAssessment:
     designs: tuple[AssessedDesign, ...]
     excitation_note: str = AE7_NOT_APPLICABLE
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
+    def _repr_text(self) -> str:
+        judged = [criterion.within for design in self.designs for criterion in design.criteria
+                  if criterion.within is not None]
+        verdict = ("no limits set" if not judged else "within every limit" if all(judged)
+                   else f"{judged.count(False)} limit(s) exceeded")
+        return (f"{len(self.designs)} assemblies, lock +-{format_number(self.lock_deg)} deg: "
+                f"{verdict}")
+
+    def _summary_parts(self) -> list[Part]:
+        def judged(value: bool | None) -> str:
+            return "no limit" if value is None else "yes" if value else "NO"
+
+        parts: list[Part] = [f"Steering assessment, lock +-{format_number(self.lock_deg)} deg"]
+        for design in self.designs:
+            parts += [f"{design.label} (yoke phasing "
+                      f"[{format_numbers(design.yoke_phase_deg)}] deg)",
+                      TextTable(("criterion", "value", "limit", "within"), tuple(
+                          (criterion.name, f"{format_number(criterion.value)} {criterion.unit}",
+                           "none" if criterion.limit is None
+                           else f"{criterion.sense} {format_number(criterion.limit)}",
+                           judged(criterion.within)) for criterion in design.criteria))]
+        return [*parts, self.excitation_note]
+
+    def _document_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary, for a column document."""
         return {"lock_deg": self.lock_deg, "straight_ahead_deg": self.straight_ahead_deg,
                 "on_centre_deg": self.on_centre_deg, "limits": dict(self.limits.__dict__),
                 "designs": [design.to_dict() for design in self.designs],

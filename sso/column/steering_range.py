@@ -36,7 +36,9 @@ import numpy as np
 
 from sso.column.chain_matrix import chain_matrix
 from sso.column.design import column_design
+from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import DEFAULT_LOCK_DEG, DEFAULT_ON_CENTRE_DEG, DEFAULT_STRAIGHT_AHEAD_DEG
+from sso.record import Record
 from sso.validation import finite_float, finite_in_range
 
 MAX_LOCK_DEG = 3600.0
@@ -45,8 +47,8 @@ CURVE_POINTS = 721
 ANGLE_SLACK_RAD = 1e-12
 
 
-@dataclass(frozen=True)
-class SteeringRange:
+@dataclass(frozen=True, eq=False, repr=False)
+class SteeringRange(Record, Readable):
     """Steering figures of one assembly from lock to lock.
 
     Attributes
@@ -106,8 +108,26 @@ class SteeringRange:
     lock_torque_ratio: tuple[float, float]
     lock_transmission_error_deg: tuple[float, float]
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (tuples as lists)."""
+    def _summary_parts(self) -> list[Part]:
+        figures = (
+            ("speed ratio, min .. max", f"{format_number(self.speed_ratio_min)} .. "
+                                        f"{format_number(self.speed_ratio_max)}"),
+            ("speed fluctuation (%)", format_number(self.speed_fluctuation_percent)),
+            ("torque fluctuation (%)", format_number(self.torque_fluctuation_percent)),
+            ("transmission error, min .. max (deg)",
+             f"{format_number(self.transmission_error_min_deg)} .. "
+             f"{format_number(self.transmission_error_max_deg)}"),
+            ("on-centre speed ratio", format_number(self.on_centre_speed_ratio)),
+            ("on-centre fluctuation (%)", format_number(self.on_centre_fluctuation_percent)),
+            ("speed ratio at the locks", format_numbers(self.lock_speed_ratio)),
+            ("transmission error at the locks (deg)",
+             format_numbers(self.lock_transmission_error_deg)))
+        return [f"Steering from lock to lock (+-{format_number(self.lock_deg)} deg of the "
+                f"wheel, straight ahead at {format_number(self.straight_ahead_deg)} deg)",
+                TextTable(("figure", "value"), figures)]
+
+    def _document_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field (tuples as lists), for a column document."""
         return {name: list(value) if isinstance(value, tuple) else value
                 for name, value in asdict(self).items()}
 

@@ -15,7 +15,9 @@ import numpy as np
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.scenarios import cvar, scenario_re
+from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import DEFAULT_TOLERANCE_SAMPLES
+from sso.record import Record, register_record
 from sso.validation import check_choice, finite_in_range, validate_count
 
 DISTRIBUTIONS = ("normal", "uniform")
@@ -27,6 +29,7 @@ MIN_SAMPLES = 2
 MAX_SAMPLES = 1_000
 
 
+@register_record
 @dataclass(frozen=True)
 class Tolerances:
     """Manufacturing tolerances of a column and the sample that represents them.
@@ -151,8 +154,11 @@ class ToleranceSample:
         return scenario_re(self.beta_rad, self.gamma_rad, yoke_phase_deg)
 
 
-@dataclass(frozen=True)
-class SampleStudy:
+SAMPLE_FIGURES = ("nominal_re", "mean", "p50", "p95", "max", "cvar95")
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class SampleStudy(Record, Readable):
     """RE of one design over a sample: the figures a tolerance study reports.
 
     Attributes
@@ -173,6 +179,16 @@ class SampleStudy:
     max: float
     cvar95: float
 
+    def _repr_text(self) -> str:
+        return ", ".join(f"{name}={format_number(getattr(self, name))}" for name in SAMPLE_FIGURES)
+
+    def _summary_parts(self) -> list[Part]:
+        labels = ("RE of the nominal column", "mean RE", "median RE", "95th percentile of RE",
+                  "largest RE", "mean of the worst 5 % (CVaR 95)")
+        return ["RE over a sample of built columns", TextTable(("figure", "RE"), tuple(
+            (label, format_number(getattr(self, name)))
+            for label, name in zip(labels, SAMPLE_FIGURES, strict=True)))]
+
     @classmethod
     def of(cls, nominal_re: float, values: np.ndarray) -> SampleStudy:
         """The study of sampled RE ``values``."""
@@ -180,8 +196,3 @@ class SampleStudy:
         return cls(nominal_re=float(nominal_re), mean=float(np.mean(values)),
                    p50=float(np.percentile(values, 50.0)), p95=float(np.percentile(values, 95.0)),
                    max=float(np.max(values)), cvar95=cvar(values, weights, 0.95))
-
-    def to_dict(self) -> dict[str, float]:
-        """JSON-ready dictionary of every figure."""
-        return {"nominal_re": self.nominal_re, "mean": self.mean, "p50": self.p50,
-                "p95": self.p95, "max": self.max, "cvar95": self.cvar95}

@@ -57,7 +57,7 @@ if TYPE_CHECKING:
 LINKS = ("crank", "coupler", "rocker", "ground")
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class FourBarDesignResult(DesignResult):
     """Outcome of :func:`design_fourbar`.
 
@@ -113,7 +113,7 @@ class FourBarDesignResult(DesignResult):
         return [f"Four-bar design, largest rocker swing: {verdict}", designs, band,
                 *self._solver_parts("-swing (rad)", "KKT")]
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         def linkage(fourbar: FourBar) -> dict[str, float]:
             return {name: getattr(fourbar, name) for name in LINKS}

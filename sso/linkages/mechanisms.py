@@ -28,6 +28,7 @@ from sso.kinematics.slider_crank import series_piston_motion, solve_slider_crank
 from sso.kinematics.vector_loop import BoolArray, ComplexArray, FloatArray
 from sso.linkages.registry import Linkage, OnUnassembled, register
 from sso.linkages.table import MechanismTable
+from sso.record import register_record
 from sso.validation import check_choice, check_in_range, finite_float
 
 __all__ = [
@@ -102,6 +103,7 @@ class CrankDriven(ABC):
         """Columns after ``crank_angle_deg`` and the assembled mask (angle in rad)."""
 
 
+@register_record
 @dataclass(frozen=True)
 class FourBar(CrankDriven):
     """Four-bar linkage O_A-A-B-O_B driven by the crank O_A-A.
@@ -197,6 +199,7 @@ class FourBar(CrankDriven):
         return columns, motion.assembled
 
 
+@register_record
 @dataclass(frozen=True)
 class SliderCrank(CrankDriven):
     """Slider-crank: crank O-A, connecting rod A-B, piston pin B on a line.
@@ -262,6 +265,7 @@ class SliderCrank(CrankDriven):
         return columns, motion.assembled
 
 
+@register_record
 @dataclass(frozen=True)
 class QuickReturn(CrankDriven):
     """Quick-return mechanism: four-bar O2-A-B-O4 driving slider C through link B-C.

@@ -14,6 +14,7 @@ import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import CSV_DIGITS
+from sso.record import Record
 
 # How a unit reads at the end of a column name (``"length"``: the links' unit).
 UNIT_SUFFIXES = {"deg": "deg", "rad/s": "rad_s", "rad/s^2": "rad_s2", "length": "{length}",
@@ -21,7 +22,7 @@ UNIT_SUFFIXES = {"deg": "deg", "rad/s": "rad_s", "rad/s^2": "rad_s2", "length": 
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class MechanismTable(Readable):
+class MechanismTable(Record, Readable):
     """Columns of equal length, one row per crank angle (or per case).
 
     Columns are read-only numpy arrays, reachable as ``table["name"]`` or
@@ -117,7 +118,7 @@ class MechanismTable(Readable):
                          else f"{column}_{suffix}")
         return names
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """Plain, JSON-ready form: NaN becomes ``None``, arrays become lists.
 
         Returns
@@ -180,8 +181,8 @@ class MechanismTable(Readable):
         return buffer.getvalue()
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> "MechanismTable":
-        """The table from its :meth:`to_dict` form (``None`` becomes NaN).
+    def _from_document_dict(cls, data: dict[str, Any]) -> "MechanismTable":
+        """The table from its :meth:`_document_dict` form (``None`` becomes NaN).
 
         Parameters
         ----------

@@ -104,8 +104,8 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
     blocks += steering_blocks(document)
     blocks += robust_blocks(document)
     blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
-    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
-                                              for name in image_files])
+    images = [Image(name, CAPTIONS[name]) for name in image_files]
+    return blocks + closing_blocks(document["warnings"], document["versions"], images)
 
 
 def _scene(document: Mapping[str, Any]) -> Scene:

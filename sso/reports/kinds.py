@@ -5,11 +5,13 @@ A report kind renders one kind of result into the contents of its report files
 the whole report folder (:func:`sso.files.replace_folder`). The command line calls
 the same function, so a report written from Python is the one ``sso`` writes.
 
-Kinds of this layer and below are registered here: ``"document"`` (a result
-document, e.g. read from ``result.json``), ``"optimisation"``
-(:class:`sso.OptimisationResult`), ``"fourbar_design"``
-(:class:`sso.FourBarDesignResult`) and ``"mechanism_table"`` (a
-:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns). The studies
+Kinds of this layer and below are registered here: ``"document"`` (the result
+document of a mechanism or column case, e.g. read from ``result.json``),
+``"optimisation"`` (:class:`sso.OptimisationResult`), ``"shaft_series_run"`` (a
+shaft-series case run, :class:`sso.run.shaft_series.ShaftSeriesRun`),
+``"fourbar_design"`` (:class:`sso.FourBarDesignResult`), ``"mechanism_table"`` (a
+:class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns) and
+``"record"`` (every other result: its summary). The studies
 above this layer register their own (``"sweep"``, ``"tolerance"`` in
 :mod:`sso.batch.report`) when their result module is imported, so any result that
 exists has its kind registered. A result names its kind in its ``report_kind``
@@ -18,6 +20,7 @@ class attribute.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,8 +29,14 @@ from typing import Any
 from sso.files import replace_folder
 from sso.folder_lock import folder_lock
 from sso.limits import OUTPUT_FORMATS
+from sso.record import Record
 
 Renderer = Callable[[Any, tuple[str, ...]], dict[str, bytes]]
+
+RESULT_FILE = "result.json"
+"""The saved result in every report folder; :meth:`sso.record.Record.from_dict` reads it."""
+RECORD_KIND = "record"
+"""The report kind of a result without one of its own: its summary and its record."""
 
 
 @dataclass(frozen=True)
@@ -65,16 +74,24 @@ def register_report_kind(name: str, render: Renderer, folder: str) -> None:
 def report_kind_of(result: Any) -> ReportKind:
     """The report kind of ``result`` (a mapping is a result document).
 
+    A result that names no kind of its own is reported by the kind ``"record"``:
+    its summary as Markdown and HTML, and its saved form.
+
     Raises
     ------
     TypeError
         If ``result`` is no result sso can report.
     """
-    name = "document" if isinstance(result, Mapping) else getattr(result, "report_kind", None)
+    if isinstance(result, Mapping):
+        name: Any = "document"
+    elif isinstance(result, Record):
+        name = getattr(result, "report_kind", RECORD_KIND)
+    else:
+        name = None
     if not isinstance(name, str) or name not in REPORT_KINDS:
-        raise TypeError(f"result must be an sso result (OptimisationResult, "
-                        "FourBarDesignResult, SweepResult, ToleranceResult, a mechanism "
-                        f"analysis) or a result document, not {type(result).__name__}")
+        raise TypeError("result must be an sso result (an object sso.optimise, "
+                        "sso.sweep or another sso function returns) "
+                        f"or a result document, not {type(result).__name__}")
     return REPORT_KINDS[name]
 
 
@@ -101,7 +118,17 @@ def validate_formats(formats: Any) -> tuple[str, ...]:
 def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str, bytes]:
     """Contents of the report files of ``result`` (nothing is written)."""
     kind = report_kind_of(result)
-    return kind.render(result, validate_formats(formats))
+    chosen = validate_formats(formats)
+    files = kind.render(result, chosen)
+    if "json" in chosen and isinstance(result, Record):  # the saved result comes first
+        files = {RESULT_FILE: record_json(result).encode("utf-8"),
+                 **{name: data for name, data in files.items() if name != RESULT_FILE}}
+    return files
+
+
+def record_json(result: Record) -> str:
+    """The saved form of ``result`` (what ``result.json`` holds), strict JSON."""
+    return json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
 
 
 def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None = None,
@@ -147,7 +174,7 @@ def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None 
     if not isinstance(folder, (str, Path)):
         raise TypeError(f"folder must be a str or pathlib.Path, not {type(folder).__name__}")
     kind = report_kind_of(result)
-    files = kind.render(result, validate_formats(formats))
+    files = render_report(result, formats)
     with folder_lock(folder, f"write a {kind.folder}"):
         return replace_folder(folder, files, kind.folder, adopt)
 
@@ -159,10 +186,15 @@ def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> d
 
 
 def _render_optimisation(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    from sso.reports.writer import render
-    from sso.run.document import optimisation_document
+    from sso.reports.shaft_report import optimisation_files
 
-    return render(optimisation_document(result), formats)
+    return optimisation_files(result, formats)
+
+
+def _render_shaft_series_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.shaft_report import run_files
+
+    return run_files(run, formats)
 
 
 def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
@@ -178,7 +210,15 @@ def _render_mechanism_table(table: Any, formats: tuple[str, ...]) -> dict[str, b
     return table_report(table, formats)
 
 
+def _render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.record_report import render_record
+
+    return render_record(result, formats)
+
+
 register_report_kind("document", _render_document, CASE_REPORT)
 register_report_kind("optimisation", _render_optimisation, CASE_REPORT)
+register_report_kind("shaft_series_run", _render_shaft_series_run, CASE_REPORT)
 register_report_kind("fourbar_design", _render_fourbar_design, CASE_REPORT)
 register_report_kind("mechanism_table", _render_mechanism_table, CASE_REPORT)
+register_report_kind(RECORD_KIND, _render_record, CASE_REPORT)

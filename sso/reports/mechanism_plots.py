@@ -78,7 +78,7 @@ def _curves(document: Mapping[str, Any], case: MechanismCase, role: str) -> Curv
     dense = analysis_table(mechanism, case, angle_grid(case.values["drive.start_deg"],
                                                        revolution_stop_deg(case), CURVE_STEP_DEG),
                            "mark")
-    return Curves(mechanism, dense, MechanismTable.from_dict(document["tables"][role]))
+    return Curves(mechanism, dense, MechanismTable._from_document_dict(document["tables"][role]))
 
 
 def _column(table: MechanismTable, column: str) -> np.ndarray | None:

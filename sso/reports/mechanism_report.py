@@ -7,7 +7,6 @@ same thing and every string is escaped for its format.
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
@@ -57,7 +56,7 @@ def table_files(document: Mapping[str, Any]) -> dict[str, str]:
     roles = list(document["tables"])
     main = "optimum" if "optimum" in roles else roles[0]
     return {(TABLE_FILE if role == main else f"table_{role}.csv"):
-            MechanismTable.from_dict(document["tables"][role]).csv_text(
+            MechanismTable._from_document_dict(document["tables"][role]).csv_text(
                 document["length_unit"], REPORT_DIGITS) for role in roles}
 
 
@@ -104,8 +103,8 @@ def mechanism_blocks(document: Mapping[str, Any], image_files: Sequence[str]) ->
     for role in document["tables"]:
         blocks += [Heading(2, f"Table ({ROLE_NAMES[role]}; every column is in the CSV)"),
                    _rows_table(document, role)]
-    return blocks + closing_blocks(document, [Image(name, CAPTIONS[name])
-                                              for name in image_files])
+    images = [Image(name, CAPTIONS[name]) for name in image_files]
+    return blocks + closing_blocks(document["warnings"], document["versions"], images)
 
 
 def _case_table(document: Mapping[str, Any]) -> Table:
@@ -220,7 +219,7 @@ def table_report(table: MechanismTable, formats: tuple[str, ...]) -> dict[str, b
     """Report files of a :class:`sso.MechanismTable` made in Python.
 
     ``table.csv`` (six digits, names ending in their units, lengths in the unit
-    the links were given in, written ``length``), ``table.json`` (every digit),
+    the links were given in, written ``length``), ``result.json`` (every digit),
     and ``report.md``/``report.html`` with each column's range and the rows. The
     table does not know its linkage, so there are no plots: a case file run with
     ``sso run`` draws them.
@@ -228,8 +227,6 @@ def table_report(table: MechanismTable, formats: tuple[str, ...]) -> dict[str, b
     files: dict[str, bytes] = {}
     if "csv" in formats:
         files[TABLE_FILE] = table.csv_text("length", REPORT_DIGITS).encode("utf-8")
-    if "json" in formats:
-        files["table.json"] = (json.dumps(table.to_dict(), indent=2) + "\n").encode("utf-8")
     names = table.unit_names("length")
     summary = next(part for part in table._summary_parts() if not isinstance(part, str))
     blocks: list[Block] = [

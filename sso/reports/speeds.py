@@ -4,27 +4,26 @@ from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Sequence
 
 from sso.limits import REPORT_DIGITS
-from sso.reports.curves import speed_curves
+from sso.shafts.curves import ComparedDesign
 
 
-def render_speeds_csv(document: Mapping[str, Any]) -> str:
+def render_speeds_csv(designs: Sequence[ComparedDesign]) -> str:
     """CSV text: one row per input angle (deg, 0 to 360 by 1), speeds in rpm (6 digits).
 
     Columns: ``input_angle_deg``, ``input_speed_rpm``, then
-    ``output_speed_<role>_rpm`` for each design (initial, optimum, reference).
+    ``output_speed_<role>_rpm`` for each design (initial, optimum, reference), as
+    the designs carry them.
     """
-    curves = speed_curves(document)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    roles = list(curves.output_speed_rpm)
     writer.writerow(["input_angle_deg", "input_speed_rpm",
-                     *[f"output_speed_{role}_rpm" for role in roles]])
-    for index, angle in enumerate(curves.input_angle_deg):
-        writer.writerow([f"{angle:g}", f"{curves.input_speed_rpm:.{REPORT_DIGITS}g}",
-                         *[f"{curves.output_speed_rpm[role][index]:.{REPORT_DIGITS}g}"
-                           for role in roles]])
+                     *[f"output_speed_{design.role}_rpm" for design in designs]])
+    speed_rpm = designs[0].evaluation.input_speed_rpm
+    for index, angle in enumerate(designs[0].input_angle_deg):
+        writer.writerow([f"{angle:g}", f"{speed_rpm:.{REPORT_DIGITS}g}",
+                         *[f"{design.output_speed_rpm[index]:.{REPORT_DIGITS}g}"
+                           for design in designs]])
     return buffer.getvalue()

@@ -13,7 +13,6 @@ from typing import Any
 
 from sso.display import NOT_AVAILABLE, format_number
 from sso.limits import REPORT_DIGITS, ROUND_OFF_FLOOR
-from sso.run.document import DESIGN_ROLES
 
 
 @dataclass(frozen=True)
@@ -57,24 +56,6 @@ class Scene:
 
 Block = Heading | Paragraph | Table | Image | Scene
 
-# (evaluation field, row label with unit, format)
-FIGURES = (
-    ("residual_error", "residual error RE (dimensionless)", ".4g"),
-    ("residual_error_rpm2", "residual error U = w_in^2 RE (rpm^2)", ".4g"),
-    ("speed_min_rpm", "output speed min (rpm)", ".6g"),
-    ("speed_max_rpm", "output speed max (rpm)", ".6g"),
-    ("fluctuation_rpm", "fluctuation, peak to peak (rpm)", ".4g"),
-    ("fluctuation", "fluctuation / input speed (dimensionless)", ".4g"),
-    ("mean_speed_ratio", "mean output / input speed", ".6g"),
-    ("transmission_error_deg", "transmission error, max |out - in| (deg)", ".4g"),
-    ("max_output_accel_rad_s2", "output acceleration, max |dw/dt| (rad/s^2)", ".4g"),
-    ("torque_ratio_min", "torque ratio T_out/T_in min", ".6g"),
-    ("torque_ratio_max", "torque ratio T_out/T_in max", ".6g"),
-    ("samples", "quadrature angles in [0, 180) deg", "d"),
-    ("quadrature_error", "quadrature error estimate of RE", ".2g"),
-)
-
-
 def number(value: Any, spec: str = ".6g") -> str:
     """Format a number for a report cell.
 
@@ -93,45 +74,17 @@ def number(value: Any, spec: str = ".6g") -> str:
     return format(value, spec)
 
 
-def report_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> list[Block]:
-    """Blocks of the whole report.
-
-    Parameters
-    ----------
-    document : mapping
-        A result document (:mod:`sso.run.document`).
-    image_files : sequence of str
-        Plot files written beside the report (empty when plots are off).
-
-    Returns
-    -------
-    list of Heading, Paragraph, Table, Image
-    """
-    case = document["case"]
-    roles = [role for role in DESIGN_ROLES if role in document["designs"]]
-    blocks: list[Block] = [Heading(1, f"SSO report: {case['name']}")]
-    if case.get("description"):
-        blocks.append(Paragraph(case["description"]))
-    blocks += [_case_table(document), Heading(2, "Verdict"), Paragraph(_verdict(document)),
-               Heading(2, "Designs"), _design_table(document, roles),
-               Heading(2, "Figures of merit"), _figure_table(document, roles)]
-    if document.get("exact_optima"):
-        blocks += [Heading(2, "Exact optima"), *_exact_optima_blocks(document["exact_optima"])]
-    if document["mode"] == "optimise":
-        blocks += [Heading(2, "Solvers"), _solver_table(document),
-                   Heading(2, "Cross-check"), Paragraph(_crosscheck_text(document)),
-                   Heading(2, "Every run"), _runs_table(document)]
-    return blocks + closing_blocks(document, [Image(name, _caption(name))
-                                              for name in image_files])
-
-
-def closing_blocks(document: Mapping[str, Any], images: Sequence[Image]) -> list[Block]:
+def closing_blocks(warnings: Sequence[str], versions: Mapping[str, str] | None,
+                   images: Sequence[Image]) -> list[Block]:
     """The end every report shares: warnings, plots (or why there are none), versions.
 
     Parameters
     ----------
-    document : mapping
-        A result document, with ``warnings`` and ``versions``.
+    warnings : sequence of str
+        The run's warnings.
+    versions : mapping of str to str, or None
+        The package versions a run recorded (None: a result made in Python
+        records none).
     images : sequence of Image
         The plots written beside the report, captioned (empty when plots are off).
 
@@ -140,130 +93,15 @@ def closing_blocks(document: Mapping[str, Any], images: Sequence[Image]) -> list
     list of Heading, Paragraph, Table, Image
     """
     blocks: list[Block] = []
-    if document["warnings"]:
-        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in document["warnings"]]]
+    if warnings:
+        blocks += [Heading(2, "Warnings"), *[Paragraph(text) for text in warnings]]
     blocks.append(Heading(2, "Plots"))
     if images:
         blocks += images
     else:
         blocks.append(Paragraph("Plots were not written (png not among the formats)."))
-    blocks += [Heading(2, "Versions"),
-               Table(("package", "version"), tuple((name, str(version)) for name, version
-                                                   in document["versions"].items()))]
+    if versions is not None:
+        blocks += [Heading(2, "Versions"),
+                   Table(("package", "version"), tuple((name, str(version)) for name, version
+                                                       in versions.items()))]
     return blocks
-
-
-def _case_table(document: Mapping[str, Any]) -> Table:
-    case = document["case"]
-    rows = [("case file", str(document["case_file"])),
-            ("kind", document["kind"]),
-            ("run", "optimisation" if document["mode"] == "optimise" else "evaluation only"),
-            ("model", document["model"]),
-            ("option", f"{document['option']} ({document['option_name']})"),
-            ("input speed (rpm)", number(document["input_speed_rpm"])),
-            ("operating-angle bounds (deg)", _bounds_text(case["bounds"]["beta_deg"])),
-            ("phase bounds (deg)", _bounds_text(case["bounds"]["phase_deg"]))]
-    if document["mode"] == "optimise":
-        rows += [("solvers", ", ".join(case["solver"]["solvers"])),
-                 ("starts per solver", str(document["starts"])),
-                 ("solver tolerance", number(case["solver"]["solver_tol"], "g"))]
-    quadrature = document["quadrature"]
-    rows += [("quadrature angles (objective)", str(quadrature["samples"])),
-             ("quadrature error estimate", number(quadrature["error_estimate"], ".2g")),
-             ("created (UTC)", document["created_utc"])]
-    return Table(("item", "value"), tuple(rows))
-
-
-def _bounds_text(bounds: Any) -> str:
-    if bounds and isinstance(bounds[0], list):
-        return "; ".join(f"[{number(low, 'g')}, {number(high, 'g')}]" for low, high in bounds)
-    return f"[{number(bounds[0], 'g')}, {number(bounds[1], 'g')}] each"
-
-
-def _verdict(document: Mapping[str, Any]) -> str:
-    status = "OK" if document["success"] else "FAILED"
-    return f"{status}: {document['verdict']}"
-
-
-def _design_table(document: Mapping[str, Any], roles: list[str]) -> Table:
-    designs = document["designs"]
-    joints = len(designs["initial"]["beta_deg"])
-    rows = [(f"beta_{index + 1} (deg)",
-             *[number(designs[role]["beta_deg"][index]) for role in roles])
-            for index in range(joints)]
-    rows += [(f"phi_{index + 1} (deg)",
-              *[number(designs[role]["phase_deg"][index]) for role in roles])
-             for index in range(joints - 1)]
-    return Table(("angle", *[designs[role]["label"] for role in roles]), tuple(rows))
-
-
-def _figure_table(document: Mapping[str, Any], roles: list[str]) -> Table:
-    designs = document["designs"]
-    rows = tuple((label, *[number(designs[role]["evaluation"][field], spec) for role in roles])
-                 for field, label, spec in FIGURES)
-    return Table(("figure", *[designs[role]["label"] for role in roles]), rows)
-
-
-def _solver_table(document: Mapping[str, Any]) -> Table:
-    solutions = [*document["solutions"].items(),
-                 *[(name, run) for name, run in document.get("confirmations", {}).items()
-                   if run != document["solutions"].get(name)]]
-    rows = tuple((name, solution.get("role", "solve"), "yes" if solution["success"] else "no",
-                  str(solution["status"]),
-                  solution["message"], number(solution["fun"], ".4g"),
-                  number(solution["kkt"], ".2g"), str(solution["nit"]), str(solution["nfev"]),
-                  str(solution["total_nfev"]), number(solution["time_s"], ".3f"),
-                  str(solution["start_index"]))
-                 for name, solution in solutions)
-    return Table(("solver", "run", "success", "status", "message", "RE", "KKT residual (1/rad)",
-                  "iterations", "evaluations", "evaluations, all starts", "time (s)", "start"),
-                 rows)
-
-
-def _runs_table(document: Mapping[str, Any]) -> Table:
-    rows = tuple((run["solver"], run.get("role", "solve"), str(run["start_index"]),
-                  "yes" if run["success"] else "no",
-                  number(run["fun"], ".4g"), number(run["kkt"], ".2g"), str(run["nit"]),
-                  number(run["time_s"], ".3f"))
-                 for run in document["runs"])
-    return Table(("solver", "run", "start", "success", "RE", "KKT residual (1/rad)",
-                  "iterations", "time (s)"), rows)
-
-
-def _exact_optima_blocks(exact: Mapping[str, Any]) -> list[Block]:
-    """The set of exact optima: the criterion of the choice, its figures, the set's extent."""
-    text = (f"RE is at round-off zero on a set of designs of dimension {exact['dimension']}; "
-            f"the design reported was chosen within it by {exact['criterion']}, from "
-            f"{exact['starts']} exact optimum(s) found. Margin to the bounds: "
-            f"{number(exact['margin_deg'], '.4g')} deg (the first found: "
-            f"{number(exact['first_margin_deg'], '.4g')} deg).")
-    if exact["p95_residual_error"] is not None:
-        tolerances = exact["tolerances"]
-        text += (f" p95 RE under the tolerances ({tolerances['distribution']}, beta "
-                 f"{tolerances['beta_tolerance_deg']} deg, phase "
-                 f"{tolerances['phase_tolerance_deg']} deg, {tolerances['samples']} samples, "
-                 f"seed {tolerances['seed']}): {number(exact['p95_residual_error'], '.4g')} "
-                 f"(the first found: {number(exact['first_p95_residual_error'], '.4g')}).")
-    rows = tuple((name, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
-                 for name, (low, high), chosen in zip(exact["variables"], exact["extent_deg"],
-                                                      exact["chosen_deg"], strict=True))
-    return [Paragraph(text), Table(("variable", "set from (deg)", "set to (deg)",
-                                    "chosen (deg)"), rows)]
-
-
-def _crosscheck_text(document: Mapping[str, Any]) -> str:
-    check = document["crosscheck"]
-    verdict = ("one solver: no cross-check" if check is None
-               else f"the solvers' own answers: {check['message']}")
-    minima = ", ".join(number(value, ".4g") for value in document["local_minima"])
-    found = (f"The reported optimum was found by {document['found_by']}. "
-             if document.get("found_by") else "")
-    return (f"{found}Cross-check of {verdict}. Distinct RE values the successful runs "
-            f"stopped at: {minima or 'none'}.")
-
-
-def _caption(file_name: str) -> str:
-    if file_name.startswith("polar"):
-        return ("Input and output speed (rpm, radius from 0 at the centre) against input shaft "
-                "angle (deg), polar.")
-    return "Input and output speed (rpm) against input shaft angle (deg)."

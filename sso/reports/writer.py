@@ -14,14 +14,12 @@ from typing import Any
 
 from sso.cases.column import COLUMN_KIND
 from sso.cases.mechanism import MECHANISM_KINDS
-from sso.files import read_input_bytes
+from sso.record import RecordError, read_json_object
+from sso.reports.documents import render_documents
 from sso.run.document import SCHEMA_VERSION
 from sso.validation import shown
 
 RESULT_FILE = "result.json"
-REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "model", "option", "option_name",
-                 "input_speed_rpm", "designs", "quadrature", "success", "verdict", "warnings",
-                 "versions")
 MECHANISM_REQUIRED_KEYS = ("schema_version", "kind", "mode", "case", "case_file", "length_unit",
                            "crank_speed_rad_s", "crank_accel_rad_s2", "linkages", "tables",
                            "extremes", "success", "verdict", "warnings", "versions")
@@ -40,7 +38,8 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
     Parameters
     ----------
     document : mapping
-        A result document (:mod:`sso.run.document`).
+        A result document of a mechanism or a column case
+        (:mod:`sso.run.mechanism_document`, :mod:`sso.run.column_document`).
     formats : sequence of {"json", "csv", "md", "html", "png"}
         Files to render. Without ``"png"`` matplotlib is never imported and the
         reports carry no plots.
@@ -48,41 +47,23 @@ def render(document: Mapping[str, Any], formats: Sequence[str]) -> dict[str, byt
     if document.get("kind") == COLUMN_KIND:
         return _render_column(document, formats)
     files: dict[str, bytes] = {}
-    mechanism = document.get("kind") in MECHANISM_KINDS
     if "json" in formats:
         files[RESULT_FILE] = result_json(document).encode("utf-8")
-    if "csv" in formats and mechanism:
+    if "csv" in formats:
         from sso.reports.mechanism_report import table_files
 
         files.update({name: text.encode("utf-8") for name, text in table_files(document).items()})
-    elif "csv" in formats:
-        from sso.reports.speeds import render_speeds_csv
-
-        files["speeds.csv"] = render_speeds_csv(document).encode("utf-8")
     images: dict[str, bytes] = {}
-    if "png" in formats and mechanism:
+    if "png" in formats:
         from sso.reports.mechanism_plots import render_mechanism_plots
 
         images = render_mechanism_plots(document)
         files.update(images)
-    elif "png" in formats:
-        from sso.reports.plots import render_plots
-
-        images = render_plots(document)
-        files.update(images)
     if "md" in formats or "html" in formats:
         from sso.reports.mechanism_report import mechanism_blocks
-        from sso.reports.summary import report_blocks
 
-        blocks = (mechanism_blocks if mechanism else report_blocks)(document, tuple(images))
-        if "md" in formats:
-            from sso.reports.markdown import render_markdown
-
-            files["report.md"] = render_markdown(blocks).encode("utf-8")
-        if "html" in formats:
-            from sso.reports.html import render_html
-
-            files["report.html"] = render_html(blocks, images).encode("utf-8")
+        blocks = mechanism_blocks(document, tuple(images))
+        files.update(render_documents(blocks, images, formats))
     return files
 
 
@@ -103,14 +84,7 @@ def _render_column(document: Mapping[str, Any], formats: Sequence[str]) -> dict[
         files.update(images)
     if "md" in formats or "html" in formats:
         blocks = column_blocks(document, tuple(images))
-        if "md" in formats:
-            from sso.reports.markdown import render_markdown
-
-            files["report.md"] = render_markdown(blocks).encode("utf-8")
-        if "html" in formats:
-            from sso.reports.html import render_html
-
-            files["report.html"] = render_html(blocks, images).encode("utf-8")
+        files.update(render_documents(blocks, images, formats))
     return files
 
 
@@ -129,26 +103,19 @@ def read_result(path: str | Path) -> dict[str, Any]:
         lacks a key the reports need.
     """
     try:
-        data = read_input_bytes(path)
-    except ValueError as error:
-        raise ResultFileError(f"{path}: cannot read the result file: {error}") from None
-    try:
-        document = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise ResultFileError(f"{path}: not a JSON result file: {error}") from None
-    except ValueError as error:  # int() of a number with more than 4300 digits
-        raise ResultFileError(f"{path}: a number cannot be read: {error}") from None
-    except RecursionError:
-        raise ResultFileError(f"{path}: arrays or objects are nested too deeply to read") from None
-    if not isinstance(document, dict):
-        raise ResultFileError(f"{path}: not a result document (a JSON object is expected)")
+        document = read_json_object(path)
+    except RecordError as error:
+        raise ResultFileError(str(error).replace("saved result", "result document")) from None
     version = document.get("schema_version")
     if type(version) is not type(SCHEMA_VERSION) or version != SCHEMA_VERSION:
         raise ResultFileError(f"{path}: schema_version = {shown(version)}; this sso reads "
                               f"schema_version {SCHEMA_VERSION}")
-    required = (COLUMN_REQUIRED_KEYS if document.get("kind") == COLUMN_KIND
-                else MECHANISM_REQUIRED_KEYS if document.get("kind") in MECHANISM_KINDS
-                else REQUIRED_KEYS)
+    kind = document.get("kind")
+    if kind != COLUMN_KIND and kind not in MECHANISM_KINDS:
+        raise ResultFileError(f"{path}: kind = {shown(kind)} is no result document this sso "
+                              "reads (a shaft series' result.json is a saved result now: write "
+                              "it again with sso run or sso evaluate)")
+    required = COLUMN_REQUIRED_KEYS if kind == COLUMN_KIND else MECHANISM_REQUIRED_KEYS
     missing = [key for key in required if key not in document]
     if missing:
         raise ResultFileError(f"{path}: result document lacks {', '.join(missing)}")

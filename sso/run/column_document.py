@@ -74,7 +74,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
         **document_header(case, "optimise" if optimising else "evaluate"),
         "geometry": {**geometry.to_dict(), "straight_joints": list(geometry.straight_joints),
                      "bend_normals": geometry.bend_normals.tolist()},
-        "cancel": can_cancel(geometry.beta_deg).to_dict(),
+        "cancel": asdict(can_cancel(geometry.beta_deg)),
     }
     assemblies = [
         _assembly(geometry, "as_built", "as built (phasing.yoke_phase_deg)", as_built),
@@ -103,7 +103,7 @@ def column_document(case: ColumnCase, optimising: bool) -> dict[str, Any]:
             from sso.column.joint_positions import optimise_joint_centres
 
             moved = optimise_joint_centres(geometry, **case.joint_position_options())
-            document["joint_positions"] = moved.to_dict()
+            document["joint_positions"] = moved._document_dict()
             success = success and moved.success
             verdicts.append(f"joint positions: {moved.message}")
         teeth_assembly = None
@@ -192,7 +192,7 @@ def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: list[dict[
     designs += [(entry["role"], entry["label"], entry["yoke_phase_deg"])
                 for entry in (robust or {}).get("designs", []) if entry["role"] not in roles]
     return assess_steering(geometry, designs, limits=case.steering_limits(),
-                           **case.steering_options()).to_dict()
+                           **case.steering_options())._document_dict()
 
 
 def _designs(assemblies: list[dict[str, Any]], recommended: str,

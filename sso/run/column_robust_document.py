@@ -114,7 +114,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
             shared = optimise_positions(positions, positions_objective=objective,
                                         weights=case.values["phasing.position_weights"],
                                         **options)
-            section["positions"]["result"] = _without_geometries(shared.to_dict())
+            section["positions"]["result"] = _without_geometries(shared._document_dict())
             add("positions", f"one phasing for every position ({objective})",
                 shared.yoke_phase_deg)
             add_teeth("positions", f"one phasing for every position ({objective})", shared)
@@ -130,7 +130,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
             robust = optimise_robust(geometry, tolerances,
                                      robust_objective=case.values["tolerances.robust_objective"],
                                      **options)
-            section["tolerances"]["result"] = _without_geometries(robust.to_dict())
+            section["tolerances"]["result"] = _without_geometries(robust._document_dict())
             add("robust", f"tolerance-aware ({robust.robust_objective})", robust.yoke_phase_deg)
             add_teeth("robust", f"tolerance-aware ({robust.robust_objective})", robust)
             success = success and robust.success
@@ -151,7 +151,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
                     "ratio is flat on-centre and at lock, so it is the on-centre phasing too")
             else:
                 centred = optimise_on_centre(geometry, **feel, **options)
-                section["feel"]["result"] = centred.to_dict()
+                section["feel"]["result"] = centred._document_dict()
                 add("on_centre", "on-centre (steering feel)", centred.yoke_phase_deg)
                 add_teeth("on_centre", "on-centre (steering feel)", centred)
                 success = success and centred.success
@@ -200,13 +200,13 @@ def _design_figures(entry: dict[str, Any], geometry: ColumnGeometry,
                                        if value >= worst * (1.0 - 1e-6)])
     if sample is not None:
         values = sample.residual_error(yoke)
-        entry["study"] = SampleStudy.of(nominal, values).to_dict()
+        entry["study"] = asdict(SampleStudy.of(nominal, values))
         samples_re[entry["role"]] = sorted(float(value) for value in values)
     if feel is not None:
-        entry["feel"] = steering_feel((geometry, yoke), **feel).to_dict()
+        entry["feel"] = asdict(steering_feel((geometry, yoke), **feel))
     if limit is not None:
         if nominal <= limit:
-            band = tolerance_band((geometry, yoke), limit).to_dict()
+            band = tolerance_band((geometry, yoke), limit)._document_dict()
             band.pop("geometry")
             entry["band"] = band
         else:
@@ -225,7 +225,7 @@ def _equivalents(geometry: ColumnGeometry, best: Any, sample: Any) -> list[dict[
         nominal = float(residual_error(np.radians(geometry.beta_deg),
                                        np.radians(geometry.phase_deg_from_yoke(yoke))))
         rows.append({"yoke_phase_deg": [float(value) for value in yoke],
-                     "study": SampleStudy.of(nominal, sample.residual_error(yoke)).to_dict()})
+                     "study": asdict(SampleStudy.of(nominal, sample.residual_error(yoke)))})
     return rows
 
 

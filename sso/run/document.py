@@ -1,18 +1,7 @@
-"""The result document: what ``result.json`` holds, built by calling the public API.
+"""What every case run records besides its result: the package versions and when.
 
-A document is a plain JSON-ready dictionary. It carries the case as read (after
-defaults), every design compared (initial, optimum, reference) with its
-evaluation, every solver's answer, the cross-check, the quadrature used, the
-warnings and the package versions, so every report format can be rendered again
-from the file alone (:mod:`sso.reports.writer`).
-
-Layout (``schema_version`` 1)::
-
-    schema_version, kind, mode ("optimise" | "evaluate"), created_utc,
-    case, case_file, model, option, option_name, input_speed_rpm,
-    designs: {initial, optimum?, reference?} -> {label, beta_deg, phase_deg, evaluation},
-    start, bounds, solutions, runs, crosscheck, local_minima, quadrature,
-    success, verdict, warnings, versions
+The result documents of mechanism and column cases still open with
+:func:`document_header` (``schema_version`` 1).
 """
 
 from __future__ import annotations
@@ -21,131 +10,14 @@ import importlib.metadata
 import importlib.util
 import platform
 import re
-import warnings
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from sso.cases.shaft_series import Case
 from sso.distribution import installed_version
-from sso.shafts.options import OPTION_NAMES
-
-if TYPE_CHECKING:
-    from sso.shafts.optimise import OptimisationResult
-    from sso.solvers.result import DesignResult
 
 SCHEMA_VERSION = 1
-DESIGN_ROLES = ("initial", "optimum", "reference")
 VERSIONED_PACKAGES = ("casadi", "scipy", "numpy", "matplotlib")
-
-
-def optimise_case(case: Case) -> dict[str, Any]:
-    """Optimise a case with :func:`sso.optimise` and return its result document.
-
-    Solver failures and disagreements are recorded (``success`` false, ``verdict``
-    says why), never raised. Warnings are recorded in ``warnings``, not emitted.
-
-    Raises
-    ------
-    ValueError
-        If the case's values are rejected by :func:`sso.optimise`.
-    """
-    from sso.shafts.optimise import optimise
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = optimise(case.series(), case.option, **case.optimise_options())
-    document = optimisation_document(result, case)
-    document["warnings"] = _unique(document["warnings"]
-                                   + [str(warning.message) for warning in caught])
-    return document
-
-
-def optimisation_document(result: OptimisationResult, case: Case | None = None) -> dict[str, Any]:
-    """The result document of an optimisation, as ``sso run`` writes it.
-
-    Parameters
-    ----------
-    result : sso.OptimisationResult
-    case : sso.cases.schema.Case, optional
-        The case it solved. Without one (a result made in Python) the document's
-        case is built from what the result records: its design, option, model,
-        bounds, solvers and starts; settings the result does not record (solver
-        tolerance, iteration limit, seed) appear at their defaults.
-    """
-    if case is None:
-        case = case_of_result(result)
-    document = _common(case, "optimise")
-    document["designs"] = {
-        "initial": _design("initial design (as given)", result.initial_series, result.initial),
-        "optimum": _design(f"optimum (found by {result.found_by})", result.best.series,
-                           result.optimum),
-    }
-    _add_reference(document, case)
-    outcome = result.to_dict()
-    document.update({
-        "start": outcome["start_series"],
-        "bounds": {"beta_deg": outcome["beta_bounds_deg"],
-                   "phase_deg": outcome["phase_bounds_deg"]},
-        "solutions": outcome["solutions"],
-        "confirmations": outcome["confirmations"],
-        "found_by": outcome["found_by"],
-        "exact_optima": outcome["exact_optima"],
-        "runs": outcome["runs"],
-        "crosscheck": outcome["crosscheck"],
-        "local_minima": outcome["local_minima"],
-        "starts": outcome["starts"],
-        "quadrature": {"samples": result.samples, "error_estimate": result.quadrature_error,
-                       "rtol": case.quadrature_rtol, "atol": case.quadrature_atol},
-        "success": result.success,
-        "verdict": _verdict(result),
-    })
-    document["warnings"] = _unique(document["warnings"] + list(result.warnings))
-    return document
-
-
-def case_of_result(result: OptimisationResult) -> Case:
-    """A case holding what an optimisation result records of its problem."""
-    from sso.cases.schema import parse_case
-
-    case: Case = parse_case({
-        "name": "optimisation",
-        "description": "An optimisation made with sso.optimise in Python.",
-        "model": result.model,
-        "option": result.option,
-        "input_speed_rpm": result.input_speed_rpm,
-        "design": {"beta_deg": list(result.initial_series.beta_deg),
-                   "phase_deg": list(result.initial_series.phase_deg)},
-        "bounds": {"beta_deg": [list(pair) for pair in result.beta_bounds_deg],
-                   "phase_deg": [list(pair) for pair in result.phase_bounds_deg]},
-        "solver": {"solvers": list(result.solutions), "starts": result.starts},
-    }, "<sso.optimise>")
-    return case
-
-
-def evaluate_case(case: Case) -> dict[str, Any]:
-    """Evaluate the case's design as given (and its reference); no optimisation.
-
-    Builds no NLP and imports no CasADi.
-    """
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        series = case.series()
-        evaluation = series.evaluate(case.input_speed_rpm, quadrature_rtol=case.quadrature_rtol,
-                                     quadrature_atol=case.quadrature_atol)
-        document = _common(case, "evaluate")
-        document["designs"] = {"initial": _design("design (as given)", series, evaluation)}
-        _add_reference(document, case)
-    document["warnings"] = _unique(document["warnings"]
-                                   + [str(warning.message) for warning in caught])
-    document.update({
-        "quadrature": {"samples": evaluation.samples,
-                       "error_estimate": evaluation.quadrature_error,
-                       "rtol": case.quadrature_rtol, "atol": case.quadrature_atol},
-        "success": True,
-        "verdict": "evaluated as given; no optimisation",
-    })
-    return document
 
 
 def package_versions() -> dict[str, str]:
@@ -186,6 +58,11 @@ def bundled_ipopt_version() -> str:
     return "unknown: no IPOPT version found in casadi's files"
 
 
+def created_utc() -> str:
+    """The time now, UTC, to the second (ISO 8601), as a run records it."""
+    return datetime.now(UTC).isoformat(timespec="seconds")
+
+
 def document_header(case: Any, mode: str) -> dict[str, Any]:
     """The keys every result document opens with, for a case of any kind.
 
@@ -205,54 +82,7 @@ def document_header(case: Any, mode: str) -> dict[str, Any]:
         "schema_version": SCHEMA_VERSION,
         "kind": case.kind,
         "mode": mode,
-        "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
+        "created_utc": created_utc(),
         "case": case.to_dict(),
         "case_file": case.source,
     }
-
-
-def _common(case: Case, mode: str) -> dict[str, Any]:
-    return {
-        **document_header(case, mode),
-        "model": case.model,
-        "option": case.option,
-        "option_name": OPTION_NAMES[case.option],
-        "input_speed_rpm": case.input_speed_rpm,
-        "warnings": list(case.warnings),
-        "versions": package_versions(),
-    }
-
-
-def _design(label: str, series: Any, evaluation: Any) -> dict[str, Any]:
-    return {"label": label, "beta_deg": list(series.beta_deg),
-            "phase_deg": list(series.phase_deg), "evaluation": evaluation.to_dict()}
-
-
-def _add_reference(document: dict[str, Any], case: Case) -> None:
-    reference = case.reference_series()
-    if reference is not None:
-        evaluation = reference.evaluate(case.input_speed_rpm,
-                                        quadrature_rtol=case.quadrature_rtol,
-                                        quadrature_atol=case.quadrature_atol)
-        document["designs"]["reference"] = _design(case.reference_label, reference, evaluation)
-
-
-UNRELIABLE_VERDICT = "optimum unreliable"
-"""How the verdict of a run whose optimum's quadrature did not converge begins."""
-
-
-def _verdict(result: DesignResult) -> str:
-    if not result.best.success:
-        return f"solver failed: {result.best.solver}: {result.best.message}"
-    # a shaft series' optimum says whether its quadrature converged; a four-bar's has none
-    if not getattr(getattr(result, "optimum", None), "quadrature_converged", True):
-        return (f"{UNRELIABLE_VERDICT}: operating angles this close to 90 deg put peaks in "
-                "the speed ratio that the residual-error quadrature cannot resolve")
-    if result.crosscheck is None:
-        return f"solved by {result.found_by} alone (no cross-check): {result.best.message}"
-    return result.crosscheck.message
-
-
-def _unique(texts: list[str]) -> list[str]:
-    return list(dict.fromkeys(texts))
-

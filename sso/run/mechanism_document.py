@@ -33,7 +33,7 @@ from sso.linkages.mechanisms import (
 )
 from sso.linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso.linkages.table import MechanismTable
-from sso.run.document import _verdict, document_header, package_versions
+from sso.run.document import document_header, package_versions
 
 if TYPE_CHECKING:
     from sso.linkages.fourbar_swing import FourBarDesignResult
@@ -89,20 +89,21 @@ def mechanism_document(case: MechanismCase, optimising: bool,
                 result = design_fourbar(start, **case.design_options())
             caught_messages = [str(warning.message) for warning in caught]
         linkages = {"initial": start, "optimum": result.optimum}
-        document.update(mode="optimise", design=result.to_dict(), success=result.success,
-                        verdict=_verdict(result))
+        document.update(mode="optimise", design=result._document_dict(), success=result.success,
+                        verdict=result.verdict)
     else:
         linkages = {"initial": start}
         document.update(mode="evaluate", success=True,
                         verdict="start linkage analysed as given; no optimisation")
     document["linkages"] = {role: linkage_dict(mechanism) for role, mechanism in linkages.items()}
-    document["tables"] = {role: analysis_table(mechanism, case).to_dict()
+    document["tables"] = {role: analysis_table(mechanism, case)._document_dict()
                           for role, mechanism in linkages.items()}
     document["extremes"] = {role: extremes(mechanism, case)
                             for role, mechanism in linkages.items()}
     if isinstance(start, SliderCrank) and start.offset == 0.0:
-        document["method_difference"] = slider_crank_method_difference(
-            start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg()).to_dict()
+        difference = slider_crank_method_difference(
+            start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg())
+        document["method_difference"] = difference._document_dict()
     document["warnings"] = list(dict.fromkeys([*case.warnings, *caught_messages]))
     document["versions"] = package_versions()
     return document

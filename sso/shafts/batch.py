@@ -36,6 +36,7 @@ from sso.limits import (
     DEFAULT_SHAFT_SOLVER_TOL,
     MAX_ITERATIONS,
 )
+from sso.record import Record
 from sso.shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     OPTION_NAMES,
@@ -66,8 +67,8 @@ ZERO_RESIDUAL_LEVEL = 1e-20
 saddle check (the batched least squares' default)."""
 
 
-@dataclass(frozen=True, repr=False)
-class BatchResult(Readable):
+@dataclass(frozen=True, eq=False, repr=False)
+class BatchResult(Record, Readable):
     """Optimised designs of a batch, one row per start.
 
     Attributes
@@ -164,7 +165,7 @@ class BatchResult(Readable):
             ) from None
         return pandas.DataFrame(self.to_columns())
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field (arrays as nested lists)."""
         return {
             "option": self.option,

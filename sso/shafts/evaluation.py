@@ -18,6 +18,7 @@ from sso.kinematics.hooke_matrix import (
     residual_error,
 )
 from sso.limits import DEFAULT_INPUT_SPEED_RPM, DEFAULT_QUADRATURE_ATOL, DEFAULT_QUADRATURE_RTOL
+from sso.record import register_record
 from sso.shafts.objective import angle_grid, squared_ratio_error
 from sso.shafts.quadrature import EVALUATION_MAX_SAMPLES, adaptive_rule, resolving_samples
 from sso.validation import finite_in_range, validate_speed
@@ -59,6 +60,7 @@ SUMMARY_FIGURES = (
 )
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class Evaluation(Readable):
     """Figures of merit of a design, all over one revolution at constant input speed.

@@ -31,13 +31,14 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from sso.display import Part, Readable, TextTable, format_number
 from sso.kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso.kinematics.hooke_matrix import residuals_and_jacobian_numpy
+from sso.record import NOT_SAVED, register_record
 from sso.shafts.options import DesignProblem
 from sso.shafts.perturbed import (
     DEFAULT_TOLERANCES,
@@ -76,6 +77,7 @@ BoxSolve = Callable[[np.ndarray, np.ndarray, np.ndarray, int],
 least-squares solver in a box (rad)."""
 
 
+@register_record
 @dataclass(frozen=True)
 class ToleranceSettings:
     """Manufacturing tolerances of a robust choice, as :func:`sso.tolerance_study` takes them.
@@ -134,6 +136,7 @@ def tolerance_settings(joints: int, beta_tolerance_deg: Any, phase_tolerance_deg
         seed=int(seed))
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class ExactOptimumSet(Readable):
     """The set of exact optima (RE at round-off zero) and the design chosen within it.
@@ -161,8 +164,9 @@ class ExactOptimumSet(Readable):
         p95 RE of each under ``tolerances`` (None without).
     time_s : float
         Wall time of the choice, s.
-    extent_of : callable
-        Computes :attr:`extent_deg` (on first access: 2 solves per variable).
+    extent_of : callable or None
+        Computes :attr:`extent_deg` (on first access: 2 solves per variable). Not
+        saved: a reloaded set holds its saved ``extent_deg`` and no callable.
     """
 
     criterion: str
@@ -177,12 +181,23 @@ class ExactOptimumSet(Readable):
     p95_residual_error: float | None
     first_p95_residual_error: float | None
     time_s: float
-    extent_of: Callable[[], tuple[tuple[float, float], ...]] = field(compare=False)
+    extent_of: Callable[[], tuple[tuple[float, float], ...]] | None = field(
+        default=None, compare=False, metadata=NOT_SAVED)
+
+    _record_derived: ClassVar[tuple[str, ...]] = ("extent_deg",)
 
     @functools.cached_property
     def extent_deg(self) -> tuple[tuple[float, float], ...]:
         """Least and largest value of each free variable on the set (the part connected
-        to the chosen design), deg; found on first access."""
+        to the chosen design), deg; found on first access.
+
+        Raises
+        ------
+        ValueError
+            If the set holds neither its extent nor ``extent_of`` to compute it.
+        """
+        if self.extent_of is None:
+            raise ValueError("this set of exact optima holds no extent and no way to find it")
         return self.extent_of()
 
     def _repr_text(self) -> str:

@@ -31,6 +31,7 @@ from sso.limits import (
     MAX_STARTS,
     SOLVERS,
 )
+from sso.shafts.curves import ComparedDesign, compared_design
 from sso.shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso.shafts.exact_optima import (
     ExactOptimumSet,
@@ -78,7 +79,11 @@ CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
 
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
+UNRELIABLE_VERDICT = "optimum unreliable"
+"""How the verdict of a run whose optimum's quadrature did not converge begins."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
 class OptimisationResult(DesignResult):
     """Everything one optimisation found; reports are rendered from it alone.
 
@@ -102,6 +107,9 @@ class OptimisationResult(DesignResult):
         Evaluations of ``initial_series`` and of the best design, at
         ``input_speed_rpm``; computed on first access (a caller that reads only
         RE and the design does not pay for them).
+    compared : tuple of sso.shafts.curves.ComparedDesign
+        The initial design and the optimum with their speed curves, as the report
+        draws them; computed on first access.
     best, solutions, runs, crosscheck, local_minima
         As in :class:`sso.solvers.result.DesignResult`; ``fun`` is the residual
         error RE and ``x`` is in deg. With ``screen_starts`` (exact model, more
@@ -155,6 +163,14 @@ class OptimisationResult(DesignResult):
         """Figures of the best design at ``input_speed_rpm``."""
         return self.best_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
 
+    @functools.cached_property
+    def compared(self) -> tuple[ComparedDesign, ...]:
+        """The initial design and the optimum as a report shows them, with speed curves."""
+        return (compared_design("initial", "initial design (as given)", self.initial_series,
+                                self.initial),
+                compared_design("optimum", f"optimum (found by {self.found_by})", self.best_series,
+                                self.optimum))
+
     @property
     def best_series(self) -> ShaftSeries:
         """The best design, ``best.series`` (always a shaft series here)."""
@@ -167,6 +183,16 @@ class OptimisationResult(DesignResult):
         return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
 
     report_kind: ClassVar[str] = "optimisation"
+    _record_derived: ClassVar[tuple[str, ...]] = ("initial", "optimum", "compared")
+
+    @property
+    def verdict(self) -> str:
+        """What the solvers found, in words; an optimum whose quadrature did not
+        converge is called unreliable (:data:`UNRELIABLE_VERDICT`)."""
+        if self.best.success and not self.optimum.quadrature_converged:
+            return (f"{UNRELIABLE_VERDICT}: operating angles this close to 90 deg put peaks in "
+                    "the speed ratio that the residual-error quadrature cannot resolve")
+        return super().verdict
 
     def _repr_text(self) -> str:
         verdict = "success" if self.success else "FAILED"
@@ -196,7 +222,7 @@ class OptimisationResult(DesignResult):
         return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
                 and self.optimum.quadrature_converged)
 
-    def to_dict(self) -> dict[str, Any]:
+    def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "option": self.option,

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 from sso.kinematics.hooke import MODELS, ChainKinematics, chain_kinematics
 from sso.kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
 from sso.limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
+from sso.record import register_record
 from sso.validation import as_float_tuple, check_chain_cosines, check_choice, check_in_range
 
 if TYPE_CHECKING:
@@ -24,6 +25,7 @@ class InertPhaseWarning(UserWarning):
     """The paper's extra phase after the last joint was given; it enters no equation."""
 
 
+@register_record
 @dataclass(frozen=True, init=False)
 class ShaftSeries:
     """Shafts in series joined by ``n >= 1`` Hooke joints.

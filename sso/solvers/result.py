@@ -12,11 +12,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from sso.display import Part, Readable, TextTable, format_number
+from sso.record import Record
 from sso.solvers.solution import CrossCheck, Solution
 
 
-@dataclass(frozen=True, kw_only=True, repr=False)
-class DesignResult(Readable):
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class DesignResult(Record, Readable):
     """What the solvers found for one design problem.
 
     ``x``, ``fun``, ``nit``, ``nfev``, ``status``, ``message`` and ``success`` read
@@ -94,6 +95,15 @@ class DesignResult(Readable):
         """Solver message of the best answer's run."""
         return self.best.message
 
+    @property
+    def verdict(self) -> str:
+        """What the solvers found, in words: a failure, one solver alone, or the cross-check."""
+        if not self.best.success:
+            return f"solver failed: {self.best.solver}: {self.best.message}"
+        if self.crosscheck is None:
+            return f"solved by {self.found_by} alone (no cross-check): {self.best.message}"
+        return self.crosscheck.message
+
     def solver_dict(self) -> dict[str, Any]:
         """JSON-ready solver part: best, solutions, runs, cross-check, minima, success."""
         return {
@@ -108,10 +118,6 @@ class DesignResult(Readable):
             "success": self.success,
         }
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (subclasses add their problem's part)."""
-        return self.solver_dict()
-
     def _solver_parts(self, objective: str, kkt: str) -> list[Part]:
         """The solvers table and the cross-check line of a summary.
 
@@ -125,7 +131,7 @@ class DesignResult(Readable):
                  format_number(solution.kkt, 2), str(solution.nit), solution.message)
                 for name, solution in [*self.solutions.items(),
                                        *[(name, run) for name, run in self.confirmations.items()
-                                         if run is not self.solutions.get(name)]]]
+                                         if run != self.solutions.get(name)]]]
         solvers = TextTable(("solver", "run", "start", "converged", objective, kkt, "iterations",
                              "message"), tuple(rows))
         check = ("cross-check: one solver, none made" if self.crosscheck is None

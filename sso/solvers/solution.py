@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
+from sso.record import register_record
 
 ROLE_SOLVE = "solve"
 """A solver's own iterations from a start."""
@@ -35,6 +36,7 @@ class SeriesDesign(Protocol):
     def phase_deg(self) -> Sequence[float]: ...
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class Solution(Readable):
     """One solver's answer, named after :class:`scipy.optimize.OptimizeResult`.
@@ -154,6 +156,7 @@ class Solution(Readable):
         }
 
 
+@register_record
 @dataclass(frozen=True, repr=False)
 class CrossCheck(Readable):
     """Verdict of comparing solvers by objective value and first-order optimality.

@@ -63,7 +63,7 @@ def test_one_joint_and_a_case_file_as_the_design(tmp_path):
     result = sso.tolerance_study("cases/paper_option3_exact.toml", samples=200, out_dir=tmp_path)
     assert {path.name for path in result.files} == {
         "tolerance.csv", "tolerance.json", "report.md", "report.html",
-        "tolerance_histogram.png"}
+        "tolerance_histogram.png", "result.json"}
     summary = json.loads((tmp_path / "tolerance.json").read_text())
     assert summary["samples"] == 200
     assert summary["percentiles"]["residual_error"]["50"] == pytest.approx(

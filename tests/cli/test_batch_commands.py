@@ -97,7 +97,8 @@ def test_sso_tolerance_reads_the_optimum_from_a_result_file(tmp_path):
     assert study.returncode == 0, study.stderr
     summary = json.loads((tmp_path / "results" / "steering_column" /
                           "tolerance.json").read_text())
-    assert summary["design"]["beta_deg"] == document["designs"]["optimum"]["beta_deg"]
+    optimum = document["optimisation"]["best"]["series"]
+    assert summary["design"]["beta_deg"] == optimum["beta_deg"]
     assert "read from" in summary["study_of"]
     both = sso_command("tolerance", case, "--result", result, "--at", "start", cwd=tmp_path)
     assert both.returncode == 2 and "use one of them" in both.stderr

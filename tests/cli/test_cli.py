@@ -12,6 +12,7 @@ import pytest
 from paper_trials import paper_trial_case
 
 from sso.cases.schema import load_case
+from sso.run.shaft_series import ShaftSeriesRun
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases"
@@ -82,44 +83,47 @@ def test_run_writes_every_file_and_exits_0(option3_run):
 
 def test_result_json_holds_the_whole_story(option3_run):
     _, report = option3_run
-    document = json.loads((report / "result.json").read_text())
-    assert document["schema_version"] == 1
-    assert document["model"] == "exact"
-    assert document["option"] == 3 and document["option_name"] == "both"
+    saved = json.loads((report / "result.json").read_text())
+    assert saved["version"] == 1 and saved["type"] == "ShaftSeriesRun"
+    run = ShaftSeriesRun.from_dict(saved)
+    result = run.optimisation
+    assert result is not None
+    assert result.model == "exact" and (result.option, result.option_name) == (3, "both")
     shipped = load_case(report.parent.parent / "paper_option3_exact.toml")
-    assert document["case"] == shipped.to_dict()
-    designs = document["designs"]
-    initial = designs["initial"]["evaluation"]["residual_error"]
-    optimum = designs["optimum"]["evaluation"]["residual_error"]
-    reference = designs["reference"]["evaluation"]["residual_error"]
+    assert run.case == shipped and saved["case"]["case"] == shipped.to_dict()
+    initial, optimum, reference = (run.design(role).evaluation.residual_error
+                                   for role in ("initial", "optimum", "reference"))
     # The exact model cancels the fluctuation: RE reaches round-off, far below the paper's.
     assert optimum < 1e-18
     assert reference == pytest.approx(1.928e-3, rel=1e-3)
     assert initial == pytest.approx(0.05140006, rel=1e-6)
-    assert designs["reference"]["beta_deg"] == PAPER_REFERENCE_BETA_DEG[3]
+    assert list(run.design("reference").series.beta_deg) == PAPER_REFERENCE_BETA_DEG[3]
     for name in ("ipopt", "slsqp"):
-        solution = document["solutions"][name]
-        assert solution["success"] is True
-        assert {"status", "message", "nit", "nfev", "time_s", "kkt"} <= set(solution)
-        assert solution["kkt"] <= 1e-6
-    assert document["crosscheck"]["agree"] is True
+        solution = result.solutions[name]
+        assert solution.success is True
+        assert solution.kkt <= 1e-6
+    assert result.crosscheck is not None and result.crosscheck.agree is True
     # Screening: the least-squares solver reaches RE = 0 (a global minimum) from the
     # first start, so the other starts are skipped; each solver then solves from the
     # given start with its own iterations, and the design is chosen within the set of
     # exact optima (largest margin to the bounds).
-    assert [(run["solver"], run["role"]) for run in document["runs"]] == [
+    assert [(item.solver, item.role) for item in result.runs] == [
         ("lm", "screen"), ("ipopt", "solve"), ("slsqp", "solve"), ("lm", "selection")]
-    assert all(document["solutions"][name]["nit"] > 0 for name in ("ipopt", "slsqp"))
-    assert document["found_by"] == "lm choosing within the exact optima"
-    assert document["exact_optima"]["criterion"] == "largest margin to the bounds"
+    assert all(result.solutions[name].nit > 0 for name in ("ipopt", "slsqp"))
+    assert result.found_by == "lm choosing within the exact optima"
+    assert result.exact_optima is not None
+    assert result.exact_optima.criterion == "largest margin to the bounds"
     # The exact model's RE is the closed form of the chain matrix: no quadrature angles.
-    assert document["quadrature"]["samples"] == 0
-    assert document["quadrature"]["error_estimate"] == 0.0
-    assert document["success"] is True
-    versions = document["versions"]
-    assert set(versions) >= {"sso", "casadi", "ipopt", "scipy", "numpy"}
-    assert versions["sso"] == "0.1.0"
-    assert re.fullmatch(r"\d+\.\d+\.\d+", versions["ipopt"])
+    assert result.samples == 0 and result.quadrature_error == 0.0
+    assert run.success is True
+    assert set(run.versions) >= {"sso", "casadi", "ipopt", "scipy", "numpy"}
+    assert run.versions["sso"] == "0.1.0"
+    assert re.fullmatch(r"\d+\.\d+\.\d+", run.versions["ipopt"])
+    # The curves the plots draw are in the result: the optimum's output speed is the
+    # input speed (RE at round-off), 361 angles from 0 to 360 deg.
+    curve = run.design("optimum")
+    assert curve.input_angle_deg.shape == (361,)
+    assert abs(curve.output_speed_rpm - result.input_speed_rpm).max() < 1e-6
 
 
 def test_plots_are_valid_pngs_of_the_stated_size(option3_run):
@@ -192,13 +196,14 @@ def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
                                     "--out", tmp_path, "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert loaded == []
-    document = json.loads((tmp_path / f"paper_option3_{model}" / "result.json").read_text())
-    assert document["mode"] == "evaluate"
-    assert set(document["designs"]) == {"initial", "reference"}
-    evaluation = document["designs"]["initial"]["evaluation"]
+    run = ShaftSeriesRun.from_dict(json.loads(
+        (tmp_path / f"paper_option3_{model}" / "result.json").read_text()))
+    assert run.mode == "evaluate" and run.optimisation is None
+    assert [design.role for design in run.designs] == ["initial", "reference"]
+    evaluation = run.designs[0].evaluation
     # docs/model.md: paper model, option 3 trial design, 25 rpm: output 18.17 .. 34.40 rpm.
-    assert evaluation["speed_min_rpm"] == pytest.approx(low_rpm, abs=5e-3)
-    assert evaluation["speed_max_rpm"] == pytest.approx(high_rpm, abs=5e-3)
+    assert evaluation.speed_min_rpm == pytest.approx(low_rpm, abs=5e-3)
+    assert evaluation.speed_max_rpm == pytest.approx(high_rpm, abs=5e-3)
     assert "solvers" not in (tmp_path / f"paper_option3_{model}" / "report.md").read_text()
 
 
@@ -210,10 +215,10 @@ def test_every_shipped_case_solves_below_its_reference(tmp_path):
     assert completed.returncode == 0, completed.stderr
     assert len(completed.stdout.strip().splitlines()) == 2 + len(shipped)
     for path in shipped:
-        document = json.loads((tmp_path / path.stem / "result.json").read_text())
-        errors = {role: design["evaluation"]["residual_error"]
-                  for role, design in document["designs"].items()}
-        assert document["success"] is True, path.stem
+        run = ShaftSeriesRun.from_dict(json.loads(
+            (tmp_path / path.stem / "result.json").read_text()))
+        errors = {design.role: design.evaluation.residual_error for design in run.designs}
+        assert run.success is True, path.stem
         assert errors["optimum"] <= min(errors["initial"], errors["reference"]) + 1e-20, path.stem
         if path.stem.startswith("paper_"):
             # docs/model.md: the paper's optima are not stationary; a correct solver does better.
@@ -315,10 +320,10 @@ def test_solver_failure_exits_1_and_the_report_says_so(tmp_path):
                       'beta_deg = [30.0, 40.0, 35.0]\n[solver]\nstarts = 1\nmax_iterations = 1\n')
     completed = sso("run", case, "--out", tmp_path, "--formats", "json,md", cwd=tmp_path)
     assert completed.returncode == 1, completed.stdout + completed.stderr
-    document = json.loads((tmp_path / "starved" / "result.json").read_text())
-    assert document["success"] is False
-    assert document["solutions"]["ipopt"]["success"] is False
-    assert document["solutions"]["ipopt"]["nit"] <= 1
+    run = ShaftSeriesRun.from_dict(json.loads((tmp_path / "starved" / "result.json").read_text()))
+    assert run.success is False and run.optimisation is not None
+    assert run.optimisation.solutions["ipopt"].success is False
+    assert run.optimisation.solutions["ipopt"].nit <= 1
     assert "error: starved: " in completed.stderr
     assert "FAILED: " in (tmp_path / "starved" / "report.md").read_text()
     assert "Traceback" not in completed.stderr

@@ -7,6 +7,8 @@ from pathlib import Path
 import pytest
 from test_cli import sso, write_case
 
+from sso.run.shaft_series import ShaftSeriesRun
+
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases"
 # The paper's option 3 (cases/paper_option3_exact.toml) with "lm" alone.
@@ -22,27 +24,30 @@ def test_a_case_with_lm_alone_is_solved_by_lm(tmp_path):
     case = write_case(tmp_path, LM_CASE)
     completed = sso("run", case, "--out", tmp_path / "out", "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stdout + completed.stderr
-    document = json.loads((tmp_path / "out" / "lm_alone" / "result.json").read_text())
-    assert document["case"]["solver"]["solvers"] == ["lm"]
-    assert list(document["solutions"]) == ["lm"]
-    assert document["designs"]["optimum"]["label"] == "optimum (found by lm from start 0)"
-    assert document["success"] is True and document["crosscheck"] is None
+    run = ShaftSeriesRun.from_dict(
+        json.loads((tmp_path / "out" / "lm_alone" / "result.json").read_text()))
+    result = run.optimisation
+    assert run.case.solvers == ("lm",) and result is not None
+    assert list(result.solutions) == ["lm"]
+    optimum = run.design("optimum")
+    assert optimum is not None and optimum.label == "optimum (found by lm from start 0)"
+    assert run.success is True and result.crosscheck is None
     # Option 3 of the paper's case cancels: the optimum is at round-off zero.
-    assert document["designs"]["optimum"]["evaluation"]["residual_error"] < 1e-20
-    assert document["solutions"]["lm"]["fun"] < 1e-20
-    optimum = document["designs"]["optimum"]
-    assert all(10.0 <= beta <= 40.0 for beta in optimum["beta_deg"])
+    assert optimum.evaluation.residual_error < 1e-20
+    assert result.solutions["lm"].fun < 1e-20
+    assert all(10.0 <= beta <= 40.0 for beta in optimum.series.beta_deg)
 
 
 def test_lm_on_the_command_line_replaces_the_case_solvers(tmp_path):
     completed = sso("run", CASES / "paper_option1_exact.toml", "--solvers", "lm", "--out",
                     tmp_path / "out", "--formats", "json", cwd=tmp_path)
     assert completed.returncode == 0, completed.stdout + completed.stderr
-    document = json.loads((tmp_path / "out" / "paper_option1_exact" / "result.json").read_text())
-    assert list(document["solutions"]) == ["lm"]
+    run = ShaftSeriesRun.from_dict(
+        json.loads((tmp_path / "out" / "paper_option1_exact" / "result.json").read_text()))
+    assert run.optimisation is not None and list(run.optimisation.solutions) == ["lm"]
     # docs/guide/python-api.md, the paper's cases: option 1 of the exact model reaches RE
     # 1.15e-4 (the pair's answer).
-    assert document["solutions"]["lm"]["fun"] == pytest.approx(1.15e-4, rel=0.01)
+    assert run.optimisation.solutions["lm"].fun == pytest.approx(1.15e-4, rel=0.01)
 
 
 @pytest.mark.parametrize("command", ["run", "validate"])

@@ -15,7 +15,7 @@ from column_cases import load, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 from cross_and_yoke import speed_ratio as simulated_speed_ratio
 
-from sso.column.feel import optimise_on_centre, speed_ratio, steering_feel
+from sso.column.feel import OnCentreResult, optimise_on_centre, speed_ratio, steering_feel
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import optimise_phasing
 
@@ -92,7 +92,8 @@ def test_bad_options_name_the_field(tilt_up, keywords, match):
 
 def test_results_are_json_ready(tilt_up):
     result = optimise_on_centre(tilt_up, straight_ahead_deg=45.0, lock_deg=600.0, starts=0)
-    document = json.loads(json.dumps(result.to_dict()))
-    assert document["yoke_phase_deg"] == list(result.yoke_phase_deg)
+    document = json.loads(json.dumps(result.to_dict(), allow_nan=False))
+    assert document["x"] == list(result.yoke_phase_deg)
     assert document["feel"]["on_centre_fluctuation"] == result.feel.on_centre_fluctuation
     assert set(document["solutions"]) == {"ipopt", "slsqp"}
+    assert OnCentreResult.from_dict(document) == result

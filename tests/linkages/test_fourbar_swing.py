@@ -99,8 +99,9 @@ def test_the_design_reads_well_and_writes_the_report_sso_run_writes(result, tmp_
     written = sso.write_report(result, tmp_path / "design", formats=("json", "csv", "md"))
     assert sorted(path.name for path in written) == ["report.md", "result.json", "table.csv",
                                                      "table_initial.csv"]
-    document = json.loads((tmp_path / "design" / "result.json").read_text())
-    assert document["kind"] == "fourbar_design" and document["mode"] == "optimise"
-    assert document["linkages"]["optimum"]["parameters"]["crank"] == result.optimum.crank
+    saved = json.loads((tmp_path / "design" / "result.json").read_text())
+    assert saved["type"] == "FourBarDesignResult"
+    assert saved["optimum"]["crank"] == result.optimum.crank
+    assert sso.FourBarDesignResult.from_dict(saved) == result
     header = (tmp_path / "design" / "table.csv").read_text().splitlines()[0]
     assert "joint_a_x_length_units" in header.split(",")

@@ -260,14 +260,15 @@ def test_table_rejects_ragged_columns_and_mismatched_units():
         MechanismTable(name="t", columns={"a": [1.0]}, units={"b": ""})
 
 
-def test_to_dict_is_json_ready_with_nan_as_none():
+def test_to_dict_is_strict_json_and_reads_back_equal():
     table = small_table()
     data = json.loads(json.dumps(table.to_dict(), allow_nan=False))
     assert data["name"] == "four-bar"
     assert data["units"] == table.units
-    assert data["columns"]["assembled"] == [True, False]
-    assert data["columns"]["joint_b_x"][1] is None
-    assert data["columns"]["joint_b_x"][0] == float(table["joint_b_x"][0])
+    assert data["columns"]["assembled"]["data"] == [True, False]
+    assert data["columns"]["joint_b_x"]["data"][1] == {"float": "nan"}
+    assert data["columns"]["joint_b_x"]["data"][0] == float(table["joint_b_x"][0])
+    assert MechanismTable.from_dict(data) == table
 
 
 def test_to_csv_round_trips_exactly(tmp_path):
@@ -341,8 +342,8 @@ def test_an_analysis_table_reads_well_and_writes_its_report(tmp_path):
     low, high = (float(value) for value in row.split()[2:4])
     assert 40.0 < low < high < 130.0
     written = sso.write_report(table, tmp_path / "table", formats=("csv", "json", "md", "html"))
-    assert sorted(path.name for path in written) == ["report.html", "report.md", "table.csv",
-                                                     "table.json"]
+    assert sorted(path.name for path in written) == ["report.html", "report.md", "result.json",
+                                                     "table.csv"]
     lines = (tmp_path / "table" / "table.csv").read_text().splitlines()
     assert "joint_b_y_length" in lines[0].split(",")
     assert len(lines) == 13

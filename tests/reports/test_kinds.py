@@ -47,9 +47,10 @@ def test_write_report_of_an_optimisation_is_the_report_sso_run_writes(two_joint_
                                                                       tmp_path):
     written = sso.write_report(two_joint_result, tmp_path / "report", formats=("json", "md"))
     assert sorted(path.name for path in written) == ["report.md", "result.json"]
-    document = json.loads((tmp_path / "report" / "result.json").read_text())
-    assert document["mode"] == "optimise" and document["designs"]["optimum"]["phase_deg"] == [
-        pytest.approx(90.0, abs=1e-4)]
+    saved = json.loads((tmp_path / "report" / "result.json").read_text())
+    assert saved["type"] == "OptimisationResult"
+    assert sso.OptimisationResult.from_dict(saved) == two_joint_result
+    assert saved["best"]["series"]["phase_deg"] == [pytest.approx(90.0, abs=1e-4)]
     assert "# SSO report: optimisation" in (tmp_path / "report" / "report.md").read_text()
 
 

@@ -117,8 +117,9 @@ def test_result_exports():
                                  "phase_deg_2"]
     assert all(len(column) == 3 for column in columns.values())
     data = result.to_dict()
-    assert data["option_name"] == "both" and data["input_speed_rpm"] == 30.0
-    assert data["fun"] == result.fun.tolist() and len(data["message"]) == 3
+    assert data["option"] == 3 and data["input_speed_rpm"] == 30.0
+    assert data["fun"]["data"] == result.fun.tolist()
+    assert type(result).from_dict(data) == result
     with pytest.raises(dataclasses.FrozenInstanceError):
         result.fun = None  # frozen
 

@@ -1,0 +1,46 @@
+"""A shaft-series case run is one result: the optimisation the API returns, the reference,
+the curves, the warnings; it reads back from its saved form equal."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import sso
+from sso.cases.schema import load_case
+from sso.run.shaft_series import EVALUATED_VERDICT, ShaftSeriesRun, run_shaft_series
+
+CASES = Path(__file__).resolve().parents[2] / "cases"
+
+
+def test_a_run_holds_what_sso_optimise_returns():
+    case = load_case(CASES / "paper_option1_exact.toml")
+    run = run_shaft_series(case, optimising=True)
+    direct = sso.optimise(case.series(), case.option, **case.optimise_options())
+    assert isinstance(run.optimisation, sso.OptimisationResult)
+    assert run.optimisation.fun == pytest.approx(direct.fun, rel=1e-9)
+    assert [design.role for design in run.designs] == ["initial", "optimum", "reference"]
+    assert run.designs[:2] == run.optimisation.compared
+    assert run.verdict == run.optimisation.verdict and run.success
+    # the paper's reported optimum (cases/paper_option1_exact.toml, [reference])
+    reference = run.design("reference")
+    assert reference is not None and reference.label == case.reference_label
+    assert ShaftSeriesRun.from_dict(run.to_dict()) == run
+
+
+def test_an_evaluation_builds_no_optimisation():
+    case = load_case(CASES / "paper_option2_paper.toml")
+    run = run_shaft_series(case, optimising=False)
+    assert run.optimisation is None and run.verdict == EVALUATED_VERDICT
+    assert [design.role for design in run.designs] == ["initial", "reference"]
+    assert run.designs[0].series == case.series()
+    assert ShaftSeriesRun.from_dict(run.to_dict()) == run
+
+
+def test_the_mode_and_the_optimisation_agree():
+    run = run_shaft_series(load_case(CASES / "paper_option2_paper.toml"), optimising=False)
+    with pytest.raises(ValueError, match="mode = 'guess'"):
+        ShaftSeriesRun(run.case, "guess", None, run.compared, (), {}, "")
+    with pytest.raises(ValueError, match="an optimise run holds its optimisation"):
+        ShaftSeriesRun(run.case, "optimise", None, run.compared, (), {}, "")
