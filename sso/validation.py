@@ -54,11 +54,15 @@ def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
     """
     if isinstance(values, (str, bytes)):
         raise ValueError(f"{field} = {shown(values)} must be a number or a list of numbers")
-    try:
-        items = list(values)
-    except TypeError:
-        items = [values]
-    return tuple(finite_float(f"{field}[{index}]", item) for index, item in enumerate(items))
+    if type(values) is np.ndarray and values.ndim == 1 and values.dtype.kind == "f":
+        items = values.tolist()  # Python floats: the checks below take their fast path
+    else:
+        try:
+            items = list(values)
+        except TypeError:
+            items = [values]
+    return tuple(item if type(item) is float and math.isfinite(item)
+                 else finite_float(f"{field}[{index}]", item) for index, item in enumerate(items))
 
 
 def finite_float(field: str, value: Any) -> float:

@@ -118,10 +118,11 @@ def tolerance_settings(joints: int, beta_tolerance_deg: Any, phase_tolerance_deg
     ValueError
         Naming the field and its allowed range.
     """
+    if (beta_tolerance_deg is None and phase_tolerance_deg is None and distribution is None
+            and samples is None):
+        return None
     given = {"beta_tolerance_deg": beta_tolerance_deg, "phase_tolerance_deg": phase_tolerance_deg,
              "distribution": distribution, "samples": samples}
-    if all(value is None for value in given.values()):
-        return None
     settings = {**DEFAULT_TOLERANCES,
                 **{name: value for name, value in given.items() if value is not None}}
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:

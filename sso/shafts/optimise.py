@@ -488,4 +488,5 @@ def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
                  solver_runs: list[MeasuredRun]) -> Solution:
     x_deg = np.degrees(run.outcome.x)
     beta_deg, phase_deg = problem.design_deg(x_deg)
-    return solution_from_run(run, solver_runs, x_deg, checked_series(beta_deg, phase_deg, model))
+    return solution_from_run(run, solver_runs, x_deg.tolist(),
+                             checked_series(beta_deg, phase_deg, model))

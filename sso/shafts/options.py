@@ -166,6 +166,99 @@ def validate_option_and_bounds(
     return option_number, beta_bounds, phase_bounds
 
 
+@dataclass(frozen=True)
+class BoundsLayout:
+    """The checked option and bounds of one chain length: what every start of it shares.
+
+    Attributes
+    ----------
+    option : int
+    beta_free, phase_free : bool
+    beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
+        Per-joint / per-phase bounds (deg), checked.
+    lower_deg, upper_deg : tuple of float
+        Bounds of the design vector (deg).
+    lower_rad, upper_rad : numpy.ndarray
+        The same in rad, read-only (shared by every problem of the layout).
+    """
+
+    option: int
+    beta_free: bool
+    phase_free: bool
+    beta_bounds_deg: tuple[tuple[float, float], ...]
+    phase_bounds_deg: tuple[tuple[float, float], ...]
+    lower_deg: tuple[float, ...]
+    upper_deg: tuple[float, ...]
+    lower_rad: np.ndarray
+    upper_rad: np.ndarray
+
+
+LAYOUT_CACHE_SIZE = 64
+"""Layouts of (chain length, option, bounds) kept for reuse; the oldest go first."""
+
+_layouts: dict[Any, BoundsLayout] = {}
+
+
+def bounds_layout(option: Any, n_joints: int, beta_bounds_deg: Any,
+                  phase_bounds_deg: Any) -> BoundsLayout:
+    """The option and bounds of an ``n_joints`` chain, checked and laid out once.
+
+    A single solve of a few joints costs less than checking its bounds again, so the
+    layout of bounds given as plain numbers (int, float, tuples and lists of them)
+    and an option given as a number or a name is kept for the next call with equal
+    values. Anything else (numpy arrays, booleans, ...) is checked on every call.
+
+    Raises
+    ------
+    ValueError
+        As :func:`validate_option_and_bounds`.
+    """
+    beta_key, phase_key = _plain_key(beta_bounds_deg), _plain_key(phase_bounds_deg)
+    key = (None if beta_key is None or phase_key is None
+           or not (type(option) is int or type(option) is str)
+           else (option, n_joints, beta_key, phase_key))
+    layout = None if key is None else _layouts.get(key)
+    if layout is None:
+        layout = _layout(option, n_joints, beta_bounds_deg, phase_bounds_deg)
+        if key is not None:
+            if len(_layouts) >= LAYOUT_CACHE_SIZE:
+                del _layouts[next(iter(_layouts))]
+            _layouts[key] = layout
+    return layout
+
+
+def _plain_key(value: Any) -> Any:
+    """Bounds as a hashable key when they hold only ints, floats, tuples and lists (a list
+    becomes a tagged tuple), else None. Booleans and numpy numbers give None: their
+    checks differ from a plain number's, so they are checked on every call."""
+    kind = type(value)
+    if kind is tuple and len(value) == 2:
+        first, second = type(value[0]), type(value[1])
+        if (first is float or first is int) and (second is float or second is int):
+            return value
+    if kind is int or kind is float:
+        return value
+    if kind is tuple or kind is list:
+        items = tuple(_plain_key(item) for item in value)
+        return None if None in items else (kind is list, items)
+    return None
+
+
+def _layout(option: Any, n_joints: int, beta_bounds_deg: Any,
+            phase_bounds_deg: Any) -> BoundsLayout:
+    option_number, beta_bounds, phase_bounds = validate_option_and_bounds(
+        option, n_joints, beta_bounds_deg, phase_bounds_deg)
+    beta_free, phase_free = free_angles(option_number)
+    pairs = [*(beta_bounds if beta_free else ()), *(phase_bounds if phase_free else ())]
+    lower = tuple(low for low, _ in pairs)
+    upper = tuple(high for _, high in pairs)
+    lower_rad, upper_rad = np.radians([lower, upper]).reshape(2, len(pairs))
+    lower_rad.flags.writeable = False
+    upper_rad.flags.writeable = False
+    return BoundsLayout(option_number, beta_free, phase_free, beta_bounds, phase_bounds,
+                        lower, upper, lower_rad, upper_rad)
+
+
 def build_problem(
     beta_deg: Sequence[float],
     phase_deg: Sequence[float],
@@ -194,7 +287,8 @@ def build_problem(
     -------
     DesignProblem
         Start values outside their bounds are moved onto them and listed in its
-        ``moved_starts`` (no warning is raised here).
+        ``moved_starts`` (no warning is raised here). Its ``lower_rad`` and
+        ``upper_rad`` are read-only (shared with other problems of the same bounds).
 
     Raises
     ------
@@ -202,46 +296,46 @@ def build_problem(
         For an unknown option, option 1 with one joint, or bad bounds.
     """
     n_joints = len(beta_deg)
-    option_number, beta_bounds, phase_bounds = validate_option_and_bounds(
-        option, n_joints, beta_bounds_deg, phase_bounds_deg)
-    beta_free, phase_free = free_angles(option_number)
-    if option_number == 2:
+    layout = bounds_layout(option, n_joints, beta_bounds_deg, phase_bounds_deg)
+    beta_free, phase_free = layout.beta_free, layout.phase_free
+    if layout.option == 2:
         phase_deg = [OPTION_FIXED_PHASE_DEG] * (n_joints - 1)
-
-    lower: list[float] = []
-    upper: list[float] = []
-    start: list[float] = []
-    parameters: list[float] = []
-    moved_starts: list[str] = []
-    groups = [("beta_deg", beta_deg, beta_bounds, beta_free),
-              ("phase_deg", phase_deg, phase_bounds, phase_free)]
-    for field, values, bounds, free in groups:
-        if not free:
-            parameters.extend(values)
-            continue
-        for index, (value, (low, high)) in enumerate(zip(values, bounds, strict=True)):
-            moved = low if value < low else high if value > high else value
-            if moved != value:
-                moved_starts.append(f"start {field}[{index}] = {value:g} deg lies outside its "
-                                    f"bounds [{low:g}, {high:g}] deg; moved onto {moved:g} deg")
-            lower.append(low)
-            upper.append(high)
-            start.append(moved)
-    lower_rad, upper_rad = np.radians([lower, upper])
+    given = [*(beta_deg if beta_free else ()), *(phase_deg if phase_free else ())]
+    parameters = [*(() if beta_free else beta_deg), *(() if phase_free else phase_deg)]
+    start = [low if value < low else high if value > high else value
+             for value, low, high in zip(given, layout.lower_deg, layout.upper_deg, strict=True)]
+    moved_starts: tuple[str, ...] = ()
+    if start != given:
+        moved_starts = tuple(_moved_messages(given, start, layout, n_joints))
     return DesignProblem(
         n_joints=n_joints,
-        option=option_number,
+        option=layout.option,
         model=model,
         beta_free=beta_free,
         phase_free=phase_free,
-        lower_rad=lower_rad,
-        upper_rad=upper_rad,
+        lower_rad=layout.lower_rad,
+        upper_rad=layout.upper_rad,
         start_deg=np.array(start, dtype=float),
         parameters_deg=np.array(parameters, dtype=float),
-        beta_bounds_deg=beta_bounds,
-        phase_bounds_deg=phase_bounds,
-        moved_starts=tuple(moved_starts),
+        beta_bounds_deg=layout.beta_bounds_deg,
+        phase_bounds_deg=layout.phase_bounds_deg,
+        moved_starts=moved_starts,
     )
+
+
+def _moved_messages(given: list[float], start: list[float], layout: BoundsLayout,
+                    n_joints: int) -> list[str]:
+    """One message for each start value moved onto its bounds."""
+    fields = ((["beta_deg"] * n_joints if layout.beta_free else [])
+              + (["phase_deg"] * (n_joints - 1) if layout.phase_free else []))
+    first_phase = n_joints if layout.beta_free else 0
+    return [f"start {field}[{index - (first_phase if field == 'phase_deg' else 0)}] = "
+            f"{value:g} deg lies outside its bounds [{low:g}, {high:g}] deg; moved onto "
+            f"{moved:g} deg"
+            for index, (field, value, moved, low, high)
+            in enumerate(zip(fields, given, start, layout.lower_deg, layout.upper_deg,
+                             strict=True))
+            if moved != value]
 
 
 def warn_moved_starts(problem: DesignProblem) -> None:

@@ -71,8 +71,9 @@ class ShaftSeries:
         if not beta_deg:
             raise ValueError("beta_deg is empty: a shaft series needs at least 1 joint")
         for index, beta in enumerate(beta_deg):
-            check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg",
-                           upper_open=True)
+            if not 0.0 <= beta < BETA_LIMIT_DEG:  # the message is made only for a bad angle
+                check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg",
+                               upper_open=True)
         check_chain_cosines("beta_deg", beta_deg)
         expected = len(beta_deg) - 1
         if self.phase_deg is None:

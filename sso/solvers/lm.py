@@ -36,7 +36,14 @@ from typing import Any
 
 import numpy as np
 
-from sso.solvers.lm_kernel import kernel_of, newton_kernel_of, run_kernel, run_newton_kernel
+from sso.solvers.lm_kernel import (
+    flat_outcome,
+    kernel_of,
+    newton_kernel_of,
+    run_kernel_flat,
+    run_newton_kernel,
+    unpack,
+)
 from sso.solvers.lm_rules import (
     NEWTON,
     NEWTON_INDEFINITE,
@@ -101,15 +108,17 @@ def solve(
                           time.perf_counter() - started)
     fixed = parameters.tolist()
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
-    objective_hessian = getattr(nlp, "objective_hessian", None)
     kernel = kernel_of(nlp)
-    state = (None if kernel is None else
-             run_kernel(kernel, start.tolist(), fixed, lower, upper, solver_tol, max_iterations))
-    if state is not None and state["status"] not in (RUNNING, NEWTON):
-        return RunOutcome(np.array(state["x"]), state["fun"], int(state["nit"]),
-                          int(state["nfev"]), int(state["nfev"]), int(state["status"]),
-                          state["status"] > 0, MESSAGES[int(state["status"])],
-                          time.perf_counter() - started)
+    state = None
+    if kernel is not None:
+        values = run_kernel_flat(kernel, start.tolist(), fixed, lower, upper, solver_tol,
+                                 max_iterations)
+        x, fun, nit, nfev, status = flat_outcome(values, len(lower))
+        if status not in (RUNNING, NEWTON):
+            return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0,
+                              MESSAGES[status], time.perf_counter() - started)
+        state = unpack(values, len(lower))
+    objective_hessian = getattr(nlp, "objective_hessian", None)
     newton_kernel = (newton_kernel_of(nlp) if state is not None and state["status"] == NEWTON
                      else None)
     x, fun, nit, nfev, status = minimise(

@@ -215,7 +215,7 @@ def run_newton_kernel(kernel: BufferedFunction, state: dict[str, Any],
     size = len(lower)
     problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
     values = pack(state)
-    status_index = 3 * size + 2 + SCALARS.index("status")
+    status_index = 3 * size + 2 + _STATUS
     while values[status_index] == NEWTON:
         values = kernel.flat(values, problem)
     return unpack(values, size)
@@ -226,10 +226,29 @@ def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[fl
                max_iterations: int) -> dict[str, Any]:
     """Blocks of the kernel from ``start`` (clipped onto the bounds) until the solve ends or
     is handed to the Python loop; returns the rules' state there (plain floats)."""
+    return unpack(run_kernel_flat(kernel, start, parameters, lower, upper, tolerance,
+                                  max_iterations), len(start))
+
+
+def run_kernel_flat(kernel: BufferedFunction, start: list[float], parameters: list[float],
+                    lower: list[float], upper: list[float], tolerance: float,
+                    max_iterations: int) -> list[float]:
+    """:func:`run_kernel`'s state as the flat list of :func:`pack` (read with
+    :func:`flat_outcome` or :func:`unpack`)."""
     size = len(start)
     problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
     values = kernel.flat(start + [0.0] * (2 * size + 2 + len(SCALARS)), problem)
-    status_index = 3 * size + 2 + SCALARS.index("status")
+    status_index = 3 * size + 2 + _STATUS
     while values[status_index] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
         values = kernel.flat(values, problem)
-    return unpack(values, size)
+    return values
+
+
+def flat_outcome(values: list[float], size: int) -> tuple[list[float], float, int, int, int]:
+    """``x``, ``fun``, ``nit``, ``nfev`` and ``status`` of a flat state of ``size`` variables."""
+    scalars = 3 * size + 2
+    return (values[:size], values[scalars + _FUN], int(values[scalars + _NIT]),
+            int(values[scalars + _NFEV]), int(values[scalars + _STATUS]))
+
+
+_FUN, _NIT, _NFEV, _STATUS = (SCALARS.index(name) for name in ("fun", "nit", "nfev", "status"))

@@ -140,17 +140,21 @@ def solve_from_starts(
                           max_iterations, progress)
     solver_runs = {name: [_with_role(to_solution(run, runs), ROLE_SOLVE) for run in runs]
                    for name, runs in measured.items()}
-    solutions = {name: best_solution(runs) for name, runs in solver_runs.items()}
+    solutions = {name: runs[0] if len(runs) == 1 else best_solution(runs)
+                 for name, runs in solver_runs.items()}
     all_runs = [run for runs in solver_runs.values() for run in runs]
-    chosen = {name: next(run for run, solution in zip(measured[name], solver_runs[name],
-                                                      strict=True)
-                         if solution is solutions[name]) for name in solutions}
+    crosscheck = None
+    if len(solutions) > 1:
+        chosen = {name: next(run for run, solution in zip(measured[name], solver_runs[name],
+                                                          strict=True)
+                             if solution is solutions[name]) for name in solutions}
+        crosscheck = _cross_check(nlp, parameters, limits, chosen, solutions, objective_rtol,
+                                  objective_atol, kkt_tolerance)
     return SolverFields(
         best=best_solution(solutions.values()),
         solutions=solutions,
         runs=tuple(all_runs),
-        crosscheck=(_cross_check(nlp, parameters, limits, chosen, solutions, objective_rtol,
-                                 objective_atol, kkt_tolerance) if len(solutions) > 1 else None),
+        crosscheck=crosscheck,
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         confirmations={},
     )
@@ -261,7 +265,7 @@ def _lower(candidate: MeasuredRun, run: MeasuredRun, rtol: float, atol: float) -
 
 
 def _with_role(solution: Solution, role: str) -> Solution:
-    return replace(solution, role=role)
+    return solution if solution.role == role else replace(solution, role=role)
 
 
 def _cross_check(nlp: Any, parameters: np.ndarray, limits: RunLimits,
@@ -437,7 +441,8 @@ def solution_from_run(
     return Solution(
         solver=run.solver,
         series=series,
-        x=tuple(np.asarray(run.outcome.x if x is None else x, dtype=float).tolist()),
+        x=(tuple(x) if type(x) is list
+           else tuple(np.asarray(run.outcome.x if x is None else x, dtype=float).tolist())),
         fun=run.fun,
         nit=run.outcome.nit,
         nfev=run.outcome.nfev,
@@ -481,11 +486,11 @@ def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
     # NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as
     # the vectors are short.
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
-    point = [low if value < low else high if value > high else value
-             for value, low, high in zip([0.0 if value != value else value
-                                          for value in np.asarray(outcome.x,
-                                                                  dtype=float).tolist()],
-                                         lower, upper, strict=True)]
+    given = outcome.x.tolist() if type(outcome.x) is np.ndarray else np.asarray(
+        outcome.x, dtype=float).tolist()
+    point = [low if value < low else high if value > high else value if value == value else
+             (0.0 if low <= 0.0 <= high else low if 0.0 < low else high)
+             for value, low, high in zip(given, lower, upper, strict=True)]
     x = np.array(point, dtype=float)
     value, gradient = nlp.objective_and_gradient(point, parameters)
     if limits.constrained:
@@ -498,12 +503,8 @@ def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
         # x was just put onto the bounds: it violates nothing.
         kkt = projected_gradient_norm_floats(point, np.ravel(gradient).tolist(), lower, upper)
         violation = 0.0
-    return MeasuredRun(
-        solver=name,
-        start_index=start_index,
-        outcome=RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
-                           outcome.status, outcome.success, outcome.message, outcome.time_s),
-        fun=float(value),
-        kkt=kkt,
-        violation=violation,
-    )
+    return MeasuredRun(name, start_index,
+                       RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
+                                  outcome.status, outcome.success, outcome.message,
+                                  outcome.time_s),
+                       float(value), kkt, violation)

@@ -7,6 +7,7 @@ memory estimate exceeds the limit, saying the estimate and how to lower it.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from dataclasses import dataclass
@@ -133,6 +134,7 @@ def batch_least_squares_mb(problems: int, variables: int) -> float:
     return problems * per_problem / MB
 
 
+@functools.lru_cache(maxsize=256)
 def multistart_estimate(joints: int, free_variables: int, samples: int, starts: int,
                         solvers: int, screened: bool) -> ResourceEstimate:
     """Memory and solves of :func:`sso.optimise` from ``starts`` starts per solver.
@@ -140,6 +142,7 @@ def multistart_estimate(joints: int, free_variables: int, samples: int, starts: 
     ``screened``: the starts are first solved by the batched least-squares solver (the
     exact model), whose memory grows with the starts and the square and cube of the
     free angles: 1,000 starts of 64 joints with 63 free angles need about 1.6 GB.
+    Kept for repeated calls (a single solve costs a few times what this does).
     """
     runs = kept_runs = starts * solvers
     screening_mb = 0.0

@@ -10,6 +10,8 @@ depend on ``seed`` while repeating exactly for one seed.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from sso.limits import DEFAULT_SEED
@@ -41,9 +43,18 @@ def start_points(
     user_start = np.asarray(user_start, dtype=float)
     if count == 1:
         return user_start[np.newaxis, :]
-    unit_points = rotated_halton(count - 1, user_start.size, seed)
+    unit_points = _kept_halton(count - 1, user_start.size, seed)
     spread = lower + unit_points * (upper - lower)
     return np.vstack([user_start, spread])
+
+
+@functools.lru_cache(maxsize=16)
+def _kept_halton(count: int, dimension: int, seed: int) -> np.ndarray:
+    """:func:`rotated_halton`, read-only and kept for the next call of the same shape and
+    seed (a multi-start solve of a few joints costs a few times what making them does)."""
+    points = rotated_halton(count, dimension, seed)
+    points.flags.writeable = False
+    return points
 
 
 def rotated_halton(count: int, dimension: int, seed: int) -> np.ndarray:

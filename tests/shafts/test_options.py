@@ -90,3 +90,28 @@ def test_option_1_needs_two_joints_and_bounds_are_checked():
         build_problem(BETA, PHASE, "exact", 3, (0, 90), (0, 180))
     with pytest.raises(ValueError, match=r"phase_bounds_deg lower = -400 is outside"):
         build_problem(BETA, PHASE, "exact", 3, (0, 40), (-400, 180))
+
+
+def test_kept_layout_still_refuses_what_a_fresh_check_refuses():
+    """The layout of plain bounds is kept between calls; a value equal to a kept one but
+    of another type (a boolean, a float option) is still checked and refused."""
+    build_problem(BETA, PHASE, "exact", 2, (1, 40), (0, 180))
+    with pytest.raises(ValueError, match=r"beta_bounds_deg = \(True, 40\) must be one"):
+        build_problem(BETA, PHASE, "exact", 2, (True, 40), (0, 180))
+    with pytest.raises(ValueError, match=r"option = 2.0 is not one of"):
+        build_problem(BETA, PHASE, "exact", 2.0, (1, 40), (0, 180))
+
+
+def test_kept_layout_gives_each_start_its_own_moves_and_read_only_bounds():
+    first = build_problem(BETA, PHASE, "exact", 3, (25, 35), (0, 90))
+    second = build_problem([26.0, 27.0, 28.0], [10.0, 20.0], "exact", 3, (25, 35), (0, 90))
+    assert first.moved_starts == (
+        "start beta_deg[1] = 40 deg lies outside its bounds [25, 35] deg; moved onto 35 deg",
+        "start beta_deg[2] = 20 deg lies outside its bounds [25, 35] deg; moved onto 25 deg",
+        "start phase_deg[1] = 100 deg lies outside its bounds [0, 90] deg; moved onto 90 deg")
+    assert second.moved_starts == ()
+    np.testing.assert_array_equal(first.start_deg, [30.0, 35.0, 25.0, 80.0, 90.0])
+    np.testing.assert_array_equal(second.start_deg, [26.0, 27.0, 28.0, 10.0, 20.0])
+    assert first.lower_rad is second.lower_rad
+    with pytest.raises(ValueError, match="read-only"):
+        first.upper_rad[0] = 0.0
