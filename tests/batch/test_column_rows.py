@@ -138,3 +138,15 @@ def test_a_column_sweep_resumes_and_runs_on_dask_with_the_local_numbers(tmp_path
                 for row in rows]
     assert without_times(on_dask.rows) == without_times(local.rows)
     assert without_times(resumed.rows) == without_times(local.rows)
+
+
+def test_a_column_sweep_writes_its_figures_as_typed_parquet_columns(tmp_path):
+    pytest.importorskip("pyarrow")
+    result = sso.sweep(TRUCK, {"tilt.angle_deg": [0.0, 4.0]}, action="evaluate",
+                       out_dir=tmp_path / "out", workers=1, plots=False, progress=False,
+                       parquet=True)
+    frame = result.frame()
+    assert frame["residual_error"].tolist() == [row["residual_error"] for row in result.rows]
+    assert frame["speed_fluctuation_percent"].dtype == float
+    assert frame["can_cancel"].tolist() == [False, False]
+    assert [list(value) for value in frame["yoke_phase_deg"]] == [[10.0, -80.0]] * 2
