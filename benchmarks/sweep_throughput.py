@@ -1,17 +1,22 @@
 """Throughput of sweeps: one process, two local processes, a 2-worker Dask LocalCluster.
 
-Two sweeps of the paper's option-3 case in the exact model, each run three ways in
-one run of this script (``sso.sweep`` end to end, its rows in memory):
+Two sweeps of the paper's option-3 case in the exact model (a shipped case), each
+run three ways, in interleaved passes within one run of this script (``sso.sweep``
+end to end, its rows in memory):
 
 * **optimise**: the start of all three operating angles on a grid in [10, 40] deg
   (47^3 = 103,823 points by default), ``"lm"`` alone, one start per point;
 * **evaluate**: the same angles on a 100^3 grid (1,000,000 points), evaluated.
 
 Each runs in one process (``workers=1``), on the local pool of 2 processes, and on
-a Dask ``LocalCluster`` of 2 single-threaded worker processes (started before the
-timed run; its start-up is reported apart). The script prints points per second
-and the ratio to one process, and checks that the three runs give the same rows
-(every column but the wall times).
+a Dask ``LocalCluster`` of 2 single-threaded worker processes. The cluster is
+started before the timed runs, and the local pool's fork server by a first small
+pool sweep; both start-ups are reported apart. Every pass runs the six sweeps in
+turn; the table gives each run's median rate over the passes and the ratio of
+medians to one process, and the script checks that every run gives the rows of
+the first one-process run (every column but the wall times). The machine's load
+average and core count are recorded before and after: on a shared machine the
+ratios of parallel runs fall while other work takes the cores.
 
 Then, against the strongest per-point baseline: the first ``--sample`` points of
 the optimise sweep solved one by one by ``sso.optimise(..., solvers=("lm",))``
@@ -19,24 +24,32 @@ the optimise sweep solved one by one by ``sso.optimise(..., solvers=("lm",))``
 ratio of rates and the check that both give the same RE (within 1e-12) and success
 flag at every sampled point.
 
-Last, the constant rate of appending (``--constant-rate``): the evaluate sweep in
-one process with ``out_dir``, ``sweep.csv`` watched while it grows; the rate of the
-first 10% of the points against the last 10%.
+Last, the sweep on disk (skip with ``--no-disk``): the 1,000,000-point evaluate
+sweep in one process with ``out_dir`` (``sweep.csv`` watched while it grows, from
+the moment the sweep writes its header): the time of the first 10% of the points
+against the last 10% (target: last / first at most 1.2), the time of the
+end-of-sweep report after the last row, and the bytes a point takes in
+``sweep.csv`` and, from a 100,000-point evaluate sweep with ``parquet=True``, in
+``sweep.parquet``.
 
 Usage::
 
     python -m benchmarks.sweep_throughput [--optimise-per-axis 47]
-        [--evaluate-per-axis 100] [--sample 2000] [--json] [--constant-rate]
+        [--evaluate-per-axis 100] [--passes 3] [--sample 500] [--no-disk]
+        [--json PATH]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import statistics
 import tempfile
 import threading
 import time
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -49,6 +62,13 @@ for _name, _value in WORKER_ENVIRONMENT.items():
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "paper_option3_exact.toml"
 WORKERS = 2
+CONSTANT_RATE_TOLERANCE = 1.2
+"""The last 10% of an evaluate sweep's points may take at most this times the first 10%."""
+PARQUET_PER_AXIS = 47
+OPTIMISE_PER_AXIS = 47
+"""Grid values per angle of the optimise sweep: 47^3 = 103,823 points."""
+EVALUATE_PER_AXIS = 100
+"""Grid values per angle of the evaluate sweep: 100^3 = 1,000,000 points."""
 
 
 def base_document() -> dict[str, Any]:
@@ -87,31 +107,69 @@ def same_rows(left: dict[str, Any], right: dict[str, Any]) -> bool:
 
 
 def timed(action: str, axes: dict[str, Any], **options: Any) -> tuple[dict[str, Any], Any]:
+    """One sweep in memory: its wall time and rate, and the calling process's CPU time."""
     import sso
 
     started = time.perf_counter()
+    cpu_started = time.process_time()
     result = sso.sweep(base_document(), axes, action=action, progress=False, **options)
     wall_s = time.perf_counter() - started
     return {"points": len(result.rows), "wall_s": wall_s,
-            "points_per_s": len(result.rows) / wall_s}, result
+            "points_per_s": len(result.rows) / wall_s,
+            "calling_process_cpu_s": time.process_time() - cpu_started}, result
 
 
-def three_ways(action: str, axes: dict[str, Any], client: Any) -> dict[str, Any]:
-    """One process, the pool of 2, Dask with 2 workers: rates, ratios, same rows."""
-    runs: dict[str, dict[str, Any]] = {}
-    rows: dict[str, Any] = {}
-    for label, options in (("one process", {"workers": 1}),
-                           (f"{WORKERS} local processes", {"workers": WORKERS}),
-                           (f"Dask LocalCluster, {WORKERS} workers", {"client": client})):
-        runs[label], result = timed(action, axes, **options)
-        rows[label] = comparable(result)
-        del result
-    one = runs["one process"]["points_per_s"]
-    for run in runs.values():
-        run["ratio_to_one_process"] = run["points_per_s"] / one
-    reference = rows["one process"]
-    return {"runs": runs,
-            "identical_rows": all(same_rows(value, reference) for value in rows.values())}
+def load_now() -> dict[str, Any]:
+    """The machine's load average (1, 5, 15 min) and its cores, now."""
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (math.nan,) * 3
+    autogroup = Path("/proc/sys/kernel/sched_autogroup_enabled")
+    return {"load_average_1_5_15_min": [round(value, 2) for value in load],
+            "cpu_count": os.cpu_count(),
+            # 1: the kernel shares the cores between sessions first, so while other
+            # sessions keep them busy, a session's second process gains it little.
+            "sched_autogroup": (autogroup.read_text().strip() if autogroup.exists()
+                                else "n/a")}
+
+
+def modes(client: Any) -> dict[str, dict[str, Any]]:
+    """The three ways a sweep runs, by label."""
+    return {"one process": {"workers": 1},
+            f"{WORKERS} local processes": {"workers": WORKERS},
+            f"Dask LocalCluster, {WORKERS} workers": {"client": client}}
+
+
+def interleaved(actions: dict[str, dict[str, Any]], client: Any,
+                passes: int) -> dict[str, Any]:
+    """Every action run every way in each pass; medians, ratios, same rows."""
+    samples: dict[str, dict[str, list[dict[str, Any]]]] = {
+        action: {label: [] for label in modes(client)} for action in actions}
+    reference: dict[str, Any] = {}
+    identical = {action: True for action in actions}
+    for _ in range(passes):
+        for action, axes in actions.items():
+            for label, options in modes(client).items():
+                run, result = timed(action, axes, **options)
+                run["load_average_1min"] = round(os.getloadavg()[0], 2)
+                samples[action][label].append(run)
+                rows = comparable(result)
+                del result
+                if action not in reference:
+                    reference[action] = rows
+                else:
+                    identical[action] &= same_rows(rows, reference[action])
+                del rows
+    figures: dict[str, Any] = {}
+    for action, runs in samples.items():
+        one = statistics.median(run["points_per_s"] for run in runs["one process"])
+        table = {}
+        for label, passes_of in runs.items():
+            rate = statistics.median(run["points_per_s"] for run in passes_of)
+            table[label] = {"points": passes_of[0]["points"],
+                            "median_points_per_s": rate,
+                            "ratio_to_one_process": rate / one,
+                            "passes": passes_of}
+        figures[action] = {"runs": table, "identical_rows": identical[action]}
+    return figures
 
 
 def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
@@ -141,8 +199,9 @@ def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
             "ratio": engine_rate / baseline_rate, "same_re_and_success": agree}
 
 
-def constant_rate(per_axis: int) -> dict[str, Any]:
-    """Rate of the first and the last 10% of an evaluate sweep appended to sweep.csv."""
+def on_disk(per_axis: int, parquet_per_axis: int) -> dict[str, Any]:
+    """The evaluate sweep written to disk in one process: first and last 10% of the
+    points, the report after the last row, bytes a point in sweep.csv and Parquet."""
     import sso
 
     samples: list[tuple[float, int]] = []
@@ -160,86 +219,139 @@ def constant_rate(per_axis: int) -> dict[str, Any]:
                     offset += len(data)
                     lines += data.count(b"\n")
                     samples.append((time.perf_counter(), max(lines - 1, 0)))
-                time.sleep(0.02)
+                time.sleep(0.005)
 
         watcher = threading.Thread(target=watch)
         watcher.start()
         started = time.perf_counter()
         try:
             result = sso.sweep(base_document(), grid(per_axis), action="evaluate", workers=1,
-                               progress=False, plots=False, out_dir=Path(folder) / "constant")
+                               progress=False, out_dir=Path(folder) / "constant")
         finally:
             done.set()
             watcher.join()
         wall_s = time.perf_counter() - started
-    points = len(result.rows)
+        csv_bytes = path.stat().st_size
+        points = len(result.rows)
+        del result
+        parquet_result = sso.sweep(base_document(), grid(parquet_per_axis), action="evaluate",
+                                   workers=1, progress=False, plots=False, parquet=True,
+                                   out_dir=Path(folder) / "parquet")
+        parquet_points = len(parquet_result.rows)
+        parquet_bytes = sum(part.stat().st_size for part in
+                            (Path(folder) / "parquet" / "sweep.parquet").iterdir())
 
     def instant(count: float) -> float:
         return next(moment for moment, rows in samples if rows >= count)
 
-    first_s = instant(0.1 * points) - started
+    header_written = samples[0][0]
+    first_s = instant(0.1 * points) - header_written
     last_s = instant(points) - instant(0.9 * points)
-    return {"points": points, "wall_s": wall_s, "first_10_percent_s": first_s,
-            "last_10_percent_s": last_s, "last_over_first": last_s / first_s}
+    return {"points": points, "wall_s": wall_s, "before_header_s": header_written - started,
+            "first_10_percent_s": first_s, "last_10_percent_s": last_s,
+            "last_over_first": last_s / first_s,
+            "constant_rate": last_s <= CONSTANT_RATE_TOLERANCE * first_s,
+            "after_last_row_s": started + wall_s - instant(points),
+            "csv_bytes_per_point": csv_bytes / points,
+            "parquet_points": parquet_points,
+            "parquet_bytes_per_point": parquet_bytes / parquet_points}
 
 
 def main(argv: list[str] | None = None) -> dict[str, Any]:
     """Run the benchmark, print a table, return the figures."""
     from distributed import Client, LocalCluster
 
+    import sso
+    from sso.batch.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--optimise-per-axis", type=int, default=47,
+    parser.add_argument("--optimise-per-axis", type=int, default=OPTIMISE_PER_AXIS,
                         help="grid values per angle of the optimise sweep (47: 103,823 points)")
-    parser.add_argument("--evaluate-per-axis", type=int, default=100,
+    parser.add_argument("--evaluate-per-axis", type=int, default=EVALUATE_PER_AXIS,
                         help="grid values per angle of the evaluate sweep (100: 1,000,000)")
-    parser.add_argument("--sample", type=int, default=2000,
-                        help="points solved one by one for the baseline (default 2000)")
-    parser.add_argument("--constant-rate", action="store_true",
-                        help="also time the first and last 10%% of an evaluate sweep on disk")
-    parser.add_argument("--json", action="store_true", help="print the figures as JSON too")
+    parser.add_argument("--passes", type=int, default=3,
+                        help="interleaved passes of the six timed sweeps (default 3)")
+    parser.add_argument("--sample", type=int, default=500,
+                        help="points solved one by one for the baseline (default 500)")
+    parser.add_argument("--no-disk", action="store_true",
+                        help="skip the sweep on disk (constant rate, report, output size)")
+    parser.add_argument("--json", type=Path, help="also write the figures to this file")
     args = parser.parse_args(argv)
 
-    figures: dict[str, Any] = {}
+    figures: dict[str, Any] = {
+        "started_utc": datetime.now(UTC).strftime("%Y-%m-%d %H:%M"),
+        "settings": {"optimise_per_axis": args.optimise_per_axis,
+                     "evaluate_per_axis": args.evaluate_per_axis, "passes": args.passes,
+                     "workers": WORKERS, "case": CASE.name},
+        "load_before": load_now(),
+        "chunks": {"most_points": ARRAY_CHUNK_CAP, "per_worker": ARRAY_CHUNKS_PER_WORKER},
+    }
     cluster_started = time.perf_counter()
     with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True,
                       host="127.0.0.1", dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         client.wait_for_workers(WORKERS)
         figures["dask_cluster_start_s"] = time.perf_counter() - cluster_started
-        figures["optimise"] = three_ways("optimise", grid(args.optimise_per_axis), client)
-        figures["evaluate"] = three_ways("evaluate", grid(args.evaluate_per_axis), client)
+        pool_started = time.perf_counter()
+        sso.sweep(base_document(), grid(3), action="evaluate", workers=WORKERS, progress=False)
+        figures["pool_start_s"] = time.perf_counter() - pool_started
+        sso.sweep(base_document(), grid(3), action="evaluate", client=client, progress=False)
+        figures.update(interleaved({"optimise": grid(args.optimise_per_axis),
+                                    "evaluate": grid(args.evaluate_per_axis)},
+                                   client, args.passes))
+    figures["load_after_timed_runs"] = load_now()
     figures["point_by_point"] = against_point_by_point(args.sample, args.optimise_per_axis)
-    if args.constant_rate:
-        figures["constant_rate"] = constant_rate(args.evaluate_per_axis)
+    if not args.no_disk:
+        figures["on_disk"] = on_disk(args.evaluate_per_axis, PARQUET_PER_AXIS)
+    figures["finished_utc"] = datetime.now(UTC).strftime("%Y-%m-%d %H:%M")
+    figures["load_after"] = load_now()
+    report(figures)
+    if args.json:
+        args.json.write_text(json.dumps(figures, indent=1) + "\n", encoding="utf-8")
+    if not (figures["optimise"]["identical_rows"] and figures["evaluate"]["identical_rows"]
+            and figures["point_by_point"]["same_re_and_success"]):
+        raise SystemExit("the runs gave different rows")
+    return figures
 
+
+def report(figures: dict[str, Any]) -> None:
+    """Print the figures as tables."""
+    before, after = figures["load_before"], figures["load_after_timed_runs"]
+    print(f"{before['cpu_count']} cores; load average (1, 5, 15 min) "
+          f"{before['load_average_1_5_15_min']} before the timed runs, "
+          f"{after['load_average_1_5_15_min']} after them")
     for action in ("optimise", "evaluate"):
         runs = figures[action]["runs"]
         points = next(iter(runs.values()))["points"]
         print(f"\n{action} sweep, option 3 exact, {points:,} points"
-              + (' ("lm", one start)' if action == "optimise" else ""))
-        print(f"{'run':<34}{'wall s':>9}{'points/s':>12}{'x one process':>15}")
+              + (' ("lm", one start)' if action == "optimise" else "")
+              + f"; median of {figures['settings']['passes']} interleaved passes")
+        print(f"{'run':<34}{'points/s':>12}{'x one process':>15}{'  per pass (points/s, load)'}")
         for label, run in runs.items():
-            print(f"{label:<34}{run['wall_s']:>9.2f}{run['points_per_s']:>12,.0f}"
-                  f"{run['ratio_to_one_process']:>15.2f}")
-        print(f"identical rows in the three runs: {figures[action]['identical_rows']}")
-    print(f"Dask cluster start: {figures['dask_cluster_start_s']:.1f} s (not counted)")
+            each = ", ".join(f"{one['points_per_s']:,.0f} ({one['load_average_1min']:.1f})"
+                             for one in run["passes"])
+            print(f"{label:<34}{run['median_points_per_s']:>12,.0f}"
+                  f"{run['ratio_to_one_process']:>15.2f}  {each}")
+        print(f"identical rows in every run: {figures[action]['identical_rows']}")
+    print(f"Dask cluster start: {figures['dask_cluster_start_s']:.1f} s; local pool start "
+          f"(fork server and workers, first pool of the process): "
+          f"{figures['pool_start_s']:.2f} s (neither counted)")
     baseline = figures["point_by_point"]
     print(f"\nengine {baseline['engine_points_per_s']:,.0f} points/s against point by point "
           f"{baseline['point_by_point_points_per_s']:,.0f} points/s ({baseline['sample']} "
           f"points): {baseline['ratio']:.1f}x; same RE (1e-12) and success: "
           f"{baseline['same_re_and_success']}")
-    if args.constant_rate:
-        rate = figures["constant_rate"]
-        print(f"\nconstant rate, {rate['points']:,}-point evaluate sweep to sweep.csv: first "
-              f"10% {rate['first_10_percent_s']:.2f} s, last 10% "
-              f"{rate['last_10_percent_s']:.2f} s (last / first "
-              f"{rate['last_over_first']:.2f}), wall {rate['wall_s']:.1f} s")
-    if args.json:
-        print(json.dumps(figures, indent=2))
-    if not (figures["optimise"]["identical_rows"] and figures["evaluate"]["identical_rows"]
-            and baseline["same_re_and_success"]):
-        raise SystemExit("the runs gave different rows")
-    return figures
+    disk = figures.get("on_disk")
+    if disk:
+        print(f"\non disk, {disk['points']:,}-point evaluate sweep, one process: first 10% "
+              f"{disk['first_10_percent_s']:.2f} s, last 10% {disk['last_10_percent_s']:.2f} s "
+              f"(last / first {disk['last_over_first']:.2f}, target <= "
+              f"{CONSTANT_RATE_TOLERANCE}: {'met' if disk['constant_rate'] else 'MISSED'}); "
+              f"before the header {disk['before_header_s']:.2f} s, report after the last row "
+              f"{disk['after_last_row_s']:.2f} s, wall {disk['wall_s']:.1f} s")
+        print(f"output: sweep.csv {disk['csv_bytes_per_point']:.0f} bytes a point; "
+              f"sweep.parquet {disk['parquet_bytes_per_point']:.0f} bytes a point "
+              f"({disk['parquet_points']:,} points)")
 
 
 if __name__ == "__main__":

@@ -6,10 +6,11 @@
 * ``on_files``: adds the generated pages and files: one API page per public name and
   the API index, the case-file reference (from the case schema), the concept figures
   and the downloadable notebook.
-* ``on_page_markdown``: fills the Performance page from the recorded benchmark run
-  (``doctools.performance``); runs every code block of a tutorial page and stops the
-  build if one raises or prints other than the page shows (set
-  ``SSO_DOCS_RUN_TUTORIALS=0`` to skip this while previewing).
+* ``on_page_markdown``: fills the Performance page and the Sweeps at scale page from
+  their recorded benchmark runs (``doctools.performance``, ``doctools.scaling``);
+  runs every code block of a tutorial page and stops the build if one raises or
+  prints other than the page shows (set ``SSO_DOCS_RUN_TUTORIALS=0`` to skip this
+  while previewing).
 """
 
 from __future__ import annotations
@@ -35,11 +36,13 @@ from doctools import (  # noqa: E402
     figures,
     notebook,
     performance,
+    scaling,
 )
 
 log = logging.getLogger("mkdocs.hooks.sso")
 TUTORIALS = "tutorials/"
 PERFORMANCE = "performance.md"
+SCALING = "scaling.md"
 
 
 def on_config(config: Any) -> Any:
@@ -84,12 +87,15 @@ def on_files(files: Files, config: Any) -> Files:
 
 
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Files) -> str:
-    """Fill the Performance page from the recorded run; run a tutorial page's blocks.
+    """Fill the Performance and Sweeps at scale pages from their recorded runs; run a
+    tutorial page's blocks.
 
     A tutorial block that fails or prints other than the page shows stops the build.
     """
     if page.file.src_uri == PERFORMANCE:
         return performance.page_with_section(markdown, performance.load())
+    if page.file.src_uri == SCALING:
+        return scaling.page_with_section(markdown, scaling.load())
     if not page.file.src_uri.startswith(TUTORIALS) or os.environ.get(
             "SSO_DOCS_RUN_TUTORIALS", "1") == "0":
         return markdown

@@ -156,11 +156,13 @@ def _axis_values(document: dict[str, Any], axis: Axis, target: tuple[str, int],
 
     accepted = np.zeros(len(axis.values), dtype=bool)
     notes: list[tuple[str, ...]] = []
+    table = axis.path.split(".", 1)[0].split("[", 1)[0]
     for position, value in enumerate(axis.values):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             notes.append(())
             continue
-        trial = copy.deepcopy(document)
+        # A copy of the table the value goes into; the rest is shared (read only).
+        trial = {**document, table: copy.deepcopy(document.get(table))}
         try:
             set_field(trial, axis.path, value)
             with warnings.catch_warnings():

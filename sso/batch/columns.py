@@ -1,8 +1,10 @@
 """A sweep's rows as columns: one array per column, never one dict per point.
 
-A chunk's rows travel from a worker as a :class:`RowTable`, the calling process
-appends its CSV text to ``sweep.csv`` (and its Parquet part) and concatenates the
-tables; a row becomes a dict only when a user asks for it. Every cell means what
+A chunk's rows travel from a worker as a :class:`RowTable` (pickled compactly:
+an object column as codes into its distinct values, see :meth:`RowTable.__reduce__`),
+the calling process appends its CSV text to ``sweep.csv`` (and its Parquet part)
+and places the table into the sweep's columns as it arrives
+(:class:`TableAssembly`); a row becomes a dict only when a user asks for it. Every cell means what
 the same cell of ``sweep.csv`` means (:func:`sso.batch.table.format_cell`): a
 float column's NaN is an empty cell (no value), an object column holds the
 values as they are (``None`` or ``""`` empty), and a 2-D float column holds a list per row
@@ -22,6 +24,9 @@ import numpy as np
 from sso.batch.table import TEXT_COLUMNS, format_cell
 
 _NEEDS_QUOTES = (",", '"', "\n", "\r")
+DISTINCT_SAMPLE = 1024
+"""Values of a number column looked at to decide whether to write each distinct value
+once (when they hold at most a quarter as many distinct values)."""
 
 
 @dataclass(frozen=True)
@@ -81,6 +86,22 @@ class RowTable:
                     table.object_column(name) for table in tables])
         return cls(tuple(header), columns, length)
 
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        """Pickle compactly: a column of one value as that value, a chunk's point
+        indices as their first, an object column of text or flags as int32 codes into
+        its distinct values. A chunk's status, flags, messages and hash then unpickle
+        in the calling process as one ``take`` (or one fill) instead of one object at
+        a time, and its constant numbers (a time per point, a fixed phase) travel once."""
+        return _unpack, (self.header, {name: _packed(column)
+                                       for name, column in self.columns.items()},
+                         self.length)
+
+    def sliced(self, start: int, stop: int) -> RowTable:
+        """Rows ``start`` to ``stop - 1`` (views of the columns)."""
+        return RowTable(self.header, {name: column[start:stop]
+                                      for name, column in self.columns.items()},
+                        stop - start)
+
     def take(self, indices: np.ndarray) -> RowTable:
         """The rows at ``indices``, in that order."""
         return RowTable(self.header, {name: column[indices]
@@ -111,7 +132,122 @@ class RowTable:
             return ""
         cells = [_cells(self.columns[name]) if name in self.columns
                  else itertools.repeat("", self.length) for name in self.header]
-        return "".join(",".join(row) + "\n" for row in zip(*cells, strict=False))
+        return "\n".join(map(",".join, zip(*cells, strict=False))) + "\n"
+
+
+class TableAssembly:
+    """The rows of a sweep's chunks, placed as each chunk arrives.
+
+    Each chunk's rows have a known place (the chunks cover the points in order);
+    the columns are allocated when the first chunk arrives and every chunk of the
+    same columns (names, types and widths) is copied into its place, so the work of
+    joining the chunks is spread over the run instead of following it. A chunk of
+    other columns (an error row's text, say) is kept as it is and joined at the end.
+
+    Parameters
+    ----------
+    header : sequence of str
+        Every column, in order.
+    lengths : sequence of int
+        Rows of each chunk, in order.
+    """
+
+    def __init__(self, header: Sequence[str], lengths: Sequence[int]) -> None:
+        self.header = tuple(header)
+        self.offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).tolist()
+        self.columns: dict[str, np.ndarray] | None = None
+        self.placed = [False] * len(lengths)
+        self.apart: dict[int, RowTable] = {}
+
+    def place(self, index: int, table: RowTable) -> None:
+        """Put chunk ``index``'s rows (``table``) in their place."""
+        start, stop = self.offsets[index], self.offsets[index + 1]
+        if table.length != stop - start:
+            raise ValueError(f"chunk {index} has {table.length} rows, not {stop - start}")
+        if self.columns is None:
+            self.columns = {name: np.empty((self.offsets[-1], *column.shape[1:]),
+                                           dtype=column.dtype)
+                            for name, column in table.columns.items()}
+        if table.columns.keys() == self.columns.keys() and all(
+                column.dtype == self.columns[name].dtype
+                and column.shape[1:] == self.columns[name].shape[1:]
+                for name, column in table.columns.items()):
+            for name, column in table.columns.items():
+                self.columns[name][start:stop] = column
+            self.placed[index] = True
+        else:
+            self.apart[index] = table
+
+    def table(self) -> RowTable:
+        """Every placed chunk's rows, in order.
+
+        Raises
+        ------
+        ValueError
+            If a chunk was never placed.
+        """
+        missing = [index for index, placed in enumerate(self.placed)
+                   if not placed and index not in self.apart]
+        if missing:
+            raise ValueError(f"chunks {missing[:5]} were never placed")
+        whole = RowTable(self.header, self.columns or {}, self.offsets[-1])
+        if not self.apart:
+            return whole
+        return RowTable.concatenate(self.header, [
+            self.apart[index] if index in self.apart
+            else whole.sliced(self.offsets[index], self.offsets[index + 1])
+            for index in range(len(self.placed))])
+
+
+_CODED_KINDS = ({str, type(None)}, {bool, type(None)})
+"""Kinds of the values an object column may hold to be sent as codes: within each
+set no value equals a value of another type (unlike ``True == 1``)."""
+
+
+def _packed(column: np.ndarray) -> Any:
+    """A column as it travels: ``("same", first row, rows)`` where every row holds the
+    same bits, ``("range", first, rows)`` for consecutive whole numbers (a chunk's
+    points), ``("codes", codes, distinct values)`` for an object column of text or
+    flags; any other column as it is."""
+    if not len(column):
+        return column
+    if column.dtype != object:
+        raw = np.ascontiguousarray(column).view(np.uint8).reshape(len(column), -1)
+        if np.array_equal(raw, np.broadcast_to(raw[0], raw.shape)):
+            return "same", column[:1].copy(), len(column)
+        if column.dtype == np.int64 and column.ndim == 1 and np.all(np.diff(column) == 1):
+            return "range", int(column[0]), len(column)
+        return column
+    values = column.tolist()
+    kinds = set(map(type, values))
+    if not any(kinds <= allowed for allowed in _CODED_KINDS):
+        return column
+    distinct = dict.fromkeys(values)
+    table = np.empty(len(distinct), dtype=object)
+    table[:] = list(distinct)
+    if len(distinct) == 1:
+        return "same", table, len(values)
+    position = {value: index for index, value in enumerate(distinct)}
+    codes = np.fromiter(map(position.__getitem__, values), dtype=np.int32, count=len(values))
+    return "codes", codes, table
+
+
+def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> RowTable:
+    return RowTable(header, {name: _unpacked(column) for name, column in columns.items()},
+                    length)
+
+
+def _unpacked(column: Any) -> np.ndarray:
+    if not isinstance(column, tuple):
+        kept: np.ndarray = column
+        return kept
+    kind, first, rest = column
+    if kind == "same":
+        return np.repeat(first, rest, axis=0)
+    if kind == "range":
+        return np.arange(first, first + rest, dtype=np.int64)
+    taken: np.ndarray = rest[first]
+    return taken
 
 
 def _column(name: str, values: list[Any]) -> np.ndarray:
@@ -151,20 +287,64 @@ def _value(column: np.ndarray, index: int) -> Any:
 
 
 def _cells(column: np.ndarray) -> list[str]:
-    """A column's CSV cells (quoted where :mod:`csv` quotes them)."""
+    """A column's CSV cells (quoted where :mod:`csv` quotes them).
+
+    Numbers are written by the ``repr`` of a whole list at once (each element's
+    ``repr``, the shortest text that reads back to the same float, in C) and cut
+    at its separators; a column of few distinct numbers (an axis, a design that
+    was evaluated, a chunk's time per point) and text are formatted once per
+    distinct value.
+    """
     if column.dtype == object:
-        return [_quoted(format_cell(value)) for value in column.tolist()]
+        return _object_cells(column.tolist())
+    if not len(column):
+        return []
     if column.ndim == 2:
         if not column.shape[1]:
             return ["[]"] * len(column)
         mark = '"' if column.shape[1] > 1 else ""  # a list of two or more holds a comma
-        return [f"{mark}[{', '.join(map(repr, row))}]{mark}" if row[0] == row[0] else ""
-                for row in column.tolist()]
-    if column.dtype.kind == "f":
-        return [repr(value) if value == value else "" for value in column.tolist()]
+        parts = zip(*(_number_cells(column[:, index]) for index in range(column.shape[1])),
+                    strict=True)
+        cells = [f"{mark}[{', '.join(items)}]{mark}" for items in parts]
+        return _emptied(cells, np.isnan(column[:, 0]))
     if column.dtype.kind == "b":
-        return ["true" if value else "false" for value in column.tolist()]
-    return [str(value) for value in column.tolist()]
+        flags: list[str] = np.where(column, "true", "false").tolist()
+        return flags
+    return _number_cells(column)
+
+
+def _number_cells(column: np.ndarray) -> list[str]:
+    """Cells of a 1-D number column; NaN: empty."""
+    sample = column[:DISTINCT_SAMPLE]
+    if len(column) > DISTINCT_SAMPLE and len(np.unique(_bits(sample))) * 4 <= len(sample):
+        # Distinct by their bits: 0.0 and -0.0 are written apart, as repr writes them.
+        _, first, where = np.unique(_bits(column), return_index=True, return_inverse=True)
+        texts = np.empty(len(first), dtype=object)
+        texts[:] = _number_cells(column[first])
+        repeated: list[str] = texts[where.ravel()].tolist()
+        return repeated
+    cells = repr(column.tolist())[1:-1].split(", ")
+    return _emptied(cells, np.isnan(column)) if column.dtype.kind == "f" else cells
+
+
+def _bits(column: np.ndarray) -> np.ndarray:
+    return column.view(np.int64) if column.dtype == np.float64 else column
+
+
+def _emptied(cells: list[str], empty: np.ndarray) -> list[str]:
+    """``cells`` with the cells where ``empty`` holds made empty (NaN: no value)."""
+    for index in np.flatnonzero(empty).tolist():
+        cells[index] = ""
+    return cells
+
+
+def _object_cells(values: list[Any]) -> list[str]:
+    try:
+        distinct = dict.fromkeys((type(value), value) for value in values)
+    except TypeError:  # a value that cannot be a key (a list): one by one
+        return [_quoted(format_cell(value)) for value in values]
+    text = {key: _quoted(format_cell(key[1])) for key in distinct}
+    return [text[type(value), value] for value in values]
 
 
 def _quoted(cell: str) -> str:

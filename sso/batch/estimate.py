@@ -29,6 +29,10 @@ SWEEP_BYTES_PER_POINT = 4096
 # held and 508 at the peak (a chunk's arrays and CSV text on top), measured with
 # tracemalloc on a 216,000-point evaluate sweep of three joints; rounded up.
 ARRAY_SWEEP_BYTES_PER_POINT = 1024
+# A point of a chunk being computed (sso.batch.array_engine) with its CSV text: 1.3 KB
+# evaluating and 1.8 KB optimising at the peak, measured with tracemalloc on chunks of
+# 50,000 points of three joints; rounded up. Each worker holds one chunk at a time.
+ARRAY_CHUNK_BYTES_PER_POINT = 2048
 
 
 def tolerance_estimate(samples: int, joints: int, figure_samples: int,
@@ -59,15 +63,18 @@ def tolerance_estimate(samples: int, joints: int, figure_samples: int,
 
 def sweep_estimate(points: int, joints: int, free_variables: int, samples: int,
                    solves_per_point: int, workers: int, optimising: bool,
-                   arrays: bool = False) -> ResourceEstimate:
+                   arrays: bool = False, chunk_points: int = 0) -> ResourceEstimate:
     """Memory and solves of a sweep of ``points`` points over a shaft-series case.
 
     Each optimising worker builds the base case's NLP (``joints`` joints,
     ``free_variables`` free angles, ``samples`` quadrature angles), unless the
-    sweep runs as arrays (``arrays``), which builds none.
+    sweep runs as arrays (``arrays``), which builds none; a worker of an array
+    sweep holds one chunk of ``chunk_points`` points at a time.
     """
     worker_mb = (nlp_memory_mb(joints, free_variables, samples) if optimising and not arrays
                  else 0.0)
+    if arrays:
+        worker_mb += chunk_points * ARRAY_CHUNK_BYTES_PER_POINT / MB
     per_point = ARRAY_SWEEP_BYTES_PER_POINT if arrays else SWEEP_BYTES_PER_POINT
     return ResourceEstimate(
         task=f"sweep ({points:,} points)",

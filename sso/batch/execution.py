@@ -3,12 +3,21 @@
 The executor is chosen by the caller and injected: dask is imported only on the
 path that was given a Dask client (or a scheduler address to connect to).
 
+A local pool's workers are forked from a fork server (POSIX): one fresh,
+single-threaded interpreter per calling process, started with the first pool and
+holding the sweep worker's modules (numpy and sso) already imported, so a pool
+starts in milliseconds instead of an interpreter and its imports per worker (about
+a second of CPU each); elsewhere the workers are spawned. The fork server lives as
+long as the calling process and exits with it.
+
 A local pool never outlives its run: when the run is interrupted (Ctrl-C, or
 SIGTERM, which the ``sso`` command turns into the same interruption) the workers
 are killed rather than awaited, workers ignore SIGINT (the terminal sends it to
-the whole process group; the parent decides), and on Linux each worker asks the
-kernel to kill it when its parent dies, so even a SIGKILLed run leaves no worker
-(and so no resource tracker, which exits once every process that could write to
+the whole process group; the parent decides), and each worker ends with its
+caller: a forked worker watches the caller and exits the moment it is gone (a
+spawned one asks the kernel to kill it when its parent dies, on Linux), so even a
+SIGKILLed run leaves no worker (the fork server exits once its caller and its
+workers are gone, and the resource tracker once every process that could write to
 it is gone).
 """
 
@@ -17,6 +26,7 @@ from __future__ import annotations
 import math
 import multiprocessing
 import os
+import select
 import signal
 import sys
 import time
@@ -35,10 +45,16 @@ DASK_POLL_S = 1.0
 """How often a Dask run checks that its cluster still has a worker, s."""
 DASK_IDLE_S = 0.02
 """Pause between looks for finished Dask tasks, s."""
+CALLER_POLL_S = 0.2
+"""How often a forked pool worker looks for its caller where it cannot wait for it, s."""
 MAX_NO_WORKER_TIMEOUT_S = 1e6
 
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                       "MKL_NUM_THREADS": "1"}
+WORKER_PRELOAD = ["sso.batch.worker", "sso.batch.parquet_output", "numpy.ma"]
+"""Modules the fork server imports once, so no pool worker imports them again: a
+sweep's worker, its output, and the part of numpy that ``numpy.unique`` imports on
+its first call."""
 
 
 def available_cores() -> int:
@@ -123,17 +139,32 @@ def connect(address: str) -> Any:
         raise ValueError(f"scheduler = {address!r} cannot be reached: {error}") from None
 
 
+def pool_context() -> Any:
+    """The multiprocessing context of local pools: a fork server where there is one.
+
+    Never plain fork: this process may run threads (CasADi's, BLAS's) that a fork
+    would copy in the middle of their work. The fork server is a fresh interpreter
+    that runs no thread; it imports :data:`WORKER_PRELOAD` once.
+    """
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("spawn")
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(WORKER_PRELOAD)
+    return context
+
+
 def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
                  workers: int) -> Iterator[tuple[int, Any, BaseException | None]]:
-    # spawn: a fresh interpreter per worker, the same on every platform, and safe
-    # with the threads CasADi and BLAS may have started in this process.
-    executor = ProcessPoolExecutor(max_workers=min(workers, len(tasks)),
-                                   mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_start_worker, initargs=(os.getpid(),))
+    context = pool_context()
     finished = False
+    # The workers (and the fork server, when the first pool starts it) start while
+    # the first tasks are submitted; each takes this process's environment of now.
+    with _environment(WORKER_ENVIRONMENT):
+        executor = ProcessPoolExecutor(
+            max_workers=min(workers, len(tasks)), mp_context=context,
+            initializer=_start_worker,
+            initargs=(os.getpid(), context.get_start_method() == "spawn", dict(os.environ)))
     try:
-        # The workers start while the first tasks are submitted, and inherit this
-        # environment from that moment.
         with _environment(WORKER_ENVIRONMENT):
             futures = {executor.submit(function, task): index
                        for index, task in enumerate(tasks)}
@@ -147,16 +178,58 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
         executor.shutdown(wait=True, cancel_futures=True)
 
 
-def _start_worker(parent_pid: int) -> None:
-    """Initializer of a pool worker: leave SIGINT to the parent, die with the parent."""
+def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -> None:
+    """Initializer of a pool worker: the caller's environment; leave SIGINT to the
+    caller; die with the caller.
+
+    A spawned worker is the caller's child: the kernel kills it when its parent
+    dies. A forked worker is the fork server's child, and the fork server lives as
+    long as any of its children does, so the worker watches the caller itself
+    (:func:`_exit_with`). A forked worker keeps the fork server's numeric
+    libraries, loaded with one thread each.
+    """
+    os.environ.clear()
+    os.environ.update(environment)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
     if sys.platform.startswith("linux"):
         import ctypes
 
         pr_set_pdeathsig = 1
         ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, signal.SIGKILL)
-    if os.getppid() != parent_pid:  # the parent died before the request took effect
+    if os.getppid() != (caller_pid if spawned else parent):  # died before the request
         os._exit(1)
+    if not spawned:
+        _exit_with(caller_pid)
+
+
+def _exit_with(caller_pid: int) -> None:
+    """End this process as soon as process ``caller_pid`` ends (a watching thread)."""
+    import threading
+
+    def wait_for_exit() -> None:
+        try:
+            descriptor = os.pidfd_open(caller_pid)
+        except (AttributeError, OSError) as error:  # no pidfd here: look every 0.2 s
+            if isinstance(error, ProcessLookupError):
+                os._exit(1)
+            while _running(caller_pid):
+                time.sleep(CALLER_POLL_S)
+        else:
+            select.select([descriptor], [], [])  # readable once the process has ended
+        os._exit(1)
+
+    threading.Thread(target=wait_for_exit, name="sso-caller-watch", daemon=True).start()
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _kill_workers(executor: ProcessPoolExecutor) -> None:

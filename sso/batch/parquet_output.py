@@ -93,9 +93,10 @@ def arrow_table(table: RowTable, schema: Any) -> Any:
             arrays.append(pa.nulls(table.length, type=field.type))
         elif column.ndim == 2:
             missing = np.isnan(column[:, 0]) if column.shape[1] else np.zeros(len(column), bool)
-            values = [None if gone else row for gone, row in zip(missing.tolist(),
-                                                                  column.tolist(), strict=True)]
-            arrays.append(pa.array(values, type=field.type))
+            offsets = pa.array(np.arange(len(column) + 1, dtype=np.int32) * column.shape[1])
+            arrays.append(pa.ListArray.from_arrays(
+                offsets, pa.array(np.ascontiguousarray(column).ravel(), type=pa.float64()),
+                type=field.type, mask=pa.array(missing)))
         elif column.dtype.kind == "f":
             arrays.append(pa.array(column, type=field.type, mask=np.isnan(column)))
         elif column.dtype != object:
@@ -108,16 +109,24 @@ def arrow_table(table: RowTable, schema: Any) -> Any:
     return pa.Table.from_arrays(arrays, schema=schema)
 
 
-def write_part(folder: Path, table: RowTable, schema: Any, resumed: bool = False) -> Path:
-    """Write the rows of one chunk as a new part of ``sweep.parquet``, atomically."""
+def part_data(table: RowTable, schema: Any) -> bytes:
+    """The bytes of a part file holding ``table``'s rows (in a worker, or here)."""
     import pyarrow.parquet as pq
 
+    buffer = io.BytesIO()
+    pq.write_table(arrow_table(table, schema), buffer)
+    return buffer.getvalue()
+
+
+def write_part(folder: Path, table: RowTable, schema: Any, resumed: bool = False,
+               data: bytes | None = None) -> Path:
+    """Write the rows of one chunk as a new part of ``sweep.parquet``, atomically
+    (``data``: the part's bytes, when a worker made them from ``table``)."""
     points = table.columns["point"]
     name = (f"part-{int(points.min()):012d}-{table.length:012d}"
             f"{'-resumed' if resumed else ''}.parquet")
-    buffer = io.BytesIO()
-    pq.write_table(arrow_table(table, schema), buffer)
-    return write_bytes_atomic(folder / PARQUET_NAME / name, buffer.getvalue())
+    return write_bytes_atomic(folder / PARQUET_NAME / name,
+                              part_data(table, schema) if data is None else data)
 
 
 def start_parts(folder: Path) -> None:

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from sso.batch.axes import value_positions
 from sso.batch.table import CSV_NAME, MANIFEST_NAME, columns, format_row, render_rows
 from sso.display import format_number
 from sso.limits import REPORT_DIGITS, ROUND_OFF_FLOOR
@@ -46,6 +47,8 @@ SINGLE_SIZE_IN = (7.0, 4.5)
 FIGURE_DPI = 120
 MOST_PANELS = 16
 MOST_TICK_LABELS = 8
+MOST_DRAWN_POINTS = 20_000
+"""Points a panel of a sweep's plot draws at most (a sample of a larger sweep)."""
 FLOOR_LABEL = f"at or below {ROUND_OFF_FLOOR:g} (round-off), drawn at {ROUND_OFF_FLOOR:g}"
 # (metric, label with unit) of a tolerance study's figures.
 TOLERANCE_FIGURES = (
@@ -74,8 +77,10 @@ def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "csv" in formats:
         header = columns([axis.path for axis in result.axes], _kind(result))
-        files[CSV_NAME] = render_rows(header, [format_row(row, header)
-                                               for row in result.rows]).encode("utf-8")
+        table = getattr(result.rows, "table", None)  # a sweep's rows, held as columns
+        files[CSV_NAME] = (render_rows(header, ()) + table.csv_text() if table is not None
+                           else render_rows(header, [format_row(row, header)
+                                                     for row in result.rows])).encode("utf-8")
     if "json" in formats and result.manifest:
         files[MANIFEST_NAME] = (json.dumps(result.manifest, indent=2) + "\n").encode("utf-8")
     images = {SWEEP_PLOT: _png(_sweep_figure(result))} if "png" in formats else {}
@@ -131,17 +136,23 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
         blocks.append(Image(image_files[0], "Residual error of each point against each swept "
                             f"value (log scale); values {FLOOR_LABEL}."))
     paths = [axis.path for axis in result.axes]
-    shown = sorted(result.rows, key=_re_key)[:REPORT_ROWS]
+    shown = [result.rows[index] for index in result.lowest_re_order()[:REPORT_ROWS].tolist()]
     table = COLUMN_TABLE_COLUMNS if _kind(result) == "column" else SWEEP_TABLE_COLUMNS
     blocks += [Heading(2, f"Lowest residual error ({len(shown)} of {len(result.rows)} points)"),
                Table(("point", *paths, *(label for _, label in table)),
                      tuple((str(row["point"]), *(_cell(row.get(path)) for path in paths),
                             *(_cell(row.get(column)) for column, _ in table))
                            for row in shown))]
-    if result.failed:
+    failed = result.failed_points()
+    if len(failed):
+        listed = [result.rows[index] for index in failed[:REPORT_ROWS].tolist()]
+        more = len(failed) - len(listed)
         blocks += [Heading(2, "Failed points"),
                    Table(("point", "error"), tuple((str(row["point"]), _cell(row["error"]))
-                                                   for row in result.failed))]
+                                                   for row in listed))]
+        if more:
+            blocks.append(Paragraph(f"... and {more} more failed points (every one is in "
+                                    f"{CSV_NAME})."))
     return blocks
 
 
@@ -181,17 +192,27 @@ def _tolerance_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
 
 
 def _sweep_figure(result: Any) -> Any:
-    """One panel per swept axis; a two-axis product: one panel per value of the first axis."""
-    ok = [row for row in result.rows if row["status"] == "ok"]
+    """One panel per swept axis; a two-axis product: one panel per value of the first axis.
+
+    Read from the sweep's columns; each panel draws at most :data:`MOST_DRAWN_POINTS`
+    points (evenly spread over the sweep; the line of the lowest RE at each value is
+    drawn from every point).
+    """
+    ok = result.column("status") == "ok"
+    errors = result.numbers("residual_error")
+    positions = value_positions(result.axes, result.mode, result.numbers("point").astype(int))
     if result.mode == "product" and len(result.axes) == 2:
-        outer, inner = result.axes
-        if _numeric(outer) and not _numeric(inner):  # a numeric x axis reads better
-            outer, inner = inner, outer
-        panels = [(f"{outer.path} = {_cell(value)}", inner,
-                   [row for row in ok if _same(row[outer.path], value)])
-                  for value in outer.values[:MOST_PANELS]]
+        outer, inner = 0, 1
+        if _numeric(result.axes[0]) and not _numeric(result.axes[1]):
+            outer, inner = 1, 0  # a numeric x axis reads better
+        panels = [(f"{result.axes[outer].path} = {_cell(value)}", inner,
+                   ok & (positions[outer] == number))
+                  for number, value in enumerate(result.axes[outer].values[:MOST_PANELS])]
+        possible = len(result.axes[outer].values)
     else:
-        panels = [(f"against {axis.path}", axis, ok) for axis in result.axes[:MOST_PANELS]]
+        panels = [(f"against {axis.path}", number, ok)
+                  for number, axis in enumerate(result.axes[:MOST_PANELS])]
+        possible = len(result.axes)
     count = len(panels)
     columns_count = count if count <= 3 else 2 if count == 4 else 3 if count <= 9 else 4
     rows_count = math.ceil(count / columns_count)
@@ -201,17 +222,22 @@ def _sweep_figure(result: Any) -> Any:
     grid = figure.subplots(rows_count, columns_count, squeeze=False, sharey=True)
     for axes in grid.flat[count:]:
         axes.set_visible(False)
-    for axes, (title, axis, rows) in zip(grid.flat, panels, strict=False):
-        _sweep_panel(axes, axis, rows, title)
-    failed = len(result.rows) - len(ok)
-    possible = (len(outer.values) if result.mode == "product" and len(result.axes) == 2
-                else len(result.axes))
+    thinned = False
+    for axes, (title, number, selected) in zip(grid.flat, panels, strict=False):
+        axis = result.axes[number]
+        x = (result.numbers(axis.path) if _numeric(axis)
+             else _category_positions(axis)[positions[number]].astype(float))
+        thinned |= _sweep_panel(axes, axis, x[selected], errors[selected], title)
+    failed = int(np.count_nonzero(~ok))
     omitted = f"; first {MOST_PANELS} of {possible} panels" if len(panels) < possible else ""
-    drawn = [max(row["residual_error"], ROUND_OFF_FLOOR) for row in ok]
-    top = max(max(drawn, default=1.0) * 5, ROUND_OFF_FLOOR * 100)
+    sampled = (f"; at most {MOST_DRAWN_POINTS:,} points drawn a panel, evenly spread"
+               if thinned else "")
+    drawn = np.maximum(errors[ok & ~np.isnan(errors)], ROUND_OFF_FLOOR)
+    top = max((drawn.max() if len(drawn) else 1.0) * 5, ROUND_OFF_FLOOR * 100)
     grid.flat[0].set_ylim(ROUND_OFF_FLOOR / 10, top)  # shared by every panel
     figure.suptitle(f"Residual error RE over the sweep ({result.action}, {len(result.rows)} "
-                    f"points{f', {failed} failed not shown' if failed else ''}{omitted})")
+                    f"points{f', {failed} failed not shown' if failed else ''}{omitted}"
+                    f"{sampled})")
     legend: dict[str, Any] = {}
     for axes in grid.flat[:count]:
         for handle, label in zip(*axes.get_legend_handles_labels(), strict=True):
@@ -221,26 +247,38 @@ def _sweep_figure(result: Any) -> Any:
     return figure
 
 
-def _sweep_panel(axes: Any, axis: Any, rows: list[dict[str, Any]], title: str) -> None:
+def _category_positions(axis: Any) -> np.ndarray:
+    """Where each value of a non-numeric axis is drawn: one place per distinct text."""
+    places: dict[str, int] = {}
+    return np.array([places.setdefault(str(value), len(places)) for value in axis.values],
+                    dtype=int)
+
+
+def _sweep_panel(axes: Any, axis: Any, x: np.ndarray, re_values: np.ndarray,
+                 title: str) -> bool:
+    """Draw one panel; True if it drew a sample of its points."""
     from matplotlib.ticker import MaxNLocator
 
     numeric = _numeric(axis)
-    categories = {str(value): index for index, value in enumerate(axis.values)}
-    x = np.array([row[axis.path] if numeric else categories[str(row[axis.path])]
-                  for row in rows], dtype=float)
-    re_values = np.array([row["residual_error"] for row in rows], dtype=float)
-    at_floor = re_values <= ROUND_OFF_FLOOR
+    known = ~np.isnan(re_values)
+    x, re_values = x[known], re_values[known]
     drawn = np.maximum(re_values, ROUND_OFF_FLOOR)
+    thinned = len(x) > MOST_DRAWN_POINTS
     if len(x):
-        order = np.argsort(x, kind="stable")
-        lowest = {value: drawn[x == value].min() for value in np.unique(x)}
-        axes.plot(list(lowest), list(lowest.values()), "-", color="tab:blue", linewidth=1.2,
+        values, where = np.unique(x, return_inverse=True)
+        lowest = np.full(len(values), np.inf)
+        np.minimum.at(lowest, where, drawn)
+        axes.plot(values, lowest, "-", color="tab:blue", linewidth=1.2,
                   label="lowest RE at each value")
-        axes.plot(x[order][~at_floor[order]], drawn[order][~at_floor[order]], "o",
-                  color="tab:blue", markersize=4, label="RE of a point")
+        shown = (np.linspace(0, len(x) - 1, MOST_DRAWN_POINTS).round().astype(int) if thinned
+                 else np.arange(len(x)))
+        sample_x, sample_re = x[shown], drawn[shown]
+        at_floor = re_values[shown] <= ROUND_OFF_FLOOR
+        axes.plot(sample_x[~at_floor], sample_re[~at_floor], "o", color="tab:blue",
+                  markersize=4, label="RE of a point")
         if at_floor.any():
-            axes.plot(x[at_floor], drawn[at_floor], "v", color="tab:orange", markersize=6,
-                      label=f"RE {FLOOR_LABEL}")
+            axes.plot(sample_x[at_floor], sample_re[at_floor], "v", color="tab:orange",
+                      markersize=6, label=f"RE {FLOOR_LABEL}")
     axes.axhline(ROUND_OFF_FLOOR, color="grey", linestyle=":", linewidth=1,
                  label=f"round-off floor {ROUND_OFF_FLOOR:g}")
     axes.set_yscale("log")
@@ -251,10 +289,14 @@ def _sweep_panel(axes: Any, axis: Any, rows: list[dict[str, Any]], title: str) -
     if numeric:
         axes.xaxis.set_major_locator(MaxNLocator(nbins=6))
     else:
-        step = max(1, math.ceil(len(categories) / MOST_TICK_LABELS))
-        shown = list(categories.items())[::step]
-        axes.set_xticks([index for _, index in shown],
-                        [_cell(label) for label, _ in shown], rotation=30, ha="right")
+        places = _category_positions(axis)
+        labels = {int(place): value for place, value in zip(places.tolist(), axis.values,
+                                                            strict=True)}
+        step = max(1, math.ceil(len(labels) / MOST_TICK_LABELS))
+        shown_labels = list(labels.items())[::step]
+        axes.set_xticks([place for place, _ in shown_labels],
+                        [_cell(label) for _, label in shown_labels], rotation=30, ha="right")
+    return thinned
 
 
 def _tolerance_figure(result: Any) -> Any:
@@ -305,22 +347,12 @@ def _png(figure: Any) -> bytes:
     return buffer.getvalue()
 
 
-def _re_key(row: dict[str, Any]) -> tuple[bool, float]:
-    return row["status"] != "ok", row.get("residual_error") or 0.0
-
-
 def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _numeric(axis: Any) -> bool:
     return all(_is_number(value) for value in axis.values)
-
-
-def _same(left: Any, right: Any) -> bool:
-    if _is_number(left) and _is_number(right):
-        return float(left) == float(right)
-    return json.dumps(left) == json.dumps(right)
 
 
 def _numbers(values: Sequence[float]) -> str:

@@ -119,35 +119,57 @@ class SweepResult(Record, Readable):
 
     report_kind: ClassVar[str] = "sweep"
 
-    def _column(self, name: str) -> np.ndarray:
+    def column(self, name: str) -> np.ndarray:
+        """Column ``name`` of every row, in point order: numbers where every cell is one
+        (a float column's NaN: an empty cell), else Python values (``None``: empty).
+
+        Read from the columns a sweep holds, never row by row.
+        """
         if isinstance(self.rows, SweepRows):
             return self.rows.column(name)
         column = np.empty(len(self.rows), dtype=object)
         column[:] = [row.get(name) for row in self.rows]
         return column
 
+    def numbers(self, name: str) -> np.ndarray:
+        """Column ``name`` as floats (NaN where a cell is empty or not a number)."""
+        column = self.column(name)
+        if column.dtype.kind in "fiu":
+            return column.astype(float, copy=False)
+        return np.array([value if isinstance(value, (int, float))
+                         and not isinstance(value, bool) else np.nan
+                         for value in column.tolist()], dtype=float)
+
+    def failed_points(self) -> np.ndarray:
+        """Positions (in :attr:`rows`) of the points that did not give a result."""
+        return np.flatnonzero(self.column("status") != "ok")
+
     @property
     def failed(self) -> tuple[dict[str, Any], ...]:
         """Rows of the points that did not give a result."""
-        return tuple(self.rows[int(index)]
-                     for index in np.flatnonzero(self._column("status") != "ok"))
+        return tuple(self.rows[int(index)] for index in self.failed_points())
+
+    def lowest_re_order(self) -> np.ndarray:
+        """Positions of every point: the finished ones by residual error, lowest first,
+        then the failed ones; an empty RE counts as 0 and ties keep point order."""
+        errors = self.numbers("residual_error")
+        return np.lexsort((np.where(np.isnan(errors), 0.0, errors),
+                           self.column("status") != "ok"))
 
     @property
     def best(self) -> dict[str, Any] | None:
         """Row with the lowest residual error, or None if every point failed."""
-        finished = np.flatnonzero(self._column("status") == "ok")
+        finished = np.flatnonzero(self.column("status") == "ok")
         if not len(finished):
             return None
-        errors = np.array([np.nan if value is None else value
-                           for value in self._column("residual_error")[finished].tolist()],
-                          dtype=float)
+        errors = self.numbers("residual_error")[finished]
         return self.rows[int(finished[np.nanargmin(errors) if np.isfinite(errors).any() else 0])]
 
     @property
     def success(self) -> bool:
         """Every point finished; when optimising, each converged and cross-checked."""
-        return (not np.any(self._column("status") != "ok")
-                and not any(value is False for value in self._column("success").tolist()))
+        return (not np.any(self.column("status") != "ok")
+                and not any(value is False for value in self.column("success").tolist()))
 
     def frame(self) -> Any:
         """The rows as a ``pandas.DataFrame``, one column per column of ``sweep.csv``.
@@ -181,26 +203,28 @@ class SweepResult(Record, Readable):
         lowest = ("" if best is None else f", lowest RE {format_number(best['residual_error'], 4)}"
                   f" at point {best['point']}")
         return (f"{self.action} {self.mode} over {axes}: {len(self.rows)} points, "
-                f"{len(self.failed)} failed{lowest}")
+                f"{len(self.failed_points())} failed{lowest}")
 
     def _summary_parts(self) -> list[Part]:
         rate = self.computed / self.elapsed_s if self.elapsed_s > 0 else 0.0
+        failed = self.failed_points()
         headline = (f"sweep: {len(self.rows)} points ({self.computed} computed in "
                     f"{self.elapsed_s:.1f} s, {rate:.1f} points/s; {self.resumed} from an "
-                    f"earlier run), {len(self.failed)} failed")
+                    f"earlier run), {len(failed)} failed")
         parts: list[Part] = [headline]
         if self.action == "optimise":
-            unconverged = sum(value is False for value in self._column("success").tolist())
+            unconverged = sum(value is False for value in self.column("success").tolist())
             parts.append(f"  not converged or solvers disagree: {unconverged}")
         best = self.best
         if best is not None:
             where = ", ".join(f"{axis.path} = {best[axis.path]}" for axis in self.axes)
             parts.append(f"  lowest RE {format_number(best['residual_error'])} at point "
                          f"{best['point']} ({where})")
-        for row in self.failed[:5]:
+        for index in failed[:5].tolist():
+            row = self.rows[index]
             parts.append(f"  point {row['point']} failed: {row['error']}")
-        if len(self.failed) > 5:
-            parts.append(f"  ... and {len(self.failed) - 5} more failures (see sweep.csv)")
+        if len(failed) > 5:
+            parts.append(f"  ... and {len(failed) - 5} more failures (see sweep.csv)")
         if self.out_dir is not None:
             parts.append(f"  results: {self.out_dir / CSV_NAME}")
         return parts

@@ -16,7 +16,7 @@ import numpy as np
 from sso.batch.array_engine import ArrayPlan, array_plan
 from sso.batch.axes import Axis, base_case, parse_axes, point_count, value_positions
 from sso.batch.column_rows import check_axis_values
-from sso.batch.columns import RowTable
+from sso.batch.columns import RowTable, TableAssembly
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
@@ -34,7 +34,14 @@ from sso.batch.table import (
     start_file,
     typed_rows,
 )
-from sso.batch.worker import ACTIONS, SweepChunk, failed_rows, run_sweep_chunk
+from sso.batch.worker import (
+    ACTIONS,
+    ChunkTask,
+    SweepChunk,
+    chunk_output,
+    failed_rows,
+    run_chunk_task,
+)
 from sso.files import (
     claim_folder,
     remove_stale_temporaries,
@@ -48,14 +55,19 @@ from sso.solvers.progress import ProgressBar, interactive
 from sso.solvers.resources import ResourceEstimate, check_memory
 from sso.validation import shown
 
-MAX_CHUNK_SIZE = 10_000
 # Default chunking: about this many chunks per worker (load balance), each of at
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
-# Points of an array sweep (sso.batch.array_engine) per task: about 0.2 to 0.5 s of
-# work, far above a task's cost to the pool or to Dask (milliseconds).
-ARRAY_CHUNK_CAP = 5_000
+# An array sweep (sso.batch.array_engine) is cut into about this many tasks per
+# worker (load balance: the last task of a worker waits for no other), each of at
+# most ARRAY_CHUNK_CAP points: 0.05 s (evaluating, about 1 us a point) to 0.5 s
+# (optimising, about 10 us a point) of work, far above a task's cost to the pool
+# or to Dask (a few milliseconds, with the transfer of its rows), and a few tens
+# of MB of arrays at the peak.
+ARRAY_CHUNKS_PER_WORKER = 8
+ARRAY_CHUNK_CAP = 50_000
+MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
 """The files a sweep writes into its folder (its ``sso-files.json`` lists them; the
@@ -113,8 +125,9 @@ def sweep(
     workers : int, optional
         Local processes (default: every available core); 1 runs in this process.
     chunk_size : int, optional
-        Points per task, ``1..10000`` (default: about four tasks per worker, at
-        most 25 points each).
+        Points per task, ``1..50000`` (default: about four tasks per worker, at
+        most 25 points each; a sweep run as arrays, about eight per worker, at most
+        50,000 points each).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -235,29 +248,40 @@ class _Job:
         """Compute the points not in ``earlier``, appending each chunk's rows to
         ``csv_path`` (and a Parquet part beside it, given the parts' ``schema``);
         every row, sorted by point."""
-        done = np.fromiter(earlier, dtype=np.int64, count=len(earlier))
-        pending = np.setdiff1d(np.arange(self.count, dtype=np.int64), done)
+        waiting = np.ones(self.count, dtype=bool)
+        waiting[np.fromiter(earlier, dtype=np.int64, count=len(earlier))] = False
+        pending = np.flatnonzero(waiting)
         chunks = self.chunks(pending)
-        tables = [RowTable.from_rows(self.header, typed_rows(earlier.values()))]
-        if schema is not None and csv_path is not None and tables[0].length:
-            write_part(csv_path.parent, tables[0], schema, resumed=True)
+        resumed = RowTable.from_rows(self.header, typed_rows(earlier.values()))
+        if schema is not None and csv_path is not None and resumed.length:
+            write_part(csv_path.parent, resumed, schema, resumed=True)
+        # Each chunk's rows go to their place as the chunk ends: the chunks cover the
+        # pending points in order, so the rows come out sorted whichever order the
+        # chunks finish in, and joining them overlaps the work still running.
+        assembly = TableAssembly(self.header, [len(chunk.indices) for chunk in chunks])
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
-            for index, table, error in run_tasks(run_sweep_chunk, chunks, self.client,
-                                                  self.workers):
+            tasks = [ChunkTask(chunk, csv_path is not None, schema) for chunk in chunks]
+            for index, output, error in run_tasks(run_chunk_task, tasks, self.client,
+                                                   self.workers):
                 if error is not None:
-                    table = failed_rows(chunks[index], error)
+                    output = chunk_output(failed_rows(chunks[index], error),
+                                          csv_path is not None, schema)
+                table = output.table
                 if csv_path is not None:
-                    append_rows(csv_path, table.csv_text())
+                    append_rows(csv_path, output.csv)
                     if schema is not None:
-                        write_part(csv_path.parent, table, schema)
-                tables.append(table)
+                        write_part(csv_path.parent, table, schema, data=output.parquet_part)
+                assembly.place(index, table)
                 status = table.columns["status"]
                 bar.advance(table.length, int(np.count_nonzero(status != "ok")))
         finally:
             bar.close()
-        rows = RowTable.concatenate(self.header, tables)
-        return rows.take(np.argsort(rows.columns["point"], kind="stable"))
+        rows = RowTable.concatenate(self.header, [resumed, assembly.table()])
+        points = rows.columns.get("point", np.zeros(0, dtype=np.int64))
+        if np.all(points[1:] > points[:-1]):
+            return rows
+        return rows.take(np.argsort(points, kind="stable"))
 
 
 def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, str]]:
@@ -309,7 +333,8 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
             samples = rule_for_bounds(problem.beta_upper_rad, case.model).samples
         joints, free = problem.n_joints, problem.n_free
     return sweep_estimate(count, joints, free, samples, per_point, workers,
-                          optimising and case.kind == "shaft_series", arrays)
+                          optimising and case.kind == "shaft_series", arrays,
+                          min(count, ARRAY_CHUNK_CAP))
 
 
 def _parallelism(client: Any, workers: int) -> int:
@@ -322,8 +347,11 @@ def _parallelism(client: Any, workers: int) -> int:
 
 def _chunk_size(chunk_size: Any, points: int, parallelism: int, arrays: bool = False) -> int:
     if chunk_size is None:
-        cap = ARRAY_CHUNK_CAP if arrays else DEFAULT_CHUNK_CAP
-        return max(1, min(cap, math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
+        if arrays:
+            return max(1, min(ARRAY_CHUNK_CAP,
+                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * parallelism))))
+        return max(1, min(DEFAULT_CHUNK_CAP,
+                          math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
     if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
             or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
         raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "

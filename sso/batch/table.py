@@ -120,9 +120,10 @@ def start_file(path: Path, header: Sequence[str]) -> None:
         write_text_atomic(path, _render(header, (), with_header=True))
 
 
-def append_rows(path: Path, text: str) -> None:
-    """Append rows (lines of ``sweep.csv``) in one write, flushed to disk."""
-    data = text.encode("utf-8")
+def append_rows(path: Path, text: str | bytes) -> None:
+    """Append rows (lines of ``sweep.csv``, or their UTF-8 bytes) in one write, flushed
+    to disk."""
+    data = text.encode("utf-8") if isinstance(text, str) else text
     descriptor = os.open(path, os.O_WRONLY | os.O_APPEND)
     try:
         view = memoryview(data)

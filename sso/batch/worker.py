@@ -115,6 +115,48 @@ def run_sweep_chunk(chunk: SweepChunk) -> RowTable:
     return table
 
 
+@dataclass(frozen=True)
+class ChunkTask:
+    """A chunk and what to make of its rows where it runs.
+
+    Attributes
+    ----------
+    chunk : SweepChunk
+    csv : bool
+        Also make the rows' lines of ``sweep.csv``.
+    parquet_schema : pyarrow.Schema or None
+        Also make the rows' Parquet part, of this schema.
+    """
+
+    chunk: SweepChunk
+    csv: bool = False
+    parquet_schema: Any = None
+
+
+@dataclass(frozen=True)
+class ChunkOutput:
+    """A chunk's rows, with their ``sweep.csv`` lines (UTF-8) and Parquet part when
+    asked for: made in the worker, so the calling process only appends them."""
+
+    table: RowTable
+    csv: bytes = b""
+    parquet_part: bytes | None = None
+
+
+def run_chunk_task(task: ChunkTask) -> ChunkOutput:
+    """The rows of the task's chunk (:func:`run_sweep_chunk`) and their output."""
+    table = run_sweep_chunk(task.chunk)
+    return chunk_output(table, task.csv, task.parquet_schema)
+
+
+def chunk_output(table: RowTable, csv: bool, parquet_schema: Any) -> ChunkOutput:
+    """``table`` with its ``sweep.csv`` lines and Parquet part, as asked for."""
+    from sso.batch.parquet_output import part_data
+
+    return ChunkOutput(table, table.csv_text().encode("utf-8") if csv else b"",
+                       None if parquet_schema is None else part_data(table, parquet_schema))
+
+
 def _point_rows(chunk: SweepChunk, selected: np.ndarray) -> list[dict[str, Any]]:
     """Rows of the selected points, each read as a case (see :func:`run_sweep_chunk`)."""
     batched = BatchedPoints(_optimise_row)

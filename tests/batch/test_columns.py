@@ -6,12 +6,14 @@ from __future__ import annotations
 
 import csv
 import io
+import pickle
 
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from sso.batch.columns import RowTable
+from sso.batch.columns import RowTable, TableAssembly
 from sso.batch.table import columns, format_row, typed_rows
 
 HEADER = columns(["design.beta_deg[0]", "option"])
@@ -76,3 +78,69 @@ def test_any_cells_write_as_the_csv_module_writes_them(values):
             for index, value in enumerate(values)]
     table = RowTable.from_rows(HEADER, rows)
     assert table.csv_text() == reference_text(rows)
+
+
+def test_a_pickled_table_holds_the_same_cells():
+    table = RowTable.from_rows(HEADER, ROWS * 400)
+    back = pickle.loads(pickle.dumps(table))
+    assert back.header == table.header and back.length == 1200
+    assert [back.row(index) for index in range(6)] == [table.row(index) for index in range(6)]
+    assert back.csv_text() == table.csv_text()
+    # Flags stay flags and empty cells stay empty: True is never read back as 1.
+    assert [type(value) for value in back.columns["success"][:3]] == [bool, type(None), bool]
+
+
+def test_constant_numbers_and_point_ranges_travel_compactly_and_come_back_bit_for_bit():
+    columns = {"point": np.arange(7, 5007), "time_s": np.full(5000, -0.0),
+               "design_phase_deg": np.tile([[90.0, np.nan]], (5000, 1)),
+               "residual_error": np.linspace(0.0, 1.0, 5000)}
+    table = RowTable(("point", "time_s", "design_phase_deg", "residual_error"), columns, 5000)
+    data = pickle.dumps(table)
+    back = pickle.loads(data)
+    for name, column in columns.items():
+        assert back.columns[name].dtype == column.dtype
+        assert back.columns[name].tobytes() == column.tobytes()
+    assert len(data) < 5000 * 8 + 2000  # only the residual errors travel in full
+
+
+def test_a_column_of_mixed_kinds_is_pickled_as_it_is():
+    mixed = np.empty(3, dtype=object)
+    mixed[:] = [True, 1, "1"]  # True == 1: codes would merge them
+    table = RowTable(("point", "option"), {"point": np.arange(3), "option": mixed}, 3)
+    assert [type(value) for value in pickle.loads(pickle.dumps(table)).columns["option"]] == [
+        bool, int, str]
+
+
+def test_chunks_placed_in_any_order_give_the_rows_in_order():
+    whole = RowTable.from_rows(HEADER, ROWS * 2)
+    parts = [whole.sliced(0, 2), whole.sliced(2, 5), whole.sliced(5, 6)]
+    assembly = TableAssembly(HEADER, [2, 3, 1])
+    for index in (2, 0, 1):
+        assembly.place(index, parts[index])
+    assert assembly.table().csv_text() == whole.csv_text()
+
+
+def test_a_chunk_of_other_columns_is_joined_at_the_end():
+    first = RowTable.from_rows(HEADER, ROWS[:1])
+    other = RowTable.from_rows(HEADER, [{**ROWS[1], "option": "3"}])  # text, not a number
+    assembly = TableAssembly(HEADER, [1, 1])
+    assembly.place(1, other)
+    with pytest.raises(ValueError, match=r"chunks \[0\] were never placed"):
+        assembly.table()
+    assembly.place(0, first)
+    joined = assembly.table()
+    assert [row["option"] for row in joined.rows()] == [3, "3"]
+    assert joined.csv_text() == reference_text([ROWS[0], {**ROWS[1], "option": "3"}])
+    with pytest.raises(ValueError, match="chunk 0 has 2 rows, not 1"):
+        assembly.place(0, RowTable.from_rows(HEADER, ROWS[:2]))
+
+
+def test_a_long_column_of_few_values_writes_each_cell_as_repr_does():
+    # 0.0 and -0.0 are equal as numbers but written apart; NaN is an empty cell.
+    values = np.tile([0.0, -0.0, 1e-05, 12.5, np.nan, 1.0 / 3.0], 400)
+    rows = [{"point": index, "residual_error": None if value != value else float(value),
+             "design_beta_deg": [2.0, -0.0 if value != value else float(value)]}
+            for index, value in enumerate(values)]
+    table = RowTable.from_rows(HEADER, rows)
+    assert table.csv_text() == reference_text(rows)
+    assert table.csv_text().splitlines()[1].startswith("1,,,,,-0.0,")

@@ -125,7 +125,7 @@ def test_an_existing_sweep_is_not_overwritten_and_a_different_one_not_resumed(tm
 @pytest.mark.parametrize("keywords, message", [
     ({"action": "solve"}, "action = 'solve' is not one of 'optimise', 'evaluate'"),
     ({"workers": 0}, r"workers = 0 is outside the allowed range \[1, 1024\]"),
-    ({"chunk_size": 0}, r"chunk_size = 0 is outside the allowed range \[1, 10000\]"),
+    ({"chunk_size": 0}, r"chunk_size = 0 is outside the allowed range \[1, 50000\]"),
 ])
 def test_bad_arguments_are_refused_naming_the_field(keywords, message):
     with pytest.raises(ValueError, match=message):

@@ -1,0 +1,70 @@
+"""The Sweeps at scale page: its measured section comes from the recorded benchmark run,
+its projection re-derives from that run's raw passes, and the figures its prose
+states are the package's own constants."""
+
+from __future__ import annotations
+
+import re
+import statistics
+from pathlib import Path
+
+import pytest
+
+from benchmarks import sweep_throughput
+from doctools import scaling
+from sso.batch.axes import MAX_POINTS
+from sso.batch.report import MOST_DRAWN_POINTS, REPORT_ROWS
+from sso.batch.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+
+ROOT = Path(__file__).resolve().parents[2]
+PAGE = ROOT / "docs" / "scaling.md"
+NUMBER_WORDS = {8: "eight"}
+
+
+@pytest.fixture(scope="module")
+def document():
+    return scaling.load()
+
+
+def test_the_recorded_run_is_the_full_benchmark_with_identical_rows(document):
+    assert document["settings"]["optimise_per_axis"] == sweep_throughput.OPTIMISE_PER_AXIS == 47
+    assert document["settings"]["evaluate_per_axis"] == sweep_throughput.EVALUATE_PER_AXIS == 100
+    assert document["optimise"]["runs"][scaling.ONE]["points"] == 47**3
+    assert document["evaluate"]["runs"][scaling.ONE]["points"] == 100**3
+    assert document["optimise"]["identical_rows"] and document["evaluate"]["identical_rows"]
+    assert document["on_disk"]["points"] == 100**3
+    assert document["load_before"]["cpu_count"] >= 1  # the load is recorded with the ratios
+
+
+def test_the_page_shows_the_recorded_ratios_and_load(document):
+    page = scaling.page_with_section(PAGE.read_text(encoding="utf-8"), document)
+    assert scaling.MARKER not in page
+    for action in ("optimise", "evaluate"):
+        for figures in document[action]["runs"].values():
+            assert f"| {figures['ratio_to_one_process']:.2f} |" in page
+    assert str(document["load_before"]["load_average_1_5_15_min"]) in page
+    assert "Sweeps at scale: scaling.md" in (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("machines", scaling.MACHINES)
+def test_the_projection_follows_from_the_raw_passes(document, machines):
+    # Recomputed here from each pass's rate, not from the run's own medians.
+    for action in ("optimise", "evaluate"):
+        runs = document[action]["runs"]
+        one = statistics.median(run["points_per_s"] for run in runs[scaling.ONE]["passes"])
+        dask = statistics.median(run["points_per_s"] for run in runs[scaling.DASK]["passes"])
+        efficiency = min(1.0, dask / one / 2)
+        hours = 1e9 / (machines * 32 * one * efficiency) / 3600
+        figures = scaling.projection(document, action, machines)
+        assert figures["compute_hours"] == pytest.approx(hours, rel=1e-12)
+        assert figures["tasks"] == 1e9 / ARRAY_CHUNK_CAP
+
+
+def test_the_prose_states_the_package_constants():
+    text = " ".join(PAGE.read_text(encoding="utf-8").split())
+    assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
+    assert f"about {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} tasks per worker" in text
+    assert f"at most {MOST_DRAWN_POINTS:,} points" in text
+    assert f"the {REPORT_ROWS} points of lowest residual error" in text
+    assert f"(the first {REPORT_ROWS})" in text
+    assert re.search(r"at most 10\^(\d+) points", text)[1] == str(len(str(MAX_POINTS)) - 1)
