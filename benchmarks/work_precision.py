@@ -39,7 +39,6 @@ import csv
 import datetime
 import json
 import os
-import platform
 import shutil
 import statistics
 import subprocess
@@ -62,6 +61,7 @@ from benchmarks.cases import (
     accurate_residual_error,
     baseline_solve,
 )
+from benchmarks.machine import machine_description
 from benchmarks.skilled_baseline import solve as skilled_solve
 from sso.solvers.lm_kernel import NEWTON_KERNEL_AFTER
 
@@ -457,30 +457,6 @@ RETIRED = {
         "count no longer measures work; wall time against the skilled baseline does."),
 }
 """Targets no longer held, each with why; their figures are still measured and shown."""
-
-
-def machine_description() -> dict[str, Any]:
-    """What ran the benchmark: platform, CPUs, load, Python and the numerical libraries."""
-    import casadi
-    import scipy
-
-    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
-    return {"platform": platform.platform(), "machine": platform.machine(),
-            "processor": _cpu_model(), "cpu_count": os.cpu_count(),
-            "load_average_1_5_15_min": [round(value, 2) for value in load],
-            "python": platform.python_version(), "numpy": np.__version__,
-            "scipy": scipy.__version__, "casadi": casadi.__version__, "sso": sso.__version__}
-
-
-def _cpu_model() -> str:
-    """The CPU's model name (Linux: /proc/cpuinfo), else what ``platform`` knows."""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def target_table(verdict: dict[str, Any], issue_12: dict[str, Any]) -> list[dict[str, Any]]:

@@ -2,7 +2,9 @@
 
 ``python -m doctools.performance record SUMMARY_JSON`` copies the ``summary.json``
 that ``python -m benchmarks.work_precision`` wrote into ``docs/data/performance_run.json``,
-adding when the run was made and on what machine. At each build the hook replaces
+adding the command and the commit. The run's dates and its machine are the
+benchmark's own (``benchmarks/machine.py`` described it at the end of the run);
+nothing here describes a machine. At each build the hook replaces
 the marker line ``<!-- performance run -->`` of ``performance.md`` with
 :func:`section`: every target the benchmark checked, met or missed, and the tables
 behind them, all from that one run. Nothing on the page is typed in by hand.
@@ -12,12 +14,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import subprocess
 import sys
-from datetime import UTC, datetime
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -26,68 +24,29 @@ RECORD = ROOT / "docs" / "data" / "performance_run.json"
 MARKER = "<!-- performance run -->"
 
 
-def _cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
-
-
-def _memory_gib() -> float | None:
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemTotal:"):
-                return round(int(line.split()[1]) / 2**20, 1)
-    except OSError:
-        pass
-    return None
-
-
-def _version(distribution: str) -> str:
-    try:
-        return metadata.version(distribution)
-    except metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def machine() -> dict[str, Any]:
-    """What the run was measured on."""
-    load = os.getloadavg() if hasattr(os, "getloadavg") else None
-    return {
-        "cpu": _cpu_model(),
-        "cores": os.cpu_count(),
-        "memory_gib": _memory_gib(),
-        "system": platform.platform(),
-        "python": platform.python_version(),
-        "numpy": _version("numpy"),
-        "scipy": _version("scipy"),
-        "casadi": _version("casadi"),
-        "load_average_1min": None if load is None else round(load[0], 2),
-    }
-
-
 def record(summary: Path, target: Path = RECORD) -> dict[str, Any]:
     """Write the run record from a benchmark ``summary.json``; returns it.
 
-    The date and the machine are the benchmark's own when its summary has them
-    (``started_utc``, ``finished_utc``, ``machine``), else the summary file's time
-    and this machine, described now.
+    Raises
+    ------
+    ValueError
+        If the summary does not say when the run was made and on what machine
+        (``started_utc``, ``finished_utc``, ``machine``): a summary of an earlier
+        benchmark; run the benchmark again.
     """
     document = json.loads(summary.read_text(encoding="utf-8"))
+    missing = [key for key in ("started_utc", "finished_utc", "machine") if not document.get(key)]
+    if missing:
+        raise ValueError(f"{summary} has no {', '.join(missing)}: it was written by an earlier "
+                         "benchmark; run python -m benchmarks.work_precision again")
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     quick = bool(document.get("settings", {}).get("quick"))
-    finished = document.get("finished_utc") or datetime.fromtimestamp(
-        summary.stat().st_mtime, UTC).strftime("%Y-%m-%d %H:%M")
     document["run"] = {
-        "date_utc": finished,
-        "started_utc": document.get("started_utc", ""),
+        "date_utc": document["finished_utc"],
+        "started_utc": document["started_utc"],
         "command": "python -m benchmarks.work_precision" + (" --quick" if quick else ""),
         "commit": commit or "unknown",
-        "machine": machine(),
     }
     target.parent.mkdir(parents=True, exist_ok=True)
     target.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
@@ -130,19 +89,17 @@ def _number(value: Any, spec: str) -> str:
 def section(document: dict[str, Any]) -> str:
     """The measured part of the Performance page, Markdown."""
     run = document["run"]
-    box = run["machine"]
+    box = document["machine"]  # the benchmark's own description (benchmarks/machine.py)
     memory = f", {box['memory_gib']} GiB" if box.get("memory_gib") else ""
-    when = (f"from {run['started_utc']} to {run['date_utc']} UTC" if run.get("started_utc")
-            else f"on {run['date_utc']} UTC")
-    load = document.get("machine", {}).get("load_average_1_5_15_min")
-    load_text = (f"load average over 1, 5 and 15 min {load} at the end of the run" if load
-                 else f"load average {box['load_average_1min']} when recorded")
     lines = [
-        f"Measured **{when}** by `{run['command']}` at commit `{run['commit']}`, on "
-        f"{box['cores']} cores of an {box['cpu']}{memory} ({box['system']}; Python "
+        f"Measured **from {run['started_utc']} to {run['date_utc']} UTC** by "
+        f"`{run['command']}` at commit `{run['commit']}`, on {box['cpu_count']} CPUs of "
+        f"{box['processor']}{memory} ({box['platform']}, {box['machine']}; Python "
         f"{box['python']}, NumPy {box['numpy']}, SciPy {box['scipy']}, CasADi "
-        f"{box['casadi']}; {load_text}). The machine is shared with other work, so "
-        "absolute times wander; every ratio is taken within this one run.",
+        f"{box['casadi']}, sso {box['sso']}; load average over 1, 5 and 15 min "
+        f"{box['load_average_1_5_15_min']} at the end of the run). The machine is shared "
+        "with other work, so absolute times wander; every ratio is taken within this one "
+        "run.",
         "",
         "### Every target the benchmark checks",
         "",

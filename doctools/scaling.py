@@ -2,7 +2,8 @@
 
 ``python -m doctools.scaling record FIGURES_JSON`` copies the figures that
 ``python -m benchmarks.sweep_throughput --json FIGURES_JSON`` wrote into
-``docs/data/sweep_scaling_run.json``, adding the commit and the machine. At each
+``docs/data/sweep_scaling_run.json``, adding the commit and the machine
+(:func:`benchmarks.machine.machine_description`, the one description). At each
 build the hook replaces the marker line ``<!-- sweep scaling run -->`` of
 ``scaling.md`` with :func:`section`: the measured rates and ratios of the three
 ways a sweep runs, the sweep on disk, and the projection to 10^9 designs
@@ -20,8 +21,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from benchmarks.machine import machine_description
 from doctools import performance
-from doctools.performance import machine
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "docs" / "data" / "sweep_scaling_run.json"
@@ -44,7 +45,7 @@ def record(figures_path: Path, target: Path = RECORD) -> dict[str, Any]:
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     document["run"] = {"command": "python -m benchmarks.sweep_throughput",
-                       "commit": commit or "unknown", "machine": machine()}
+                       "commit": commit or "unknown", "machine": machine_description()}
     target.parent.mkdir(parents=True, exist_ok=True)
     target.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
     return document
@@ -126,8 +127,9 @@ def section(document: dict[str, Any]) -> str:
     settings = document["settings"]
     lines = [
         f"Measured from {document['started_utc']} to {document['finished_utc']} UTC by "
-        f"`{run['command']}` at commit `{run['commit']}`, on {box['cores']} cores of an "
-        f"{box['cpu']} (Python {box['python']}, NumPy {box['numpy']}). The machine is shared: "
+        f"`{run['command']}` at commit `{run['commit']}`, on {box['cpu_count']} cores of an "
+        f"{box['processor']} (Python {box['python']}, NumPy {box['numpy']}). The machine is "
+        "shared: "
         f"its load average over 1, 5 and 15 min was {before['load_average_1_5_15_min']} "
         f"before the timed runs and {after['load_average_1_5_15_min']} after them, for "
         f"{before['cpu_count']} cores; every ratio is taken within this one run, the median "

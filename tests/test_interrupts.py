@@ -15,7 +15,13 @@ import threading
 import numpy as np
 import pytest
 
-from sso.interrupts import interrupt_on_sigterm, interrupts_held, raised_after_native_call
+from sso.interrupts import (
+    Interrupted,
+    interrupt_on_signals,
+    interrupts_held,
+    raised_after_native_call,
+    restore_handlers,
+)
 
 VARIABLES = 2000
 SIGNAL_AFTER_S = 0.3
@@ -63,16 +69,20 @@ def test_ctrl_c_during_ipopt_is_raised_when_the_solve_returns():
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
 
 
-def test_sigterm_during_ipopt_under_the_sso_command_s_handler_is_raised():
-    previous = interrupt_on_sigterm()
+@pytest.mark.parametrize("number", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_during_ipopt_under_the_sso_command_s_handler_is_raised(number):
+    previous = interrupt_on_signals()
     try:
         solver = slow_ipopt()
-        timer = signalled_in(SIGNAL_AFTER_S, signal.SIGTERM)
-        with pytest.raises(KeyboardInterrupt, match="signal 15"), raised_after_native_call():
+        timer = signalled_in(SIGNAL_AFTER_S, number)
+        with pytest.raises(Interrupted, match=f"signal {int(number)}"), \
+                raised_after_native_call():
             solver(x0=start())  # type: ignore[operator]
         timer.join()
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        restore_handlers(previous)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
 
 
 def test_a_handler_that_raises_nothing_changes_nothing():

@@ -15,13 +15,12 @@ CasADi nor SciPy.
 from __future__ import annotations
 
 import argparse
-import signal
 from collections.abc import Sequence
 
 from sso.cli import batch_commands, report, solve, validate
 from sso.cli.common import EXIT_INTERRUPTED, Command, print_error
 from sso.distribution import installed_version
-from sso.interrupts import interrupt_on_sigterm
+from sso.interrupts import interrupt_on_signals, restore_handlers
 
 COMMANDS: tuple[Command, ...] = (
     *solve.COMMANDS,
@@ -52,7 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
     args = build_parser().parse_args(argv)
-    previous = interrupt_on_sigterm()
+    previous = interrupt_on_signals()
     try:
         code: int = args.handle(args)
         return code
@@ -60,6 +59,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         print_error("interrupted; files already written are complete, none is half-written")
         return EXIT_INTERRUPTED
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        restore_handlers(previous)
 

@@ -35,6 +35,7 @@ from sso.limits import (
     DEFAULT_PHASE_BOUNDS_DEG,
     DEFAULT_SHAFT_SOLVER_TOL,
     MAX_ITERATIONS,
+    MIN_CHAIN_COSINE_PRODUCT,
 )
 from sso.record import Record
 from sso.shafts.options import (
@@ -44,6 +45,7 @@ from sso.shafts.options import (
     free_angles,
     validate_option_and_bounds,
 )
+from sso.solvers import round_off_stops
 from sso.solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
 from sso.solvers.lm_batch import solve_batch
 from sso.solvers.lm_rules import NEWTON
@@ -54,6 +56,7 @@ from sso.solvers.resources import (
 )
 from sso.solvers.resources import memory_limit_mb as resolve_memory_limit
 from sso.validation import (
+    check_chain_cosines,
     check_choice,
     validate_count,
     validate_solver_tol,
@@ -268,6 +271,10 @@ def optimise_batch(
     option_number, beta_bounds, phase_bounds = validate_option_and_bounds(
         option, n_joints, beta_bounds_deg, phase_bounds_deg)
     beta_free, phase_free = free_angles(option_number)
+    if not beta_free:  # the given angles are the chain's (else the bounds were checked)
+        log10_products = np.sum(np.log10(np.cos(np.radians(beta))), axis=1)
+        for row in np.flatnonzero(log10_products < np.log10(MIN_CHAIN_COSINE_PRODUCT))[:1]:
+            check_chain_cosines(f"beta_deg[{row}]", beta[row].tolist())
     if option_number == 2:
         phase = np.full_like(phase, OPTION_FIXED_PHASE_DEG)
 
@@ -407,6 +414,19 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
         nit[unfinished] = finished.nit
         nfev[unfinished] += finished.nfev
         status[unfinished] = finished.status
+    # A stop at round-off with a gradient far from zero: a minimum, or only a vanished step?
+    suspects = np.flatnonzero(np.isin(status, round_off_stops.ROUND_OFF_STOPS)
+                              & (kkt > round_off_stops.SUSPECT_GRADIENT))
+    if suspects.size:
+        def sum_of_squares(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
+            full = design_rad[rows]
+            full[:, free] = points
+            residual = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])[0]
+            values: np.ndarray = residual[:, 0] ** 2 + residual[:, 1] ** 2
+            return values
+
+        status[suspects[round_off_stops.refuted(sum_of_squares, x, fun, lower, upper,
+                                                suspects)]] = round_off_stops.REFUTED
     return _Solved(x, fun, kkt, nit, nfev, status, np.isin(status, SUCCESS_STATUSES))
 
 

@@ -42,6 +42,8 @@ from typing import Any
 
 import numpy as np
 
+from sso.solvers.round_off_stops import REFUTED, REFUTED_MESSAGE
+
 ResidualFunction = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 STATUS_MESSAGES = {
@@ -52,6 +54,7 @@ STATUS_MESSAGES = {
     2: "actual and predicted relative reductions below ftol",
     3: "relative step below xtol",
     4: "sum of squares below fatol",
+    REFUTED: REFUTED_MESSAGE,
 }
 SUCCESS_STATUSES = (1, 2, 3, 4)
 _ACCEPT_RATIO = 1e-4

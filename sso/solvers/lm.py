@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from sso.solvers import round_off_stops
 from sso.solvers.lm_kernel import (
     flat_outcome,
     kernel_of,
@@ -70,7 +71,19 @@ MESSAGES = {
     2: "actual and predicted relative reductions at round-off",
     3: "step at round-off",
     4: "sum of squares at round-off zero",
+    -4: "stopped at round-off, but a move of one variable lowers the sum of squares "
+        "(not a minimum: the problem is beyond floating point's resolution there)",
 }
+ROUND_OFF_STOPS = (2, 3)
+"""Statuses that stop because a step or a reduction reached round-off. Far from a
+minimum, where the residuals change by more than their size within a rounding of
+``x`` (a chain of near-90-deg joints), they come from a damping grown by steps the
+linear model mispredicts, not from a minimum: :func:`_round_off_stop_holds` tests
+each such stop directly."""
+PROBE_STEPS = (1e-9, 1e-6, 1e-3)
+"""Moves of one variable (NLP units, rad for a shaft series) tried at a round-off stop."""
+PROBE_DECREASE = 1e-6
+"""A probe that lowers the sum of squares by more than this fraction refutes the stop."""
 # Forward differences: truncation ~ step, round-off ~ eps / step; 1e-7 balances them
 # well enough for Newton's superlinear convergence.
 _HESSIAN_STEP = 1e-7
@@ -115,8 +128,7 @@ def solve(
                                  max_iterations)
         x, fun, nit, nfev, status = flat_outcome(values, len(lower))
         if status not in (RUNNING, NEWTON):
-            return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0,
-                              MESSAGES[status], time.perf_counter() - started)
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
         state = unpack(values, len(lower))
     objective_hessian = getattr(nlp, "objective_hessian", None)
     newton_kernel = (newton_kernel_of(nlp) if state is not None and state["status"] == NEWTON
@@ -128,6 +140,19 @@ def solve(
         state,
         None if newton_kernel is None else lambda given: run_newton_kernel(
             newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
+    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
+
+
+def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit: int,
+             nfev: int, status: int, lower: list[float], upper: list[float],
+             started: float) -> RunOutcome:
+    """The outcome of a solve, a stop at round-off tested first: a minimum, or only a
+    vanished step (:mod:`sso.solvers.round_off_stops`)?"""
+    if status in round_off_stops.ROUND_OFF_STOPS:
+        holds, probes = round_off_stops.holds(lambda point: abs(residual(point, fixed)[0]) ** 2,
+                                              list(x), fun, lower, upper)
+        nfev += probes
+        status = status if holds else round_off_stops.REFUTED
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 

@@ -1,10 +1,12 @@
 """A signalled ``sso sweep`` with 2 workers leaves no process and no temporary file.
 
 Real processes: ``python -m sso.cli sweep`` runs in a subprocess; once it has written
-its first chunk, it gets SIGINT, SIGTERM or SIGKILL. Within 5 s no process
-it started may remain (its pool workers and multiprocessing's resource tracker,
-found as its children in /proc), no ``.sso-tmp-*`` file may remain, and ``--resume``
-then completes the sweep.
+its first chunk, it gets SIGINT, SIGTERM or SIGKILL. Then no process it started may
+remain (its pool workers and multiprocessing's resource tracker, found as its
+children in /proc), no ``.sso-tmp-*`` file may remain, and ``--resume`` then
+completes the sweep. How fast the sweep and its workers are gone is measured in
+``benchmarks/interrupts.py --workers 2`` (the target: 5 s); here the limit is only
+generous enough to tell a sweep that stops from one that hangs.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
+from processes import alive, children
 
 from sso.batch.table import read_rows
 from sso.files import TEMPORARY_PREFIX, nameless_temporaries
@@ -42,32 +45,8 @@ starts = 4
 "design.beta_deg[1]" = { start = 10.0, stop = 40.0, num = 5 }
 """
 POINTS = 30
-GONE_WITHIN_S = 5.0
+GONE_WITHIN_S = 60.0
 START_DEADLINE_S = 120.0
-
-
-def children(pid: int) -> set[int]:
-    """Processes whose parent is ``pid`` (from /proc)."""
-    found = set()
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        if int(fields[1]) == pid:
-            found.add(int(entry.name))
-    return found
-
-
-def alive(pid: int) -> bool:
-    """True while ``pid`` exists and is not a zombie."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
 
 
 def start_sweep(folder: Path, log_name: str, *extra: str) -> subprocess.Popen[bytes]:
@@ -108,7 +87,7 @@ def test_a_signalled_sweep_leaves_nothing_behind_and_resumes(tmp_path, signal_nu
             if alive(pid):
                 os.kill(pid, signal.SIGKILL)
         process.wait()
-    assert exit_code is not None, "the sweep did not stop within 5 s"
+    assert exit_code is not None, f"the sweep did not stop within {GONE_WITHIN_S} s"
     assert left == []
     leftovers = sorted(tmp_path.rglob(f"{TEMPORARY_PREFIX}*"))
     if signal_number == signal.SIGKILL and not nameless_temporaries(tmp_path):

@@ -57,6 +57,24 @@ def test_resume_refuses_the_rows_of_another_sweep_of_the_same_name(tmp_path):
     assert "Traceback" not in resumed.stderr
 
 
+def test_resume_refuses_a_row_with_a_negative_point(tmp_path):
+    # The reproduction: a row of point -1 was accepted ("21 points" for a 20-point
+    # sweep).
+    first = sso("sweep", _sweep_file(tmp_path, "small.toml", SMALL), "--workers", "1",
+                "--no-plots", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    csv_path = tmp_path / "results" / "same" / "sweep.csv"
+    lines = csv_path.read_text().splitlines(keepends=True)
+    lines[1] = "-1" + lines[1][lines[1].index(","):]
+    csv_path.write_text("".join(lines))
+    before = csv_path.read_bytes()
+    resumed = sso("sweep", "small.toml", "--resume", "--no-plots", cwd=tmp_path)
+    assert resumed.returncode == 2
+    assert "line 2: point '-1' is outside this sweep's points [0, 19]" in resumed.stderr
+    assert "Traceback" not in resumed.stderr
+    assert csv_path.read_bytes() == before  # the user's file is left as it was
+
+
 def test_a_truncated_sweep_csv_resumes_to_the_whole_sweep(tmp_path):
     first = sso("sweep", _sweep_file(tmp_path, "small.toml", SMALL), "--workers", "1",
                 "--no-plots", cwd=tmp_path)

@@ -3,17 +3,44 @@
 from __future__ import annotations
 
 import copy
+import json
 
+import pytest
+
+from benchmarks.machine import machine_description
 from benchmarks.work_precision import targets
 from doctools import performance
 from doctools.blocks import ROOT
 
 
-def test_the_recorded_run_is_dated_and_its_machine_described():
-    run = performance.load()["run"]
-    assert run["date_utc"] and run["commit"]
+def test_the_recorded_run_is_dated_and_its_machine_described_by_the_benchmark():
+    document = performance.load()
+    run, machine = document["run"], document["machine"]
+    assert run["date_utc"] == document["finished_utc"] and run["commit"]
+    assert run["started_utc"] == document["started_utc"]
     assert run["command"].startswith("python -m benchmarks.work_precision")
-    assert run["machine"]["cores"] >= 1 and run["machine"]["cpu"]
+    # The keys of benchmarks/machine.py: the benchmark described the machine itself.
+    assert set(machine) >= set(machine_description()) - {"memory_gib"}
+    assert machine["cpu_count"] >= 1 and machine["processor"]
+    section = performance.section(document)
+    for key in ("processor", "platform", "python", "numpy", "scipy", "casadi", "sso"):
+        assert str(machine[key]) in section, key
+    assert f"{machine['cpu_count']} CPUs" in section
+    assert str(machine["load_average_1_5_15_min"]) in section
+
+
+def test_recording_keeps_the_summary_s_machine_and_refuses_a_summary_without_one(tmp_path):
+    summary = copy.deepcopy(performance.load())
+    del summary["run"]
+    path = tmp_path / "summary.json"
+    path.write_text(json.dumps(summary), encoding="utf-8")
+    recorded = performance.record(path, tmp_path / "record.json")
+    assert recorded["machine"] == summary["machine"]
+    assert recorded["run"]["date_utc"] == summary["finished_utc"]
+    del summary["machine"]
+    path.write_text(json.dumps(summary), encoding="utf-8")
+    with pytest.raises(ValueError, match="has no machine: it was written by an earlier"):
+        performance.record(path, tmp_path / "record.json")
 
 
 def test_every_target_of_the_run_is_on_the_page_with_its_verdict():

@@ -42,3 +42,35 @@ def test_status_codes_are_ipopts_application_return_status():
     assert codes["Invalid_Number_Detected"] == -13 and codes["Internal_Error"] == -199
     assert len(set(codes.values())) == len(codes)
     assert ipopt.UNKNOWN_STATUS not in codes.values()
+
+
+@pytest.mark.parametrize(("first_beta_deg", "starts"), [(21.864406779661017, 4),
+                                                        (21.932773109243698, 8)])
+def test_an_answer_in_a_flat_valley_ending_on_a_bound_is_put_on_the_bound(first_beta_deg,
+                                                                         starts):
+    """Two points of a sweep of the paper's option-1 case (cases/paper_option1_exact.toml,
+    first angle from 10 to 30 deg in 60 and 120 steps): the two phases' valley ends on the
+    bound phase_2 = 0. IPOPT stopped 5e-4 and 1.2e-4 rad off it (its multiplier pushing
+    against it, its answer stationary to 3e-9 per rad), RE 1.9e-4 and 1.1e-6 relative above
+    SLSQP's, and the cross-check said "disagree". Its own answer now ends on the bound,
+    within the cross-check's tolerance of SLSQP's; the reference for the corner is a
+    brute force of RE along phase_1 there (the rectangle rule on 256 angles, not the
+    closed form the solvers use)."""
+    import warnings
+
+    import sso
+    from sso.shafts.objective import residual_error
+
+    series = sso.ShaftSeries([first_beta_deg, 20.0, 9.0], [30.0, 40.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = sso.optimise(series, 1, beta_bounds_deg=(0.0, 40.0),
+                              phase_bounds_deg=(0.0, 180.0), starts=starts)
+    answer = result.solutions["ipopt"]
+    assert answer.role == "solve" and answer.success
+    assert answer.x[1] == 0.0  # on the bound
+    assert result.crosscheck.agree, result.crosscheck.message
+    phase_1 = np.radians(np.linspace(89.99, 90.01, 2001)).reshape(-1, 1)
+    corner = residual_error(list(np.radians(series.beta_deg)), [phase_1, 0.0 * phase_1],
+                            "exact", 256)
+    assert answer.fun <= corner.min() * (1 + 1e-9)
