@@ -492,6 +492,42 @@ def check_field(path: str, name: str, value: Any, fields: Mapping[str, Any],
                           "number (a solver that succeeded has a finite objective)")
 
 
+INTEGER_FIELDS = ("option", "starts", "samples")
+
+
+def check_values(data: Any, path: str = "") -> None:
+    """Check every field of an untyped saved tree (a column's result document) that
+    :func:`check_field` has a rule for, wherever it is nested.
+
+    JSON holds a non-finite number as null there: null is "not available", except
+    as the ``fun`` of an answer that says it succeeded.
+
+    Raises
+    ------
+    RecordError
+        Naming the first field at fault, its value and the allowed range.
+    """
+    if isinstance(data, list):
+        for index, item in enumerate(data):
+            check_values(item, f"{path}[{index}]")
+        return
+    if not isinstance(data, dict):
+        return
+    for name, value in data.items():
+        where = _join(path, str(name))
+        if isinstance(value, (dict, list)):
+            check_values(value, where)
+            continue
+        if name == "fun" and value is None and data.get("success") is True:
+            raise RecordError(f"{where} = null with success = true; allowed: a finite number "
+                              "(a solver that succeeded has a finite objective)")
+        if value is None or isinstance(value, (bool, str)):
+            continue
+        if isinstance(value, int) and name not in INTEGER_FIELDS:
+            value = _decode_float(value, where)
+        check_field(where, str(name), value, data)
+
+
 JsonSchema = dict[str, Any]
 SCHEMA_DRAFT = "https://json-schema.org/draft/2020-12/schema"
 _ARRAY_SCHEMA: JsonSchema = {

@@ -55,7 +55,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/run/column_document.py",
     "sso/run/column_robust_document.py",
     "sso/run/document.py",
-    "sso/run/mechanism_document.py",
     "sso/shafts/batch.py",
     "sso/shafts/perturbed.py",
     "sso/solvers/progress.py",

@@ -22,6 +22,7 @@ import numpy as np
 from sso.cases.schema import (
     REQUIRED,
     Key,
+    SavedCase,
     choice,
     number,
     number_list,
@@ -31,6 +32,7 @@ from sso.cases.schema import (
 from sso.cases.shaft_series import checked_solvers, solver_keys
 from sso.limits import DEFAULT_FOURBAR_SOLVER_TOL, TRANSMISSION_BAND_DEG
 from sso.linkages.registry import Linkage, Mechanism, OnUnassembled, linkage_of_kind, linkages
+from sso.record import register_record
 from sso.validation import per_item_bounds
 
 # Analysis kinds come from the linkage registry: one per registered mechanism.
@@ -159,8 +161,9 @@ def kind_keys(kind: str) -> tuple[Key, ...]:
     return (*_link_keys("linkage", kind), *DRIVE_KEYS, *plot_keys)
 
 
+@register_record
 @dataclass(frozen=True)
-class MechanismCase:
+class MechanismCase(SavedCase):
     """A planar-mechanism case as read from a case file, after defaults.
 
     Attributes
@@ -263,7 +266,11 @@ class MechanismCase:
         document: dict[str, Any] = {"kind": self.kind, "name": self.name,
                                     "description": self.description,
                                     "output": {"formats": list(self.formats)}}
-        for label, value in self.values.items():
+        # in the schema's order, so a case read back saves the same bytes
+        order = {f"{key.table}.{key.name}": index
+                 for index, key in enumerate(kind_keys(self.kind))}
+        for label, value in sorted(self.values.items(),
+                                   key=lambda item: order.get(item[0], len(order))):
             if "." not in label:
                 continue
             table, name = label.split(".", 1)

@@ -31,10 +31,12 @@ def result_classes() -> dict[str, type[Record]]:
 
     Importing the modules that define them.
     """
+    from sso.run.mechanism_run import MechanismRun
     from sso.run.shaft_series import ShaftSeriesRun
 
     package = import_module("sso")
-    classes: dict[str, type[Record]] = {"ShaftSeriesRun": ShaftSeriesRun}
+    classes: dict[str, type[Record]] = {"ShaftSeriesRun": ShaftSeriesRun,
+                                        "MechanismRun": MechanismRun}
     for name in package.__all__:
         value = getattr(package, name)
         if isinstance(value, type) and issubclass(value, Record):

@@ -117,7 +117,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     from sso.files import replace_folder
     from sso.reports.kinds import CASE_REPORT, render_report
     from sso.run.column_document import column_document
-    from sso.run.mechanism_document import mechanism_document
+    from sso.run.mechanism_run import run_mechanism
     from sso.run.shaft_series import run_shaft_series
 
     say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
@@ -126,7 +126,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
         if case.kind == COLUMN_KIND:
             result = column_document(case, optimising)
         elif case.kind in MECHANISM_KINDS:
-            result = mechanism_document(case, optimising)
+            result = run_mechanism(case, optimising)
         else:
             result = run_shaft_series(case, optimising)
     except ValueError as error:
@@ -169,7 +169,8 @@ class _Told:
 
 
 def _told(result: Any) -> _Told:
-    """What to tell of a shaft-series run (a result) or a mechanism or column document."""
+    """What to tell of a shaft-series or mechanism run (a result) or a column document."""
+    from sso.run.mechanism_run import MechanismRun
     from sso.run.shaft_series import ShaftSeriesRun
 
     if isinstance(result, ShaftSeriesRun):
@@ -177,6 +178,9 @@ def _told(result: Any) -> _Told:
         errors = tuple(None if design is None else design.evaluation.residual_error
                        for design in designs)
         return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
+    if isinstance(result, MechanismRun):
+        return _Told(result.mode, result.success, result.verdict, result.warnings,
+                     (None, None, None))
     designs = result.get("designs", {})
     objective = designs.get("optimum", {}).get("objective")
     note = None if objective is None else (

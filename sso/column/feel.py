@@ -27,9 +27,9 @@ cross-and-yoke simulation), of period 180 deg and mean 1 over a period.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
@@ -44,7 +44,6 @@ from sso.column.scenarios import (
     solve_phasing_nlp,
     yoke_starts,
 )
-from sso.column.splines import SplineResult, best_teeth_for_objective
 from sso.display import Part, Readable, TextTable, format_number
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
@@ -53,7 +52,6 @@ from sso.limits import (
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
     DEFAULT_ON_CENTRE_WEIGHT,
-    DEFAULT_SPLINE_TEETH,
     DEFAULT_WINDOW_DEG,
     MAX_ITERATIONS,
     MAX_STARTS,
@@ -142,12 +140,14 @@ class OnCentreResult(PhasingOutcome):
     nominal_feel: SteeringFeel
     nominal: PhasingResult
 
-    objective_name: ClassVar[str] = "RE + on_centre_weight * V"
+    @property
+    def objective_name(self) -> str:
+        """What ``fun`` measures, in words."""
+        return "RE + on_centre_weight * V"
 
-    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
-        """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for ``RE +
-        on_centre_weight * V`` itself; the :class:`~sso.column.splines.SplineResult`
-        gives it at the teeth and at this phasing."""
+    def phasing_objective(self) -> Callable[[np.ndarray], np.ndarray]:
+        """``RE + on_centre_weight * V`` of the nominal column, as a function of yoke
+        phasings (``(m, shafts)`` deg -> ``(m,)``)."""
         geometry = self.nominal.geometry
         settings = {"straight_ahead_deg": self.feel.straight_ahead_deg,
                     "lock_deg": self.feel.lock_deg, "window_deg": self.feel.window_deg,
@@ -157,9 +157,7 @@ class OnCentreResult(PhasingOutcome):
             return np.array([steering_feel((geometry, list(yoke)), **settings).objective
                              for yoke in yokes])
 
-        return best_teeth_for_objective(geometry.joint_count - 1, teeth, objective,
-                                        continuous_yoke_phase_deg=self.yoke_phase_deg,
-                                        objective_name=self.objective_name)
+        return objective
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""

@@ -10,7 +10,7 @@ weighted mean of the positions' RE (:mod:`sso.column.scenarios`).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,14 +19,12 @@ import numpy as np
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import PhasingOutcome, outcome_fields, scenario_re, solve_scenarios
-from sso.column.splines import SplineResult, best_teeth_for_objective
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
     DEFAULT_COLUMN_SEED,
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
-    DEFAULT_SPLINE_TEETH,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -106,10 +104,9 @@ class PositionsResult(PhasingOutcome):
         return ("worst-position RE" if self.positions_objective == "worst"
                 else "weighted mean RE over the positions")
 
-    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
-        """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for this
-        objective over the positions, as :func:`~sso.column.splines.best_teeth_for_objective`
-        returns them: ``residual_error`` is the worst (or mean) RE at the teeth."""
+    def phasing_objective(self) -> Callable[[np.ndarray], np.ndarray]:
+        """The worst (or weighted mean) RE over the positions, as a function of yoke
+        phasings (``(m, shafts)`` deg -> ``(m,)``)."""
         names = list(self.geometries)
         beta = np.radians([self.geometries[name].beta_deg for name in names])
         gamma = np.radians([self.geometries[name].plane_angle_deg for name in names])
@@ -121,9 +118,7 @@ class PositionsResult(PhasingOutcome):
                                   else values @ weights)
             return result
 
-        return best_teeth_for_objective(gamma.shape[1], teeth, objective,
-                                        continuous_yoke_phase_deg=self.yoke_phase_deg,
-                                        objective_name=self.objective_name)
+        return objective
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures (not the geometries' internals)."""

@@ -12,7 +12,7 @@ percentiles of the robust design and of the nominal optimum on the same sample.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -21,7 +21,6 @@ import numpy as np
 from sso.column.geometry import ColumnGeometry
 from sso.column.phasing import PhasingResult, optimise_phasing
 from sso.column.scenarios import PhasingOutcome, cvar, outcome_fields, scenario_re, solve_scenarios
-from sso.column.splines import SplineResult, best_teeth_for_objective
 from sso.column.tolerances import SampleStudy, Tolerances
 from sso.limits import (
     CROSS_CHECK_SOLVERS,
@@ -29,7 +28,6 @@ from sso.limits import (
     DEFAULT_COLUMN_SOLVER_TOL,
     DEFAULT_COLUMN_STARTS,
     DEFAULT_MAX_ITERATIONS,
-    DEFAULT_SPLINE_TEETH,
     MAX_ITERATIONS,
     MAX_STARTS,
 )
@@ -93,10 +91,9 @@ class RobustResult(PhasingOutcome):
         return (f"{self.robust_objective} objective (CVaR of RE at {self.level:g}) over the "
                 "built columns")
 
-    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
-        """Whole teeth (``teeth`` per intermediate shaft, 1..1000) searched for this
-        objective over the same seeded built columns; ``residual_error`` of the
-        :class:`~sso.column.splines.SplineResult` is the objective at the teeth."""
+    def phasing_objective(self) -> Callable[[np.ndarray], np.ndarray]:
+        """The robust objective over the same seeded built columns, as a function of
+        yoke phasings (``(m, shafts)`` deg -> ``(m,)``)."""
         sample = self.tolerances.sample(self.geometry)
         count = len(sample.beta_rad)
         weights = np.full(count, 1.0 / count)
@@ -111,9 +108,7 @@ class RobustResult(PhasingOutcome):
                 return means
             return np.array([cvar(row, weights, self.level) for row in values])
 
-        return best_teeth_for_objective(self.geometry.joint_count - 1, teeth, objective,
-                                        continuous_yoke_phase_deg=self.yoke_phase_deg,
-                                        objective_name=self.objective_name)
+        return objective
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the figures."""

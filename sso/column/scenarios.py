@@ -21,7 +21,8 @@ returned carry RE itself in ``fun``, and ``kkt`` of the scaled problem (per rad)
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import abc
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
@@ -29,8 +30,14 @@ import numpy as np
 
 from sso.column.chain_matrix import residual_error
 from sso.column.geometry import wrap_half_turn
+from sso.column.splines import SplineResult, best_teeth_for_objective
 from sso.display import Readable
-from sso.limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
+from sso.limits import (
+    DEFAULT_KKT_TOLERANCE,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_SPLINE_TEETH,
+)
 from sso.record import NON_NEGATIVE, FieldRule, Record, register_record
 from sso.solvers.crosscheck import crosscheck
 from sso.solvers.multistart import best_solution, run_starts, solution_from_run
@@ -65,7 +72,7 @@ class ScenarioRun:
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class PhasingOutcome(Record, Readable):
+class PhasingOutcome(Record, Readable, abc.ABC):
     """What every shared-phasing result has, named after ``scipy.optimize.OptimizeResult``.
 
     Attributes
@@ -108,6 +115,32 @@ class PhasingOutcome(Record, Readable):
     def yoke_phase_deg(self) -> tuple[float, ...]:
         """The yoke phasing, deg (same as ``x``)."""
         return self.x
+
+    @property
+    @abc.abstractmethod
+    def objective_name(self) -> str:
+        """What ``fun`` measures, in words."""
+
+    @abc.abstractmethod
+    def phasing_objective(self) -> Callable[[np.ndarray], np.ndarray]:
+        """The objective ``fun`` as a function of yoke phasings: an array of shape
+        ``(m, shafts)`` (deg, fitter's convention) -> ``(m,)`` values, lower is better."""
+
+    def on_splines(self, teeth: int | Sequence[int] = DEFAULT_SPLINE_TEETH) -> SplineResult:
+        """Whole teeth (``teeth`` per intermediate shaft, each in ``[1, 1000]``) searched
+        for this result's own objective (:meth:`phasing_objective`), as
+        :func:`~sso.column.splines.best_teeth_for_objective` returns them:
+        ``residual_error`` is the objective at the teeth, ``continuous_residual_error``
+        at ``x``.
+
+        Raises
+        ------
+        ValueError
+            If a tooth count is not a whole number in range.
+        """
+        return best_teeth_for_objective(len(self.x), teeth, self.phasing_objective(),
+                                        continuous_yoke_phase_deg=self.x,
+                                        objective_name=self.objective_name)
 
     def outcome_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of the common figures (not every run)."""

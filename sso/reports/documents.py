@@ -1,8 +1,9 @@
-"""``report.md`` and ``report.html`` of one report's blocks, as its formats ask."""
+"""The files of one report, as its formats ask: its tables, plots, ``report.md`` and
+``report.html``."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from sso.reports.summary import Block
 
@@ -29,4 +30,31 @@ def render_documents(blocks: Sequence[Block], images: Mapping[str, bytes],
         from sso.reports.html import render_html
 
         files["report.html"] = render_html(blocks, images).encode("utf-8")
+    return files
+
+
+def report_files(formats: Sequence[str], tables: Callable[[], Mapping[str, str]],
+                 plots: Callable[[], Mapping[str, bytes]],
+                 blocks: Callable[[Sequence[str]], Sequence[Block]]) -> dict[str, bytes]:
+    """Every file of one report that ``formats`` name (``result.json`` excepted).
+
+    Parameters
+    ----------
+    formats : sequence of str
+        ``"csv"``, ``"png"``, ``"md"``, ``"html"`` (others are ignored).
+    tables : callable
+        ``() -> {file name: CSV text}``, called only for ``"csv"``.
+    plots : callable
+        ``() -> {file name: PNG bytes}``, called only for ``"png"`` (so a report
+        without plots never imports matplotlib).
+    blocks : callable
+        ``(plot file names) -> blocks`` of the Markdown and HTML reports.
+    """
+    files: dict[str, bytes] = {}
+    if "csv" in formats:
+        files.update({name: text.encode("utf-8") for name, text in tables().items()})
+    images: dict[str, bytes] = dict(plots()) if "png" in formats else {}
+    files.update(images)
+    if "md" in formats or "html" in formats:
+        files.update(render_documents(blocks(tuple(images)), images, formats))
     return files

@@ -198,10 +198,16 @@ def _render_shaft_series_run(run: Any, formats: tuple[str, ...]) -> dict[str, by
 
 
 def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    from sso.reports.writer import render
-    from sso.run.mechanism_document import fourbar_design_document
+    from sso.reports.mechanism_report import mechanism_files
+    from sso.run.mechanism_run import fourbar_design_run
 
-    return render(fourbar_design_document(result), formats)
+    return mechanism_files(fourbar_design_run(result), formats)
+
+
+def _render_mechanism_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso.reports.mechanism_report import mechanism_files
+
+    return mechanism_files(run, formats)
 
 
 def _render_mechanism_table(table: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
@@ -220,5 +226,6 @@ register_report_kind("document", _render_document, CASE_REPORT)
 register_report_kind("optimisation", _render_optimisation, CASE_REPORT)
 register_report_kind("shaft_series_run", _render_shaft_series_run, CASE_REPORT)
 register_report_kind("fourbar_design", _render_fourbar_design, CASE_REPORT)
+register_report_kind("mechanism_run", _render_mechanism_run, CASE_REPORT)
 register_report_kind("mechanism_table", _render_mechanism_table, CASE_REPORT)
 register_report_kind(RECORD_KIND, _render_record, CASE_REPORT)

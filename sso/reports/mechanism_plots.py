@@ -1,33 +1,27 @@
 """Plots of a mechanism result: link positions, coupler curve, motion against crank angle.
 
-Curves are recomputed from the result document alone (its case and linkages) at
-:data:`CURVE_STEP_DEG`; the tabulated crank angles are marked on them. matplotlib
+Drawn from the run alone (:class:`sso.run.mechanism_run.MechanismRun`): each
+linkage's curves every :data:`~sso.run.mechanism_run.CURVE_STEP_DEG`, with the
+tabulated crank angles marked on them, and its positions at the plotted angles;
+nothing is recomputed. matplotlib
 is imported inside :func:`render_mechanism_plots` only (through
 :func:`sso.reports.plots._new_figure`), so a run without plots never loads it.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
-from sso.cases.mechanism import MechanismCase, angle_grid
 from sso.limits import TRANSMISSION_BAND_DEG
 from sso.linkages.mechanisms import FourBar, QuickReturn, SliderCrank
 from sso.linkages.registry import Mechanism, Panel, linkage_of
 from sso.linkages.table import MechanismTable
 from sso.reports.plots import _new_figure, _png
-from sso.run.mechanism_document import (
-    analysis_table,
-    case_from_document,
-    mechanism_from_dict,
-    revolution_stop_deg,
-)
+from sso.run.mechanism_run import LinkageCurves, MechanismRun, revolution_stop_deg
 
-CURVE_STEP_DEG = 1.0
 LINK_COLOURS = {"crank": "#d62728", "coupler": "#1f77b4", "rocker": "#2ca02c",
                 "rod": "#1f77b4", "slider_link": "#9467bd"}
 COLUMN_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#d62728")
@@ -38,22 +32,8 @@ BAND_TOLERANCE_DEG = 1e-6
 """An optimum on its bound is inside the band up to the solver's tolerance."""
 
 
-@dataclass(frozen=True)
-class Curves:
-    """One linkage's tables: dense for lines, as tabulated for markers."""
-
-    mechanism: Mechanism
-    dense: MechanismTable
-    tabulated: MechanismTable
-
-
-def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
-    """PNG images of a mechanism result, keyed by file name.
-
-    Parameters
-    ----------
-    document : mapping
-        A mechanism result document (:mod:`sso.run.mechanism_document`).
+def render_mechanism_plots(run: MechanismRun) -> dict[str, bytes]:
+    """PNG images of a mechanism run, keyed by file name.
 
     Returns
     -------
@@ -62,23 +42,13 @@ def render_mechanism_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
         ``transmission_angle.png`` (four-bar, quick-return), ``piston_motion.png``
         and ``rod_motion.png`` (slider-crank), ``slider_motion.png`` (quick-return).
     """
-    case = case_from_document(document)
-    curves = {role: _curves(document, case, role) for role in document["linkages"]}
-    linkage = linkage_of(next(iter(curves.values())).mechanism)
-    images = {"linkage.png": _linkage_plot(document, case, curves)}
+    linkage = linkage_of(run.linkages[0].mechanism)
+    images = {"linkage.png": _linkage_plot(run)}
     for file_name, title, panels in linkage.series_plots:
-        images[file_name] = _series_plot(document, curves, title, panels)
+        images[file_name] = _series_plot(run, title, panels)
     if linkage.transmission_plot:
-        images["transmission_angle.png"] = _transmission_plot(document, case, curves)
+        images["transmission_angle.png"] = _transmission_plot(run)
     return images
-
-
-def _curves(document: Mapping[str, Any], case: MechanismCase, role: str) -> Curves:
-    mechanism = mechanism_from_dict(document["linkages"][role])
-    dense = analysis_table(mechanism, case, angle_grid(case.values["drive.start_deg"],
-                                                       revolution_stop_deg(case), CURVE_STEP_DEG),
-                           "mark")
-    return Curves(mechanism, dense, MechanismTable._from_document_dict(document["tables"][role]))
 
 
 def _column(table: MechanismTable, column: str) -> np.ndarray | None:
@@ -90,24 +60,20 @@ def _column(table: MechanismTable, column: str) -> np.ndarray | None:
     return values - np.asarray(table[names[1]], dtype=float) if len(names) == 2 else values
 
 
-def _unit(document: Mapping[str, Any]) -> str:
-    return str(document["length_unit"])
+def _title(run: MechanismRun, what: str) -> str:
+    case = run.case
+    speed = f"crank {case.crank_speed_rad_s:g} rad/s"
+    if case.crank_accel_rad_s2:
+        speed += f", {case.crank_accel_rad_s2:g} rad/s$^2$"
+    return f"{case.name}: {what}\n{_linkage_text(run)}\n{speed}"
 
 
-def _title(document: Mapping[str, Any], what: str) -> str:
-    speed = f"crank {document['crank_speed_rad_s']:g} rad/s"
-    if document["crank_accel_rad_s2"]:
-        speed += f", {document['crank_accel_rad_s2']:g} rad/s$^2$"
-    return f"{document['case']['name']}: {what}\n{_linkage_text(document)}\n{speed}"
-
-
-def _linkage_text(document: Mapping[str, Any]) -> str:
+def _linkage_text(run: MechanismRun) -> str:
     parts = []
-    for role, entry in document["linkages"].items():
-        lengths = ", ".join(f"{name} {value:.4g}" for name, value in entry["parameters"].items()
-                            if not isinstance(value, str))
-        prefix = f"{ROLE_LABELS[role]}: " if ROLE_LABELS[role] else ""
-        parts.append(f"{prefix}{lengths} ({_unit(document)})")
+    for linkage in run.linkages:
+        lengths = _lengths(linkage.mechanism)
+        prefix = f"{ROLE_LABELS[linkage.role]}: " if ROLE_LABELS[linkage.role] else ""
+        parts.append(f"{prefix}{lengths} ({run.case.length_unit})")
     return "\n".join(parts)
 
 
@@ -115,8 +81,8 @@ def _role_label(role: str, label: str) -> str:
     return f"{label} ({ROLE_LABELS[role]})" if ROLE_LABELS[role] else label
 
 
-def _angle_axis(axes: Any, case: MechanismCase) -> None:
-    start, stop = case.values["drive.start_deg"], revolution_stop_deg(case)
+def _angle_axis(axes: Any, run: MechanismRun) -> None:
+    start, stop = run.case.values["drive.start_deg"], revolution_stop_deg(run.case)
     axes.set_xlabel("crank angle (deg, counter-clockwise from +x)")
     axes.set_xlim(start, stop)
     span = stop - start
@@ -124,58 +90,57 @@ def _angle_axis(axes: Any, case: MechanismCase) -> None:
     axes.set_xticks(np.arange(start, stop + 1e-9, step))
 
 
-def _series_plot(document: Mapping[str, Any], curves: Mapping[str, Curves], title: str,
-                 panels: tuple[Panel, ...]) -> bytes:
+def _series_plot(run: MechanismRun, title: str, panels: tuple[Panel, ...]) -> bytes:
     figure = _new_figure()
     if len(panels) > 3:
         figure.set_size_inches(figure.get_size_inches()[0], 9.0)
     axes_list = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    case = case_from_document(document)
     for axes, (y_label, columns) in zip(axes_list, panels, strict=True):
         for colour, (column, label, *linestyle) in zip(COLUMN_COLOURS, columns, strict=False):
-            for role, curve in curves.items():
-                dense, tabulated = _column(curve.dense, column), _column(curve.tabulated, column)
+            for linkage in run.linkages:
+                dense, tabulated = _column(linkage.curve, column), _column(linkage.table, column)
                 if dense is None:
                     continue
-                axes.plot(curve.dense["crank_angle_deg"], dense, color=colour,
-                          linestyle=linestyle[0] if linestyle else ROLE_LINESTYLES[role],
-                          linewidth=1.8, label=_role_label(role, label))
-                axes.plot(curve.tabulated["crank_angle_deg"], tabulated, "o", color=colour,
+                axes.plot(linkage.curve["crank_angle_deg"], dense, color=colour,
+                          linestyle=linestyle[0] if linestyle else ROLE_LINESTYLES[linkage.role],
+                          linewidth=1.8, label=_role_label(linkage.role, label))
+                axes.plot(linkage.table["crank_angle_deg"], tabulated, "o", color=colour,
                           markersize=3.5)
-        axes.set_ylabel(y_label.format(length=_unit(document)))
+        axes.set_ylabel(y_label.format(length=run.case.length_unit))
         low, high = axes.get_ylim()
         if low < 0.0 < high:
             axes.axhline(0.0, color="black", linewidth=0.6)
         axes.grid(True, alpha=0.4)
         axes.legend(loc="best", fontsize="small", framealpha=0.9)
-    axes_list[0].set_title(_title(document, title) + "\nlines: every 1 deg; dots: the table's "
+    axes_list[0].set_title(_title(run, title) + "\nlines: every 1 deg; dots: the table's "
                            "crank angles", fontsize="medium")
-    _angle_axis(axes_list[-1], case)
+    _angle_axis(axes_list[-1], run)
     figure.tight_layout()
     return _png(figure)
 
 
-def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
-                       curves: Mapping[str, Curves]) -> bytes:
+def _transmission_plot(run: MechanismRun) -> bytes:
     figure = _new_figure()
     axes = figure.subplots(1, 1)
-    low, high = (case.values["bounds.transmission_angle_deg"]
-                 if "bounds.transmission_angle_deg" in case.values
+    values_of_case = run.case.values
+    low, high = (values_of_case["bounds.transmission_angle_deg"]
+                 if "bounds.transmission_angle_deg" in values_of_case
                  else TRANSMISSION_BAND_DEG)
     axes.axhspan(low, high, color=BAND_COLOUR, alpha=0.15,
                  label=f"recommended band [{low:g}, {high:g}] deg")
     for bound in (low, high):
         axes.axhline(bound, color=BAND_COLOUR, linewidth=1.0)
-    for colour, (role, curve) in zip(COLUMN_COLOURS, curves.items(), strict=False):
-        angle = curve.dense["crank_angle_deg"]
-        values = curve.dense["transmission_angle_deg"]
+    for colour, linkage in zip(COLUMN_COLOURS, run.linkages, strict=False):
+        role = linkage.role
+        angle = linkage.curve["crank_angle_deg"]
+        values = linkage.curve["transmission_angle_deg"]
         lowest = int(np.nanargmin(values))
         highest = int(np.nanargmax(values))
         label = (f"transmission angle: min {values[lowest]:.2f} deg (crank {angle[lowest]:g} "
                  f"deg), max {values[highest]:.2f} deg (crank {angle[highest]:g} deg)")
         axes.plot(angle, values, color=colour, linestyle=ROLE_LINESTYLES[role], linewidth=2.0,
                   label=_role_label(role, label))
-        axes.plot(curve.tabulated["crank_angle_deg"], curve.tabulated["transmission_angle_deg"],
+        axes.plot(linkage.table["crank_angle_deg"], linkage.table["transmission_angle_deg"],
                   "o", color=colour, markersize=3.5)
         outside = (values < low - BAND_TOLERANCE_DEG) | (values > high + BAND_TOLERANCE_DEG)
         if outside.any():
@@ -184,25 +149,24 @@ def _transmission_plot(document: Mapping[str, Any], case: MechanismCase,
     axes.set_ylim(0.0, 180.0)
     axes.set_yticks(np.arange(0.0, 181.0, 20.0))
     axes.set_ylabel("transmission angle at B (deg)")
-    axes.set_title(_title(document, "transmission angle over the crank revolution"),
+    axes.set_title(_title(run, "transmission angle over the crank revolution"),
                    fontsize="medium")
     axes.grid(True, alpha=0.4)
     axes.legend(loc="upper right", fontsize="small", framealpha=0.9)
-    _angle_axis(axes, case)
+    _angle_axis(axes, run)
     figure.tight_layout()
     return _png(figure)
 
 
 # ---------------------------------------------------------------- link positions
 
-def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
-                  curves: Mapping[str, Curves]) -> bytes:
+def _linkage_plot(run: MechanismRun) -> bytes:
     figure = _new_figure()
-    axes_list = figure.subplots(1, len(curves), squeeze=False)[0]
-    plotted = np.asarray(case.values["plots.crank_angles_deg"], dtype=float)
-    for axes, (role, curve) in zip(axes_list, curves.items(), strict=True):
-        snapshots = analysis_table(curve.mechanism, case, plotted, "mark")
-        DRAWINGS[linkage_of(curve.mechanism).drawing](axes, curve, snapshots)
+    axes_list = figure.subplots(1, len(run.linkages), squeeze=False)[0]
+    plotted: Sequence[float] = run.case.values["plots.crank_angles_deg"]
+    for axes, linkage in zip(axes_list, run.linkages, strict=True):
+        snapshots = linkage.positions
+        DRAWINGS[linkage_of(linkage.mechanism).drawing](axes, linkage, snapshots)
         for index, angle in enumerate(plotted):
             if _assembled(snapshots, index):
                 axes.annotate(f"{angle:g}°", (snapshots["joint_a_x"][index],
@@ -211,16 +175,17 @@ def _linkage_plot(document: Mapping[str, Any], case: MechanismCase,
                               color=LINK_COLOURS["crank"])
         axes.set_aspect("equal", adjustable="datalim")
         axes.grid(True, alpha=0.3)
-        axes.set_xlabel(f"x ({_unit(document)})")
-        axes.set_ylabel(f"y ({_unit(document)})")
+        axes.set_xlabel(f"x ({run.case.length_unit})")
+        axes.set_ylabel(f"y ({run.case.length_unit})")
+        role = linkage.role
         heading = f"{ROLE_LABELS[role]} linkage" if ROLE_LABELS[role] else "linkage"
-        swing = document["linkages"][role].get("swing_deg")
+        swing = linkage.swing_deg
         swing_text = f"\nrocker swing {swing:.2f} deg" if swing is not None else ""
-        axes.set_title(f"{heading}: {_lengths(curve.mechanism)}{swing_text}", fontsize="small")
+        axes.set_title(f"{heading}: {_lengths(linkage.mechanism)}{swing_text}", fontsize="small")
     figure.legend(*axes_list[0].get_legend_handles_labels(), loc="lower center", ncol=5,
                   fontsize="small", framealpha=0.9)
     angles_text = ", ".join(f"{angle:g}" for angle in plotted)
-    figure.suptitle(f"{document['case']['name']}: link positions at crank angles "
+    figure.suptitle(f"{run.case.name}: link positions at crank angles "
                     f"{angles_text} deg (fading with angle)", fontsize="medium")
     figure.tight_layout(rect=(0.0, 0.09, 1.0, 1.0))
     return _png(figure)
@@ -257,7 +222,7 @@ def _point(table: MechanismTable, joint: str, index: int) -> complex:
     return complex(table[f"{joint}_x"][index], table[f"{joint}_y"][index])
 
 
-def _draw_fourbar_like(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+def _draw_fourbar_like(axes: Any, curve: LinkageCurves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
     if not isinstance(mechanism, FourBar | QuickReturn):
         raise TypeError(f"the four-bar drawing needs a FourBar or QuickReturn, not {mechanism!r}")
@@ -267,7 +232,7 @@ def _draw_fourbar_like(axes: Any, curve: Curves, snapshots: MechanismTable) -> N
     _draw_pivot(axes, ground_pivot, "O$_4$" if quick_return else "O$_B$")
     axes.plot([0.0, mechanism.ground], [0.0, 0.0], color="black", linewidth=0.8,
               linestyle=":", label=f"ground {mechanism.ground:.4g}")
-    dense = curve.dense
+    dense = curve.curve
     axes.plot(dense["joint_a_x"], dense["joint_a_y"], color="grey", linewidth=0.8,
               linestyle="--", label="path of A")
     axes.plot(dense["joint_b_x"], dense["joint_b_y"], color="grey", linewidth=0.8,
@@ -307,15 +272,15 @@ def _draw_block(axes: Any, centre: complex, size: float, alpha: float, first: bo
                              label="slider" if first else None))
 
 
-def _draw_joints(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+def _draw_joints(axes: Any, curve: LinkageCurves, snapshots: MechanismTable) -> None:
     """Any mechanism: the crank, and the path and positions of every tabulated joint."""
-    columns = curve.dense.columns
+    columns = curve.curve.columns
     joints = sorted(name[:-2] for name in columns
                     if name.startswith("joint_") and name.endswith("_x")
                     and f"{name[:-2]}_y" in columns)
     _draw_pivot(axes, 0j, "O")
     for joint in joints:
-        axes.plot(curve.dense[f"{joint}_x"], curve.dense[f"{joint}_y"], color="grey",
+        axes.plot(curve.curve[f"{joint}_x"], curve.curve[f"{joint}_y"], color="grey",
                   linewidth=0.8, linestyle="--", label=f"path of {joint[6:].upper()}")
     for index, alpha in enumerate(_alphas(len(snapshots))):
         if not _assembled(snapshots, index):
@@ -327,14 +292,14 @@ def _draw_joints(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
             axes.plot(point.real, point.imag, "o", color="black", alpha=alpha, markersize=4)
 
 
-def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> None:
+def _draw_slider_crank(axes: Any, curve: LinkageCurves, snapshots: MechanismTable) -> None:
     mechanism = curve.mechanism
     if not isinstance(mechanism, SliderCrank):
         raise TypeError(f"the slider-crank drawing needs a SliderCrank, not {mechanism!r}")
     _draw_pivot(axes, 0j, "O")
     axes.axhline(mechanism.offset, color="black", linewidth=0.8,
                  label=f"slider line y = {mechanism.offset:g}")
-    dense = curve.dense
+    dense = curve.curve
     axes.plot(dense["joint_a_x"], dense["joint_a_y"], color="grey", linewidth=0.8,
               linestyle="--", label="path of A")
     for index, alpha in enumerate(_alphas(len(snapshots))):
@@ -349,7 +314,7 @@ def _draw_slider_crank(axes: Any, curve: Curves, snapshots: MechanismTable) -> N
 
 
 # How linkage.png draws each registry entry's ``drawing``.
-DRAWINGS: dict[str, Callable[[Any, Curves, MechanismTable], None]] = {
+DRAWINGS: dict[str, Callable[[Any, LinkageCurves, MechanismTable], None]] = {
     "joints": _draw_joints,
     "fourbar_like": _draw_fourbar_like,
     "slider_crank": _draw_slider_crank,

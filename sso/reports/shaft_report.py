@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from sso.reports.documents import render_documents
+from sso.reports import documents
 from sso.reports.summary import Block, Heading, Image, Paragraph, Table, closing_blocks, number
 from sso.run.shaft_series import ShaftSeriesRun
 from sso.shafts.curves import ComparedDesign
@@ -69,21 +69,13 @@ def optimisation_files(result: OptimisationResult, formats: tuple[str, ...]) -> 
 
 def report_files(report: ShaftReport, formats: tuple[str, ...]) -> dict[str, bytes]:
     """The files of ``report`` in ``formats`` (``result.json`` excepted), by file name."""
-    files: dict[str, bytes] = {}
-    if "csv" in formats:
-        from sso.reports.speeds import render_speeds_csv
+    from sso.reports.plots import render_plots
+    from sso.reports.speeds import render_speeds_csv
 
-        files["speeds.csv"] = render_speeds_csv(report.designs).encode("utf-8")
-    images: dict[str, bytes] = {}
-    if "png" in formats:
-        from sso.reports.plots import render_plots
-
-        images = render_plots(report.designs, report.name, report.plot_heading)
-        files.update(images)
-    if "md" in formats or "html" in formats:
-        blocks = report_blocks(report, tuple(images))
-        files.update(render_documents(blocks, images, formats))
-    return files
+    return documents.report_files(
+        formats, lambda: {"speeds.csv": render_speeds_csv(report.designs)},
+        lambda: render_plots(report.designs, report.name, report.plot_heading),
+        lambda images: report_blocks(report, images))
 
 
 def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block]:

@@ -1,7 +1,8 @@
-"""What every case run records besides its result: the package versions and when.
+"""What every case run records besides its result: its warnings, the package versions
+and when (:class:`CaseRun`, the base of every case run's result).
 
-The result documents of mechanism and column cases still open with
-:func:`document_header` (``schema_version`` 1).
+The result documents of column cases still open with :func:`document_header`
+(``schema_version`` 1).
 """
 
 from __future__ import annotations
@@ -10,14 +11,36 @@ import importlib.metadata
 import importlib.util
 import platform
 import re
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from sso.display import Readable
 from sso.distribution import installed_version
+from sso.record import Record
 
 SCHEMA_VERSION = 1
 VERSIONED_PACKAGES = ("casadi", "scipy", "numpy", "matplotlib")
+
+
+@dataclass(frozen=True, eq=False, repr=False, kw_only=True)
+class CaseRun(Record, Readable):
+    """What every case run's result records besides its case and its result.
+
+    Attributes
+    ----------
+    warnings : tuple of str
+        The case's and the run's warnings, each once.
+    versions : dict of str to str
+        Python, sso, CasADi, IPOPT, SciPy, NumPy, matplotlib.
+    created_utc : str
+        When the run ended (ISO 8601, UTC).
+    """
+
+    warnings: tuple[str, ...]
+    versions: dict[str, str]
+    created_utc: str
 
 
 def package_versions() -> dict[str, str]:

@@ -14,9 +14,8 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from sso.cases.shaft_series import Case
-from sso.display import Part, Readable, TextTable, format_number, format_numbers
-from sso.record import Record
-from sso.run.document import created_utc, package_versions
+from sso.display import Part, TextTable, format_number, format_numbers
+from sso.run.document import CaseRun, created_utc, package_versions
 from sso.shafts.curves import ComparedDesign, compared_design
 from sso.shafts.optimise import OptimisationResult, optimise
 
@@ -25,7 +24,7 @@ EVALUATED_VERDICT = "evaluated as given; no optimisation"
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class ShaftSeriesRun(Record, Readable):
+class ShaftSeriesRun(CaseRun):
     """What one shaft-series case gave.
 
     Attributes
@@ -38,21 +37,14 @@ class ShaftSeriesRun(Record, Readable):
     compared : tuple of ComparedDesign
         The designs beside the optimisation's own: the design as given (evaluate)
         and the case's reference design, if it gives one.
-    warnings : tuple of str
-        The case's and the run's warnings, each once.
-    versions : dict of str to str
-        Python, sso, CasADi, IPOPT, SciPy, NumPy, matplotlib.
-    created_utc : str
-        When the run ended (ISO 8601, UTC).
+    warnings, versions, created_utc
+        As :class:`sso.run.document.CaseRun`.
     """
 
     case: Case
     mode: str
     optimisation: OptimisationResult | None
     compared: tuple[ComparedDesign, ...]
-    warnings: tuple[str, ...]
-    versions: dict[str, str]
-    created_utc: str
 
     report_kind: ClassVar[str] = "shaft_series_run"
 

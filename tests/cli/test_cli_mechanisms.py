@@ -13,6 +13,13 @@ from reference_tables import REFERENCE
 from test_cli import png_size, sso, sso_loading, write_case
 
 from sso.cases.schema import load_case
+from sso.record import RECORD_VERSION
+from sso.run.mechanism_run import MechanismRun
+
+
+def read_run(folder: Path) -> MechanismRun:
+    """The mechanism run saved in ``folder/result.json``, read back with ``from_dict``."""
+    return MechanismRun.from_dict(json.loads((folder / "result.json").read_text()))
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases" / "mechanisms"
@@ -137,28 +144,32 @@ def test_quick_return_csv_matches_table_2(analysis_run):
 
 def test_result_json_holds_case_tables_and_true_extremes(analysis_run):
     _, folder = analysis_run
-    document = json.loads((folder / "fourbar_crank5" / "result.json").read_text())
-    assert document["schema_version"] == 1 and document["kind"] == "fourbar"
-    assert document["case"] == load_case(CASES / "fourbar_crank5.toml").to_dict()
-    assert document["linkages"]["given"]["grashof"] == "crank-rocker"
-    assert len(document["tables"]["given"]["columns"]["crank_angle_deg"]) == 19
-    extremes = {row["column"]: row for row in document["extremes"]["given"]}
+    saved = json.loads((folder / "fourbar_crank5" / "result.json").read_text())
+    assert saved["version"] == RECORD_VERSION and saved["type"] == "MechanismRun"
+    run = read_run(folder / "fourbar_crank5")
+    assert run.case == load_case(CASES / "fourbar_crank5.toml")
+    assert run.case.kind == "fourbar" and run.mode == "analyse"
+    (given,) = run.linkages
+    assert given.role == "given" and given.grashof == "crank-rocker"
+    assert len(given.table["crank_angle_deg"]) == 19
+    # the curves the plots draw are in the result: every 1 deg over a revolution
+    assert len(given.curve["crank_angle_deg"]) == 361
+    extremes = {row.column: row for row in given.extremes}
     # README defect 6: the true extremes for crank 5 are -4.5155 @346 and -6.3573 @339 deg.
-    assert extremes["coupler_angular_velocity_rad_s"]["min"] == pytest.approx(-4.5155, abs=1e-4)
-    assert extremes["coupler_angular_velocity_rad_s"]["min_at_deg"] == pytest.approx(346, abs=0.5)
-    assert extremes["rocker_angular_velocity_rad_s"]["min"] == pytest.approx(-6.3573, abs=1e-4)
-    assert extremes["rocker_angular_velocity_rad_s"]["min_at_deg"] == pytest.approx(339, abs=0.5)
-    quick = json.loads((folder / "quickreturn" / "result.json").read_text())
-    extremes = {row["column"]: row for row in quick["extremes"]["given"]}
+    assert extremes["coupler_angular_velocity_rad_s"].min == pytest.approx(-4.5155, abs=1e-4)
+    assert extremes["coupler_angular_velocity_rad_s"].min_at_deg == pytest.approx(346, abs=0.5)
+    assert extremes["rocker_angular_velocity_rad_s"].min == pytest.approx(-6.3573, abs=1e-4)
+    assert extremes["rocker_angular_velocity_rad_s"].min_at_deg == pytest.approx(339, abs=0.5)
+    extremes = {row.column: row for row in read_run(folder / "quickreturn").linkages[0].extremes}
     # README note 7: max return speed 123.14 @35.9, forward 101.64 @275.5, slider
     # 406.851-505.863 mm, theta4 232.64-295.05 deg (the case tabulates only 0..330).
-    assert extremes["joint_c_velocity_x"]["min"] == pytest.approx(-123.14, abs=0.01)
-    assert extremes["joint_c_velocity_x"]["min_at_deg"] == pytest.approx(35.9, abs=0.1)
-    assert extremes["joint_c_velocity_x"]["max"] == pytest.approx(101.64, abs=0.01)
-    assert extremes["joint_c_x"]["min"] == pytest.approx(406.851, abs=1e-3)
-    assert extremes["joint_c_x"]["max"] == pytest.approx(505.863, abs=2e-3)
-    assert extremes["rocker_angle_deg"]["min"] == pytest.approx(232.64, abs=0.01)
-    assert extremes["rocker_angle_deg"]["max"] == pytest.approx(295.05, abs=0.01)
+    assert extremes["joint_c_velocity_x"].min == pytest.approx(-123.14, abs=0.01)
+    assert extremes["joint_c_velocity_x"].min_at_deg == pytest.approx(35.9, abs=0.1)
+    assert extremes["joint_c_velocity_x"].max == pytest.approx(101.64, abs=0.01)
+    assert extremes["joint_c_x"].min == pytest.approx(406.851, abs=1e-3)
+    assert extremes["joint_c_x"].max == pytest.approx(505.863, abs=2e-3)
+    assert extremes["rocker_angle_deg"].min == pytest.approx(232.64, abs=0.01)
+    assert extremes["rocker_angle_deg"].max == pytest.approx(295.05, abs=0.01)
 
 
 @pytest.mark.parametrize("name, velocity_pct, accel_pct", [
@@ -171,8 +182,8 @@ def test_result_json_holds_case_tables_and_true_extremes(analysis_run):
 def test_reports_regenerate_tabel_2_with_correct_formulas(analysis_run, name, velocity_pct,
                                                           accel_pct):
     _, folder = analysis_run
-    columns = json.loads((folder / name / "result.json").read_text())["method_difference"][
-        "columns"]
+    columns = read_run(folder / name).method_difference
+    assert columns is not None
     assert columns["velocity_difference_pct"][0] == pytest.approx(velocity_pct, abs=0.005)
     assert columns["acceleration_difference_pct"][0] == pytest.approx(accel_pct, abs=0.005)
     report = (folder / name / "report.md").read_text()
@@ -200,15 +211,17 @@ def test_report_rerenders_from_result_json_alone(analysis_run, tmp_path):
 def test_design_case_solves_and_cross_checks(design_run):
     completed, folder = design_run
     assert completed.returncode == 0, completed.stderr
-    document = json.loads((folder / "result.json").read_text())
-    assert document["mode"] == "optimise" and document["success"] is True
-    design = document["design"]
+    run = read_run(folder)
+    assert run.mode == "optimise" and run.success is True
+    design = run.design
+    assert design is not None
     # tests/linkages/test_fourbar_swing.py: 32.3 -> 80.4 deg, IPOPT and SLSQP agree.
-    assert design["initial_swing_deg"] == pytest.approx(32.26, abs=0.01)
-    assert design["optimum_swing_deg"] == pytest.approx(80.37, abs=0.01)
-    assert set(design["solutions"]) == {"ipopt", "slsqp"}
-    assert design["crosscheck"]["agree"] is True
-    low, high = design["optimum_transmission_angle_deg"]
+    assert design.initial_swing_deg == pytest.approx(32.26, abs=0.01)
+    assert design.optimum_swing_deg == pytest.approx(80.37, abs=0.01)
+    assert set(design.solutions) == {"ipopt", "slsqp"}
+    assert design.crosscheck is not None and design.crosscheck.agree is True
+    assert [linkage.mechanism for linkage in run.linkages] == [design.initial, design.optimum]
+    low, high = design.optimum_transmission_angle_deg
     assert 40.0 - 1e-6 <= low and high <= 120.0 + 1e-6
     assert {path.name for path in folder.iterdir()} >= {"table.csv", "table_initial.csv",
                                                         "linkage.png", "transmission_angle.png"}
@@ -282,6 +295,7 @@ def test_design_from_a_start_that_cannot_assemble(tmp_path):
         "step_deg = 20.0", "step_deg = 20.0\non_unassembled = \"mark\""), "marked_start.toml")
     completed = sso("run", marked, "--out", tmp_path / "out", "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    result = json.loads((tmp_path / "out" / "fourbar_swing_design" / "result.json").read_text())
-    assert result["design"]["optimum_swing_deg"] == pytest.approx(80.374, abs=1e-3)
-    assert result["linkages"]["optimum"]["grashof"] == "crank-rocker"
+    run = read_run(tmp_path / "out" / "fourbar_swing_design")
+    assert run.design is not None
+    assert run.design.optimum_swing_deg == pytest.approx(80.374, abs=1e-3)
+    assert run.main.role == "optimum" and run.main.grashof == "crank-rocker"

@@ -122,3 +122,41 @@ def test_report_md_of_a_case_escapes_description_and_reference_label(tmp_path):
     assert "<a " not in rendered and "<img" not in rendered
     assert "[go](javascript:alert(1)) ## Verdict OK" in html_text(rendered)
     assert "[ref](javascript:alert(2))" in html_text(rendered)
+
+
+@pytest.fixture(scope="module")
+def column_result(tmp_path_factory):
+    """The result document of ``sso run`` of a shipped column case, as saved."""
+    from pathlib import Path
+
+    from sso.run.column_document import column_document
+
+    root = Path(__file__).resolve().parents[2]
+    case = load_case(root / "cases" / "column_truck_three_joints.toml")
+    folder = tmp_path_factory.mktemp("column")
+    write_report(column_document(case, optimising=True), folder, ["json"])
+    return json.loads((folder / "result.json").read_text())
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    # issue 23, item 9, for a column's result document
+    (lambda data: data["assemblies"][0].update(residual_error=-5.0),
+     r"assemblies\[0\]\.residual_error = -5\.0; allowed: a finite number >= 0"),
+    (lambda data: data["designs"]["optimum"]["evaluation"].update(residual_error=-5.0),
+     r"designs\.optimum\.evaluation\.residual_error = -5\.0"),
+    (lambda data: data["phasing"].update(fun=None, success=True),
+     r"phasing\.fun = null with success = true"),
+    (lambda data: data["phasing"].update(in_phase_re=-1),
+     r"phasing\.in_phase_re = -1\.0; allowed: a finite number >= 0"),
+])
+def test_a_column_result_with_values_out_of_range_is_refused(column_result, tmp_path, edit,
+                                                              message):
+    read_back = tmp_path / "as_saved.json"
+    read_back.write_text(json.dumps(column_result))
+    assert read_result(read_back) == column_result
+    edited = json.loads(json.dumps(column_result))
+    edit(edited)
+    path = tmp_path / "result.json"
+    path.write_text(json.dumps(edited))
+    with pytest.raises(ResultFileError, match=message):
+        read_result(path)

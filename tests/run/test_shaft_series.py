@@ -41,6 +41,8 @@ def test_an_evaluation_builds_no_optimisation():
 def test_the_mode_and_the_optimisation_agree():
     run = run_shaft_series(load_case(CASES / "paper_option2_paper.toml"), optimising=False)
     with pytest.raises(ValueError, match="mode = 'guess'"):
-        ShaftSeriesRun(run.case, "guess", None, run.compared, (), {}, "")
+        ShaftSeriesRun(run.case, "guess", None, run.compared, warnings=(), versions={},
+                       created_utc="")
     with pytest.raises(ValueError, match="an optimise run holds its optimisation"):
-        ShaftSeriesRun(run.case, "optimise", None, run.compared, (), {}, "")
+        ShaftSeriesRun(run.case, "optimise", None, run.compared, warnings=(), versions={},
+                       created_utc="")
