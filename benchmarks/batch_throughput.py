@@ -46,8 +46,8 @@ import numpy as np
 
 import sso
 from benchmarks.skilled_baseline import solve as baseline_solve
-from sso.files import write_text_atomic
-from sso.shafts.batch import optimise_batch
+from sso._files import write_text_atomic
+from sso._shafts.batch import optimise_batch
 
 REACHED = 1e-10
 BETA_BOUNDS_DEG = (10.0, 40.0)
@@ -117,16 +117,16 @@ def arithmetic_figures(result: Any, batch_time_s: float, count: int) -> dict[str
     """The batch's time per design against the arithmetic it must do.
 
     The arithmetic of one iteration is the operations of the rules' iteration for the
-    shape (:func:`sso.solvers.lm_kernel.iteration_operations`: one residual-and-Jacobian
+    shape (:func:`sso._solvers.lm_kernel.iteration_operations`: one residual-and-Jacobian
     evaluation and the step, every branch computed, as the batch computes them); a
     design does it once per evaluation (``nfev``, the start's included). The floor is
     that many element-wise numpy operations, timed in this run on arrays of ``count``
     elements (what array-at-a-time code can do at this batch size) and on a longer
     array that stays in cache (the arithmetic alone, numpy's call overhead spread thin).
     """
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
-    from sso.solvers.lm_kernel import iteration_operations
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
+    from sso._solvers.lm_kernel import iteration_operations
 
     problem = build_problem([20.0] * 3, [90.0] * 2, "exact", 3, BETA_BOUNDS_DEG, PHASE_BOUNDS_DEG)
     operations = iteration_operations(compiled_nlp(problem, 0))
@@ -343,7 +343,7 @@ def screening_figures(repeats: int = 3) -> list[dict[str, Any]]:
     off (every start one by one): best wall time of ``repeats``, the ratio, and
     the RE each reaches.
     """
-    from sso.solvers import multistart
+    from sso._solvers import multistart
 
     shipped_threshold = multistart.BATCH_SCREEN_STARTS
     rows = []

@@ -18,7 +18,7 @@ from typing import Any
 
 import sso
 from benchmarks.cases import CASES, accurate_residual_error
-from sso.limits import DEFAULT_SEED
+from sso._limits import DEFAULT_SEED
 
 BEST_KNOWN_PATH = Path(__file__).with_name("best_known.json")
 STARTS = 128

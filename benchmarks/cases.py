@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from sso.shafts.options import DesignProblem, build_problem
-from sso.shafts.quadrature import QuadratureWarning, adaptive_residual_error
+from sso._shafts.options import DesignProblem, build_problem
+from sso._shafts.quadrature import QuadratureWarning, adaptive_residual_error
 
 INPUT_SPEED_RPM = 25.0
 # The accurate RE that errors are measured with: the adaptive rule, far tighter
@@ -134,7 +134,7 @@ def accurate_residual_error(beta_deg: Any, phase_deg: Any, model: str) -> float:
 def baseline_residual_error(beta_rad: np.ndarray, phase_rad: np.ndarray, model: str) -> float:
     """RE the way a MATLAB porter writes it: the mean over 361 angles of 0..360 deg.
 
-    Written independently of :mod:`sso.kinematics.hooke` from the paper's eq. 5 and 8:
+    Written independently of :mod:`sso._kinematics.hooke` from the paper's eq. 5 and 8:
     shaft angles are carried as angles through ``atan2`` (paper model: every joint
     sees the input angle).
     """

@@ -26,7 +26,7 @@ CASE = ROOT / "cases" / "paper_option3_exact.toml"
 
 def commands(out: Path) -> dict[str, list[str]]:
     """The three timed commands: bare imports, run with plots, run without plots."""
-    run = [sys.executable, "-m", "sso.cli", "run", str(CASE), "--out", str(out), "--quiet"]
+    run = [sys.executable, "-m", "sso._cli", "run", str(CASE), "--out", str(out), "--quiet"]
     return {
         "python -c 'import casadi, scipy.optimize'": [sys.executable, "-c",
                                                       "import casadi, scipy.optimize"],

@@ -11,7 +11,7 @@ signal is not counted (it is started again). ``--sweep`` signals
 ``sso sweep --workers 1`` over four points of that case instead; with ``--workers 2``
 or more, the sweep's process pool, whose workers (and multiprocessing's resource
 tracker: every child of the sweep, from /proc) must be gone too, within 5 s
-(tests/batch/test_shutdown.py checks that they go, not how fast).
+(tests/studies/test_shutdown.py checks that they go, not how fast).
 
 For each run the table says whether the signal reached IPOPT mid-iteration (CasADi
 then logs ``KeyboardInterruptException``; the run used to go on with exit 0) or
@@ -44,7 +44,7 @@ def one_run(folder: Path, signal_number: int, sweep: bool, workers: int,
     """Signal one run; its outcome, or None if it ended before the signal."""
     arguments = (["sweep", "sweep.toml", "--workers", str(workers)] if sweep
                  else ["run", "slow.toml", "--out", "out"])
-    child = subprocess.Popen([sys.executable, "-m", "sso.cli", *arguments, "--no-plots"],
+    child = subprocess.Popen([sys.executable, "-m", "sso._cli", *arguments, "--no-plots"],
                              cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True)
     assert child.stdout is not None

@@ -4,7 +4,7 @@
 20 ``sso.optimise`` calls, 2 to 6 joints, beta bounds from 30 deg up to 89.9 deg,
 both models, and prints the resident memory after each call, the peak, and the 20th
 call's memory against the 5th's. Built NLPs are cached (least recently used,
-``sso.limits.NLP_CACHE_SHAPES`` shapes per thread), so memory must level off.
+``sso._limits.NLP_CACHE_SHAPES`` shapes per thread), so memory must level off.
 
 Measured on the 2-core development machine (23 Nov 2026): peak resident memory
 177.7 MB; call 5 172.2 MB, call 20 177.9 MB (+3.3%); v0.1 reached 4.7 GB in five

@@ -19,9 +19,9 @@ import json
 import statistics
 from pathlib import Path
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.robust_phasing import optimise_robust
-from sso.column.tolerances import Tolerances
+from sso._column.geometry import ColumnGeometry
+from sso._column.robust_phasing import optimise_robust
+from sso._column.tolerances import Tolerances
 
 CASE = (Path(__file__).resolve().parents[1] / "tests" / "data" / "columns"
         / "truck_three_positions.json")

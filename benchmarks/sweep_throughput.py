@@ -53,7 +53,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from sso.batch.execution import WORKER_ENVIRONMENT
+from sso._studies.execution import WORKER_ENVIRONMENT
 
 # The one-process run uses one BLAS thread like the pool's and Dask's workers (set
 # before numpy loads its BLAS), so all runs compute the same bits at equal footing.
@@ -73,7 +73,7 @@ EVALUATE_PER_AXIS = 100
 
 def base_document() -> dict[str, Any]:
     """The paper's option 3, exact model, "lm" alone from one start."""
-    from sso.batch.axes import base_case
+    from sso._studies.axes import base_case
 
     document = base_case(CASE).to_dict()
     document["solver"].update({"solvers": ["lm"], "starts": 1})
@@ -88,7 +88,7 @@ def grid(per_axis: int) -> dict[str, Any]:
 
 def comparable(result: Any) -> dict[str, Any]:
     """The rows' columns without the wall times."""
-    from sso.batch.table import TIME_COLUMNS
+    from sso._studies.table import TIME_COLUMNS
 
     table = result.rows.table
     return {name: column for name, column in table.columns.items()
@@ -177,7 +177,7 @@ def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
     import warnings
 
     import sso
-    from sso.batch.worker import run_point
+    from sso._studies.worker import run_point
 
     axes = grid(per_axis)
     document = base_document()
@@ -262,7 +262,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     from distributed import Client, LocalCluster
 
     import sso
-    from sso.batch.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+    from sso._studies.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--optimise-per-axis", type=int, default=OPTIMISE_PER_AXIS,

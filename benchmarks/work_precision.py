@@ -63,7 +63,7 @@ from benchmarks.cases import (
 )
 from benchmarks.machine import machine_description
 from benchmarks.skilled_baseline import solve as skilled_solve
-from sso.solvers.lm_kernel import NEWTON_KERNEL_AFTER
+from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER
 
 METHODS = ("sso-ipopt", "sso-slsqp", "sso-lm", "skilled", "baseline")
 SSO_METHODS = ("sso-ipopt", "sso-slsqp", "sso-lm")
@@ -213,7 +213,7 @@ def batch_of_solves(count: int, best_known: dict[str, Any]) -> dict[str, Any]:
     warm-up solve and reused. Returns total and per-solve time, and the share of solves
     within ``TARGET_ERROR`` of the best known RE.
     """
-    from sso.solvers.starts import start_points
+    from sso._solvers.starts import start_points
 
     case = next(case for case in CASES if case.key == BATCH_CASE)
     problem = case.problem()
@@ -267,7 +267,7 @@ def cold_start() -> dict[str, Any]:
     if not executable.exists():
         executable = Path(shutil.which("sso") or "")
     case_file = COLD_START_CASE_FILE.resolve()
-    has_cli = executable.is_file() and _module_exists("sso.cli")
+    has_cli = executable.is_file() and _module_exists("sso._cli")
     if not (has_cli and case_file.exists()):
         return {"measured": False,
                 "note": ("not measured: the `sso run` command or cases/paper_option3_exact.toml "

@@ -1,8 +1,8 @@
 """The case-file reference page, generated from the case schema.
 
-Every key of every registered kind comes from :func:`sso.cases.schema.schema`
+Every key of every registered kind comes from :func:`sso._cases.schema.schema`
 (its table, name, unit, default and allowed values); the JSON type of each key comes
-from the JSON Schema that :mod:`sso.cases.json_schema` generates from that same
+from the JSON Schema that :mod:`sso._cases.json_schema` generates from that same
 schema. Nothing here lists a key by hand, so a key added to the engine appears on
 the page at the next build.
 """
@@ -12,8 +12,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from sso.cases import schema as case_schema
-from sso.cases.json_schema import case_json_schema, ordered_kinds
+from sso._cases import schema as case_schema
+from sso._cases.json_schema import case_json_schema, ordered_kinds
 
 KIND_TITLES = {
     "shaft_series": "Shaft series (`kind = \"shaft_series\"`, the default)",
@@ -102,9 +102,9 @@ def page() -> str:
     parts = [
         "# Case-file reference",
         "",
-        "This page is generated from the case schema (`sso/cases/schema.py`) each time the",
+        "This page is generated from the case schema (`sso/_cases/schema.py`) each time the",
         "site is built, with each key's type taken from the JSON Schema generated from the",
-        "same declarations (`sso/cases/case.schema.json`). A test checks that every key of",
+        "same declarations (`sso/_cases/case.schema.json`). A test checks that every key of",
         "the schema appears here and in the JSON Schema, and no other.",
         "",
         "A case file is TOML. `kind` selects the table below; a file without `kind` is a",
@@ -120,9 +120,9 @@ def page() -> str:
     parts += [
         "## Editor support",
         "",
-        "The package ships the JSON Schema of every kind, `sso/cases/case.schema.json`",
-        "(regenerate it with `python -m sso.cases.json_schema --output",
-        "sso/cases/case.schema.json`; a test fails when it drifts). Taplo and the editors",
+        "The package ships the JSON Schema of every kind, `sso/_cases/case.schema.json`",
+        "(regenerate it with `python -m sso._cases.json_schema --output",
+        "sso/_cases/case.schema.json`; a test fails when it drifts). Taplo and the editors",
         "that run it check a case file against it when the file's first line is the",
         "comment `#:schema PATH`. `sso validate` stays the full check: line numbers,",
         "\"did you mean\" and the checks between keys.",

@@ -2,7 +2,7 @@
 
 import sys
 
-from sso.cli import main
+from sso._cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -12,7 +12,7 @@ import json
 import warnings
 from typing import Any
 
-from sso.cli.app import main as sso_main
+from sso._cli.app import main as sso_main
 
 
 def run_sso(arguments: list[str]) -> tuple[int | str, str]:

@@ -1,5 +1,5 @@
 """The processes a process started, from /proc: for the tests that signal a sweep
-(tests/batch/test_shutdown.py) and for benchmarks/interrupts.py, which times them."""
+(tests/studies/test_shutdown.py) and for benchmarks/interrupts.py, which times them."""
 
 from __future__ import annotations
 

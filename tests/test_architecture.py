@@ -28,7 +28,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("cases",),
     ("run",),
     ("reports",),
-    ("batch",),
+    ("studies",),
     ("cli",),
     ("__main__",),
 )
@@ -73,9 +73,11 @@ def import_graph() -> dict[str, set[str]]:
 
 
 def part(name: str) -> str | None:
-    """``sso.shafts.series`` -> ``shafts``; ``sso.limits`` -> ``limits``; ``sso`` -> None."""
+    """``sso._shafts.series`` -> ``shafts``; ``sso._limits`` -> ``limits``; ``sso`` -> None."""
     pieces = name.split(".")
-    return pieces[1] if len(pieces) > 1 else None
+    if len(pieces) < 2:
+        return None
+    return pieces[1] if pieces[1].startswith("__") else pieces[1].removeprefix("_")
 
 
 def test_every_part_has_a_layer():
@@ -132,10 +134,10 @@ def test_no_import_cycle():
 def test_the_walk_sees_imports():
     """The checks above would pass on an empty graph; this one would not."""
     graph = import_graph()
-    assert "sso.shafts.series" in graph["sso.shafts.optimise"]
-    assert "sso.shafts.series" in graph["sso.batch.results"]  # a module-level import
-    assert "sso.shafts.evaluation" in graph["sso.shafts.series"]  # inside a method
-    assert "sso.cli.app" in graph["sso.cli"]
+    assert "sso._shafts.series" in graph["sso._shafts.optimise"]
+    assert "sso._shafts.series" in graph["sso._studies.results"]  # a module-level import
+    assert "sso._shafts.evaluation" in graph["sso._shafts.series"]  # inside a method
+    assert "sso._cli.app" in graph["sso._cli"]
     assert len(graph) > 50
 
 
@@ -145,7 +147,7 @@ def test_the_walk_sees_the_facade_imported_anywhere(tmp_path):
                                     "def f():\n    from sso import ShaftSeries\n")):
         probe = tmp_path / f"probe_{index}.py"
         probe.write_text(source, encoding="utf-8")
-        assert imported_modules("sso.column.probe", probe, known) == {"sso"}
+        assert imported_modules("sso._column.probe", probe, known) == {"sso"}
 
 
 def test_importing_sso_installs_no_import_hook():

@@ -1,4 +1,4 @@
-"""sso.display: six significant digits, round-off printed as the floor, and the
+"""sso._display: six significant digits, round-off printed as the floor, and the
 default summary of a result from its plain fields."""
 
 from dataclasses import dataclass
@@ -6,8 +6,8 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from sso.display import FLOOR_TEXT, Readable, format_number
-from sso.limits import ROUND_OFF_FLOOR
+from sso._display import FLOOR_TEXT, Readable, format_number
+from sso._limits import ROUND_OFF_FLOOR
 
 
 @pytest.mark.parametrize("value, text", [

@@ -1,4 +1,4 @@
-"""sso.files: a reader sees the old file or the whole new one, never a part, and no
+"""sso._files: a reader sees the old file or the whole new one, never a part, and no
 temporary file is left behind unless the process itself is killed.
 
 Interruptions are real: a child process is stopped by a real signal while it sits
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from sso.files import (
+from sso._files import (
     TEMPORARY_PREFIX,
     nameless_temporaries,
     write_bytes_atomic,
@@ -69,14 +69,14 @@ def _child_paused_before_rename(target: Path) -> subprocess.Popen[str]:
     not yet renamed) and says so on stdout."""
     script = textwrap.dedent(f"""
         import os, sys, time
-        import sso.files
+        import sso._files
         real_fsync = os.fsync
         def fsync_then_pause(descriptor):
             real_fsync(descriptor)
             print("written", flush=True)
             time.sleep(5)
-        sso.files.os.fsync = fsync_then_pause
-        sso.files.write_bytes_atomic({str(target)!r}, {NEW_PIECE!r} * {NEW_COPIES})
+        sso._files.os.fsync = fsync_then_pause
+        sso._files.write_bytes_atomic({str(target)!r}, {NEW_PIECE!r} * {NEW_COPIES})
     """)
     environment = {**os.environ, "PYTHONPATH": str(ROOT)}
     child = subprocess.Popen(
@@ -104,7 +104,7 @@ def test_interrupted_write_leaves_the_old_file_and_cleans_up(tmp_path):
     child.communicate(timeout=30)
     assert child.returncode != 0
     # Nameless: KeyboardInterrupt inside the write, the old file stays. Named: Ctrl-C
-    # waits until the named file is renamed (sso.files holds it), so the new one is whole.
+    # waits until the named file is renamed (sso._files holds it), so the new one is whole.
     assert target.read_bytes() == (OLD if nameless_temporaries(tmp_path) else NEW)
     assert [path.name for path in tmp_path.iterdir()] == ["result.json"]
 

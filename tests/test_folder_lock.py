@@ -11,11 +11,11 @@ import sys
 
 import pytest
 
-from sso.folder_lock import FolderLockedError, folder_lock, lock_path
+from sso._folder_lock import FolderLockedError, folder_lock, lock_path
 
 HOLD = """
 import sys, time
-from sso.folder_lock import folder_lock
+from sso._folder_lock import folder_lock
 with folder_lock(sys.argv[1], "test"):
     print("held", flush=True)
     time.sleep(60)
@@ -68,7 +68,7 @@ def test_racing_writers_never_hold_the_lock_together(tmp_path):
     # instants it held it, and no two intervals may overlap.
     race = """
 import sys, time
-from sso.folder_lock import FolderLockedError, folder_lock
+from sso._folder_lock import FolderLockedError, folder_lock
 spans = []
 deadline = time.monotonic() + 1.5
 while time.monotonic() < deadline:

@@ -1,4 +1,4 @@
-"""sso.interrupts: a real SIGINT during a real IPOPT solve (CasADi) is not lost, and
+"""sso._interrupts: a real SIGINT during a real IPOPT solve (CasADi) is not lost, and
 SIGINT and SIGTERM held over a critical step reach their handlers after it.
 
 The signals are real (``os.kill`` of this process from a timer thread); the solve is a
@@ -15,7 +15,7 @@ import threading
 import numpy as np
 import pytest
 
-from sso.interrupts import (
+from sso._interrupts import (
     Interrupted,
     interrupt_on_signals,
     interrupts_held,

@@ -15,50 +15,50 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "sso"
 NOT_COUNTED = {"__init__.py", "__main__.py"}
 TESTED_ELSEWHERE = {
-    "sso/distribution.py": "tests/test_packaging.py",
+    "sso/_distribution.py": "tests/test_packaging.py",
 }
 
 # Modules that have no test module of their own yet. Tests of many of them exist under
 # other names (tests/cli/test_cli.py, tests/shafts/test_paper_cases.py, ...); each line
 # goes when its module gets tests/<part>/test_<name>.py, so this list only shrinks.
 STILL_WITHOUT_TEST_MODULE = {
-    "sso/batch/estimate.py",
-    "sso/batch/report.py",
-    "sso/batch/results.py",
-    "sso/cases/column.py",
-    "sso/cases/column_points.py",
-    "sso/cases/column_robust.py",
-    "sso/cases/mechanism.py",
-    "sso/cases/shaft_series.py",
-    "sso/cli/app.py",
-    "sso/cli/report.py",
-    "sso/cli/solve.py",
-    "sso/cli/tracked.py",
-    "sso/cli/validate.py",
-    "sso/column/chain_matrix.py",
-    "sso/column/design.py",
-    "sso/column/robust_phasing.py",
-    "sso/column/scenarios.py",
-    "sso/column/tolerances.py",
-    "sso/linkages/table.py",
-    "sso/reports/column_plots.py",
-    "sso/reports/column_report.py",
-    "sso/reports/column_robust_plots.py",
-    "sso/reports/column_robust_report.py",
-    "sso/reports/html.py",
-    "sso/reports/markdown.py",
-    "sso/reports/mechanism_plots.py",
-    "sso/reports/mechanism_report.py",
-    "sso/reports/plots.py",
-    "sso/reports/speeds.py",
-    "sso/reports/summary.py",
-    "sso/run/column_document.py",
-    "sso/run/column_robust_document.py",
-    "sso/run/document.py",
-    "sso/shafts/batch.py",
-    "sso/shafts/perturbed.py",
-    "sso/solvers/progress.py",
-    "sso/solvers/solution.py",
+    "sso/_studies/estimate.py",
+    "sso/_studies/report.py",
+    "sso/_studies/results.py",
+    "sso/_cases/column.py",
+    "sso/_cases/column_points.py",
+    "sso/_cases/column_robust.py",
+    "sso/_cases/mechanism.py",
+    "sso/_cases/shaft_series.py",
+    "sso/_cli/app.py",
+    "sso/_cli/report.py",
+    "sso/_cli/solve.py",
+    "sso/_cli/tracked.py",
+    "sso/_cli/validate.py",
+    "sso/_column/chain_matrix.py",
+    "sso/_column/design.py",
+    "sso/_column/robust_phasing.py",
+    "sso/_column/scenarios.py",
+    "sso/_column/tolerances.py",
+    "sso/_linkages/table.py",
+    "sso/_reports/column_plots.py",
+    "sso/_reports/column_report.py",
+    "sso/_reports/column_robust_plots.py",
+    "sso/_reports/column_robust_report.py",
+    "sso/_reports/html.py",
+    "sso/_reports/markdown.py",
+    "sso/_reports/mechanism_plots.py",
+    "sso/_reports/mechanism_report.py",
+    "sso/_reports/plots.py",
+    "sso/_reports/speeds.py",
+    "sso/_reports/summary.py",
+    "sso/_run/column_document.py",
+    "sso/_run/column_robust_document.py",
+    "sso/_run/document.py",
+    "sso/_shafts/batch.py",
+    "sso/_shafts/perturbed.py",
+    "sso/_solvers/progress.py",
+    "sso/_solvers/solution.py",
 }
 
 
@@ -73,11 +73,11 @@ def source_modules() -> list[str]:
 def candidate_test_modules(module: str) -> list[Path]:
     """Where the test module of ``module`` may be."""
     parts = Path(module).relative_to("sso").parts
-    name = Path(parts[-1]).stem
-    folder = ROOT / "tests" / Path(*parts[:-1])
+    name = Path(parts[-1]).stem.removeprefix("_")
+    folder = ROOT / "tests" / Path(*(part.removeprefix("_") for part in parts[:-1]))
     candidates = [folder / f"test_{name}.py"]
     if len(parts) > 1:
-        candidates.append(folder / f"test_{parts[0]}_{name}.py")
+        candidates.append(folder / f"test_{parts[0].removeprefix('_')}_{name}.py")
     return candidates
 
 
@@ -109,10 +109,10 @@ def test_modules_tested_elsewhere_are_tested_there():
 
 def test_the_walk_sees_the_package():
     modules = source_modules()
-    assert "sso/limits.py" in modules and "sso/solvers/kkt.py" in modules
+    assert "sso/_limits.py" in modules and "sso/_solvers/kkt.py" in modules
     assert len(modules) > 50
     assert not any(module.endswith("__init__.py") for module in modules)
     assert (
-        candidate_test_modules("sso/solvers/kkt.py")[0]
+        candidate_test_modules("sso/_solvers/kkt.py")[0]
         == ROOT / "tests" / "solvers" / "test_kkt.py"
     )

@@ -1,4 +1,4 @@
-"""sso.limits: every physical limit and default is defined there once, and used from there.
+"""sso._limits: every physical limit and default is defined there once, and used from there.
 
 Reference values: the module's own docstrings (what each constant means) and the
 v0.1 defaults the README documents (25 rpm, 8 starts, 500 iterations, tolerance
@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 
 import sso
-from sso import limits
-from sso.cases.schema import COMMON_KEYS
-from sso.cases.shaft_series import SHAFT_SERIES_KEYS
-from sso.column.dispatch import COLUMN_OPTIMISER_OF_KEYWORD
-from sso.kinematics.hooke import speed_ratio
-from sso.linkages.fourbar_swing import design_fourbar
-from sso.shafts.optimise import optimise
+from sso import _limits as limits
+from sso._cases.schema import COMMON_KEYS
+from sso._cases.shaft_series import SHAFT_SERIES_KEYS
+from sso._column.dispatch import COLUMN_OPTIMISER_OF_KEYWORD
+from sso._kinematics.hooke import speed_ratio
+from sso._linkages.fourbar_swing import design_fourbar
+from sso._shafts.optimise import optimise
 
 PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 
@@ -61,7 +61,7 @@ def test_a_joint_at_the_beta_limit_locks():
 
 
 def test_module_imports_nothing_from_sso():
-    tree = ast.parse((PACKAGE / "limits.py").read_text(encoding="utf-8"))
+    tree = ast.parse((PACKAGE / "_limits.py").read_text(encoding="utf-8"))
     imports = [node for node in ast.walk(tree) if isinstance(node, (ast.Import, ast.ImportFrom))]
     assert imports == []
 
@@ -107,10 +107,10 @@ def public_functions() -> list[tuple[str, Any]]:
                 if inspect.isfunction(function) and not attribute.startswith("_"):
                     found.append((f"{name}.{attribute}", function))
     optimisers = [*COLUMN_OPTIMISER_OF_KEYWORD.values(),
-                  ("sso.column.phasing", "optimise_phasing"),
-                  ("sso.column.positions", "optimise_positions"),
-                  ("sso.linkages.fourbar_swing", "design_fourbar"),
-                  ("sso.shafts.optimise", "optimise")]
+                  ("sso._column.phasing", "optimise_phasing"),
+                  ("sso._column.positions", "optimise_positions"),
+                  ("sso._linkages.fourbar_swing", "design_fourbar"),
+                  ("sso._shafts.optimise", "optimise")]
     found += [(f"{module}.{name}", getattr(import_module(module), name))
               for module, name in optimisers]
     return found
@@ -118,7 +118,7 @@ def public_functions() -> list[tuple[str, Any]]:
 
 def literal_defaults(function: Any) -> list[str]:
     """Parameters of ``function`` whose default is a number or a tuple written in place,
-    or a name that is not a constant of :mod:`sso.limits`."""
+    or a name that is not a constant of :mod:`sso._limits`."""
     node = ast.parse(textwrap.dedent(inspect.getsource(function))).body[0]
     assert isinstance(node, ast.FunctionDef)
     arguments = node.args
@@ -148,7 +148,7 @@ def test_every_public_default_is_a_constant_of_the_limits():
     assert len(functions) > 45  # the walk sees the API (Record methods are inherited)
     written_in_place = {name: found for name, function in functions
                         if (found := literal_defaults(function))}
-    assert written_in_place == {}, "define each default in sso/limits.py and name it there"
+    assert written_in_place == {}, "define each default in sso/_limits.py and name it there"
 
 
 def test_the_default_check_can_fail():
@@ -162,7 +162,7 @@ def test_the_default_check_can_fail():
 def test_the_iteration_cap_is_written_once():
     found = set()
     for path in sorted(PACKAGE.rglob("*.py")):
-        if path.name == "limits.py":
+        if path.name == "_limits.py":
             continue
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if (

@@ -1,8 +1,8 @@
 """Every computation is safe at the documented limits: a clear error or a correct result.
 
-The limits: 64 joints (``sso.limits.MAX_JOINTS``, the most a case file takes) and
+The limits: 64 joints (``sso._limits.MAX_JOINTS``, the most a case file takes) and
 operating angles up to the largest float below 90 deg. Below a product of the
-angles' cosines of ``sso.limits.MIN_CHAIN_COSINE_PRODUCT`` (1e-140) the chain's
+angles' cosines of ``sso._limits.MIN_CHAIN_COSINE_PRODUCT`` (1e-140) the chain's
 figures leave floating point, and such a design (or such upper bounds on free
 angles) is refused naming the field. On generated cases ``sso validate`` and then
 ``sso evaluate`` / ``sso run`` agree: both refuse with exit 2, or validate accepts
@@ -33,8 +33,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import sso
-from sso.cases.schema import load_case
-from sso.limits import INPUT_MAGNITUDE_RANGE, MAX_JOINTS, MIN_CHAIN_COSINE_PRODUCT
+from sso._cases.schema import load_case
+from sso._limits import INPUT_MAGNITUDE_RANGE, MAX_JOINTS, MIN_CHAIN_COSINE_PRODUCT
 
 LARGEST_BELOW_90 = math.nextafter(90.0, 0.0)
 SPEED_RPM = 25.0
@@ -137,7 +137,7 @@ def test_the_reference_slope_is_the_numerical_maximum():
 
 def readable(value: float) -> float:
     """A number a case file takes: 0 or of magnitude 1e-100 to 1e100
-    (``sso.limits.INPUT_MAGNITUDE_RANGE``)."""
+    (``sso._limits.INPUT_MAGNITUDE_RANGE``)."""
     return value if abs(value) >= INPUT_MAGNITUDE_RANGE[0] else 0.0
 
 

@@ -7,7 +7,7 @@ from importlib import metadata
 from pathlib import Path
 
 import sso
-from sso.distribution import DISTRIBUTION_NAME, installed_version
+from sso._distribution import DISTRIBUTION_NAME, installed_version
 
 ROOT = Path(__file__).resolve().parents[1]
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
@@ -17,9 +17,9 @@ def test_distribution_name_differs_from_the_import_name_and_is_the_one_installed
     # "sso" on the public package index is an unrelated package (checked when the
     # name was chosen); the import name stays sso.
     assert PROJECT["project"]["name"] == DISTRIBUTION_NAME == "shaft-series-optimisation"
-    assert PROJECT["project"]["scripts"] == {"sso": "sso.cli:main"}
+    assert PROJECT["project"]["scripts"] == {"sso": "sso._cli:main"}
     version = PROJECT["tool"]["setuptools"]["dynamic"]["version"]
-    assert version == {"attr": "sso.distribution.VERSION"}
+    assert version == {"attr": "sso._distribution.VERSION"}
 
 
 def test_installed_version_is_the_package_version():

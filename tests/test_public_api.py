@@ -18,8 +18,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 
 # Names that are values, not functions or classes: the module that documents each
 # with a string right after its assignment.
-VALUE_DOCUMENTED_IN = {"SOLVERS": ("limits.py", "SOLVERS"),
-                       "__version__": ("distribution.py", "VERSION")}
+VALUE_DOCUMENTED_IN = {"SOLVERS": ("_limits.py", "SOLVERS"),
+                       "__version__": ("_distribution.py", "VERSION")}
 
 
 def attribute_docstring(module_file: str, name: str) -> str | None:
@@ -67,8 +67,8 @@ def test_the_docstring_check_can_fail():
         pass
 
     assert own_docstring(Undocumented) is None and own_docstring(undocumented) is None
-    assert attribute_docstring("limits.py", "NO_SUCH_NAME") is None
-    assert "solver" in attribute_docstring("limits.py", "SOLVERS")
+    assert attribute_docstring("_limits.py", "NO_SUCH_NAME") is None
+    assert "solver" in attribute_docstring("_limits.py", "SOLVERS")
 
 
 def test_no_two_public_names_for_one_thing():

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso.record import Record, RecordError, decode, encode
+from sso._record import Record, RecordError, decode, encode
 
 SERIES = sso.ShaftSeries([10.0, 15.0, 12.0], [80.0, 95.0])
 

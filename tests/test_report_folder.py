@@ -1,4 +1,4 @@
-"""sso.files.replace_folder: a report folder is replaced whole, or not at all, and sso
+"""sso._files.replace_folder: a report folder is replaced whole, or not at all, and sso
 deletes or replaces only the files it wrote there (its manifest, sso-files.json, lists
 them); a folder that cannot be renamed (a link, a mount point, the working folder) has
 its files replaced one by one, and a path too deep for recursion is made level by level.
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from sso.files import FOLDER_MANIFEST, check_report_folder, make_folders, replace_folder
+from sso._files import FOLDER_MANIFEST, check_report_folder, make_folders, replace_folder
 
 REPORT = "case report"
 
@@ -132,7 +132,7 @@ def test_the_working_folder_has_its_files_replaced_in_place(tmp_path, monkeypatc
 MOUNTED = """
 import sys
 from pathlib import Path
-from sso.files import replace_folder
+from sso._files import replace_folder
 folder = Path(sys.argv[1])
 replace_folder(folder, {"report.md": b"old", "old.png": b"plot"}, "case report")
 replace_folder(folder, {"report.md": b"new"}, "case report")

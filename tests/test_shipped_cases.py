@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 from paper_trials import PAPER_BETA_BOUNDS_DEG, PAPER_TRIAL_BETA_DEG
 
-from sso.cases.schema import load_case
-from sso.cli import main
+from sso._cases.schema import load_case
+from sso._cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = sorted([*ROOT.glob("cases/*.toml"), *ROOT.glob("cases/mechanisms/*.toml")])

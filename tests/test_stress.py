@@ -23,8 +23,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sso
-from sso.shafts.options import build_problem
-from sso.shafts.problem import compiled_nlp
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
 
 BOTH = ("ipopt", "slsqp")
 

@@ -1,4 +1,4 @@
-"""sso.validation: bad input fails with a message naming the field, the value and the range.
+"""sso._validation: bad input fails with a message naming the field, the value and the range.
 
 The expected messages are the house rule's wording (COMMON.md: "ValueError naming
 the field, the value and the allowed range"); the intervals are the ones each call
@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from sso.validation import (
+from sso._validation import (
     as_float_tuple,
     check_choice,
     check_in_range,

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from sso.cases.schema import CaseError, load_case, parse_case
-from sso.column.geometry import ColumnGeometry
+from sso._cases.schema import CaseError, load_case, parse_case
+from sso._column.geometry import ColumnGeometry
 
 TRUCK = "cases/column_truck_three_joints.toml"
 

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from sso.cases.column import ColumnCase
-from sso.cases.schema import CaseError, load_case, parse_case
+from sso._cases.column import ColumnCase
+from sso._cases.schema import CaseError, load_case, parse_case
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data" / "columns"

@@ -1,6 +1,6 @@
 """The published JSON Schema of case files: generated, shipped, and in step with the engine.
 
-The engine (``sso.cases.schema``) is the reference: every verdict of the JSON Schema
+The engine (``sso._cases.schema``) is the reference: every verdict of the JSON Schema
 is compared with the engine's own verdict on the same value, never with a copy of
 the ranges written here.
 """
@@ -15,8 +15,8 @@ from typing import Any
 import jsonschema
 import pytest
 
-from sso.cases import json_schema
-from sso.cases.schema import CASE_KINDS, COMMON_KEYS, CaseError, Key, parse_case
+from sso._cases import json_schema
+from sso._cases.schema import CASE_KINDS, COMMON_KEYS, CaseError, Key, parse_case
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED_CASES = sorted((ROOT / "cases").glob("*.toml")) + sorted(
@@ -39,9 +39,10 @@ def schema() -> dict[str, Any]:
 
 
 def test_shipped_file_equals_a_fresh_generation():
-    # If this fails, regenerate: python -m sso.cases.json_schema --output sso/cases/case.schema.json
+    # If this fails, regenerate:
+    #   python -m sso._cases.json_schema --output sso/_cases/case.schema.json
     assert json_schema.shipped_schema_text() == json_schema.schema_text()
-    on_disk = (ROOT / "sso" / "cases" / json_schema.SHIPPED_NAME).read_text(encoding="utf-8")
+    on_disk = (ROOT / "sso" / "_cases" / json_schema.SHIPPED_NAME).read_text(encoding="utf-8")
     assert on_disk == json_schema.schema_text()
 
 
@@ -313,13 +314,13 @@ def _inverted_pairs(value: Any) -> bool:
 
 def test_schema_ships_as_package_data_and_taplo_config_points_at_it():
     project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
-    assert "cases/case.schema.json" in project["tool"]["setuptools"]["package-data"]["sso"]
+    assert "_cases/case.schema.json" in project["tool"]["setuptools"]["package-data"]["sso"]
     assert "jsonschema>=4.18" in project["project"]["optional-dependencies"]["test"]
     taplo = tomllib.loads((ROOT / ".taplo.toml").read_text(encoding="utf-8"))
     (rule,) = taplo["rule"]
     assert rule["include"] == ["cases/**/*.toml"]
     assert (ROOT / rule["schema"]["path"]).resolve() == (
-        ROOT / "sso" / "cases" / json_schema.SHIPPED_NAME
+        ROOT / "sso" / "_cases" / json_schema.SHIPPED_NAME
     )
 
 

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from sso.cases.schema import CASE_KINDS, CaseError, load_case, parse_case, schema
-from sso.cases.shaft_series import Case
+from sso._cases.schema import CASE_KINDS, CaseError, load_case, parse_case, schema
+from sso._cases.shaft_series import Case
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 # The shaft-series cases (the column cases are checked in tests/cases/test_column_case.py).

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 from paper_trials import paper_trial_case
 
-from sso.cases.schema import load_case
-from sso.run.shaft_series import ShaftSeriesRun
+from sso._cases.schema import load_case
+from sso._run.shaft_series import ShaftSeriesRun
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases"
@@ -20,7 +20,7 @@ HEAVY = ("casadi", "scipy", "matplotlib")
 # Runs the real command in-process and reports which heavy modules it loaded.
 WRAPPER = f"""
 import json, sys
-from sso.cli import main
+from sso._cli import main
 try:
     code = main(sys.argv[1:])
 except SystemExit as stop:
@@ -34,7 +34,7 @@ MINIMAL = '[design]\nbeta_deg = [20.0, 30.0]\n[solver]\nstarts = 1\n'
 
 
 def sso(*arguments: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "sso.cli", *map(str, arguments)], cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "sso._cli", *map(str, arguments)], cwd=cwd,
                           capture_output=True, text=True, timeout=300)
 
 

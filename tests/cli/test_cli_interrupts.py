@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from slow_case import SLOW_SWEEP, slow_case
 
-from sso.files import TEMPORARY_PREFIX
+from sso._files import TEMPORARY_PREFIX
 
 STARTS = 2000  # no run ends before its signal
 SOLVING_FOR_S = 1.0  # once the run is solving: CasADi loaded, the solver iterating
@@ -30,7 +30,7 @@ def interrupted(tmp_path: Path, arguments: list[str], signal_number: int,
                 solving: Path | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``sso`` with ``arguments`` in ``tmp_path``; once it is solving (it says so,
     or the file ``solving`` appears) and a second later, send ``signal_number``."""
-    child = subprocess.Popen([sys.executable, "-m", "sso.cli", *arguments], cwd=tmp_path,
+    child = subprocess.Popen([sys.executable, "-m", "sso._cli", *arguments], cwd=tmp_path,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert child.stdout is not None
     if solving is None:

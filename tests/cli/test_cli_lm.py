@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from test_cli import sso, write_case
 
-from sso.run.shaft_series import ShaftSeriesRun
+from sso._run.shaft_series import ShaftSeriesRun
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "cases"

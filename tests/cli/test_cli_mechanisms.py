@@ -12,9 +12,9 @@ import pytest
 from reference_tables import REFERENCE
 from test_cli import png_size, sso, sso_loading, write_case
 
-from sso.cases.schema import load_case
-from sso.record import RECORD_VERSION
-from sso.run.mechanism_run import MechanismRun
+from sso._cases.schema import load_case
+from sso._record import RECORD_VERSION
+from sso._run.mechanism_run import MechanismRun
 
 
 def read_run(folder: Path) -> MechanismRun:

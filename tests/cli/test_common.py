@@ -1,6 +1,6 @@
 """The exit codes every subcommand shares, seen from a real ``sso`` process.
 
-References: the codes documented in sso/cli/app.py (0 solved and agreed, 1 a solver
+References: the codes documented in sso/_cli/app.py (0 solved and agreed, 1 a solver
 failed or disagreed, 2 bad input) and the shell's convention 128 + signal number for
 a process stopped by Ctrl-C (SIGINT = 2).
 """
@@ -13,7 +13,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from sso.cli.common import (
+from sso._cli.common import (
     DEFAULT_OUT,
     EXIT_BAD_INPUT,
     EXIT_FAILED,

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from slow_case import slow_case
 
-from sso.files import FOLDER_MANIFEST
+from sso._files import FOLDER_MANIFEST
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE = ROOT / "cases" / "paper_option1_exact.toml"
@@ -31,7 +31,7 @@ action = "evaluate"
 input_speed_rpm = [10, 20]
 """
 def sso(*arguments: object, cwd: Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "sso.cli", *map(str, arguments)], cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "sso._cli", *map(str, arguments)], cwd=cwd,
                           capture_output=True, text=True, timeout=600)
 
 
@@ -106,7 +106,7 @@ def test_a_sweep_and_a_case_of_one_name_never_share_a_folder(tmp_path):
 
 def test_a_second_run_into_a_folder_being_written_is_refused(tmp_path):
     (tmp_path / "slow.toml").write_text(slow_case("ipopt", starts=150))
-    first = subprocess.Popen([sys.executable, "-m", "sso.cli", "run", "slow.toml", "--no-plots"],
+    first = subprocess.Popen([sys.executable, "-m", "sso._cli", "run", "slow.toml", "--no-plots"],
                              cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True)
     assert first.stdout is not None
@@ -126,7 +126,7 @@ def test_a_second_run_into_a_folder_being_written_is_refused(tmp_path):
 
 
 def test_two_runs_racing_for_one_folder_leave_one_whole_report_and_no_debris(tmp_path):
-    runs = [subprocess.Popen([sys.executable, "-m", "sso.cli", "evaluate", CASE, "--no-plots",
+    runs = [subprocess.Popen([sys.executable, "-m", "sso._cli", "evaluate", CASE, "--no-plots",
                               "--quiet"], cwd=tmp_path, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True) for _ in range(4)]
     outcomes = [(run.wait(timeout=600), run.communicate()[1]) for run in runs]

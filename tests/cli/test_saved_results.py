@@ -11,8 +11,8 @@ import sys
 import pytest
 
 import sso
-from sso.cli.saved_results import read_saved_result, result_classes
-from sso.record import RecordError
+from sso._cli.saved_results import read_saved_result, result_classes
+from sso._record import RecordError
 
 GEOMETRY = sso.ColumnGeometry([[0.0, 0.0, 0.0], [0.0, 0.0, 300.0], [50.0, 30.0, 600.0],
                                [120.0, 60.0, 800.0], [200.0, 60.0, 1000.0]])

@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from sso.batch.table import read_rows
+from sso._studies.table import read_rows
 
 CASE = Path("cases/paper_option1_exact.toml").resolve()
 SMALL = f"""
@@ -34,7 +34,7 @@ chunk_size = 1
 
 
 def sso(*arguments, cwd):
-    return subprocess.run([sys.executable, "-m", "sso.cli", *map(str, arguments)], cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "sso._cli", *map(str, arguments)], cwd=cwd,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -115,7 +115,7 @@ def test_a_sweep_never_shares_the_folder_of_a_case_or_the_user_s_files(tmp_path)
 
 def test_two_sweeps_of_the_same_name_started_together_never_share_the_folder(tmp_path):
     _sweep_file(tmp_path, "slow.toml", SLOW)
-    command = [sys.executable, "-m", "sso.cli", "sweep", "slow.toml", "--workers", "1",
+    command = [sys.executable, "-m", "sso._cli", "sweep", "slow.toml", "--workers", "1",
                "--no-plots", "--quiet"]
     first = subprocess.Popen(command, cwd=tmp_path, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True)

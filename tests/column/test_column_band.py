@@ -16,9 +16,9 @@ from column_cases import load
 from cross_and_yoke import residual_error as simulated_residual_error
 
 import sso
-from sso.column.band import re_against_phase_error, tolerance_band
-from sso.column.geometry import ColumnGeometry
-from sso.column.phasing import optimise_phasing
+from sso._column.band import re_against_phase_error, tolerance_band
+from sso._column.geometry import ColumnGeometry
+from sso._column.phasing import optimise_phasing
 
 
 @pytest.fixture(scope="module")

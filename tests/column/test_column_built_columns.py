@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from sso.cases.schema import load_case
-from sso.column.built_columns import built_angles
-from sso.column.geometry import ColumnGeometry
+from sso._cases.schema import load_case
+from sso._column.built_columns import built_angles
+from sso._column.geometry import ColumnGeometry
 
 POINTS = np.asarray(load_case("cases/column_truck_three_joints.toml").geometry().points_mm)
 

@@ -1,4 +1,4 @@
-"""sso.column.cancel: the cancellation rule and closed forms against brute-force phasing."""
+"""sso._column.cancel: the cancellation rule and closed forms against brute-force phasing."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from sso.column.cancel import can_cancel, cancelling_phases_deg, minimising_phases_deg
-from sso.column.chain_matrix import residual_error
+from sso._column.cancel import can_cancel, cancelling_phases_deg, minimising_phases_deg
+from sso._column.chain_matrix import residual_error
 
 
 def _polish(beta_rad: np.ndarray, phase_rad: np.ndarray, iterations: int = 30) -> np.ndarray:

@@ -7,11 +7,11 @@ import pytest
 from column_cases import load
 
 import sso
-from sso.column.feel import OnCentreResult, optimise_on_centre
-from sso.column.joint_positions import JointCentresResult
-from sso.column.phasing import PhasingResult
-from sso.column.splines import SplineResult, best_spline_teeth
-from sso.linkages.fourbar_swing import design_fourbar
+from sso._column.feel import OnCentreResult, optimise_on_centre
+from sso._column.joint_centres import JointCentresResult
+from sso._column.phasing import PhasingResult
+from sso._column.splines import SplineResult, best_spline_teeth
+from sso._linkages.fourbar_swing import design_fourbar
 
 TRUCK = load("truck_three_joints")["points_mm"]
 

@@ -13,7 +13,7 @@ from cross_and_yoke import shaft_axes, speed_ratio
 from scipy.optimize import least_squares
 
 import sso
-from sso.column.geometry import ColumnGeometry
+from sso._column.geometry import ColumnGeometry
 
 # Four joints that can cancel (the continuum of tests/column/test_column_phasing.py).
 POINTS = np.asarray([[0, 0, 0], [300, 0, 0], [600, 80, 0], [900, 120, 60], [1200, 100, 150],
@@ -76,8 +76,8 @@ def test_a_column_that_cannot_cancel_reports_no_set():
 
 @pytest.fixture(scope="module")
 def document():
-    from sso.cases.schema import parse_case
-    from sso.run.column_document import column_document
+    from sso._cases.schema import parse_case
+    from sso._run.column_document import column_document
 
     case = parse_case({"kind": "column", "hardpoints": {"points_mm": POINTS.tolist()},
                        "solver": {"starts": 4}}, "cancelling")

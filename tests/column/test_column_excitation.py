@@ -8,8 +8,8 @@ from column_cases import planar_points
 from cross_and_yoke import speed_ratio as simulated_speed_ratio
 
 import sso
-from sso.column.excitation import equivalent_angles, excitation_table
-from sso.column.geometry import ColumnGeometry
+from sso._column.excitation import equivalent_angles, excitation_table
+from sso._column.geometry import ColumnGeometry
 
 # Calibration published with an open-source driveline calculator (formulas from SAE
 # AE-7), as the calibration case: four joints 5, 4, 3, 2 deg, planar, 2500 rpm, first

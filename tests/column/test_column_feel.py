@@ -15,9 +15,9 @@ from column_cases import load, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 from cross_and_yoke import speed_ratio as simulated_speed_ratio
 
-from sso.column.feel import OnCentreResult, optimise_on_centre, speed_ratio, steering_feel
-from sso.column.geometry import ColumnGeometry
-from sso.column.phasing import optimise_phasing
+from sso._column.feel import OnCentreResult, optimise_on_centre, speed_ratio, steering_feel
+from sso._column.geometry import ColumnGeometry
+from sso._column.phasing import optimise_phasing
 
 
 @pytest.fixture(scope="module")

@@ -10,9 +10,9 @@ from cross_and_yoke import residual_error as simulated_residual_error
 from cross_and_yoke import speed_ratio as simulated_speed_ratio
 
 import sso
-from sso.column.chain_matrix import residual_error as closed_form_residual_error
-from sso.column.geometry import ColumnGeometry
-from sso.shafts.quadrature import adaptive_residual_error
+from sso._column.chain_matrix import residual_error as closed_form_residual_error
+from sso._column.geometry import ColumnGeometry
+from sso._shafts.quadrature import adaptive_residual_error
 
 mpmath.mp.dps = 40
 
@@ -231,7 +231,7 @@ def test_phasing_with_the_wrong_count_is_refused():
 
 def test_closed_form_matches_the_package_quadrature():
     # Reference: the package's adaptive rectangle rule over the angle-by-angle chain
-    # (sso.shafts.quadrature with sso.kinematics.hooke), which never forms the chain matrix.
+    # (sso._shafts.quadrature with sso._kinematics.hooke), which never forms the chain matrix.
     rng = np.random.default_rng(11)
     beta = rng.uniform(0.0, 60.0, (40, 4))
     phase = rng.uniform(0.0, 180.0, (40, 3))

@@ -8,8 +8,8 @@ import pytest
 from column_cases import load, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.phasing import optimise_phasing
+from sso._column.geometry import ColumnGeometry
+from sso._column.phasing import optimise_phasing
 
 
 def test_truck_column_best_phasing_beats_the_textbook_correction_and_in_phase():

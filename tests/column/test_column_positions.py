@@ -15,10 +15,10 @@ import pytest
 from column_cases import load, planar_points
 from cross_and_yoke import residual_error as simulated_residual_error
 
-from sso.column.chain_matrix import residual_error
-from sso.column.geometry import ColumnGeometry
-from sso.column.phasing import optimise_phasing
-from sso.column.positions import optimise_positions
+from sso._column.chain_matrix import residual_error
+from sso._column.geometry import ColumnGeometry
+from sso._column.phasing import optimise_phasing
+from sso._column.positions import optimise_positions
 
 
 @pytest.fixture(scope="module")

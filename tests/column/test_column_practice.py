@@ -12,8 +12,8 @@ import pytest
 from column_cases import load, planar_points
 
 import sso
-from sso.column.geometry import ColumnGeometry, shaft_name
-from sso.column.practice import practice_notes
+from sso._column.geometry import ColumnGeometry, shaft_name
+from sso._column.practice import practice_notes
 
 TRUCK = np.asarray(load("truck_three_joints")["points_mm"])
 

@@ -14,10 +14,10 @@ import pytest
 from column_cases import load
 from cross_and_yoke import residual_error as simulated_residual_error
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.robust_phasing import optimise_robust
-from sso.column.scenarios import cvar
-from sso.column.tolerances import Tolerances
+from sso._column.geometry import ColumnGeometry
+from sso._column.robust_phasing import optimise_robust
+from sso._column.scenarios import cvar
+from sso._column.tolerances import Tolerances
 
 TOLERANCES = Tolerances(hardpoint_mm=1.0, yoke_phase_deg=1.0, samples=100, seed=1)
 
@@ -75,7 +75,7 @@ def test_p95_optimum_beats_the_nominal_optimum_on_the_same_samples(tilt_down, ro
     # The objective is CVaR95 (docs/robust.md); measured 1.044e-4 against 1.094e-4 for
     # the nominal optimum. (The p95 itself, 6.32e-5, depends on which of the continuum
     # of cancelling phasings the nominal multi-start picks: 8.31e-5 with the scipy
-    # Halton starts, 5.94e-5 with the numpy Halton starts of sso.solvers.starts.)
+    # Halton starts, 5.94e-5 with the numpy Halton starts of sso._solvers.starts.)
     assert result.robust_study.cvar95 <= 0.96 * result.nominal_study.cvar95
     # The nominal RE given up: the nominal optimum cancels (1e-25), the robust one not quite.
     assert result.nominal_optimum_re <= 1e-20

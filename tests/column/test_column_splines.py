@@ -10,8 +10,8 @@ from column_cases import load, planar_points, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 from cross_and_yoke import rotate
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.splines import best_spline_teeth
+from sso._column.geometry import ColumnGeometry
+from sso._column.splines import best_spline_teeth
 
 
 def test_enumeration_matches_brute_force_over_every_tooth_in_the_3d_simulation():

@@ -11,9 +11,9 @@ from __future__ import annotations
 import pytest
 from column_cases import load
 
-from sso.cases.schema import parse_case
-from sso.column.geometry import ColumnGeometry
-from sso.column.steering_criteria import (
+from sso._cases.schema import parse_case
+from sso._column.geometry import ColumnGeometry
+from sso._column.steering_criteria import (
     NO_PUBLISHED_LIMIT,
     SteeringLimits,
     assess_steering,

@@ -13,8 +13,8 @@ import pytest
 from column_cases import load, random_column
 from cross_and_yoke import Simulated, extremes
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.steering_range import CURVE_POINTS, steering_range
+from sso._column.geometry import ColumnGeometry
+from sso._column.steering_range import CURVE_POINTS, steering_range
 
 
 @pytest.mark.parametrize("seed, joints, lock_deg", [
@@ -80,7 +80,7 @@ def test_truck_column_over_its_lock_range():
 
 
 def _matrix(geometry: ColumnGeometry, yoke):
-    from sso.column.chain_matrix import chain_matrix
+    from sso._column.chain_matrix import chain_matrix
 
     return chain_matrix(np.radians(geometry.beta_deg),
                         np.radians(geometry.phase_deg_from_yoke(yoke)))

@@ -19,7 +19,7 @@ import pytest
 from cross_and_yoke import residual_error as simulated_residual_error
 
 import sso
-from sso.cli.app import main
+from sso._cli.app import main
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 THREE_POSITIONS = CASES / "column_truck_three_positions.toml"

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from sso.column.tilt import tilted_points
+from sso._column.tilt import tilted_points
 
 POINTS = ((-1850.0, 420.0, 1650.0), (-1690.3, 328.7, 1239.3), (-1612.9, 259.6, 873.8),
           (-1385.7, 260.3, 250.9))

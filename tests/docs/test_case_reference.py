@@ -7,8 +7,8 @@ import json
 import pytest
 
 from doctools import case_reference
-from sso.cases import schema as case_schema
-from sso.cases.json_schema import ordered_kinds, shipped_schema_text
+from sso._cases import schema as case_schema
+from sso._cases.json_schema import ordered_kinds, shipped_schema_text
 
 KINDS = ordered_kinds()
 

@@ -28,9 +28,9 @@ from column.column_cases import load
 
 import sso
 from doctools.blocks import ROOT
-from sso.column.excitation import equivalent_angles, excitation_table
-from sso.column.geometry import ColumnGeometry
-from sso.column.steering_criteria import assess_steering
+from sso._column.excitation import equivalent_angles, excitation_table
+from sso._column.geometry import ColumnGeometry
+from sso._column.steering_criteria import assess_steering
 
 TRUCK = load("truck_three_joints")["points_mm"]
 BEST_TEETH = (10.0, -80.0)  # the truck's best 36-tooth assembly (docs/column.md)
@@ -146,10 +146,10 @@ def shipped_columns() -> str:
 
 
 def report_renderers() -> str:
-    lengths = [len((ROOT / "sso" / "reports" / name).read_text(encoding="utf-8").splitlines())
+    lengths = [len((ROOT / "sso" / "_reports" / name).read_text(encoding="utf-8").splitlines())
                for name in ("markdown.py", "html.py")]
     assert max(lengths) < 100, lengths
-    return "(`sso/reports/markdown.py`, `sso/reports/html.py`, under 100 lines each)"
+    return "(`sso/_reports/markdown.py`, `sso/_reports/html.py`, under 100 lines each)"
 
 
 FIGURES = {

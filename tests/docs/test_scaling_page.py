@@ -12,9 +12,9 @@ import pytest
 
 from benchmarks import sweep_throughput
 from doctools import scaling
-from sso.batch.axes import MAX_POINTS
-from sso.batch.report import MOST_DRAWN_POINTS, REPORT_ROWS
-from sso.batch.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+from sso._studies.axes import MAX_POINTS
+from sso._studies.report import MOST_DRAWN_POINTS, REPORT_ROWS
+from sso._studies.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "scaling.md"

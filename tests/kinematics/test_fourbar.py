@@ -11,8 +11,8 @@ import pytest
 from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
-from sso.kinematics.fourbar import GRASHOF_CLASSES, grashof_class, solve_fourbar
-from sso.linkages.mechanisms import FourBar, MechanismTable
+from sso._kinematics.fourbar import GRASHOF_CLASSES, grashof_class, solve_fourbar
+from sso._linkages.mechanisms import FourBar, MechanismTable
 
 CRANKS = (2, 3, 4, 5)
 CRANK_SPEED = 5.0

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sso
-from sso.kinematics.hooke import chain_kinematics
+from sso._kinematics.hooke import chain_kinematics
 
 THETA_DEG = np.linspace(0.0, 360.0, 721)
 

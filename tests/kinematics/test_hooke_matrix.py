@@ -1,7 +1,7 @@
 """The closed form of the exact chain against independent formulations.
 
-References: the adaptive quadrature of the angle-by-angle chain (``sso.shafts.quadrature``,
-``sso.kinematics.hooke``); an mpmath high-precision quadrature of the per-joint angle
+References: the adaptive quadrature of the angle-by-angle chain (``sso._shafts.quadrature``,
+``sso._kinematics.hooke``); an mpmath high-precision quadrature of the per-joint angle
 law (paper eq. 5 and 8, no matrices) split at every joint's speed peak; complex-step
 derivatives; the one-joint extremes ``cos b`` and ``1/cos b`` of the spec
 ("Checks with known answers").
@@ -14,8 +14,8 @@ import mpmath
 import numpy as np
 import pytest
 
-from sso.kinematics import hooke, hooke_matrix
-from sso.shafts.quadrature import EVALUATION_MAX_SAMPLES, adaptive_residual_error
+from sso._kinematics import hooke, hooke_matrix
+from sso._shafts.quadrature import EVALUATION_MAX_SAMPLES, adaptive_residual_error
 
 RNG_SEED = 20261123
 
@@ -28,7 +28,7 @@ def random_chain(rng, n_joints, beta_max_deg=70.0):
 
 def test_closed_form_matches_the_quadrature_of_the_angle_chain():
     # Reference: the adaptive rectangle rule over the angle-by-angle chain
-    # (sso.shafts.quadrature with sso.kinematics.hooke, no chain matrix), and the speed
+    # (sso._shafts.quadrature with sso._kinematics.hooke, no chain matrix), and the speed
     # ratio's extremes read off a dense grid of that chain, refined by a golden-section
     # search around the grid's best angle.
     rng = np.random.default_rng(RNG_SEED)
@@ -48,7 +48,7 @@ def test_closed_form_matches_the_quadrature_of_the_angle_chain():
 
 
 def _angle_chain_ratio(theta_rad, beta_rad, phase_rad):
-    """Speed ratio of the angle-by-angle chain (sso.kinematics.hooke), no chain matrix."""
+    """Speed ratio of the angle-by-angle chain (sso._kinematics.hooke), no chain matrix."""
     theta_rad = np.asarray(theta_rad, dtype=float)
     return hooke.speed_ratio(np, np.cos(theta_rad), np.sin(theta_rad), list(beta_rad),
                              list(phase_rad), "exact")
@@ -73,7 +73,7 @@ def _angle_chain_extreme(beta_rad, phase_rad, sign):
 
 
 def test_speed_ratio_matches_the_angle_chain_at_every_angle():
-    # Reference: the angle-by-angle chain of sso.kinematics.hooke (each joint's angle
+    # Reference: the angle-by-angle chain of sso._kinematics.hooke (each joint's angle
     # law applied in turn), which never forms the chain matrix.
     rng = np.random.default_rng(RNG_SEED + 1)
     theta_deg = np.linspace(0.0, 360.0, 73)

@@ -13,7 +13,7 @@ import pytest
 from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
-from sso.linkages.mechanisms import MechanismTable, QuickReturn
+from sso._linkages.mechanisms import MechanismTable, QuickReturn
 
 CRANK_SPEED = 2.0
 PAPER = QuickReturn(crank=50, coupler=237.5, rocker=100, slider_link=250, ground=230.51)

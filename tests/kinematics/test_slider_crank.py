@@ -12,8 +12,8 @@ import pytest
 from reference_tables import REFERENCE
 from time_derivative import assert_time_derivative
 
-from sso.kinematics.slider_crank import solve_slider_crank
-from sso.linkages.mechanisms import (
+from sso._kinematics.slider_crank import solve_slider_crank
+from sso._linkages.mechanisms import (
     MechanismTable,
     SliderCrank,
     slider_crank_method_difference,

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sso.kinematics.vector_loop import (
+from sso._kinematics.vector_loop import (
     circle_circle_intersection,
     circle_horizontal_line_intersection,
     solve_real_pair,

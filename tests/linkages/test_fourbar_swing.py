@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from sso.linkages.fourbar_swing import design_fourbar, transmission_angle_range_deg
-from sso.linkages.mechanisms import FourBar
+from sso._linkages.fourbar_swing import design_fourbar, transmission_angle_range_deg
+from sso._linkages.mechanisms import FourBar
 
 # The four-bar paper's linkage (tests/data/reference/README.md: ground 12, coupler 15,
 # rocker 9, crank 2) as the start; bounds chosen so the limits bind.

@@ -1,4 +1,4 @@
-"""Public API of sso.linkages.mechanisms: validation, assembly failures and MechanismTable."""
+"""Public API of sso._linkages.mechanisms: validation, assembly failures and MechanismTable."""
 
 import csv
 import dataclasses
@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from sso.linkages.mechanisms import (
+from sso._linkages.mechanisms import (
     FourBar,
     MechanismTable,
     QuickReturn,
@@ -318,7 +318,7 @@ def test_table_survives_pickling():
 def test_importing_mechanisms_loads_neither_casadi_nor_matplotlib():
     # DESIGN.md: the kinematics layer must not import casadi at module level.
     code = (
-        "import sys, sso.linkages.mechanisms\n"
+        "import sys, sso._linkages.mechanisms\n"
         "print(sorted({'casadi', 'matplotlib'} & set(sys.modules)))"
     )
     output = subprocess.run(

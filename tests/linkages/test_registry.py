@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.cases.mechanism import ANALYSIS_KINDS
-from sso.linkages.registry import linkage_of, linkage_of_kind, linkages, register
+from sso._cases.mechanism import ANALYSIS_KINDS
+from sso._linkages.registry import linkage_of, linkage_of_kind, linkages, register
 
 
 def test_every_mechanism_is_registered_once_in_module_order():

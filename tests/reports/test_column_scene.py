@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from sso.cases.schema import load_case
-from sso.reports.column_scene import column_scene
+from sso._cases.schema import load_case
+from sso._reports.column_scene import column_scene
 
 
 def test_the_column_scene_draws_positions_boxes_and_names_every_shaft():

@@ -11,10 +11,10 @@ import json
 import struct
 from pathlib import Path
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.steering_criteria import assess_steering
-from sso.reports.column_steering_plots import steering_plot
-from sso.reports.plots import HEIGHT_PX, WIDTH_PX
+from sso._column.geometry import ColumnGeometry
+from sso._column.steering_criteria import assess_steering
+from sso._reports.column_steering_plots import steering_plot
+from sso._reports.plots import HEIGHT_PX, WIDTH_PX
 
 TRUCK = json.loads((Path(__file__).resolve().parents[1] / "data" / "columns"
                     / "truck_three_joints.json").read_text())["points_mm"]

@@ -11,10 +11,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from sso.column.geometry import ColumnGeometry
-from sso.column.steering_criteria import SteeringLimits, assess_steering
-from sso.reports.column_steering_report import steering_blocks
-from sso.reports.summary import Heading, Paragraph, Table
+from sso._column.geometry import ColumnGeometry
+from sso._column.steering_criteria import SteeringLimits, assess_steering
+from sso._reports.column_steering_report import steering_blocks
+from sso._reports.summary import Heading, Paragraph, Table
 
 TRUCK = json.loads((Path(__file__).resolve().parents[1] / "data" / "columns"
                     / "truck_three_joints.json").read_text())["points_mm"]

@@ -33,7 +33,7 @@ pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no Chromium on PATH (D
 @pytest.fixture(scope="module")
 def truck_report(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("view")
-    completed = subprocess.run([sys.executable, "-m", "sso.cli", "run", str(TRUCK), "--out",
+    completed = subprocess.run([sys.executable, "-m", "sso._cli", "run", str(TRUCK), "--out",
                                 str(folder), "--no-plots"], cwd=folder, capture_output=True,
                                text=True, timeout=600)
     assert completed.returncode == 0, completed.stderr

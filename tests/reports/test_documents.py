@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from sso.reports.documents import render_documents
-from sso.reports.summary import Heading, Paragraph
+from sso._reports.documents import render_documents
+from sso._reports.summary import Heading, Paragraph
 
 
 def test_only_the_formats_asked_for():

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso.display import format_number
+from sso._display import format_number
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
@@ -78,7 +78,7 @@ def test_batch_phasing_and_spline_results_read_well():
 
 
 def test_every_public_result_type_reads_well():
-    from sso.display import Readable
+    from sso._display import Readable
 
     results = [name for name in sso.__all__ if name.endswith("Result")]
     assert {"OptimisationResult", "FourBarDesignResult", "SweepResult", "ToleranceResult",

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import sso
-from sso.reports.record_report import record_blocks, render_record
-from sso.reports.summary import Heading, Paragraph, Table
+from sso._reports.record_report import record_blocks, render_record
+from sso._reports.summary import Heading, Paragraph, Table
 
 
 def test_the_blocks_are_the_summary_parts():

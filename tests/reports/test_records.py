@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import sso
-from sso.cli.saved_results import result_schema, shipped_schema
-from sso.display import REPR_LIMIT
-from sso.record import RECORD_VERSION, Record
+from sso._cli.saved_results import result_schema, shipped_schema
+from sso._display import REPR_LIMIT
+from sso._record import RECORD_VERSION, Record
 
 # The column of tests/data/columns/truck_three_positions.json (tilt down), three joints.
 TILT_DOWN = ((0.0, 0.0, 0.0), (0.0, 0.0, 300.0), (40.0, 25.0, 620.0), (130.0, 60.0, 850.0),
@@ -106,7 +106,7 @@ def test_result_is_its_own_record(name, tmp_path):
 
 
 def test_the_shipped_result_schema_is_the_generated_one():
-    # If this fails, regenerate: python -m sso.cli.saved_results --output sso/result.schema.json
+    # If this fails, regenerate: python -m sso._cli.saved_results --output sso/result.schema.json
     assert shipped_schema() == json.loads(json.dumps(result_schema()))
     jsonschema.Draft202012Validator.check_schema(shipped_schema())
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import sso
-from sso.reports.shaft_report import PYTHON_NAME, optimisation_files
+from sso._reports.shaft_report import PYTHON_NAME, optimisation_files
 
 
 def test_an_optimisation_made_in_python_reports_its_problem_and_solvers():

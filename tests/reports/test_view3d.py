@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import re
 
-from sso.reports.view3d import scene_html
+from sso._reports.view3d import scene_html
 
 SCENE = {"items": [{"kind": "point", "at": [0.0, 0.0, 0.0], "colour": "#000000", "size": 4.0,
                     "name": "a </script><b> name", "label": "P0"}],

@@ -6,10 +6,10 @@ import math
 import pytest
 from paper_trials import paper_trial_case
 
-from sso.cases.schema import load_case
-from sso.reports.kinds import write_report
-from sso.reports.writer import ResultFileError, read_result, result_json
-from sso.run.shaft_series import ShaftSeriesRun, run_shaft_series
+from sso._cases.schema import load_case
+from sso._reports.kinds import write_report
+from sso._reports.writer import ResultFileError, read_result, result_json
+from sso._run.shaft_series import ShaftSeriesRun, run_shaft_series
 
 
 def test_result_json_is_strict_json():
@@ -53,8 +53,8 @@ def test_read_result_refuses_what_it_cannot_render(tmp_path, content, message):
     ("5 & 6", "5 & 6"),
 ])
 def test_markdown_escapes_only_what_could_start_markup(text, written):
-    from sso.reports.markdown import render_markdown
-    from sso.reports.summary import Paragraph
+    from sso._reports.markdown import render_markdown
+    from sso._reports.summary import Paragraph
 
     assert render_markdown([Paragraph(text)]) == written + "\n"
 
@@ -80,8 +80,8 @@ def test_markdown_renders_case_text_as_text(text):
     <p>, and its text is the original, whitespace folded."""
     import markdown_it
 
-    from sso.reports.markdown import render_markdown
-    from sso.reports.summary import Paragraph, Table
+    from sso._reports.markdown import render_markdown
+    from sso._reports.summary import Paragraph, Table
 
     rendered = markdown_it.MarkdownIt("commonmark").render(render_markdown([Paragraph(text)]))
     assert rendered.startswith("<p>") and rendered.count("<") == 2, rendered
@@ -102,7 +102,7 @@ def html_text(rendered: str) -> str:
 
 def test_report_md_of_a_case_escapes_description_and_reference_label(tmp_path):
     """Issue 23 item 8, end to end: a case's description and reference label."""
-    from sso.cli.app import main
+    from sso._cli.app import main
 
     case = tmp_path / "hostile.toml"
     case.write_text(
@@ -129,7 +129,7 @@ def column_result(tmp_path_factory):
     """The result document of ``sso run`` of a shipped column case, as saved."""
     from pathlib import Path
 
-    from sso.run.column_document import column_document
+    from sso._run.column_document import column_document
 
     root = Path(__file__).resolve().parents[2]
     case = load_case(root / "cases" / "column_truck_three_joints.toml")

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import sso
-import sso.cases.schema
-from sso.cases.schema import load_case
-from sso.reports.kinds import render_report
-from sso.run.mechanism_run import CURVE_STEP_DEG, MechanismRun, run_mechanism
+import sso._cases.schema
+from sso._cases.schema import load_case
+from sso._reports.kinds import render_report
+from sso._run.mechanism_run import CURVE_STEP_DEG, MechanismRun, run_mechanism
 
 CASES = Path(__file__).resolve().parents[2] / "cases" / "mechanisms"
 
@@ -55,7 +55,7 @@ def test_the_report_of_a_reloaded_run_parses_no_case_and_is_the_same(tmp_path, m
     def refused(*arguments: object) -> None:
         raise AssertionError("a report parsed a case")
 
-    monkeypatch.setattr(sso.cases.schema, "parse_case", refused)
+    monkeypatch.setattr(sso._cases.schema, "parse_case", refused)
     again = render_report(reloaded, ("json", "csv", "md", "png"))
     assert set(again) == set(files) >= {"linkage.png", "slider_motion.png", "table.csv"}
     for name in ("result.json", "table.csv", "report.md"):
@@ -81,8 +81,8 @@ def test_a_design_case_evaluated_holds_no_design():
     (lambda data: data.update(mode="guess"), "mode = 'guess'"),
 ])
 def test_a_saved_run_is_read_as_strictly_as_its_case_file(tmp_path, edit, message):
-    from sso.cli.saved_results import read_saved_result
-    from sso.record import RecordError
+    from sso._cli.saved_results import read_saved_result
+    from sso._record import RecordError
 
     run = run_mechanism(load_case(CASES / "fourbar_crank2.toml"), optimising=False)
     saved = json.loads(json.dumps(run.to_dict()))

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 import sso
-from sso.cases.schema import load_case
-from sso.run.shaft_series import EVALUATED_VERDICT, ShaftSeriesRun, run_shaft_series
+from sso._cases.schema import load_case
+from sso._run.shaft_series import EVALUATED_VERDICT, ShaftSeriesRun, run_shaft_series
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso.shafts.curves import ComparedDesign, compared_design
+from sso._shafts.curves import ComparedDesign, compared_design
 
 
 def test_one_joint_swings_between_cos_beta_and_its_inverse():

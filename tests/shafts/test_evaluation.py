@@ -29,7 +29,7 @@ def test_single_joint_figures_match_closed_forms(beta_deg):
     assert evaluation.residual_error_rpm2 == pytest.approx(speed_rpm**2 * expected_re, rel=1e-10)
     # eq. 5: largest |atan(c tan t) - t| is 90 - 2 atan(sqrt(c)) deg, at tan t = 1/sqrt(c)
     expected_lag_deg = 90.0 - 2 * np.degrees(np.arctan(np.sqrt(cosine)))
-    # read off a 0.25-deg grid refined locally (sso.shafts.evaluation._peak)
+    # read off a 0.25-deg grid refined locally (sso._shafts.evaluation._peak)
     assert evaluation.transmission_error_deg == pytest.approx(expected_lag_deg, rel=1e-10)
     # d(ratio)/dtheta = c s^2 sin(2t) / (1 - s^2 sin^2 t)^2, maximised on a fine grid
     theta = np.linspace(0, np.pi, 2_000_001)
@@ -59,7 +59,7 @@ def test_exact_figures_come_from_the_closed_form_and_match_a_fine_quadrature():
     # RE and speed extremes of the exact model are the chain matrix's closed form
     # (samples = 0); checked against the rectangle rule on 4096 angles of the
     # angle-by-angle chain and against the extremes of a dense speed-ratio grid.
-    from sso.shafts.objective import residual_error as quadrature_re
+    from sso._shafts.objective import residual_error as quadrature_re
 
     rng = np.random.default_rng(20261123)
     for n_joints in (1, 2, 4, 7):
@@ -72,7 +72,7 @@ def test_exact_figures_come_from_the_closed_form_and_match_a_fine_quadrature():
         reference = float(quadrature_re(list(series.beta_rad), list(series.phase_rad), "exact",
                                         4096))
         assert evaluation.residual_error == pytest.approx(reference, rel=1e-10, abs=1e-16)
-        from sso.kinematics.hooke import chain_kinematics
+        from sso._kinematics.hooke import chain_kinematics
 
         theta = np.linspace(0.0, np.pi, 200_001)
         dense = chain_kinematics(np, np.cos(theta), np.sin(theta), list(series.beta_rad),
@@ -99,9 +99,9 @@ def _fine_peak(values_at: Callable[[np.ndarray], np.ndarray],
 @pytest.mark.parametrize("top_deg", [30.0, 60.0, 85.0, 89.0])
 def test_exact_acceleration_and_transmission_error_match_the_joint_by_joint_chain(top_deg):
     # The exact model's peak output acceleration and transmission error are closed
-    # forms of the chain matrix (sso.kinematics.hooke_matrix.peak_ratio_slope and
+    # forms of the chain matrix (sso._kinematics.hooke_matrix.peak_ratio_slope and
     # lag_swing). The reference is independent of the matrix: the joint-by-joint chain
-    # (sso.kinematics.hooke.chain_kinematics, one joint's law after another), its
+    # (sso._kinematics.hooke.chain_kinematics, one joint's law after another), its
     # ratio slope and angle lag maximised over theta by a 100,001-point grid and a
     # bounded scalar search. Agreement to 1e-9 relative, up to 89 deg, 1 to 7 joints.
     rng = np.random.default_rng(int(top_deg))
@@ -132,8 +132,8 @@ def _angle_lag(chain: Callable[[np.ndarray], Any], theta: np.ndarray) -> np.ndar
 
 
 def _joint_by_joint(beta_rad: list[float], phase_rad: list[float], theta: np.ndarray) -> Any:
-    """The exact chain joint after joint (sso.kinematics.hooke), not the chain matrix."""
-    from sso.kinematics.hooke import chain_kinematics
+    """The exact chain joint after joint (sso._kinematics.hooke), not the chain matrix."""
+    from sso._kinematics.hooke import chain_kinematics
 
     return chain_kinematics(np, np.cos(theta), np.sin(theta), beta_rad, phase_rad, "exact")
 

@@ -1,7 +1,7 @@
-"""The most robust of many exact optima (sso.shafts.exact_optima through sso.optimise).
+"""The most robust of many exact optima (sso._shafts.exact_optima through sso.optimise).
 
 References: RE of the chosen designs by the adaptive quadrature of the angle-by-angle
-chain (sso.shafts.quadrature with sso.kinematics.hooke, no chain matrix); p95 RE by
+chain (sso._shafts.quadrature with sso._kinematics.hooke, no chain matrix); p95 RE by
 sso.tolerance_study's own Monte Carlo of the returned result. The figures of the
 optimum returned before this choice existed (p95 2.31e-4 on the README example under
 0.5 deg / 1 deg normal tolerances, 10,000 samples, seed 0; best of 150 random starts
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.shafts.exact_optima import _on_bound
-from sso.shafts.quadrature import adaptive_residual_error
+from sso._shafts.exact_optima import _on_bound
+from sso._shafts.quadrature import adaptive_residual_error
 
 README_SERIES = sso.ShaftSeries(beta_deg=[30, 40, 40], phase_deg=[90, 90], model="exact")
 README_CALL = {"option": 3, "beta_bounds_deg": (10, 40), "phase_bounds_deg": (0, 180),

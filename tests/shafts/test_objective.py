@@ -17,7 +17,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from sso.shafts.objective import angle_grid, residual_error, squared_ratio_error
+from sso._shafts.objective import angle_grid, residual_error, squared_ratio_error
 
 
 def closed_form_one_joint(beta_rad: float) -> float:

@@ -173,12 +173,12 @@ def test_screening_stops_at_a_global_minimum():
 
 
 def test_the_module_named_optimise_does_not_shadow_the_function():
-    # sso.shafts.optimise is a module; sso.optimise stays the lazily exported function
-    # (the dispatcher that sends a shaft series on to sso.shafts.optimise.optimise).
+    # sso._shafts.optimise is a module; sso.optimise stays the lazily exported function
+    # (the dispatcher that sends a shaft series on to sso._shafts.optimise.optimise).
     import importlib
 
-    importlib.import_module("sso.shafts.optimise")
-    dispatcher = importlib.import_module("sso.column.dispatch")
+    importlib.import_module("sso._shafts.optimise")
+    dispatcher = importlib.import_module("sso._column.dispatch")
     assert callable(sso.optimise) and sso.optimise is dispatcher.optimise
     result = sso.optimise(PAPER_OPTION_2, 2, beta_bounds_deg=(7, 25), solvers="slsqp", starts=1)
     assert result.success
@@ -203,9 +203,9 @@ def test_many_starts_above_zero_are_screened_in_one_batch():
     # share the batch's wall time equally. The best of them must equal the best of
     # the same starts solved one by one with "lm" (independent single runs, within
     # 1e-12 absolute), and the solvers then run from it.
-    from sso.limits import BATCH_SCREEN_STARTS, DEFAULT_SEED
-    from sso.shafts.options import build_problem
-    from sso.solvers.starts import start_points
+    from sso._limits import BATCH_SCREEN_STARTS, DEFAULT_SEED
+    from sso._shafts.options import build_problem
+    from sso._solvers.starts import start_points
 
     starts = 81
     assert starts - 1 >= BATCH_SCREEN_STARTS

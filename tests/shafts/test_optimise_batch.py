@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.kinematics import hooke_matrix
-from sso.shafts.batch import optimise_batch
+from sso._kinematics import hooke_matrix
+from sso._shafts.batch import optimise_batch
 
 CASES = {  # option: beta bounds (deg), as in cases/paper_option*_exact.toml
     1: (0.0, 40.0),

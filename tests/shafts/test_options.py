@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from sso.shafts.options import (
+from sso._shafts.options import (
     StartMovedWarning,
     build_problem,
     parse_option,

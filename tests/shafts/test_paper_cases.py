@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso.shafts.objective import residual_error
+from sso._shafts.objective import residual_error
 
 # option: (start beta, start phase, beta bounds, phase bounds, paper optimum, fmincon nfev)
 PAPER_CASES = {
@@ -88,7 +88,7 @@ def ipopt_off_by_0_05_rad(monkeypatch):
     IPOPT instances are dropped before and after, so no other test sees the broken one."""
     import casadi
 
-    from sso.solvers.nlp import cached_shapes
+    from sso._solvers.nlp import cached_shapes
 
     real = casadi.nlpsol
 

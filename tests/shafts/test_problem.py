@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from sso.shafts.objective import residual_error
-from sso.shafts.options import build_problem
-from sso.shafts.problem import compiled_nlp
+from sso._shafts.objective import residual_error
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
 
 
 def test_one_joint_graph_gives_the_closed_form_re():

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.shafts.objective import residual_error
-from sso.shafts.quadrature import adaptive_residual_error, rule_for_bounds
+from sso._shafts.objective import residual_error
+from sso._shafts.quadrature import adaptive_residual_error, rule_for_bounds
 
 
 @pytest.mark.parametrize("model", ["exact", "paper"])

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import casadi
 import numpy as np
 
-from sso.solvers.nlp import CompiledNLP, compile_nlp
-from sso.solvers.run import RunLimits
+from sso._solvers.nlp import CompiledNLP, compile_nlp
+from sso._solvers.run import RunLimits
 
 BOX = RunLimits(np.array([-2.0, -2.0]), np.array([2.0, 2.0]))
 PARAMETERS = np.array([1.0])

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.solvers.crosscheck import crosscheck
-from sso.solvers.kkt import projected_gradient_norm
+from sso._solvers.crosscheck import crosscheck
+from sso._solvers.kkt import projected_gradient_norm
 
 SERIES = sso.ShaftSeries([20.0, 20.0])
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from solvers.problems import BOX, CLOSED_FORM_CASES, PARAMETERS, rosenbrock
 
-from sso.solvers import ipopt
+from sso._solvers import ipopt
 
 
 @pytest.mark.parametrize("case", CLOSED_FORM_CASES, ids=lambda case: case.name)
@@ -59,7 +59,7 @@ def test_an_answer_in_a_flat_valley_ending_on_a_bound_is_put_on_the_bound(first_
     import warnings
 
     import sso
-    from sso.shafts.objective import residual_error
+    from sso._shafts.objective import residual_error
 
     series = sso.ShaftSeries([first_beta_deg, 20.0, 9.0], [30.0, 40.0])
     with warnings.catch_warnings():

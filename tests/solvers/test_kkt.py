@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sso.solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm
-from sso.solvers.run import RunLimits
+from sso._solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm
+from sso._solvers.run import RunLimits
 
 BOX = RunLimits(np.array([-2.0, -2.0]), np.array([2.0, 2.0]))
 HALF_PLANE = RunLimits(BOX.lower, BOX.upper, np.array([1.0]), np.array([np.inf]))

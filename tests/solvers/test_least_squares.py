@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from sso.solvers.least_squares import STATUS_MESSAGES, batch_least_squares
+from sso._solvers.least_squares import STATUS_MESSAGES, batch_least_squares
 
 
 def rosenbrock(x, rows):

@@ -1,7 +1,7 @@
 """The single-design least-squares solver ``"lm"`` through :func:`sso.optimise`.
 
 References: RE of the answer recomputed by the rectangle rule of the angle-by-angle
-chain (``sso.shafts.objective.residual_error``, 512 angles, independent of the
+chain (``sso._shafts.objective.residual_error``, 512 angles, independent of the
 chain matrix the solver uses); the paper's option-3 and option-1 cases
 (docs/model.md) and IPOPT's answer on the same problem.
 """
@@ -9,7 +9,7 @@ chain matrix the solver uses); the paper's option-3 and option-1 cases
 import pytest
 
 import sso
-from sso.shafts.objective import residual_error
+from sso._shafts.objective import residual_error
 
 PAPER_START = sso.ShaftSeries([15.0, 20.0, 9.0], [5.0, 50.0], "exact")
 
@@ -63,8 +63,8 @@ def test_lm_is_refused_for_the_paper_model():
 
 
 def test_exact_shape_does_not_depend_on_bounds():
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
 
     narrow = build_problem([15.0, 20.0], [5.0], "exact", 3, (7, 25), (0, 180))
     wide = build_problem([15.0, 20.0], [5.0], "exact", 3, (0, 89.9), (0, 180))
@@ -74,8 +74,8 @@ def test_exact_shape_does_not_depend_on_bounds():
 def _rejecting_newton_case():
     # Found by a random search: Gauss-Newton stalls on the bounds, and the Newton
     # steps that follow are rejected several times before one is accepted.
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
 
     problem = build_problem([9.3, 6.2, 27.6], [154.8, 9.9], "exact", 3, (5.0, 35.0),
                             (0.0, 180.0))
@@ -83,7 +83,7 @@ def _rejecting_newton_case():
 
 
 def _run_recording_points(hessian_given):
-    from sso.solvers.lm import minimise
+    from sso._solvers.lm import minimise
 
     problem, nlp, fixed = _rejecting_newton_case()
     points = []
@@ -116,9 +116,9 @@ def test_closed_form_and_difference_hessians_reach_the_same_minimum():
     # Option 1 of the paper's start has a nonzero, isolated minimum over the phases,
     # which the Newton steps finish; with the closed-form Hessian and with differences
     # of the gradient they stop at the same design.
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
-    from sso.solvers.lm import minimise
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
+    from sso._solvers.lm import minimise
 
     problem = build_problem(list(PAPER_START.beta_deg), list(PAPER_START.phase_deg), "exact", 1,
                             (0.0, 40.0), (0.0, 180.0))

@@ -1,18 +1,18 @@
 """The rules run on numpy columns (many designs at once) against the same rules in plain
-Python floats, one design at a time (:func:`sso.solvers.lm.minimise`).
+Python floats, one design at a time (:func:`sso._solvers.lm.minimise`).
 
 Reference: the Python loop from the same starts and bounds. Both are the rules of
-:mod:`sso.solvers.lm_rules`; here they run through different arithmetic (numpy's
+:mod:`sso._solvers.lm_rules`; here they run through different arithmetic (numpy's
 array operations, Python's floats), so a design must end with the same status, the
 same counts and the same point up to round-off.
 """
 
 import numpy as np
 
-from sso.kinematics.hooke_matrix import residual_and_jacobian_complex, residual_jacobian
-from sso.solvers import lm
-from sso.solvers.lm_batch import solve_batch
-from sso.solvers.lm_rules import NEWTON
+from sso._kinematics.hooke_matrix import residual_and_jacobian_complex, residual_jacobian
+from sso._solvers import lm
+from sso._solvers.lm_batch import solve_batch
+from sso._solvers.lm_rules import NEWTON
 
 
 def _columns(point, parameters):

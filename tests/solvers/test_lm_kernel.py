@@ -1,6 +1,6 @@
 """The compiled Gauss-Newton iterations of "lm" against the Python loop they repeat.
 
-Reference: :func:`sso.solvers.lm.minimise` run alone (no kernel) from the same
+Reference: :func:`sso._solvers.lm.minimise` run alone (no kernel) from the same
 starts: the kernel is the same algorithm, so it must end with the same status and
 iteration count, and an objective no worse than the loop's beyond round-off.
 """
@@ -8,10 +8,10 @@ iteration count, and an objective no worse than the loop's beyond round-off.
 import numpy as np
 import pytest
 
-from sso.shafts.options import build_problem
-from sso.shafts.problem import compiled_nlp
-from sso.solvers import lm
-from sso.solvers.lm_kernel import (
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
+from sso._solvers import lm
+from sso._solvers.lm_kernel import (
     KERNEL_ITERATIONS,
     NEWTON_KERNEL_AFTER,
     kernel_of,
@@ -19,8 +19,8 @@ from sso.solvers.lm_kernel import (
     run_kernel,
     run_newton_kernel,
 )
-from sso.solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING
-from sso.solvers.run import RunLimits
+from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING
+from sso._solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")

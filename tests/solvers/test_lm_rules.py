@@ -4,8 +4,8 @@ factor and eigenvalues."""
 import numpy as np
 import pytest
 
-from sso.solvers.lm_batch import NUMPY
-from sso.solvers.lm_rules import PYTHON, cholesky, solve_factored
+from sso._solvers.lm_batch import NUMPY
+from sso._solvers.lm_rules import PYTHON, cholesky, solve_factored
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 5, 8])

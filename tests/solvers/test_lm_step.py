@@ -2,8 +2,8 @@
 
 Reference: the damped Gauss-Newton step in its textbook form,
 ``dx = -(J^T J + mu I)^-1 J^T r`` (a k-by-k solve by numpy), with ``J`` by central
-differences of the two residuals of :func:`sso.kinematics.hooke_matrix.residuals` and
-the first iteration's damping ``mu = 1e-3 * trace(J J^T) / 2`` (sso/solvers/lm.py:
+differences of the two residuals of :func:`sso._kinematics.hooke_matrix.residuals` and
+the first iteration's damping ``mu = 1e-3 * trace(J J^T) / 2`` (sso/_solvers/lm.py:
 ``_INITIAL_DAMPING`` times half the trace, unscaled at the first step). The solver
 takes the same step through the push-through identity (one 2x2 solve); a wrong term
 in that 2x2 solve (the coupling ``J_1 . J_2``) changes the step and fails these tests
@@ -16,11 +16,11 @@ import statistics
 import numpy as np
 import pytest
 
-from sso.kinematics import hooke_matrix
-from sso.shafts.options import build_problem
-from sso.shafts.problem import compiled_nlp
-from sso.solvers import lm
-from sso.solvers.run import RunLimits
+from sso._kinematics import hooke_matrix
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
+from sso._solvers import lm
+from sso._solvers.run import RunLimits
 
 # Interior starts near, but not at, an exact optimum: the first step is accepted and
 # touches no bound (both checked below).

@@ -16,14 +16,14 @@ from solvers.problems import (
     two_constraints,
 )
 
-from sso.solvers.multistart import (
+from sso._solvers.multistart import (
     best_solution,
     distinct_minima,
     run_starts,
     solution_from_run,
 )
-from sso.solvers.solution import Solution
-from sso.solvers.starts import start_points
+from sso._solvers.solution import Solution
+from sso._solvers.starts import start_points
 
 
 def _solution(fun: float, success: bool = True) -> Solution:

@@ -13,7 +13,7 @@ from solvers.problems import (
     two_constraints,
 )
 
-from sso.solvers.nlp import CompiledNLP, cached_nlp
+from sso._solvers.nlp import CompiledNLP, cached_nlp
 
 
 def test_objective_and_gradient_match_the_hand_derivative():

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from sso.limits import NLP_CACHE_SHAPES, QUADRATURE_BLOCK_SAMPLES
-from sso.shafts.objective import residual_error
-from sso.shafts.options import build_problem
-from sso.shafts.problem import compiled_nlp
-from sso.solvers.nlp import cached_nlp, cached_shapes
+from sso._limits import NLP_CACHE_SHAPES, QUADRATURE_BLOCK_SAMPLES
+from sso._shafts.objective import residual_error
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
+from sso._solvers.nlp import cached_nlp, cached_shapes
 
 
 def test_least_recently_used_shape_is_dropped():

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import sso
-from sso.shafts.batch import _parts
-from sso.solvers.resources import (
+from sso._shafts.batch import _parts
+from sso._solvers.resources import (
     batch_estimate,
     batch_least_squares_mb,
     multistart_estimate,

@@ -1,7 +1,7 @@
 """One result base for every design problem: OptimizeResult-style fields, one JSON form."""
 
 import sso
-from sso.solvers.result import DesignResult
+from sso._solvers.result import DesignResult
 
 
 def test_both_design_results_share_the_base_and_its_fields():

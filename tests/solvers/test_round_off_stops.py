@@ -1,4 +1,4 @@
-"""Stops at round-off tested by moving one variable at a time (sso.solvers.round_off_stops).
+"""Stops at round-off tested by moving one variable at a time (sso._solvers.round_off_stops).
 
 References are closed-form sums of squares whose minima are known: ``(x0 - 1)^2 +
 (x1 + 2)^2`` (minimum at (1, -2)) and a narrow valley ``(1e8 (x0 - x1))^2 + (x0 - 3)^2``.
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sso.solvers import round_off_stops
+from sso._solvers import round_off_stops
 
 
 def bowl(point):

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from sso.solvers.run import RunLimits, RunOutcome
+from sso._solvers.run import RunLimits, RunOutcome
 
 
 def test_limits_are_constrained_only_with_constraint_functions():

@@ -17,8 +17,8 @@ from solvers.problems import (
     saddle,
 )
 
-from sso.solvers import ipopt, slsqp
-from sso.solvers.saddle import solve_with_second_order_care
+from sso._solvers import ipopt, slsqp
+from sso._solvers.saddle import solve_with_second_order_care
 
 
 @pytest.mark.parametrize("backend", [ipopt, slsqp], ids=["ipopt", "slsqp"])
@@ -76,9 +76,9 @@ def test_closed_form_hessian_agrees_with_central_differences_of_the_gradient():
     # the gradient (step 1e-4, truncation ~1e-8) are the independent reference.
     from dataclasses import replace
 
-    from sso.shafts.options import build_problem
-    from sso.shafts.problem import compiled_nlp
-    from sso.solvers.saddle import _Counts, _hessian
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
+    from sso._solvers.saddle import _Counts, _hessian
 
     problem = build_problem([15.0, 20.0, 9.0, 25.0], [30.0, 40.0, 70.0], "exact", 3,
                             (0.0, 40.0), (0.0, 180.0))

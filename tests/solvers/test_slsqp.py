@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from solvers.problems import BOX, CLOSED_FORM_CASES, PARAMETERS, rosenbrock
 
-from sso.solvers import slsqp
+from sso._solvers import slsqp
 
 
 @pytest.mark.parametrize("case", CLOSED_FORM_CASES, ids=lambda case: case.name)

@@ -12,8 +12,8 @@ import sys
 
 import numpy as np
 
-from sso.limits import DEFAULT_SEED
-from sso.solvers.starts import rotated_halton, start_points
+from sso._limits import DEFAULT_SEED
+from sso._solvers.starts import rotated_halton, start_points
 
 LOWER, UPPER = np.array([0.0, -10.0, 5.0]), np.array([1.0, 10.0, 5.0])
 USER = np.array([0.5, 3.0, 5.0])
@@ -51,7 +51,7 @@ def test_halton_points_fill_the_box_better_than_random_points():
 
 
 def test_many_starts_do_not_import_scipy_stats():
-    code = ("import sys, numpy as np; from sso.solvers.starts import start_points; "
+    code = ("import sys, numpy as np; from sso._solvers.starts import start_points; "
             "start_points(np.zeros(4), np.zeros(4), np.ones(4), 100); "
             "print('scipy.stats' in sys.modules)")
     output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -1,0 +1,63 @@
+"""The ``sso`` command: parse the arguments, run one subcommand, return its exit code.
+
+Exit codes: 0 every case solved and its solvers agree; 1 a solver failed or the
+solvers disagreed (the report says so); 2 bad input (an unreadable or invalid
+case or result file, bad arguments). Bad input never shows a traceback.
+
+Each subcommand is one :class:`sso._cli.common.Command` in a module of its own
+(:mod:`sso._cli.solve`: run and evaluate; :mod:`sso._cli.validate`;
+:mod:`sso._cli.report`; :mod:`sso._cli.studies`: sweep and tolerance); adding
+one means adding its module and its entry in :data:`COMMANDS`. Heavy modules are
+imported inside the handlers, so ``sso --help`` and ``sso validate`` load neither
+CasADi nor SciPy.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+from sso._cli import report, solve, studies, validate
+from sso._cli.common import EXIT_INTERRUPTED, Command, print_error
+from sso._distribution import installed_version
+from sso._interrupts import interrupt_on_signals, restore_handlers
+
+COMMANDS: tuple[Command, ...] = (
+    *solve.COMMANDS,
+    validate.COMMAND,
+    report.COMMAND,
+    *studies.COMMANDS,
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``sso`` command with every subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="sso",
+        description="Shaft Series Optimisation: choose Hooke-joint operating angles and "
+                    "phases so the output shaft turns evenly.",
+        epilog="Exit codes: 0 all cases solved and cross-checks agree; 1 a solver failed or "
+               "the solvers disagreed; 2 bad input. 'sso COMMAND --help' describes a command.")
+    parser.add_argument("--version", action="version", version=f"sso {installed_version()}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for command in COMMANDS:
+        subparser = subparsers.add_parser(command.name, help=command.summary,
+                                          description=command.description)
+        command.configure(subparser)
+        subparser.set_defaults(handle=command.handle)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
+    args = build_parser().parse_args(argv)
+    previous = interrupt_on_signals()
+    try:
+        code: int = args.handle(args)
+        return code
+    except KeyboardInterrupt:
+        print_error("interrupted; files already written are complete, none is half-written")
+        return EXIT_INTERRUPTED
+    finally:
+        restore_handlers(previous)
+

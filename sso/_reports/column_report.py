@@ -1,0 +1,290 @@
+"""Report of a column result: ``report.md``/``.html`` blocks and ``excitation.csv``.
+
+Rendered from the result document alone (:mod:`sso._run.column_document`), with
+the same Markdown and HTML writers as every other report.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from sso._column.geometry import shaft_name
+from sso._limits import REPORT_DIGITS
+from sso._reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
+from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
+from sso._reports.summary import (
+    Block,
+    Heading,
+    Image,
+    Paragraph,
+    Scene,
+    Table,
+    closing_blocks,
+    number,
+)
+
+EXCITATION_FILE = "excitation.csv"
+EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsional_rad_s2",
+                      "exact_torsional_rad_s2", "exact_output_accel_rad_s2",
+                      "inertial_limit_rad_s2", "torsional_limit_rad_s2", "within_limits")
+CAPTIONS = {
+    "column_3d.png": "The column in vehicle coordinates: shafts, joints (dots), the end points "
+                     "on the input and output axes (squares) and each joint's bend plane "
+                     "(orange patch, spanned by the shafts before and after the joint); the "
+                     "named tilt positions (dotted), the joint boxes and the moved column "
+                     "(dashed) where the case has them. report.html has this view to turn.",
+    "excitation.png": "SAE AE-7 small-angle excitations and the exact output acceleration over "
+                      "the rpm range (solid: recommended assembly, dashed: as built), with the "
+                      "published driveline limits where they apply.",
+    STEERING_PLOT: STEERING_CAPTION,
+    **ROBUST_CAPTIONS,
+}
+VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate, the wheel to "
+                "zoom, double-click for the first view; the pointer names each part. Shafts "
+                "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
+                "positions (dashed), the joint boxes and the moved column (green).")
+CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k = 0), the "
+              "intermediate shafts 1 to n-1 and the output shaft (k = n); gamma_k is the angle "
+              "about intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); "
+              "the yoke phasing delta_k is the turn about shaft k from the pin axis of its yoke at "
+              "joint k to that of its yoke at joint k+1, 0 = in phase (pin axes parallel); the "
+              "model phase is phi_k = 90 + delta_k - gamma_k (mod 180). phi = 90 deg means yokes in"
+              " phase only for a planar column (gamma = 0 or 180); here it means each yoke turned "
+              "by its bend-plane angle (the textbook correction).")
+
+
+def excitation_csv(document: Mapping[str, Any]) -> str:
+    """``excitation.csv``: one row per speed and assembly (as built, recommended), six
+    significant digits (``result.json`` keeps every digit)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(("assembly", *EXCITATION_COLUMNS))
+    for role, rows in document["excitation"]["rows"].items():
+        for row in rows:
+            writer.writerow((role, *(f"{row[name]:.{REPORT_DIGITS}g}"
+                                     if isinstance(row[name], float) else row[name]
+                                     for name in EXCITATION_COLUMNS)))
+    return buffer.getvalue()
+
+
+def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> list[Block]:
+    """Blocks of the whole report of a column result."""
+    case = document["case"]
+    blocks: list[Block] = [Heading(1, f"SSO report: {case['name']}")]
+    if case.get("description"):
+        blocks.append(Paragraph(case["description"]))
+    status = "OK" if document["success"] else "FAILED"
+    blocks += [_case_table(document), Heading(2, "Verdict"),
+               Paragraph(f"{status}: {document['verdict']}"),
+               Heading(2, "Geometry from the hardpoints"), _geometry_table(document),
+               _shaft_table(document), Paragraph(CONVENTION), _scene(document),
+               Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
+               Heading(2, "Assemblies compared"), _assembly_table(document),
+               Heading(2, "Yoke phasing for the fitter"), _phasing_table(document),
+               *_exact_set_blocks(document)]
+    if "splines" in document:
+        splines = document["splines"]
+        objective = splines.get("objective", "RE")
+        subject = ("the best continuous phasing" if objective == "RE"
+                   else "the continuous phasing of that objective")
+        blocks += [Paragraph(f"Best on the splines for the {objective}: "
+                             f"{number(splines['residual_error'], '.6g')} at the teeth, against "
+                             f"{number(splines['continuous_residual_error'], '.6g')} for "
+                             f"{subject} (loss "
+                             f"{number(splines['loss'], '.3g')}; {splines['method']}, "
+                             f"{splines['assemblies_evaluated']} assemblies evaluated, "
+                             f"{len(splines['ties'])} tied)."),
+                   Heading(3, "Assembly instructions"),
+                   *[Paragraph(item["text"]) for item in document["splines"]["instructions"]]]
+    if "joint_positions" in document:
+        blocks += [Heading(2, "Joint positions moved within their boxes"),
+                   *_joint_blocks(document)]
+    blocks += steering_blocks(document)
+    blocks += robust_blocks(document)
+    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
+    images = [Image(name, CAPTIONS[name]) for name in image_files]
+    return blocks + closing_blocks(document["warnings"], document["versions"], images)
+
+
+def _scene(document: Mapping[str, Any]) -> Scene:
+    from sso._reports.column_scene import column_scene
+
+    return Scene(column_scene(document), VIEW_CAPTION)
+
+
+def _case_table(document: Mapping[str, Any]) -> Table:
+    case = document["case"]
+    geometry = document["geometry"]
+    rows = [("case file", str(document["case_file"])), ("kind", document["kind"]),
+            ("run", {"optimise": "phasing, spline teeth and joint-position optimisation",
+                     "evaluate": "analysis of the assembly as built"}[document["mode"]]),
+            ("joints", str(len(geometry["beta_deg"]))),
+            ("application", document["excitation"].get("application", "driveline")),
+            ("vehicle (limits)", document["excitation"]["vehicle"]),
+            ("spline teeth", ", ".join(str(t) for t in case.get("splines", {}).get("teeth", []))
+             or "not given")]
+    return Table(("item", "value"), tuple(rows))
+
+
+def _geometry_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    points = geometry["points_mm"]
+    rows = []
+    for index, point in enumerate(points):
+        coordinates = ", ".join(f"{value:.1f}" for value in point)
+        if index in (0, len(points) - 1):
+            role = "input shaft point" if index == 0 else "output shaft point"
+            rows.append((f"P{index}", role, coordinates, "-"))
+        else:
+            straight = " (straight)" if geometry["straight_joints"][index - 1] else ""
+            rows.append((f"P{index}", f"joint {index}", coordinates,
+                         number(geometry["beta_deg"][index - 1], ".4f") + straight))
+    return Table(("point", "role", "x, y, z (mm)", "operating angle beta (deg)"), tuple(rows))
+
+
+def _shaft_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    lengths = geometry["shaft_length_mm"]
+    gammas = geometry["plane_angle_deg"]
+    rows = []
+    for shaft, length in enumerate(lengths):
+        gamma = number(gammas[shaft - 1], ".4f") if 1 <= shaft <= len(gammas) else "-"
+        rows.append((shaft_name(shaft, len(lengths)), f"P{shaft} to P{shaft + 1}",
+                     number(length, ".1f"), gamma))
+    return Table(("shaft", "from, to", "length (mm)", "bend-plane angle gamma (deg)"),
+                 tuple(rows))
+
+
+def _cancel_blocks(document: Mapping[str, Any]) -> list[Block]:
+    verdict = document["cancel"]
+    answer = "yes" if verdict["possible"] else "no"
+    rows = (("rule", verdict["rule"]),
+            ("RE = 0 reachable", answer),
+            ("margin cos(beta_max) - prod cos(beta_other)", number(verdict["margin"], ".6g")),
+            ("limiting joint", str(verdict["limiting_joint"])),
+            ("Spicer small-angle margin sum beta_other^2 - beta_max^2 (deg^2)",
+             number(verdict["small_angle_margin_deg2"], ".4g")),
+            ("least RE any phasing reaches", number(verdict["minimum_residual_error"], ".6g")))
+    return [Table(("criterion", "value"), rows)]
+
+
+def _assembly_table(document: Mapping[str, Any]) -> Table:
+    rows = []
+    for entry in document["assemblies"]:
+        rows.append((entry["label"], _angles(entry["yoke_phase_deg"]),
+                     _angles(entry["phase_deg"]), number(entry["residual_error"], ".6g")))
+    return Table(("assembly", "yoke phasing delta (deg)", "model phase phi (deg)", "RE"),
+                 tuple(rows))
+
+
+def _exact_set_blocks(document: Mapping[str, Any]) -> list[Block]:
+    exact = (document.get("phasing") or {}).get("exact_optima")
+    if exact is None:
+        return []
+    ends = "; ".join(f"shaft {shaft + 1}: "
+                     + ("every phasing" if high - low >= 180.0 else
+                        f"{number(low, '.3f')} to {number(high, '.3f')} deg")
+                     for shaft, (low, high) in enumerate(exact["extent_yoke_phase_deg"]))
+    return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
+                      f"{exact['dimension']}; the best phasing above is the one "
+                      f"{exact['criterion']}. The set's extent in delta (from the chosen "
+                      f"phasing along the set): {ends}.")]
+
+
+def _phasing_table(document: Mapping[str, Any]) -> Table:
+    geometry = document["geometry"]
+    phasing = document.get("phasing")
+    splines = document.get("splines")
+    as_built = next(entry for entry in document["assemblies"] if entry["role"] == "as_built")
+    header = ["intermediate shaft", "gamma (deg)", "delta as built (deg)"]
+    if phasing is not None:
+        header += ["best delta (deg)", "all optimal delta, mod 180 (deg)"]
+    if splines is not None:
+        header += ["teeth", "tooth offset", "delta on the splines (deg)", "direction"]
+    rows = []
+    for shaft, gamma in enumerate(geometry["plane_angle_deg"]):
+        row = [f"{shaft + 1} (joint {shaft + 1} to {shaft + 2})", number(gamma, ".3f"),
+               number(as_built["yoke_phase_deg"][shaft], ".3f")]
+        if phasing is not None:
+            row += [number(phasing["yoke_phase_deg"][shaft], ".3f"),
+                    "; ".join(number(optimum[shaft], ".3f")
+                              for optimum in phasing["equivalent_yoke_phase_deg"])]
+        if splines is not None:
+            offset = splines["tooth_offset"][shaft]
+            direction = ("in phase" if offset == 0 else
+                         "clockwise" if offset > 0 else "anticlockwise")
+            row += [str(splines["teeth"][shaft]), f"{offset:+d}",
+                    number(splines["yoke_phase_deg"][shaft], ".3f"),
+                    f"{direction}, looking from joint {shaft + 1} to joint {shaft + 2}"
+                    if offset else direction]
+        rows.append(tuple(row))
+    return Table(tuple(header), tuple(rows))
+
+
+def _joint_blocks(document: Mapping[str, Any]) -> list[Block]:
+    moved = document["joint_positions"]
+    given = moved["initial"]["points_mm"]
+    rows = []
+    for joint in range(1, len(given) - 1):
+        before, after = given[joint], moved["points_mm"][joint]
+        travel = sum((a - b) ** 2 for a, b in zip(after, before, strict=False)) ** 0.5
+        rows.append((str(joint), ", ".join(f"{value:.2f}" for value in before),
+                     ", ".join(f"{value:.2f}" for value in after), number(travel, ".3f"),
+                     number(moved["initial"]["beta_deg"][joint - 1], ".3f"),
+                     number(moved["geometry"]["beta_deg"][joint - 1], ".3f")))
+    phasing = "free" if moved["phasing_free"] else "fixed"
+    summary = (("yoke phasing", f"{phasing}: {_angles(moved['yoke_phase_deg'])} deg"),
+               ("RE at the given points (start phasing)", number(moved["initial_re"], ".6g")),
+               ("least RE over phasing at the given points",
+                number(moved["fixed_points_re"], ".6g")),
+               ("RE with the joints moved", number(moved["fun"], ".6g")),
+               ("largest bound violation", number(moved["constraint_violation"], ".3g")),
+               ("cross-check", moved["crosscheck"]["message"] if moved["crosscheck"] else
+                "one solver, no cross-check"))
+    return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
+                   "beta given (deg)", "beta moved (deg)"), tuple(rows)),
+            Table(("item", "value"), summary)]
+
+
+def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
+    excitation = document["excitation"]
+    labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
+    angle_rows = tuple((labels[role], number(angles["drive_deg"], ".4f"),
+                        number(angles["coast_deg"], ".4f"), number(angles["torsional_deg"], ".4f"),
+                        number(angles["exact_deg"], ".4f"))
+                       for role, angles in excitation["angles"].items())
+    judged = excitation.get("application", "driveline") == "driveline"
+    limits = (f"Limits ({excitation['vehicle']}): inertial (drive, coast) and torsional, as "
+              "used by driveline makers." if judged else
+              "The SAE AE-7 limits (inertial 1000 / 2000, torsional 300 / 500 rad/s^2) are "
+              "for propeller shafts at driveline speeds: they do not judge a steering column, "
+              "so no row is marked within or outside them (excitation.application = "
+              "'steering'); the steering criteria above judge it.")
+    blocks: list[Block] = [
+        Paragraph("Equivalent angles (deg): SAE AE-7 small-angle figures, and the exact chain "
+                  "as one joint (beta_eq). Excitation = omega^2 sin^2(angle), rad/s^2; the "
+                  "exact output acceleration is the largest |d w_out/dt| at constant input "
+                  f"speed. {limits}"),
+        Table(("assembly", "drive", "coast", "torsional", "exact beta_eq"), angle_rows)]
+    for role, rows in excitation["rows"].items():
+        table_rows = tuple((number(row["input_speed_rpm"], ".4g"),
+                            number(row["drive_rad_s2"], ".4g"), number(row["coast_rad_s2"], ".4g"),
+                            number(row["torsional_rad_s2"], ".4g"),
+                            number(row["exact_torsional_rad_s2"], ".4g"),
+                            number(row["exact_output_accel_rad_s2"], ".4g"),
+                            *((f"{row['inertial_limit_rad_s2']:g} / "
+                               f"{row['torsional_limit_rad_s2']:g}",
+                               "yes" if row["within_limits"] else "NO") if judged else ()))
+                           for row in rows)
+        limit_header = ("limits inertial / torsional", "within") if judged else ()
+        blocks += [Heading(3, labels[role]),
+                   Table(("rpm", "drive", "coast", "torsional", "exact torsional",
+                          "exact output accel", *limit_header), table_rows)]
+    return blocks
+
+
+def _angles(values: Sequence[float]) -> str:
+    return ", ".join(number(value, ".3f") for value in values)

@@ -1,0 +1,492 @@
+"""``sso.optimise``: the one entry point for optimising a shaft series."""
+
+from __future__ import annotations
+
+import functools
+import time
+import warnings
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, ClassVar
+
+import numpy as np
+
+from sso._display import Part, TextTable, format_number, format_numbers
+from sso._limits import (
+    CROSS_CHECK_SOLVERS,
+    DEFAULT_BETA_BOUNDS_DEG,
+    DEFAULT_INPUT_SPEED_RPM,
+    DEFAULT_KKT_TOLERANCE,
+    DEFAULT_MAX_ITERATIONS,
+    DEFAULT_OBJECTIVE_ATOL,
+    DEFAULT_OBJECTIVE_RTOL,
+    DEFAULT_OPTION,
+    DEFAULT_PHASE_BOUNDS_DEG,
+    DEFAULT_QUADRATURE_ATOL,
+    DEFAULT_QUADRATURE_RTOL,
+    DEFAULT_SEED,
+    DEFAULT_SHAFT_SOLVER_TOL,
+    DEFAULT_STARTS,
+    MAX_ITERATIONS,
+    MAX_STARTS,
+    SOLVERS,
+)
+from sso._shafts.curves import ComparedDesign, compared_design
+from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
+from sso._shafts.exact_optima import (
+    ExactOptimumSet,
+    ToleranceSettings,
+    choose_exact_optimum,
+    is_exact,
+    tolerance_settings,
+)
+from sso._shafts.options import (
+    OPTION_FIXED_PHASE_DEG,
+    DesignProblem,
+    build_problem,
+    warn_moved_starts,
+)
+from sso._shafts.problem import compiled_nlp
+from sso._shafts.quadrature import QuadratureRule, rule_for_bounds
+from sso._shafts.series import ShaftSeries, checked_series
+from sso._solvers import lm
+from sso._solvers.lm_kernel import kernel_of, run_kernel
+from sso._solvers.multistart import (
+    MeasuredRun,
+    SolverFields,
+    measure_run,
+    solution_from_run,
+    solve_from_starts,
+)
+from sso._solvers.progress import ProgressBar, interactive
+from sso._solvers.resources import check_memory, multistart_estimate
+from sso._solvers.result import DesignResult
+from sso._solvers.run import RunLimits, RunOutcome
+from sso._solvers.solution import ROLE_SELECTION, Solution
+from sso._validation import (
+    validate_count,
+    validate_solver_tol,
+    validate_solvers,
+    validate_speed,
+)
+from sso._warning_origin import user_stacklevel
+
+PROGRESS_MIN_RUNS = 100
+"""Runs (starts times solvers) from which an interactive terminal shows a progress bar."""
+
+# The exact model's RE is a closed form: no quadrature angles, no quadrature error.
+CLOSED_FORM_RULE = QuadratureRule(samples=0, error_estimate=0.0, converged=True)
+
+
+
+UNRELIABLE_VERDICT = "optimum unreliable"
+"""How the verdict of a run whose optimum's quadrature did not converge begins."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False, repr=False)
+class OptimisationResult(DesignResult):
+    """Everything one optimisation found; reports are rendered from it alone.
+
+    Attributes
+    ----------
+    option : int
+        1 (phases), 2 (operating angles, phases at 90 deg) or 3 (both).
+    option_name : str
+        ``"phase"``, ``"angle"`` or ``"both"``.
+    model : str
+        ``"exact"`` or ``"paper"``.
+    input_speed_rpm : float
+    beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
+        Bounds per joint / per phase, deg.
+    initial_series : sso.ShaftSeries
+        The design as given, with the option's fixed values applied (option 2
+        phases at 90 deg); not moved onto the bounds.
+    start_series : sso.ShaftSeries
+        The user's start after moving it onto the bounds.
+    initial, optimum : sso.Evaluation
+        Evaluations of ``initial_series`` and of the best design, at
+        ``input_speed_rpm``; computed on first access (a caller that reads only
+        RE and the design does not pay for them).
+    compared : tuple of sso._shafts.curves.ComparedDesign
+        The initial design and the optimum with their speed curves, as the report
+        draws them; computed on first access.
+    best, solutions, runs, crosscheck, local_minima
+        As in :class:`sso._solvers.result.DesignResult`; ``fun`` is the residual
+        error RE and ``x`` is in deg. With ``screen_starts`` (exact model, more
+        than one start), ``runs`` holds the screening runs of ``"lm"`` from each
+        start, then each solver's own solve from the common start, then its run
+        from the screen's best point where it had one (``confirmations``); last,
+        the choice within the exact optima when it moved the design (``best``,
+        role ``"selection"``). ``found_by`` says who found ``best``.
+    samples : int
+        Quadrature angles of the NLP (chosen for the bounds); 0 for the exact
+        model, whose RE is evaluated in closed form (no quadrature).
+    quadrature_error : float
+        Estimated RE error of that rule at the worst design in the bounds; 0 for
+        the exact model (closed form, exact to round-off).
+    starts : int
+        Starts per solver.
+    warnings : tuple of str
+        Warnings raised while setting up: starts moved onto their bounds, and the
+        paper model's quadrature notes.
+    quadrature_rtol, quadrature_atol : float
+        Quadrature tolerance of the evaluations (paper model).
+    exact_optima : sso._shafts.exact_optima.ExactOptimumSet or None
+        Where the least RE is round-off zero (exact model): the criterion the
+        reported design was chosen by within the set of exact optima, its figures
+        and the set's extent per variable; None otherwise.
+    """
+
+    option: int
+    option_name: str
+    model: str
+    input_speed_rpm: float
+    beta_bounds_deg: tuple[tuple[float, float], ...]
+    phase_bounds_deg: tuple[tuple[float, float], ...]
+    initial_series: ShaftSeries
+    start_series: ShaftSeries
+    samples: int
+    quadrature_error: float
+    starts: int
+    warnings: tuple[str, ...]
+    quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL
+    quadrature_atol: float = DEFAULT_QUADRATURE_ATOL
+    exact_optima: ExactOptimumSet | None = None
+
+    @functools.cached_property
+    def initial(self) -> Evaluation:
+        """Figures of ``initial_series`` at ``input_speed_rpm``."""
+        return self.initial_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @functools.cached_property
+    def optimum(self) -> Evaluation:
+        """Figures of the best design at ``input_speed_rpm``."""
+        return self.best_series.evaluate(self.input_speed_rpm, **self._evaluation_options)
+
+    @functools.cached_property
+    def compared(self) -> tuple[ComparedDesign, ...]:
+        """The initial design and the optimum as a report shows them, with speed curves."""
+        return (compared_design("initial", "initial design (as given)", self.initial_series,
+                                self.initial),
+                compared_design("optimum", f"optimum (found by {self.found_by})", self.best_series,
+                                self.optimum))
+
+    @property
+    def best_series(self) -> ShaftSeries:
+        """The best design, ``best.series`` (always a shaft series here)."""
+        series = self.best.series
+        assert isinstance(series, ShaftSeries)
+        return series
+
+    @property
+    def _evaluation_options(self) -> dict[str, float]:
+        return {"quadrature_rtol": self.quadrature_rtol, "quadrature_atol": self.quadrature_atol}
+
+    report_kind: ClassVar[str] = "optimisation"
+    _record_derived: ClassVar[tuple[str, ...]] = ("initial", "optimum", "compared")
+
+    @property
+    def verdict(self) -> str:
+        """What the solvers found, in words; an optimum whose quadrature did not
+        converge is called unreliable (:data:`UNRELIABLE_VERDICT`)."""
+        if self.best.success and not self.optimum.quadrature_converged:
+            return (f"{UNRELIABLE_VERDICT}: operating angles this close to 90 deg put peaks in "
+                    "the speed ratio that the residual-error quadrature cannot resolve")
+        return super().verdict
+
+    def _repr_text(self) -> str:
+        verdict = "success" if self.success else "FAILED"
+        return (f"option {self.option} ({self.option_name}), {self.model} model, "
+                f"{verdict}: RE {format_number(self.initial.residual_error, 4)} -> "
+                f"{format_number(self.fun, 4)} by {self.found_by}; "
+                f"beta_deg [{format_numbers(self.best_series.beta_deg, 6)}], "
+                f"phase_deg [{format_numbers(self.best_series.phase_deg, 6)}]")
+
+    def _summary_parts(self) -> list[Part]:
+        verdict = "success" if self.success else "FAILED"
+        designs = TextTable(("design", "beta (deg)", "phase (deg)", "RE"), (
+            ("initial", format_numbers(self.initial_series.beta_deg),
+             format_numbers(self.initial_series.phase_deg),
+             format_number(self.initial.residual_error)),
+            ("optimum", format_numbers(self.best_series.beta_deg),
+             format_numbers(self.best_series.phase_deg), format_number(self.fun))))
+        title = (f"Optimisation, option {self.option} ({self.option_name}), {self.model} "
+                 f"model, {format_number(self.input_speed_rpm)} rpm: {verdict}")
+        exact = [] if self.exact_optima is None else self.exact_optima._summary_parts()
+        return [title, designs, *exact, *self._solver_parts("RE", "KKT (1/rad)")]
+
+    @property
+    def success(self) -> bool:
+        """True when the best answer converged, the solvers agree, and the optimum's
+        residual error is reliable (its quadrature converged)."""
+        return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
+                and self.optimum.quadrature_converged)
+
+    def _document_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of every field."""
+        return {
+            "option": self.option,
+            "option_name": self.option_name,
+            "model": self.model,
+            "input_speed_rpm": self.input_speed_rpm,
+            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
+            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
+            "initial_series": self.initial_series.to_dict(),
+            "start_series": self.start_series.to_dict(),
+            "initial": self.initial.to_dict(),
+            "optimum": self.optimum.to_dict(),
+            "samples": self.samples,
+            "quadrature_error": self.quadrature_error,
+            "starts": self.starts,
+            "warnings": list(self.warnings),
+            "exact_optima": None if self.exact_optima is None else self.exact_optima.to_dict(),
+            **self.solver_dict(),
+        }
+
+
+def optimise(
+    series: ShaftSeries,
+    option: int | str = DEFAULT_OPTION,
+    *,
+    beta_bounds_deg: Any = DEFAULT_BETA_BOUNDS_DEG,
+    phase_bounds_deg: Any = DEFAULT_PHASE_BOUNDS_DEG,
+    solvers: Iterable[str] | str = CROSS_CHECK_SOLVERS,
+    starts: int = DEFAULT_STARTS,
+    input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
+    solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    seed: int = DEFAULT_SEED,
+    quadrature_rtol: float = DEFAULT_QUADRATURE_RTOL,
+    quadrature_atol: float = DEFAULT_QUADRATURE_ATOL,
+    objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
+    objective_atol: float = DEFAULT_OBJECTIVE_ATOL,
+    kkt_tolerance: float = DEFAULT_KKT_TOLERANCE,
+    memory_limit_mb: float | None = None,
+    screen_starts: bool = True,
+    beta_tolerance_deg: float | Sequence[float] | None = None,
+    phase_tolerance_deg: float | Sequence[float] | None = None,
+    distribution: str | None = None,
+    samples: int | None = None,
+) -> OptimisationResult:
+    """Choose operating angles and/or phases that make the output turn evenly.
+
+    Minimises the residual error ``RE`` (mean square of ``w_out/w_in - 1`` over a
+    revolution) under bounds, with IPOPT (exact Hessian) and SLSQP (exact
+    gradient) on the same CasADi graph, from several starts, and cross-checks
+    the solvers. The exact model's RE is the closed form of the chain matrix
+    (:mod:`sso._kinematics.hooke_matrix`); the paper model's, a quadrature.
+
+    Parameters
+    ----------
+    series : sso.ShaftSeries
+        The start design and chain model. Option 1 keeps its operating angles;
+        option 2 fixes every phase at 90 deg.
+    option : {1, 2, 3, "phase", "angle", "both"}
+        Which angles are design variables.
+    beta_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the operating angles, deg, inside ``[0, 90)``; one pair for all
+        joints or one per joint. An equal pair pins that joint.
+    phase_bounds_deg : (float, float) or sequence of pairs
+        Bounds on the relative phases, deg, inside ``[-360, 360]``.
+    solvers : sequence of names in ``sso.SOLVERS``
+        Solvers to run (``"ipopt"``, ``"slsqp"``; ``"lm"``, the least-squares
+        solver, for the exact model only); with two or more, their answers are
+        cross-checked with the same first-order measure for each.
+    starts : int
+        Starts per solver, ``1..10000``: the user's start plus space-filling points.
+    input_speed_rpm : float
+        Input speed, rpm (> 0); it scales the reported figures, not the optimum.
+    solver_tol : float
+        The solvers' stopping tolerance in ``(0, 1)``: IPOPT's ``tol``; SLSQP's
+        ``ftol`` relative to the starting objective.
+    max_iterations : int
+        Iteration limit of each run, >= 1.
+    seed : int
+        Seed of the space-filling starts and, with tolerances, of their Monte Carlo
+        samples (as :func:`sso.tolerance_study`'s ``seed``).
+    quadrature_rtol, quadrature_atol : float
+        Tolerance of the adaptive quadrature (relative, absolute floor).
+    objective_rtol, objective_atol, kkt_tolerance : float
+        Tolerances of the cross-check.
+    memory_limit_mb : float, optional
+        Refuse the run if its memory estimate (graph and exact Hessian, kept runs)
+        exceeds this, MB (default ``SSO_MEMORY_LIMIT_MB`` or
+        :data:`sso._limits.DEFAULT_MEMORY_LIMIT_MB`).
+    screen_starts : bool
+        Exact model with more than one start or more than one solver (one solver
+        from one start always runs alone): solve the starts first with the
+        least-squares solver ``"lm"`` (cheap: the closed form in plain floats),
+        then run each of ``solvers`` once, from the lowest RE found, and
+        cross-check them there. Screening stops at the first start that reaches
+        RE <= 1e-20 (round-off zero): RE is never negative, so that is a global
+        minimum and the other starts cannot improve on it. The search over
+        starts is then the least-squares solver's; the verdict (objective
+        agreement, the same first-order measure for every solver) is the
+        requested solvers'. False runs every solver from every start, as the
+        paper model always does.
+
+    Returns
+    -------
+    OptimisationResult
+        Solver failures and disagreements are reported in it, not raised.
+
+    Raises
+    ------
+    ValueError
+        For bad input, naming the field, the value and the allowed range; or if
+        the run's memory estimate exceeds the limit (the message gives both).
+    TypeError
+        If ``series`` is not a :class:`sso.ShaftSeries` or a keyword is unknown.
+    """
+    if not isinstance(series, ShaftSeries):
+        raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
+    solver_names = validate_solvers(solvers, SOLVERS)
+    tolerances = tolerance_settings(series.n_joints, beta_tolerance_deg, phase_tolerance_deg,
+                                    distribution, samples, seed)
+    if tolerances is not None and series.model != "exact":
+        raise ValueError("beta_tolerance_deg, phase_tolerance_deg, distribution and samples "
+                         "choose the most robust of a set of exact optima (RE = 0), which "
+                         f"only the exact model has; series.model = {series.model!r}")
+    if "lm" in solver_names and series.model != "exact":
+        raise ValueError(f"solvers = {list(solver_names)} includes 'lm', which needs the exact "
+                         f"model's closed form; series.model = {series.model!r} allows "
+                         "'ipopt' and 'slsqp'")
+    starts = validate_count("starts", starts, 1, MAX_STARTS)
+    max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
+    speed_rpm = validate_speed("input_speed_rpm", input_speed_rpm)
+    solver_tol = validate_solver_tol(solver_tol)
+    quadrature_rtol, quadrature_atol = validate_quadrature_tolerance(quadrature_rtol,
+                                                                     quadrature_atol)
+
+    problem = build_problem(series.beta_deg, series.phase_deg, series.model, option,
+                            beta_bounds_deg, phase_bounds_deg)
+    warn_moved_starts(problem)
+    setup_warnings = problem.moved_starts
+    if series.model == "paper":
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            rule = rule_for_bounds(problem.beta_upper_rad, series.model, quadrature_rtol,
+                                   quadrature_atol)
+        for warning in caught:  # raised again at the user's line, not the package's
+            warnings.warn(warning.message, warning.category, stacklevel=user_stacklevel())
+        setup_warnings += tuple(str(warning.message) for warning in caught)
+    else:
+        rule = CLOSED_FORM_RULE
+    check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
+                                     len(solver_names), _screened(series, solver_names, starts,
+                                                                  screen_starts)),
+                 memory_limit_mb)
+    return _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
+                  max_iterations, seed, quadrature_rtol, quadrature_atol, objective_rtol,
+                  objective_atol, kkt_tolerance, screen_starts, setup_warnings, tolerances)
+
+
+def _screened(series: ShaftSeries, solver_names: tuple[str, ...], starts: int,
+              screen_starts: bool) -> bool:
+    """Whether the starts are screened with "lm" first (the exact model's residuals)."""
+    return screen_starts and series.model == "exact" and (starts > 1 or len(solver_names) > 1)
+
+
+def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names: tuple[str, ...],
+           starts: int, speed_rpm: float, solver_tol: float, max_iterations: int, seed: int,
+           quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
+           objective_atol: float, kkt_tolerance: float, screen_starts: bool,
+           setup_warnings: tuple[str, ...],
+           tolerances: ToleranceSettings | None) -> OptimisationResult:
+    screened = _screened(series, solver_names, starts, screen_starts)
+    # Screened starts run "lm" only; the bar counts the requested solvers' runs.
+    runs = len(solver_names) if screened else starts * len(solver_names)
+    bar = (ProgressBar(runs, "runs", True)
+           if runs >= PROGRESS_MIN_RUNS and interactive() else None)
+    nlp = compiled_nlp(problem, rule.samples)
+    try:
+        solved = solve_from_starts(
+            nlp, problem.start_rad,
+            RunLimits(problem.lower_rad, problem.upper_rad), problem.parameters_rad,
+            solver_names=solver_names, starts=starts, seed=seed, solver_tol=solver_tol,
+            max_iterations=max_iterations,
+            to_solution=lambda run, runs: _to_solution(run, problem, series.model, runs),
+            objective_rtol=objective_rtol, objective_atol=objective_atol,
+            kkt_tolerance=kkt_tolerance, screen_starts=screen_starts,
+            progress=None if bar is None else lambda: bar.advance(1))
+    finally:
+        if bar is not None:
+            bar.close()
+
+    initial_series = (checked_series(series.beta_deg,
+                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
+                                     series.model)
+                      if problem.option == 2 else series)
+    start_beta, start_phase = problem.design_deg(problem.start_deg)
+    exact_optima = None
+    # The choice is made where solvers are cross-checked, or tolerances ask for it; one
+    # solver's runs report what it reached, as optimise_batch and batched sweeps do.
+    if (series.model == "exact" and problem.n_free and is_exact(solved["best"].fun)
+            and solved["best"].success
+            and (tolerances is not None or len(solver_names) > 1)):
+        chosen, exact_optima = _most_robust(problem, nlp, solved, series.model, tolerances)
+        if chosen is not solved["best"]:
+            solved["best"], solved["runs"] = chosen, (*solved["runs"], chosen)
+    return OptimisationResult(
+        option=problem.option,
+        option_name=problem.option_name,
+        model=series.model,
+        input_speed_rpm=speed_rpm,
+        beta_bounds_deg=problem.beta_bounds_deg,
+        phase_bounds_deg=problem.phase_bounds_deg,
+        initial_series=initial_series,
+        start_series=checked_series(start_beta, start_phase, series.model),
+        samples=rule.samples,
+        quadrature_error=rule.error_estimate,
+        starts=starts,
+        warnings=setup_warnings,
+        quadrature_rtol=quadrature_rtol,
+        quadrature_atol=quadrature_atol,
+        exact_optima=exact_optima,
+        **solved,
+    )
+
+
+def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: str,
+                 tolerances: ToleranceSettings | None) -> tuple[Solution, ExactOptimumSet]:
+    """The chosen design of the set of exact optima, as the reported best."""
+    fixed = problem.parameters_rad.tolist()
+    found = [solved["best"], *(run for run in solved["runs"]
+                                if run.success and is_exact(run.fun))]
+    started = time.perf_counter()
+
+    kernel = kernel_of(nlp)
+
+    def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                     max_iterations: int) -> tuple[np.ndarray, float, int, int]:
+        # Gauss-Newton blocks only: a margin is feasible where they reach round-off zero,
+        # and the same compiled steps give the same design in every process (the Newton
+        # steps after them run compiled or in Python depending on the session's history).
+        if kernel is None:
+            outcome = lm.solve(nlp, start, problem.parameters_rad, RunLimits(lower, upper),
+                               DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
+            return outcome.x, outcome.fun, outcome.nit, outcome.nfev
+        state = run_kernel(kernel, start.tolist(), fixed, lower.tolist(), upper.tolist(),
+                           DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
+        return (np.array(state["x"], dtype=float), float(state["fun"]), int(state["nit"]),
+                int(state["nfev"]))
+
+    choice = choose_exact_optimum(problem, lambda x: nlp.residuals_and_jacobian(x, fixed),
+                                  solve_in_box, [np.radians(solution.x) for solution in found],
+                                  tolerances)
+    if choice.solver is None:
+        return solved["best"], choice.exact_set
+    outcome = RunOutcome(choice.x_rad, float("nan"), choice.nit, choice.nfev, choice.nfev, 0,
+                         True, choice.message, time.perf_counter() - started)
+    run = measure_run(choice.solver, solved["best"].start_index, outcome, nlp,
+                      problem.parameters_rad, RunLimits(problem.lower_rad, problem.upper_rad))
+    chosen = replace(_to_solution(run, problem, model, [run]), role=ROLE_SELECTION)
+    return chosen, choice.exact_set
+
+
+def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
+                 solver_runs: list[MeasuredRun]) -> Solution:
+    x_deg = np.degrees(run.outcome.x)
+    beta_deg, phase_deg = problem.design_deg(x_deg)
+    return solution_from_run(run, solver_runs, x_deg.tolist(),
+                             checked_series(beta_deg, phase_deg, model))

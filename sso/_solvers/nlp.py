@@ -1,0 +1,249 @@
+"""A CasADi NLP wrapped for every solver, built once per shape and cached per thread.
+
+A design problem builds its graph once per shape (see :mod:`sso._shafts.problem`
+and :mod:`sso._linkages.fourbar_swing`); fixed values enter as parameters ``p``
+and the bounds as ``lbx``/``ubx``, so a new design, new bounds or a new start
+reuse the same graph. Each thread gets its own cache: a CasADi function object is
+never shared between threads. A cache keeps the
+:data:`sso._limits.NLP_CACHE_SHAPES` most recently used shapes and drops older
+ones, so memory stays bounded however many shapes a session visits.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from sso._limits import NLP_CACHE_SHAPES
+
+_cache = threading.local()
+
+
+@dataclass
+class CompiledNLP:
+    """CasADi functions of one problem shape, shared by every solver.
+
+    Attributes
+    ----------
+    name : str
+        Name given to the CasADi functions.
+    symbols : dict
+        ``{"x", "p", "f"}`` and ``"g"`` when there are constraints.
+    objective_and_gradient : BufferedFunction or callable
+        ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
+        by the optimality measures: the CasADi function of ``f``, or a closed form
+        given to :func:`compile_nlp`.
+    constraints_and_jacobian : BufferedFunction or None
+        ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
+        constraint functions.
+    ipopt_solvers : dict
+        ``nlpsol`` instances keyed by their option tuple, built on first use.
+    residuals_and_jacobian : callable or None
+        For a least-squares objective ``f = r1^2 + r2^2``: ``(x, p) -> (rho,
+        jacobian)`` with ``RE = |rho|^2`` and one complex derivative per
+        variable (lists of floats in, Python complex numbers out), used by the
+        ``"lm"`` solver; None otherwise.
+    batch_residuals_and_jacobian : callable or None
+        The same residuals for many points at once: ``(x, p) -> (r, J)`` with
+        ``x`` of shape ``(k, n)``, ``r`` of shape ``(k, 2)`` and ``J`` of shape
+        ``(k, 2, n)`` (numpy), used to screen many starts in one batch; None
+        otherwise.
+    residuals : casadi.SX or None
+        For a least-squares objective, its two residuals as an expression of
+        ``symbols["x"]`` and ``symbols["p"]``; None otherwise.
+    lm_kernel : BufferedFunction or None
+        The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
+        first run (:func:`sso._solvers.lm_kernel.kernel_of`).
+    lm_newton_kernel : BufferedFunction or None
+        Its compiled Newton iterations, built once runs have asked for them often
+        enough (:func:`sso._solvers.lm_kernel.newton_kernel_of`).
+    lm_newton_requests : int
+        Runs that asked for the Newton kernel before it was built.
+    objective_hessian : callable or None
+        ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
+        it in closed form: the ``"lm"`` solver's Newton steps and the
+        second-order checks use it instead of differences of the gradient; None
+        otherwise.
+    nonnegative_objective : bool
+        True when the objective is never negative (a sum of squares): a point at
+        round-off zero is then a global minimum and needs no second-order check.
+    """
+
+    name: str
+    symbols: dict[str, Any]
+    objective_and_gradient: Any
+    constraints_and_jacobian: Any = None
+    ipopt_solvers: dict[tuple[tuple[str, Any], ...], Any] = field(default_factory=dict)
+    residuals_and_jacobian: Any = None
+    batch_residuals_and_jacobian: Any = None
+    objective_hessian: Any = None
+    residuals: Any = None
+    nonnegative_objective: bool = False
+    lm_kernel: Any = None
+    lm_newton_kernel: Any = None
+    lm_newton_requests: int = 0
+
+    def ipopt(self, options: dict[str, Any]) -> Any:
+        """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""
+        import casadi
+
+        options_key = tuple(sorted(options.items()))
+        solver = self.ipopt_solvers.get(options_key)
+        if solver is None:
+            solver = casadi.nlpsol(
+                f"{self.name}_ipopt",
+                "ipopt",
+                self.symbols,
+                {
+                    "print_time": False,
+                    "error_on_fail": False,
+                    "ipopt": {"print_level": 0, "sb": "yes", **options},
+                },
+            )
+            self.ipopt_solvers[options_key] = solver
+        return solver
+
+
+def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
+    """This thread's NLP for ``key``, built by ``build()`` when it is not cached.
+
+    The least recently used shape is dropped when more than
+    :data:`sso._limits.NLP_CACHE_SHAPES` are cached in this thread.
+    """
+    cache = cached_shapes()
+    nlp = cache.get(key)
+    if nlp is None:
+        nlp = cache[key] = build()
+        if len(cache) > NLP_CACHE_SHAPES:
+            while len(cache) > NLP_CACHE_SHAPES:
+                cache.popitem(last=False)
+            _return_freed_memory()
+    else:
+        cache.move_to_end(key)
+    return nlp
+
+
+def _return_freed_memory() -> None:
+    """Hand memory freed by dropped CasADi objects back to the system (glibc only).
+
+    Without this the C++ heap keeps the freed pages and the process's resident
+    memory reflects every shape ever built, not the ones cached.
+    """
+    import ctypes
+    import ctypes.util
+
+    library = ctypes.util.find_library("c")
+    trim = getattr(ctypes.CDLL(library), "malloc_trim", None) if library else None
+    if trim is not None:
+        trim(0)
+
+
+def cached_shapes() -> OrderedDict[Hashable, CompiledNLP]:
+    """This thread's cache of built NLPs, least recently used first."""
+    cache: OrderedDict[Hashable, CompiledNLP] | None = getattr(_cache, "nlps", None)
+    if cache is None:
+        cache = _cache.nlps = OrderedDict()
+    return cache
+
+
+class BufferedFunction:
+    """A CasADi function called through preallocated numpy buffers.
+
+    A plain Python call of a CasADi function converts every argument and result
+    (about 60 us each time here, more than evaluating RE itself); writing into
+    buffers CasADi already points at costs a few microseconds. Not re-entrant:
+    one instance per thread, as the NLP cache already is.
+
+    Parameters
+    ----------
+    function : casadi.Function
+        Function with dense inputs and outputs (every entry has a buffer slot).
+    scalar_first : bool
+        Return the first output as a float (an objective value).
+    """
+
+    def __init__(self, function: Any, scalar_first: bool = False) -> None:
+        self._function = function
+        self._buffer, self._evaluate = self._function.buffer()
+        self._inputs = [np.zeros(self._function.nnz_in(i)) for i in range(self._function.n_in())]
+        self._outputs = [np.zeros(self._function.nnz_out(i))
+                         for i in range(self._function.n_out())]
+        self._shapes = [self._function.size_out(i) for i in range(self._function.n_out())]
+        for index, array in enumerate(self._inputs):
+            self._buffer.set_arg(index, array.data)
+        for index, array in enumerate(self._outputs):
+            self._buffer.set_res(index, array.data)
+        self._scalar_first = scalar_first
+
+    def __call__(self, *arguments: Any) -> tuple[Any, ...]:
+        """Evaluate at ``arguments`` (array-likes); returns fresh numpy arrays."""
+        for destination, value in zip(self._inputs, arguments, strict=True):
+            destination[:] = np.ravel(value)
+        self._evaluate()
+        results: list[Any] = []
+        for array, (rows, columns) in zip(self._outputs, self._shapes, strict=True):
+            # CasADi stores dense matrices column by column.
+            results.append(array.reshape((rows, columns), order="F").squeeze(axis=1).copy()
+                           if columns == 1 else array.reshape((rows, columns), order="F").copy())
+        if self._scalar_first:
+            results[0] = float(results[0][0])
+        return tuple(results)
+
+    def flat(self, *arguments: list[float]) -> list[float]:
+        """Evaluate at ``arguments`` (flat lists of floats); the first output as a flat list.
+
+        The lean path for a function called in a loop on lists: no reshaping, and no
+        intermediate array per input.
+        """
+        for destination, value in zip(self._inputs, arguments, strict=True):
+            destination[:] = value
+        self._evaluate()
+        values: list[float] = self._outputs[0].tolist()
+        return values
+
+
+def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,
+                objective_and_gradient: Any = None) -> CompiledNLP:
+    """Wrap CasADi symbols of an NLP into the functions the solvers use.
+
+    Parameters
+    ----------
+    name : str
+        Name of the CasADi functions.
+    x, p : casadi.SX
+        Design variables and parameters (column vectors).
+    objective : casadi.SX
+        Scalar objective.
+    constraints : casadi.SX, optional
+        Constraint functions ``g(x, p)``, bounded per solve.
+    objective_and_gradient : callable, optional
+        ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)`` computed without
+        CasADi (a closed form), used instead of a CasADi function of ``objective``;
+        it must agree with ``objective``, which IPOPT still solves.
+    """
+    import casadi
+
+    symbols = {"x": x, "p": p, "f": objective}
+    if objective_and_gradient is None:
+        objective_and_gradient = BufferedFunction(
+            casadi.Function(f"{name}_f", [x, p],
+                            [objective, casadi.densify(casadi.gradient(objective, x))],
+                            ["x", "p"], ["f", "grad"]),
+            scalar_first=True,
+        )
+    constraints_and_jacobian = None
+    if constraints is not None:
+        symbols["g"] = constraints
+        constraints_and_jacobian = BufferedFunction(
+            casadi.Function(f"{name}_g", [x, p],
+                            [casadi.densify(constraints),
+                             casadi.densify(casadi.jacobian(constraints, x))],
+                            ["x", "p"], ["g", "jac"])
+        )
+    return CompiledNLP(name=name, symbols=symbols, objective_and_gradient=objective_and_gradient,
+                       constraints_and_jacobian=constraints_and_jacobian)

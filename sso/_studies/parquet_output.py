@@ -1,0 +1,156 @@
+"""``sweep.parquet``: a sweep's rows as Parquet, one part file appended per chunk.
+
+A Parquet file cannot grow once written (its footer comes last), so the rows go
+into a folder of parts, ``sweep.parquet/part-<first point>-<count>.parquet``, each
+written atomically as its chunk finishes: a killed sweep leaves only whole parts,
+and pandas, polars and pyarrow read the folder as one table. ``sweep.csv`` stays
+the sweep's record (a resumed sweep checks its rows there); a resumed sweep writes
+the rows it takes over as one part, after removing the parts it wrote before.
+Every part has the same schema (:func:`arrow_schema`), whichever rows it holds.
+
+pyarrow is imported only here, and only when Parquet output is asked for (the
+``parquet`` extra installs it).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sso._files import write_bytes_atomic
+from sso._limits import SOLVERS
+from sso._studies.columns import RowTable
+from sso._studies.table import TEXT_COLUMNS, format_cell
+
+PARQUET_NAME = "sweep.parquet"
+_PART = re.compile(r"^part-\d{12}-\d{12}(-resumed)?\.parquet$")
+# Besides a shaft series' columns, those a column case's rows add
+# (sso._studies.table.COLUMN_RESULT_COLUMNS; its tooth offsets are text).
+_FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
+                  "max_output_accel_rad_s2", "crosscheck_objective_gap", "time_s",
+                  *(f"{solver}_{field}" for solver in SOLVERS
+                    for field in ("residual_error", "kkt_per_rad", "time_s")),
+                  "minimum_residual_error", "speed_fluctuation_percent",
+                  "torque_fluctuation_percent", "largest_transmission_error_deg",
+                  "transmission_error_peak_to_peak_deg", "on_centre_fluctuation_percent",
+                  "continuous_residual_error")
+_FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS),
+                 "can_cancel")
+_LIST_COLUMNS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
+                 "continuous_yoke_phase_deg")
+_INTEGER_COLUMNS = ("point", *(f"{solver}_status" for solver in SOLVERS))
+
+
+def pyarrow_module() -> Any:
+    """pyarrow, or a ValueError saying how to install it."""
+    try:
+        import pyarrow
+        import pyarrow.parquet  # noqa: F401  (the writer)
+    except ImportError:
+        raise ValueError("Parquet output needs pyarrow; install the 'parquet' extra "
+                         "(pip install 'sso[parquet]')") from None
+    return pyarrow
+
+
+def arrow_schema(header: Sequence[str], axes: Sequence[Any]) -> Any:
+    """The schema of every part: numbers, flags, lists and text by column.
+
+    An axis whose values are all numbers is a float column; any other axis holds
+    each value as its ``sweep.csv`` cell (text).
+    """
+    pa = pyarrow_module()
+    numeric_axes = {axis.path for axis in axes
+                    if all(isinstance(value, (int, float)) and not isinstance(value, bool)
+                           for value in axis.values)}
+    fields = []
+    for name in header:
+        if name in _INTEGER_COLUMNS:
+            kind = pa.int64()
+        elif name in _FLOAT_COLUMNS or name in numeric_axes:
+            kind = pa.float64()
+        elif name in _FLAG_COLUMNS:
+            kind = pa.bool_()
+        elif name in _LIST_COLUMNS:
+            kind = pa.list_(pa.float64())
+        else:
+            kind = pa.string()
+        fields.append(pa.field(name, kind))
+    return pa.schema(fields)
+
+
+def arrow_table(table: RowTable, schema: Any) -> Any:
+    """A :class:`RowTable` as a ``pyarrow.Table`` of ``schema``."""
+    pa = pyarrow_module()
+    arrays = []
+    for field in schema:
+        column = table.columns.get(field.name)
+        if column is None:
+            arrays.append(pa.nulls(table.length, type=field.type))
+        elif column.ndim == 2:
+            missing = np.isnan(column[:, 0]) if column.shape[1] else np.zeros(len(column), bool)
+            offsets = pa.array(np.arange(len(column) + 1, dtype=np.int32) * column.shape[1])
+            arrays.append(pa.ListArray.from_arrays(
+                offsets, pa.array(np.ascontiguousarray(column).ravel(), type=pa.float64()),
+                type=field.type, mask=pa.array(missing)))
+        elif column.dtype.kind == "f":
+            arrays.append(pa.array(column, type=field.type, mask=np.isnan(column)))
+        elif column.dtype != object:
+            arrays.append(pa.array(column, type=field.type))
+        elif pa.types.is_string(field.type) and field.name not in TEXT_COLUMNS:
+            arrays.append(pa.array([None if value is None else format_cell(value)
+                                    for value in column.tolist()], type=field.type))
+        else:
+            arrays.append(pa.array(column.tolist(), type=field.type))
+    return pa.Table.from_arrays(arrays, schema=schema)
+
+
+def part_data(table: RowTable, schema: Any) -> bytes:
+    """The bytes of a part file holding ``table``'s rows (in a worker, or here)."""
+    import pyarrow.parquet as pq
+
+    buffer = io.BytesIO()
+    pq.write_table(arrow_table(table, schema), buffer)
+    return buffer.getvalue()
+
+
+def write_part(folder: Path, table: RowTable, schema: Any, resumed: bool = False,
+               data: bytes | None = None) -> Path:
+    """Write the rows of one chunk as a new part of ``sweep.parquet``, atomically
+    (``data``: the part's bytes, when a worker made them from ``table``)."""
+    points = table.columns["point"]
+    name = (f"part-{int(points.min()):012d}-{table.length:012d}"
+            f"{'-resumed' if resumed else ''}.parquet")
+    return write_bytes_atomic(folder / PARQUET_NAME / name,
+                              part_data(table, schema) if data is None else data)
+
+
+def start_parts(folder: Path) -> None:
+    """Make ``sweep.parquet`` an empty folder, removing only the parts sso wrote.
+
+    Raises
+    ------
+    ValueError
+        If it holds anything that is not a part sso writes.
+    """
+    parts = folder / PARQUET_NAME
+    parts.mkdir(exist_ok=True)
+    foreign = sorted(entry.name for entry in parts.iterdir()
+                     if not (entry.is_file() and _PART.match(entry.name)))
+    if foreign:
+        raise ValueError(f"{parts} holds {', '.join(foreign[:5])}, which sso does not write; "
+                         "choose another folder")
+    for entry in parts.iterdir():
+        entry.unlink()
+
+
+def read_frame(folder: Path) -> Any:
+    """Every part of ``folder/sweep.parquet`` as one ``pandas.DataFrame``, sorted by point."""
+    import pyarrow.parquet as pq
+
+    frame = pq.read_table(folder / PARQUET_NAME).to_pandas()
+    return frame.sort_values("point", kind="stable").reset_index(drop=True)

@@ -1,0 +1,359 @@
+"""``sso.sweep``: optimise or evaluate a base case at every point of a grid of key values."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sso._files import (
+    claim_folder,
+    remove_stale_temporaries,
+    write_bytes_atomic,
+    write_text_atomic,
+)
+from sso._folder_lock import folder_lock
+from sso._shafts.options import build_problem
+from sso._shafts.quadrature import rule_for_bounds
+from sso._solvers.progress import ProgressBar, interactive
+from sso._solvers.resources import ResourceEstimate, check_memory
+from sso._studies.array_engine import ArrayPlan, array_plan
+from sso._studies.axes import Axis, base_case, parse_axes, point_count, value_positions
+from sso._studies.column_rows import check_axis_values
+from sso._studies.columns import RowTable, TableAssembly
+from sso._studies.estimate import sweep_estimate
+from sso._studies.execution import run_tasks, validate_workers
+from sso._studies.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
+from sso._studies.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
+from sso._studies.results import SweepResult, SweepRows
+from sso._studies.table import (
+    CSV_NAME,
+    HASH_COLUMN,
+    MANIFEST_NAME,
+    append_rows,
+    columns,
+    done_rows,
+    format_cell,
+    manifest,
+    start_file,
+    typed_rows,
+)
+from sso._studies.worker import (
+    ACTIONS,
+    ChunkTask,
+    SweepChunk,
+    chunk_output,
+    failed_rows,
+    run_chunk_task,
+)
+from sso._validation import shown
+
+# Default chunking: about this many chunks per worker (load balance), each of at
+# most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
+CHUNKS_PER_WORKER = 4
+DEFAULT_CHUNK_CAP = 25
+# An array sweep (sso._studies.array_engine) is cut into about this many tasks per
+# worker (load balance: the last task of a worker waits for no other), each of at
+# most ARRAY_CHUNK_CAP points: 0.05 s (evaluating, about 1 us a point) to 0.5 s
+# (optimising, about 10 us a point) of work, far above a task's cost to the pool
+# or to Dask (a few milliseconds, with the transfer of its rows), and a few tens
+# of MB of arrays at the peak.
+ARRAY_CHUNKS_PER_WORKER = 8
+ARRAY_CHUNK_CAP = 50_000
+MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
+DOCUMENT_FORMATS = ("md", "html", "png")
+SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
+"""The files a sweep writes into its folder (its ``sso-files.json`` lists them; the
+Parquet parts are a folder); it refuses a folder holding anything else."""
+
+
+def sweep(
+    base: Any,
+    axes: Mapping[str, Any],
+    *,
+    mode: str = "product",
+    action: str = "optimise",
+    out_dir: str | Path | None = None,
+    resume: bool = False,
+    client: Any = None,
+    workers: int | None = None,
+    chunk_size: int | None = None,
+    progress: bool | None = None,
+    plots: bool = True,
+    memory_limit_mb: float | None = None,
+    parquet: bool = False,
+) -> SweepResult:
+    """Optimise or evaluate a base case at every point of a sweep.
+
+    Parameters
+    ----------
+    base : str, pathlib.Path, sso._cases.shaft_series.Case or mapping
+        The base case: a case file, a case read from one, or a mapping laid out
+        like a case file (``{"design": {"beta_deg": [...]}, "option": 3, ...}``).
+    axes : mapping of str to list or range
+        Case keys to vary, as written in a case file with optional indices
+        (``"design.beta_deg[1]"``, ``"bounds.beta_deg[1]"``, ``"option"``,
+        ``"model"``, ``"input_speed_rpm"``, ``"solver.starts"``), each mapped to a
+        list of values or a range ``{"start", "stop", "num"}`` /
+        ``{"start", "stop", "step"}``.
+    mode : {"product", "listed"}
+        Every combination of the axes' values (last axis fastest), or the
+        ``i``-th values of all axes together (equal lengths).
+    action : {"optimise", "evaluate"}
+        Optimise each point's case, or evaluate its design as given.
+    out_dir : str or pathlib.Path, optional
+        Folder for ``sweep.csv`` (each chunk's rows appended as it finishes, in
+        that order; every digit), ``sweep.json`` (what the sweep is),
+        ``report.md``, ``report.html`` and ``sweep_re.png`` (written when the sweep
+        ends). It must be new, empty or hold only the files sso wrote there for a
+        sweep (its ``sso-files.json`` lists them); one sweep at a time
+        writes into it (a lock file beside it, :mod:`sso._folder_lock`). Without it
+        nothing is written.
+    resume : bool
+        Continue the sweep already in ``out_dir``: compute only its missing
+        points. Every row found is checked against ``sweep.json`` (point index,
+        axis values, the sweep's hash); a row that does not belong is refused.
+    client : dask.distributed.Client, optional
+        Run the chunks on this Dask cluster instead of local processes.
+    workers : int, optional
+        Local processes (default: every available core); 1 runs in this process.
+    chunk_size : int, optional
+        Points per task, ``1..50000`` (default: about four tasks per worker, at
+        most 25 points each; a sweep run as arrays, about eight per worker, at most
+        50,000 points each).
+    progress : bool, optional
+        Draw a progress bar on stderr (default: only on an interactive terminal
+        outside CI).
+    plots : bool
+        Draw the report's plots (needs ``out_dir``; imports matplotlib).
+    memory_limit_mb : float, optional
+        Refuse the sweep if its memory estimate exceeds this, MB (default
+        ``SSO_MEMORY_LIMIT_MB`` or :data:`sso._limits.DEFAULT_MEMORY_LIMIT_MB`).
+    parquet : bool
+        Also write the rows as Parquet beside ``sweep.csv`` (``sweep.parquet/``, a
+        part per chunk; needs ``out_dir`` and pyarrow, the ``parquet`` extra). A
+        resumed sweep that has it keeps writing it.
+
+    Returns
+    -------
+    SweepResult
+        Failing points are recorded in their rows (``status = "failed"`` and the
+        error), never raised.
+
+    Raises
+    ------
+    ValueError
+        For a bad base case, a case kind that cannot be swept, a bad axis, mode,
+        action or count, or an ``out_dir`` that holds a different sweep (or any
+        sweep, without ``resume``), rows that are not this sweep's, or files a
+        sweep does not write; or, before any point is computed, if the memory
+        estimate exceeds the limit.
+    sso._folder_lock.FolderLockedError
+        (a ValueError) If another process writes into ``out_dir``.
+    """
+    started = time.perf_counter()
+    case = base_case(base)  # refuses the kinds a sweep cannot vary
+    document = case.to_dict()
+    parsed_axes = parse_axes(axes, document)
+    if case.kind == "column":
+        check_axis_values(document, parsed_axes)
+    if action not in ACTIONS:
+        raise ValueError(f"action = {shown(action)} is not one of "
+                         f"{', '.join(map(repr, ACTIONS))}")
+    worker_count = validate_workers(workers)
+    plan = array_plan(case, parsed_axes, action)
+    check_memory(_estimate(case, parsed_axes, mode, action,
+                           worker_count if client is None else 1, plan is not None),
+                 memory_limit_mb)
+    count = point_count(parsed_axes, mode)
+    header = columns([axis.path for axis in parsed_axes], case.kind)
+    identity = manifest(document, parsed_axes, mode, action, count)
+    job = _Job(document, action, parsed_axes, mode, count, header, identity, plan, client,
+               worker_count, chunk_size, interactive() if progress is None else progress)
+    if out_dir is None:
+        if parquet:
+            raise ValueError("parquet = True writes sweep.parquet into out_dir; give out_dir")
+        rows = job.run({}, None)
+        return _result(job, parsed_axes, mode, rows, 0, started, None)
+    out_dir = Path(out_dir)
+    parquet = bool(parquet) or (resume and (out_dir / PARQUET_NAME).is_dir())
+    schema = arrow_schema(header, parsed_axes) if parquet else None  # pyarrow is there
+    with folder_lock(out_dir, "run a sweep"):
+        earlier = _open_folder(out_dir, resume, job)
+        if schema is not None:
+            start_parts(out_dir)
+        resumed = len(earlier)
+        rows = job.run(earlier, out_dir / CSV_NAME, schema)
+        result = _result(job, parsed_axes, mode, rows, resumed, started, out_dir)
+        formats = tuple(name for name in DOCUMENT_FORMATS if plots or name != "png")
+        written = [write_bytes_atomic(out_dir / name, data)
+                   for name, data in render_sweep(result, formats).items()]
+    data = (out_dir / CSV_NAME, out_dir / MANIFEST_NAME,
+            *((out_dir / PARQUET_NAME,) if schema is not None else ()))
+    return replace(result, files=(*data, *written))
+
+
+@dataclass(frozen=True)
+class _Job:
+    """What a sweep computes and how: its points, columns, identity and execution."""
+
+    document: dict[str, Any]
+    action: str
+    axes: tuple[Axis, ...]
+    mode: str
+    count: int
+    header: list[str]
+    identity: dict[str, Any]
+    plan: ArrayPlan | None
+    client: Any
+    workers: int
+    chunk_size: int | None
+    progress: bool
+
+    def axis_cells(self, index: int) -> list[str]:
+        """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them."""
+        positions = value_positions(self.axes, self.mode, [index])
+        return [format_cell(axis.values[int(position[0])])
+                for axis, position in zip(self.axes, positions, strict=True)]
+
+    def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
+        """The tasks of the pending points (each with its slice of every axis)."""
+        size = _chunk_size(self.chunk_size, len(pending), _parallelism(self.client, self.workers),
+                           self.plan is not None)
+        chunks = []
+        for start in range(0, len(pending), size):
+            indices = pending[start:start + size]
+            positions = value_positions(self.axes, self.mode, indices)
+            bounds = [(int(position.min()), int(position.max()) + 1) for position in positions]
+            chunks.append(SweepChunk(
+                self.document, self.action, tuple(self.header),
+                tuple(axis.path for axis in self.axes), indices,
+                tuple(position - low for position, (low, _) in zip(positions, bounds,
+                                                                   strict=True)),
+                tuple(axis.values[low:high] for axis, (low, high) in zip(self.axes, bounds,
+                                                                         strict=True)),
+                None if self.plan is None else self.plan.sliced(bounds),
+                self.identity[HASH_COLUMN]))
+        return chunks
+
+    def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None,
+            schema: Any = None) -> RowTable:
+        """Compute the points not in ``earlier``, appending each chunk's rows to
+        ``csv_path`` (and a Parquet part beside it, given the parts' ``schema``);
+        every row, sorted by point."""
+        waiting = np.ones(self.count, dtype=bool)
+        waiting[np.fromiter(earlier, dtype=np.int64, count=len(earlier))] = False
+        pending = np.flatnonzero(waiting)
+        chunks = self.chunks(pending)
+        resumed = RowTable.from_rows(self.header, typed_rows(earlier.values()))
+        if schema is not None and csv_path is not None and resumed.length:
+            write_part(csv_path.parent, resumed, schema, resumed=True)
+        # Each chunk's rows go to their place as the chunk ends: the chunks cover the
+        # pending points in order, so the rows come out sorted whichever order the
+        # chunks finish in, and joining them overlaps the work still running.
+        assembly = TableAssembly(self.header, [len(chunk.indices) for chunk in chunks])
+        bar = ProgressBar(len(pending), "points", self.progress)
+        try:
+            tasks = [ChunkTask(chunk, csv_path is not None, schema) for chunk in chunks]
+            for index, output, error in run_tasks(run_chunk_task, tasks, self.client,
+                                                   self.workers):
+                if error is not None:
+                    output = chunk_output(failed_rows(chunks[index], error),
+                                          csv_path is not None, schema)
+                table = output.table
+                if csv_path is not None:
+                    append_rows(csv_path, output.csv)
+                    if schema is not None:
+                        write_part(csv_path.parent, table, schema, data=output.parquet_part)
+                assembly.place(index, table)
+                status = table.columns["status"]
+                bar.advance(table.length, int(np.count_nonzero(status != "ok")))
+        finally:
+            bar.close()
+        rows = RowTable.concatenate(self.header, [resumed, assembly.table()])
+        points = rows.columns.get("point", np.zeros(0, dtype=np.int64))
+        if np.all(points[1:] > points[:-1]):
+            return rows
+        return rows.take(np.argsort(points, kind="stable"))
+
+
+def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, str]]:
+    """Make ``out_dir`` the sweep's folder (its lock held); the rows of an earlier run.
+
+    Raises
+    ------
+    ValueError
+        If ``out_dir`` is a file, holds anything sso did not write there for a
+        sweep (a case's report, the user's files), holds a sweep without ``resume``, or holds
+        another sweep or rows that do not belong to this one.
+    """
+    claim_folder(out_dir, SWEEP_FOLDER, SWEEP_FILES)
+    remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
+    csv_path = out_dir / CSV_NAME
+    if resume:
+        rows = done_rows(out_dir, job.identity, job.header, job.axis_cells)
+    elif csv_path.exists() or (out_dir / MANIFEST_NAME).exists():
+        raise ValueError(f"out_dir = {str(out_dir)!r} already holds a sweep; pass "
+                         "resume=True (--resume) to complete it, or choose another folder")
+    else:
+        rows = {}
+    write_text_atomic(out_dir / MANIFEST_NAME, json.dumps(job.identity, indent=2) + "\n")
+    start_file(csv_path, job.header)
+    return rows
+
+
+def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: RowTable, resumed: int,
+            started: float, out_dir: Path | None) -> SweepResult:
+    return SweepResult(axes=axes, mode=mode, action=job.action, rows=SweepRows(rows),
+                       computed=rows.length - resumed, resumed=resumed,
+                       elapsed_s=time.perf_counter() - started, out_dir=out_dir,
+                       manifest=job.identity)
+
+
+def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
+              workers: int, arrays: bool) -> ResourceEstimate:
+    """Memory and solves of the sweep, from the base case's shape."""
+    count = (math.prod(len(axis.values) for axis in axes) if mode != "listed"
+             else max(len(axis.values) for axis in axes))
+    optimising = action == "optimise"
+    per_point = case.starts * len(case.solvers) if optimising and hasattr(case, "starts") else 1
+    joints = free = samples = 0
+    if case.kind == "shaft_series":
+        with warnings.catch_warnings():  # the points' runs report these warnings
+            warnings.simplefilter("ignore")
+            problem = build_problem(case.beta_deg, case.phase_deg, case.model, case.option,
+                                    case.beta_bounds_deg, case.phase_bounds_deg)
+            samples = rule_for_bounds(problem.beta_upper_rad, case.model).samples
+        joints, free = problem.n_joints, problem.n_free
+    return sweep_estimate(count, joints, free, samples, per_point, workers,
+                          optimising and case.kind == "shaft_series", arrays,
+                          min(count, ARRAY_CHUNK_CAP))
+
+
+def _parallelism(client: Any, workers: int) -> int:
+    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
+    if client is None:
+        return workers
+    threads: int = sum(client.nthreads().values())
+    return max(1, threads)
+
+
+def _chunk_size(chunk_size: Any, points: int, parallelism: int, arrays: bool = False) -> int:
+    if chunk_size is None:
+        if arrays:
+            return max(1, min(ARRAY_CHUNK_CAP,
+                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * parallelism))))
+        return max(1, min(DEFAULT_CHUNK_CAP,
+                          math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
+    if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
+            or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
+        raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "
+                         f"[1, {MAX_CHUNK_SIZE}] (a whole number of points per task)")
+    return chunk_size

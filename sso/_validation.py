@@ -1,0 +1,294 @@
+"""Checks of user input that fail with a message naming the field, value and range."""
+
+from __future__ import annotations
+
+import math
+import reprlib
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from sso._limits import CROSS_CHECK_SOLVERS, MAX_INPUT_SPEED_RPM, MIN_CHAIN_COSINE_PRODUCT
+
+
+class _ShortRepr(reprlib.Repr):
+    """``repr`` cut to a readable length, safe for any value a file can hold."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.maxlevel = 3
+        self.maxstring = 60
+        self.maxother = 60
+        self.maxlist = self.maxtuple = self.maxdict = 8
+
+    def repr_int(self, value: int, level: int) -> str:
+        # repr() of an int beyond 4300 digits raises ValueError; count digits instead
+        digits = int(abs(value).bit_length() * math.log10(2))  # this or one more
+        digits += abs(value) >= 10**digits
+        return super().repr_int(value, level) if digits <= 30 else f"<integer of {digits} digits>"
+
+
+_SHORT_REPR = _ShortRepr()
+
+
+def shown(value: Any) -> str:
+    """A short, safe ``repr`` of a user's value for an error message.
+
+    Long strings, huge integers and deeply nested lists are abbreviated, so the
+    message itself can neither fail nor run to megabytes.
+    """
+    try:
+        return _SHORT_REPR.repr(value)
+    except Exception:  # a value whose repr fails is still named by its type
+        return f"<{type(value).__name__}>"
+
+
+def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
+    """Convert a scalar or a sequence of numbers to a tuple of finite floats.
+
+    Raises
+    ------
+    ValueError
+        If an entry is not a number, or is NaN or infinite.
+    """
+    if isinstance(values, (str, bytes)):
+        raise ValueError(f"{field} = {shown(values)} must be a number or a list of numbers")
+    if type(values) is np.ndarray and values.ndim == 1 and values.dtype.kind == "f":
+        items = values.tolist()  # Python floats: the checks below take their fast path
+    else:
+        try:
+            items = list(values)
+        except TypeError:
+            items = [values]
+    return tuple(item if type(item) is float and math.isfinite(item)
+                 else finite_float(f"{field}[{index}]", item) for index, item in enumerate(items))
+
+
+def finite_float(field: str, value: Any) -> float:
+    """Return ``value`` as a finite float.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a real number, or is NaN or infinite.
+    """
+    if type(value) is float and math.isfinite(value):
+        return value
+    if isinstance(value, bool):
+        raise ValueError(f"{field} = {shown(value)} must be a number, not a boolean")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field} = {shown(value)} must be a number") from None
+    except OverflowError:
+        raise ValueError(f"{field} = {shown(value)} is too large for a float") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{field} = {shown(value)} must be finite (not NaN or infinite)")
+    return number
+
+
+def finite_in_range(
+    field: str,
+    value: Any,
+    lower: float,
+    upper: float,
+    unit: str = "",
+    *,
+    lower_open: bool = False,
+    upper_open: bool = False,
+) -> float:
+    """Return ``value`` as a finite float inside the interval, else raise.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a real number, is NaN or infinite, or lies outside the
+        interval; the message names the field, the value and the interval.
+    """
+    return check_in_range(field, finite_float(field, value), lower, upper, unit,
+                          upper_open=upper_open, lower_open=lower_open)
+
+
+def validate_speed(field: str, value: Any) -> float:
+    """Return a positive speed of at most :data:`sso._limits.MAX_INPUT_SPEED_RPM`, or
+    raise naming the field."""
+    return finite_in_range(field, value, 0.0, MAX_INPUT_SPEED_RPM, "rpm", lower_open=True)
+
+
+def check_in_range(
+    field: str,
+    value: float,
+    lower: float,
+    upper: float,
+    unit: str = "",
+    upper_open: bool = False,
+    lower_open: bool = False,
+) -> float:
+    """Return ``value`` if it lies in the interval, else raise.
+
+    Raises
+    ------
+    ValueError
+        Naming the field, the value and the allowed interval.
+    """
+    too_low = value <= lower if lower_open else value < lower
+    too_high = value >= upper if upper_open else value > upper
+    if too_low or too_high:
+        left = "(" if lower_open else "["
+        right = ")" if upper_open else "]"
+        suffix = f" {unit}" if unit else ""
+        raise ValueError(
+            f"{field} = {value:g} is outside the allowed range "
+            f"{left}{lower:g}, {upper:g}{right}{suffix}"
+        )
+    return value
+
+
+def check_choice(field: str, value: Any, allowed: Iterable[Any]) -> Any:
+    """Return ``value`` if it is one of ``allowed``, else raise naming the choices."""
+    allowed = tuple(allowed)
+    if value not in allowed:
+        raise ValueError(f"{field} = {shown(value)} is not one of {', '.join(map(repr, allowed))}")
+    return value
+
+
+def per_item_bounds(
+    field: str,
+    bounds: Any,
+    count: int,
+    lower_limit: float,
+    upper_limit: float,
+    unit: str,
+    upper_open: bool = False,
+) -> tuple[tuple[float, float], ...]:
+    """Expand one ``(lower, upper)`` pair, or one pair per item, into per-item bounds.
+
+    Raises
+    ------
+    ValueError
+        If the shape is wrong, a bound is not finite or lies outside
+        ``[lower_limit, upper_limit]``, or an interval is inverted (an equal pair pins the item).
+    """
+    if _is_pair_of_numbers(bounds):
+        pair = _checked_pair(field, bounds, lower_limit, upper_limit, unit, upper_open)
+        return (pair,) * count
+    try:
+        pairs = list(bounds)
+    except TypeError:
+        raise ValueError(
+            f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
+        ) from None
+    if len(pairs) != count or not all(_is_pair_of_numbers(pair) for pair in pairs):
+        raise ValueError(
+            f"{field} = {shown(bounds)} must be one (lower, upper) pair or {count} pairs"
+        )
+    return tuple(_checked_pair(f"{field}[{index}]", pair, lower_limit, upper_limit, unit,
+                               upper_open) for index, pair in enumerate(pairs))
+
+
+def _checked_pair(name: str, pair: Any, lower_limit: float, upper_limit: float, unit: str,
+                  upper_open: bool) -> tuple[float, float]:
+    """One ``(lower, upper)`` pair as floats inside the limits, not inverted, else raise."""
+    lower, upper = pair
+    # Plain numbers inside the limits and in order pass at once (NaN and infinity fail
+    # these comparisons); anything else takes the checks that name what is wrong.
+    if (type(lower) in _PLAIN_NUMBERS and type(upper) in _PLAIN_NUMBERS
+            and lower_limit <= lower <= upper
+            and (upper < upper_limit if upper_open else upper <= upper_limit)):
+        return float(lower), float(upper)
+    lower_name, upper_name = f"{name} lower", f"{name} upper"
+    lower = check_in_range(lower_name, finite_float(lower_name, lower), lower_limit, upper_limit,
+                           unit, upper_open=upper_open)
+    upper = check_in_range(upper_name, finite_float(upper_name, upper), lower_limit, upper_limit,
+                           unit, upper_open=upper_open)
+    if lower > upper:
+        raise ValueError(
+            f"{name} = ({lower:g}, {upper:g}) {unit} is inverted (empty): "
+            "the lower bound must not exceed the upper bound"
+        )
+    return lower, upper
+
+
+def _is_pair_of_numbers(value: Any) -> bool:
+    if (type(value) is tuple and len(value) == 2 and type(value[0]) in _PLAIN_NUMBERS
+            and type(value[1]) in _PLAIN_NUMBERS):
+        return True
+    if isinstance(value, (str, bytes)):
+        return False
+    try:
+        items = list(value)
+    except TypeError:
+        return False
+    return len(items) == 2 and _is_number(items[0]) and _is_number(items[1])
+
+
+def _is_number(item: Any) -> bool:
+    return isinstance(item, _NUMBER_TYPES) and not isinstance(item, bool)
+
+
+_NUMBER_TYPES = (int, float, np.integer, np.floating)
+_PLAIN_NUMBERS = (int, float)
+
+
+
+
+def validate_solvers(solvers: Iterable[str] | str,
+                     allowed: tuple[str, ...] = CROSS_CHECK_SOLVERS) -> tuple[str, ...]:
+    """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
+    names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
+    if not names:
+        raise ValueError(f"solvers is empty; choose one or more of {', '.join(allowed)}")
+    for index, name in enumerate(names):
+        if name not in allowed:
+            raise ValueError(f"solvers[{index}] = {shown(name)} is not one of "
+                             f"{', '.join(allowed)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"solvers = {list(names)} names a solver twice")
+    return names
+
+
+def validate_solver_tol(value: Any) -> float:
+    """The solvers' stopping tolerance in ``(0, 1)``, or raise naming the field and range."""
+    return finite_in_range("solver_tol", value, 0.0, 1.0, lower_open=True, upper_open=True)
+
+
+def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
+    """A whole number in ``[lower, upper]``, or raise naming the field and range."""
+    if type(value) is int and lower <= value <= upper:
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{field} = {shown(value)} must be a whole number in [{lower}, {upper}]")
+    if not lower <= value <= upper:
+        raise ValueError(f"{field} = {value} is outside the allowed range [{lower}, {upper}]")
+    return int(value)
+
+
+def check_chain_cosines(field: str, beta_deg: Iterable[float]) -> None:
+    """Refuse operating angles whose cosines multiply to less than the chain allows.
+
+    Parameters
+    ----------
+    field : str
+        Name of the angles in the message (``beta_deg``, or a bound).
+    beta_deg : iterable of float
+        Operating angle of each joint, deg, each already checked to lie in ``[0, 90)``.
+
+    Raises
+    ------
+    ValueError
+        If the product of ``cos(beta)`` is below
+        :data:`sso._limits.MIN_CHAIN_COSINE_PRODUCT`, naming the field, the product
+        (as a power of ten) and what to change.
+    """
+    angles = list(beta_deg)
+    log10_product = math.fsum(math.log10(math.cos(math.radians(beta))) for beta in angles)
+    if log10_product < math.log10(MIN_CHAIN_COSINE_PRODUCT):
+        exponent = math.floor(log10_product)
+        raise ValueError(
+            f"{field}: the product of cos(beta) over the {len(angles)} joints is "
+            f"{10.0 ** (log10_product - exponent):.2f}e{exponent}, below the allowed "
+            f"{MIN_CHAIN_COSINE_PRODUCT:g}: the "
+            "speed ratio (up to about 1/product) and its slope (about 1/product^2) would "
+            "leave floating point; lower the operating angles or the number of joints"
+        )

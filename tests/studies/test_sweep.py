@@ -1,0 +1,146 @@
+"""``sso.sweep`` in this process: values, failing points, files, progress, bad input."""
+
+import csv
+import json
+import math
+import struct
+
+import numpy as np
+import pytest
+
+import sso
+from sso._studies.table import RESULT_COLUMNS
+
+ONE_JOINT = {"design": {"beta_deg": [20.0]}, "input_speed_rpm": 30.0}
+TWO_JOINTS = {"design": {"beta_deg": [30.0, 30.0], "phase_deg": [90.0]},
+              "option": 2, "bounds": {"beta_deg": [10.0, 40.0]},
+              "solver": {"starts": 1}}
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_size(path):
+    data = path.read_bytes()
+    assert data[:8] == PNG_SIGNATURE
+    return struct.unpack(">II", data[16:24])
+
+
+def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
+    # One joint: the ratio swings between cos(beta) and 1/cos(beta) (docs/model.md, checks).
+    result = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0, 35.0]},
+                       action="evaluate", out_dir=tmp_path, workers=1, plots=False)
+    assert [row["status"] for row in result.rows] == ["ok", "ok", "ok"]
+    for row, beta_deg in zip(result.rows, [10.0, 20.0, 35.0], strict=True):
+        cos_beta = math.cos(math.radians(beta_deg))
+        assert row["fluctuation"] == pytest.approx(1 / cos_beta - cos_beta, rel=1e-9)
+        evaluation = sso.ShaftSeries([beta_deg]).evaluate(30.0)
+        assert row["residual_error"] == pytest.approx(evaluation.residual_error, rel=1e-12)
+        assert row["max_output_accel_rad_s2"] == pytest.approx(
+            evaluation.max_output_accel_rad_s2, rel=1e-12)
+        assert row["design_beta_deg"] == [beta_deg]
+    with open(tmp_path / "sweep.csv", newline="") as handle:
+        table = list(csv.DictReader(handle))
+    assert list(table[0]) == ["point", "design.beta_deg[0]", *RESULT_COLUMNS, "sweep_hash"]
+    assert [float(row["residual_error"]) for row in table] == [
+        row["residual_error"] for row in result.rows]  # shortest round-trip floats
+
+
+def test_optimise_sweep_cancels_two_equal_joints_and_records_both_solvers(tmp_path):
+    # Exact model, option 2: two joints at 90 deg cancel when equal, so RE -> 0.
+    result = sso.sweep(TWO_JOINTS, {"design.beta_deg[1]": [15.0, 35.0]}, out_dir=tmp_path,
+                       workers=1, plots=False)
+    assert result.success
+    for row in result.rows:
+        assert row["residual_error"] < 1e-20
+        assert row["design_beta_deg"][0] == pytest.approx(row["design_beta_deg"][1], abs=1e-6)
+        assert row["crosscheck_agree"] is True
+        assert row["ipopt_status"] == 0 and row["slsqp_status"] == 0
+        assert row["ipopt_time_s"] > 0 and row["slsqp_time_s"] > 0
+    manifest = json.loads((tmp_path / "sweep.json").read_text())
+    assert manifest["points"] == 2 and manifest["action"] == "optimise"
+
+
+def test_a_failing_point_is_recorded_with_its_error_and_the_sweep_goes_on(tmp_path):
+    result = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [20.0, 95.0, 30.0]},
+                       action="evaluate", out_dir=tmp_path, workers=1, plots=False)
+    assert [row["status"] for row in result.rows] == ["ok", "failed", "ok"]
+    assert "design.beta_deg[0] = 95 is outside the allowed range [0, 90) deg" in (
+        result.rows[1]["error"])
+    assert result.rows[1]["residual_error"] is None
+    assert not result.success
+    assert "1 failed" in result.summary()
+    assert "point 1 failed" in (tmp_path / "report.md").read_text()
+
+
+def test_one_panel_per_axis_and_a_small_multiples_grid_for_two(tmp_path):
+    one = sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate",
+                    out_dir=tmp_path / "one", workers=1)
+    two = sso.sweep({"design": {"beta_deg": [20.0, 20.0], "phase_deg": [90.0]}},
+                    {"design.beta_deg[0]": [10.0, 20.0], "design.phase_deg[0]": [0.0, 45.0, 90.0]},
+                    action="evaluate", out_dir=tmp_path / "two", workers=1)
+    assert {path.name for path in one.files} == {"sweep.csv", "sweep.json", "report.md",
+                                                 "report.html", "sweep_re.png"}
+    assert png_size(tmp_path / "one" / "sweep_re.png") == (840, 540)  # one panel, 7 x 4.5 in
+    assert png_size(tmp_path / "two" / "sweep_re.png") == (864, 396)  # 2 panels side by side
+    # Equal joints at 90 deg cancel exactly: the lowest RE is that point, round-off.
+    assert two.best["point"] == 5
+    assert two.best["residual_error"] < 1e-28
+    report = (tmp_path / "two" / "report.md").read_text()
+    assert "lowest RE < 1e-15 at point 5" in report
+    assert "| 5 | 20 | 90 | ok | < 1e-15 |" in report
+
+
+def test_a_sweep_of_three_axes_draws_three_panels(tmp_path):
+    sso.sweep({"design": {"beta_deg": [20.0, 20.0], "phase_deg": [90.0]}},
+              {"design.beta_deg[0]": [10.0, 20.0], "design.beta_deg[1]": [15.0, 20.0],
+               "design.phase_deg[0]": [0.0, 90.0]},
+              action="evaluate", out_dir=tmp_path, workers=1)
+    assert png_size(tmp_path / "sweep_re.png") == (1296, 396)  # 3 panels in one row
+
+
+def test_a_mechanism_case_cannot_be_swept():
+    with pytest.raises(ValueError, match="kind = 'fourbar': sso sweep and sso tolerance work on "
+                                         "shaft_series and column cases"):
+        sso.sweep("cases/mechanisms/fourbar_crank2.toml", {"input_speed_rpm": [1.0, 2.0]})
+
+
+def test_progress_is_quiet_off_a_terminal_and_drawn_when_asked(capsys):
+    sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate", workers=1)
+    assert capsys.readouterr().err == ""
+    sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate", workers=1,
+              progress=True)
+    assert "2/2 points" in capsys.readouterr().err
+
+
+def test_an_existing_sweep_is_not_overwritten_and_a_different_one_not_resumed(tmp_path):
+    sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0]}, action="evaluate", out_dir=tmp_path,
+              workers=1, plots=False)
+    with pytest.raises(ValueError, match="already holds a sweep; pass resume=True"):
+        sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0]}, action="evaluate",
+                  out_dir=tmp_path, workers=1, plots=False)
+    with pytest.raises(ValueError, match="holds a different sweep \\(differs in axes, points\\)"):
+        sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0, 20.0]}, action="evaluate",
+                  out_dir=tmp_path, workers=1, plots=False, resume=True)
+
+
+@pytest.mark.parametrize("keywords, message", [
+    ({"action": "solve"}, "action = 'solve' is not one of 'optimise', 'evaluate'"),
+    ({"workers": 0}, r"workers = 0 is outside the allowed range \[1, 1024\]"),
+    ({"chunk_size": 0}, r"chunk_size = 0 is outside the allowed range \[1, 50000\]"),
+])
+def test_bad_arguments_are_refused_naming_the_field(keywords, message):
+    with pytest.raises(ValueError, match=message):
+        sso.sweep(ONE_JOINT, {"design.beta_deg[0]": [10.0]}, **keywords)
+
+
+def test_sweep_over_a_shipped_case_file_varies_the_input_speed():
+    from pathlib import Path
+
+    case_path = Path("cases") / "driveline_four_joint.toml"
+    result = sso.sweep(case_path, {"input_speed_rpm": [10.0, 20.0]}, action="evaluate",
+                       workers=1)
+    first, second = result.rows
+    # The residual error is independent of speed; the acceleration scales with its square.
+    assert first["residual_error"] == second["residual_error"]
+    assert second["max_output_accel_rad_s2"] == pytest.approx(
+        4 * first["max_output_accel_rad_s2"], rel=1e-12)
+    assert np.isfinite(first["fluctuation"])
