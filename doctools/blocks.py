@@ -1,7 +1,7 @@
 """Run the code blocks of a Markdown page and compare what they print with the page.
 
 A page is read as a notebook: its fenced blocks run in order, in one namespace, in a
-working folder of their own that holds the repository's ``cases/`` and the papers'
+working folder of their own that holds the repository's ``cases/``, ``sweeps/`` and the papers'
 tables, ``tests/data/reference/`` (as a clone has them). What a block
 means follows from its info string:
 
@@ -46,7 +46,7 @@ FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,}|~{3,})(?P<info>[^`\n]*)$
 FILE_BLOCK = re.compile(r"^#\s*(?P<name>[\w.-]+\.toml)\s*$")
 RUN_LANGUAGES = ("python", "console", "bash")
 # The repository's folders a page may read, linked into its working folder.
-SHARED_FOLDERS = ("cases", "tests/data/reference")
+SHARED_FOLDERS = ("cases", "sweeps", "tests/data/reference")
 ELLIPSIS = "..."
 
 

@@ -27,6 +27,7 @@ _EXPORTS: dict[str, str] = {
     "SweepResult": "sso.batch.results",
     "tolerance_study": "sso.batch.tolerance_study",
     "ToleranceResult": "sso.batch.results",
+    "ColumnToleranceResult": "sso.batch.column_tolerance",
     "FourBarDesignResult": "sso.linkages.fourbar_swing",
     "FourBar": "sso.linkages.mechanisms",
     "SliderCrank": "sso.linkages.mechanisms",

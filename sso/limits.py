@@ -174,6 +174,19 @@ DEFAULT_ON_CENTRE_DEG = DEFAULT_WINDOW_DEG
 DEFAULT_TOLERANCE_SAMPLES = 200
 """Built columns in the seeded sample of a column's tolerances."""
 
+DEFAULT_COLUMN_STUDY_SAMPLES = 10_000
+"""Built columns of a column's Monte Carlo tolerance study (``sso tolerance``) when
+neither the command nor the case's ``[tolerances]`` gives a count."""
+
+DEFAULT_HARDPOINT_TOLERANCE_MM = 0.5
+"""Standard deviation of every hardpoint coordinate in ``sso tolerance`` of a column case
+without ``[tolerances]``, mm: sso's default, not a published figure."""
+
+DEFAULT_YOKE_PHASE_TOLERANCE_DEG = 1.0
+"""Standard deviation of each yoke phasing in ``sso tolerance`` of a column case without
+``[tolerances]``, deg (spline backlash and assembly): sso's default, not a published
+figure."""
+
 DEFAULT_MAX_OPERATING_ANGLE_DEG = 35.0
 """The maker's limit on a joint's operating angle when none is given, deg."""
 

@@ -48,11 +48,12 @@ class Axis:
 
 
 def base_case(base: Any) -> Any:
-    """The base case as an :class:`sso.cases.shaft_series.Case` (every default filled in).
+    """The base case as an :class:`sso.cases.shaft_series.Case` or a column's
+    :class:`sso.cases.column.ColumnCase` (every default filled in).
 
     Parameters
     ----------
-    base : str, pathlib.Path, sso.cases.shaft_series.Case or mapping
+    base : str, pathlib.Path, Case, ColumnCase or mapping
         A case file, a case read from one, or a mapping laid out like a case file.
 
     Raises
@@ -60,24 +61,26 @@ def base_case(base: Any) -> Any:
     ValueError
         (:class:`sso.cases.schema.CaseError`) if the case breaks the case-file schema.
     """
+    from sso.cases.column import ColumnCase
     from sso.cases.schema import load_case, parse_case
     from sso.cases.shaft_series import Case
 
     if isinstance(base, (str, Path)):
         case = load_case(base)
-    elif isinstance(base, Case):
+    elif isinstance(base, (Case, ColumnCase)):
         case = base
     elif isinstance(base, Mapping):
         case = parse_case(_plain(base), "base-case")
     else:
-        raise ValueError(f"base is a {type(base).__name__}; it must be a case file path, an "
-                         "sso.cases.shaft_series.Case or a mapping laid out like a case file (a "
-                         "tolerance study also takes an sso.OptimisationResult or sso.ShaftSeries)")
-    if not isinstance(case, Case):
+        raise ValueError(f"base is a {type(base).__name__}; it must be a case file path, a case "
+                         "read from one (shaft series or column) or a mapping laid out like a "
+                         "case file (a tolerance study also takes an sso.OptimisationResult or "
+                         "sso.ShaftSeries, or a column design)")
+    if not isinstance(case, (Case, ColumnCase)):
         # Name the kind, not the whole case (its repr holds every value).
         raise ValueError(f"kind = {case.kind!r}: sso sweep and sso tolerance work on "
-                         "shaft_series cases only (a column case's tolerance study is its "
-                         "[tolerances] table, run by sso run)")
+                         "shaft_series and column cases (a mechanism's angles are its table's "
+                         "rows: sso run)")
     return case
 
 

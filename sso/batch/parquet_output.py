@@ -29,12 +29,20 @@ from sso.limits import SOLVERS
 
 PARQUET_NAME = "sweep.parquet"
 _PART = re.compile(r"^part-\d{12}-\d{12}(-resumed)?\.parquet$")
+# Besides a shaft series' columns, those a column case's rows add
+# (sso.batch.table.COLUMN_RESULT_COLUMNS; its tooth offsets are text).
 _FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "max_output_accel_rad_s2", "crosscheck_objective_gap", "time_s",
                   *(f"{solver}_{field}" for solver in SOLVERS
-                    for field in ("residual_error", "kkt_per_rad", "time_s")))
-_FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS))
-_LIST_COLUMNS = ("design_beta_deg", "design_phase_deg")
+                    for field in ("residual_error", "kkt_per_rad", "time_s")),
+                  "minimum_residual_error", "speed_fluctuation_percent",
+                  "torque_fluctuation_percent", "largest_transmission_error_deg",
+                  "transmission_error_peak_to_peak_deg", "on_centre_fluctuation_percent",
+                  "continuous_residual_error")
+_FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS),
+                 "can_cancel")
+_LIST_COLUMNS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
+                 "continuous_yoke_phase_deg")
 _INTEGER_COLUMNS = ("point", *(f"{solver}_status" for solver in SOLVERS))
 
 

@@ -62,13 +62,21 @@ SWEEP_TABLE_COLUMNS = (
     ("fluctuation", "fluctuation (dimensionless)"), ("success", "converged and agree"),
     ("crosscheck_agree", "solvers agree"), ("time_s", "time (s)"),
 )
+# The same for a sweep of a column case: its design and steering figures.
+COLUMN_TABLE_COLUMNS = (
+    ("status", "status"), ("residual_error", "RE (dimensionless)"),
+    ("yoke_phase_deg", "yoke phasing (deg)"),
+    ("speed_fluctuation_percent", "speed fluctuation, lock to lock (%)"),
+    ("largest_transmission_error_deg", "largest |TE| (deg)"),
+    ("success", "converged and agree"), ("time_s", "time (s)"),
+)
 
 
 def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     """Report files of a :class:`sso.SweepResult`, keyed by file name."""
     files: dict[str, bytes] = {}
     if "csv" in formats:
-        header = columns([axis.path for axis in result.axes])
+        header = columns([axis.path for axis in result.axes], _kind(result))
         table = getattr(result.rows, "table", None)  # a sweep's rows, held as columns
         files[CSV_NAME] = (render_rows(header, ()) + table.csv_text() if table is not None
                            else render_rows(header, [format_row(row, header)
@@ -129,10 +137,11 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
                             f"value (log scale); values {FLOOR_LABEL}."))
     paths = [axis.path for axis in result.axes]
     shown = [result.rows[index] for index in result.lowest_re_order()[:REPORT_ROWS].tolist()]
+    table = COLUMN_TABLE_COLUMNS if _kind(result) == "column" else SWEEP_TABLE_COLUMNS
     blocks += [Heading(2, f"Lowest residual error ({len(shown)} of {len(result.rows)} points)"),
-               Table(("point", *paths, *(label for _, label in SWEEP_TABLE_COLUMNS)),
+               Table(("point", *paths, *(label for _, label in table)),
                      tuple((str(row["point"]), *(_cell(row.get(path)) for path in paths),
-                            *(_cell(row.get(column)) for column, _ in SWEEP_TABLE_COLUMNS))
+                            *(_cell(row.get(column)) for column, _ in table))
                            for row in shown))]
     failed = result.failed_points()
     if len(failed):
@@ -145,6 +154,12 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
             blocks.append(Paragraph(f"... and {more} more failed points (every one is in "
                                     f"{CSV_NAME})."))
     return blocks
+
+
+def _kind(result: Any) -> str:
+    """The kind of the sweep's base case (``"shaft_series"`` or ``"column"``)."""
+    kind: str = result.manifest.get("case", {}).get("kind", "shaft_series")
+    return kind
 
 
 def _tolerance_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:

@@ -245,8 +245,29 @@ class SweepResult(Record, Readable):
         }
 
 
+class SampledFigures:
+    """The samples and percentiles of a Monte Carlo study's figures (its ``_metrics``:
+    array fields, one value per sample)."""
+
+    _metrics: ClassVar[tuple[str, ...]]
+    percentiles: tuple[float, ...]
+    residual_error: np.ndarray
+
+    @property
+    def samples(self) -> int:
+        """Number of samples."""
+        return len(self.residual_error)
+
+    def percentile_table(self) -> dict[str, dict[float, float]]:
+        """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
+        return {metric: dict(zip(self.percentiles,
+                                 np.percentile(getattr(self, metric), self.percentiles).tolist(),
+                                 strict=True))
+                for metric in self._metrics}
+
+
 @dataclass(frozen=True, eq=False, repr=False)
-class ToleranceResult(Record, Readable):
+class ToleranceResult(SampledFigures, Record, Readable):
     """A Monte Carlo tolerance study of one design.
 
     Attributes
@@ -301,18 +322,7 @@ class ToleranceResult(Record, Readable):
     reflected_samples: int = 0
 
     report_kind: ClassVar[str] = "tolerance"
-
-    @property
-    def samples(self) -> int:
-        """Number of samples."""
-        return len(self.residual_error)
-
-    def percentile_table(self) -> dict[str, dict[float, float]]:
-        """``{metric: {percentile: value}}`` (numpy's linear interpolation)."""
-        return {metric: dict(zip(self.percentiles,
-                                 np.percentile(getattr(self, metric), self.percentiles).tolist(),
-                                 strict=True))
-                for metric in METRICS}
+    _metrics: ClassVar[tuple[str, ...]] = METRICS
 
     def _repr_text(self) -> str:
         median = self.percentile_table()["residual_error"]

@@ -15,6 +15,7 @@ import numpy as np
 
 from sso.batch.array_engine import ArrayPlan, array_plan
 from sso.batch.axes import Axis, base_case, parse_axes, point_count, value_positions
+from sso.batch.column_rows import check_axis_values
 from sso.batch.columns import RowTable, TableAssembly
 from sso.batch.estimate import sweep_estimate
 from sso.batch.execution import run_tasks, validate_workers
@@ -161,6 +162,8 @@ def sweep(
     case = base_case(base)  # refuses the kinds a sweep cannot vary
     document = case.to_dict()
     parsed_axes = parse_axes(axes, document)
+    if case.kind == "column":
+        check_axis_values(document, parsed_axes)
     if action not in ACTIONS:
         raise ValueError(f"action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
@@ -170,7 +173,7 @@ def sweep(
                            worker_count if client is None else 1, plan is not None),
                  memory_limit_mb)
     count = point_count(parsed_axes, mode)
-    header = columns([axis.path for axis in parsed_axes])
+    header = columns([axis.path for axis in parsed_axes], case.kind)
     identity = manifest(document, parsed_axes, mode, action, count)
     job = _Job(document, action, parsed_axes, mode, count, header, identity, plan, client,
                worker_count, chunk_size, interactive() if progress is None else progress)

@@ -35,6 +35,15 @@ RESULT_COLUMNS = (
     *(f"{solver}_{field}" for solver in SOLVERS for field in SOLVER_FIELDS),
     "time_s", "warnings",
 )
+COLUMN_RESULT_COLUMNS = (
+    "status", "error", "residual_error", "minimum_residual_error", "can_cancel",
+    "yoke_phase_deg", "design_beta_deg", "plane_angle_deg", "speed_fluctuation_percent",
+    "torque_fluctuation_percent", "largest_transmission_error_deg",
+    "transmission_error_peak_to_peak_deg", "on_centre_fluctuation_percent",
+    "continuous_residual_error", "continuous_yoke_phase_deg", "tooth_offset", "success",
+    "crosscheck_agree", "crosscheck_objective_gap", "time_s", "warnings",
+)
+"""The result columns of a sweep of a column case (:mod:`sso.batch.column_rows`)."""
 TIME_COLUMNS = ("time_s", *(f"{solver}_time_s" for solver in SOLVERS))
 TEXT_COLUMNS = ("status", "error", "best_solver", "warnings", HASH_COLUMN,
                 *(f"{solver}_message" for solver in SOLVERS))
@@ -44,9 +53,11 @@ STATUSES = (*DONE_STATUSES, "lost")
 HASH_DIGITS = 16
 
 
-def columns(axis_paths: Sequence[str]) -> list[str]:
-    """Header of ``sweep.csv``: point index, the axes, the results, the sweep's hash."""
-    return ["point", *axis_paths, *RESULT_COLUMNS, HASH_COLUMN]
+def columns(axis_paths: Sequence[str], kind: str = "shaft_series") -> list[str]:
+    """Header of ``sweep.csv``: point index, the axes, the results of a case of ``kind``
+    (a shaft series', or a column's), the sweep's hash."""
+    results = COLUMN_RESULT_COLUMNS if kind == "column" else RESULT_COLUMNS
+    return ["point", *axis_paths, *results, HASH_COLUMN]
 
 
 def format_cell(value: Any) -> str:
@@ -219,8 +230,8 @@ def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points
                          "(another sweep's file, or one written by an older sso); use "
                          "another out_dir")
     hash_at = len(header) - 1
-    axes = slice(1, 1 + len(header) - len(RESULT_COLUMNS) - 2)
     status_at = header.index("status")
+    axes = slice(1, status_at)
     rows: dict[int, dict[str, str]] = {}
     for cells in reader:
         line = reader.line_num

@@ -13,17 +13,26 @@ executor or worker count.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from sso.batch.axes import base_case
+from sso.batch.column_tolerance import (
+    ColumnToleranceResult,
+    column_tolerance_study,
+    is_column_design,
+    study_settings,
+)
 from sso.batch.estimate import tolerance_estimate
 from sso.batch.execution import run_tasks, validate_workers
 from sso.batch.report import TOLERANCE_FOLDER
 from sso.batch.results import ToleranceResult
+from sso.cases.column import ColumnCase
+from sso.column.tolerances import Tolerances
 from sso.files import check_report_folder
 from sso.limits import (
     DEFAULT_CHUNK_SAMPLES,
@@ -79,8 +88,10 @@ def tolerance_study(
     progress: bool | None = None,
     plots: bool = True,
     memory_limit_mb: float | None = None,
-) -> ToleranceResult:
-    """Monte Carlo study of a design under angle and phase tolerances.
+    tolerances: Tolerances | None = None,
+) -> ToleranceResult | ColumnToleranceResult:
+    """Monte Carlo study of a design under angle and phase tolerances (a shaft series), or
+    under hardpoint and yoke-phasing tolerances (a column).
 
     Sample ``i`` is ``beta_deg + d_beta[i]`` and ``phase_deg + d_phase[i]``, where
     ``rng = numpy.random.default_rng(seed)`` draws ``d_beta = rng.normal(0,
@@ -96,9 +107,20 @@ def tolerance_study(
     ``beta + 6 * tolerance`` (normal) or ``beta + tolerance`` (uniform) must stay
     below 90 deg.
 
+    A column design (``(sso.ColumnGeometry, yoke_phase_deg)``, a result holding a
+    column's ``geometry`` and ``yoke_phase_deg``, or a column case, whose assembly as
+    built is studied) is studied by :func:`sso.batch.column_tolerance.column_tolerance_study`:
+    each sample a built column, its hardpoints (mm) and yoke phasings (deg) moved by
+    ``tolerances`` (default: the case's ``[tolerances]``, else 0.5 mm and 1 deg normal),
+    reporting RE and the steering figures from lock to lock (the case's ``[steering]``
+    range, else the defaults of :func:`sso.steering_range`); ``samples``, ``seed``,
+    ``distribution``, ``percentiles`` and the execution keywords apply, the angle
+    tolerances and ``input_speed_rpm`` do not. It returns a
+    :class:`sso.ColumnToleranceResult`.
+
     Parameters
     ----------
-    design : sso.OptimisationResult, sso.ShaftSeries, str, pathlib.Path, Case or mapping
+    design : OptimisationResult, ShaftSeries, str, pathlib.Path, Case, mapping or a column design
         What to study: the best design of an optimisation result (the usual
         case: how its optimum spreads under tolerances), a design, or a case
         whose design as given (its start) is perturbed; a case also gives the
@@ -136,10 +158,12 @@ def tolerance_study(
     memory_limit_mb : float, optional
         Refuse the study if its memory estimate exceeds this, MB (default
         ``SSO_MEMORY_LIMIT_MB`` or :data:`sso.limits.DEFAULT_MEMORY_LIMIT_MB`).
+    tolerances : sso.Tolerances, optional
+        A column's hardpoint and yoke-phasing tolerances (a column design only).
 
     Returns
     -------
-    ToleranceResult
+    ToleranceResult or ColumnToleranceResult
 
     Raises
     ------
@@ -149,6 +173,33 @@ def tolerance_study(
         and how many samples fit).
     """
     started = time.perf_counter()
+    if isinstance(design, (str, Path, Mapping, ColumnCase)):
+        design = base_case(design)
+    column_case = design if isinstance(design, ColumnCase) else None
+    if column_case is not None or is_column_design(design):
+        shaft_keywords = [name for name, value in (
+            ("beta_tolerance_deg", beta_tolerance_deg),
+            ("phase_tolerance_deg", phase_tolerance_deg),
+            ("input_speed_rpm", input_speed_rpm)) if value is not None]
+        if shaft_keywords:
+            raise ValueError(f"{', '.join(shaft_keywords)}: a column's tolerance study takes "
+                             "tolerances=sso.Tolerances(hardpoint_mm=..., yoke_phase_deg=...) "
+                             "instead (it studies hardpoints and yoke phasings)")
+        chosen, count = study_settings(tolerances, column_case, samples, seed, distribution)
+        steering = ({} if column_case is None else
+                    {name: column_case.values[f"steering.{name}"]
+                     for name in ("lock_deg", "straight_ahead_deg")})
+        if column_case is not None:
+            design = (column_case.geometry(), column_case.values["phasing.yoke_phase_deg"])
+        return column_tolerance_study(
+            design, chosen, samples=count, percentiles=percentiles, out_dir=out_dir,
+            client=client, workers=workers, chunk_size=chunk_size, progress=progress,
+            plots=plots, memory_limit_mb=memory_limit_mb, **steering,
+            study_of="the given design" if column_case is None else
+            f"the assembly as built in case {column_case.name!r}")
+    if tolerances is not None:
+        raise ValueError("tolerances = sso.Tolerances(...) is a column's; a shaft series takes "
+                         "beta_tolerance_deg= and phase_tolerance_deg=")
     series, speed_rpm, quadrature, case_settings, study_of = _nominal(design, input_speed_rpm)
     if out_dir is not None:
         out_dir = check_report_folder(out_dir, TOLERANCE_FOLDER)
@@ -239,8 +290,6 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
         speed = DEFAULT_INPUT_SPEED_RPM if input_speed_rpm is None else input_speed_rpm
         return (design, validate_speed("input_speed_rpm", speed),
                 (DEFAULT_QUADRATURE_RTOL, DEFAULT_QUADRATURE_ATOL), {}, "the given design")
-    from sso.batch.axes import base_case
-
     case = base_case(design)
     speed = case.input_speed_rpm if input_speed_rpm is None else input_speed_rpm
     return (case.series(), validate_speed("input_speed_rpm", speed),

@@ -17,6 +17,7 @@ import numpy as np
 from sso.batch.array_engine import ArrayPlan, run_array_points
 from sso.batch.axes import point_document
 from sso.batch.batched import BatchedPoints, batchable
+from sso.batch.column_rows import column_row
 from sso.batch.columns import RowTable
 from sso.batch.point_row import PointRow, design_columns, solver_columns
 from sso.batch.table import HASH_COLUMN
@@ -199,6 +200,8 @@ def _parsed_case(row: PointRow, index: int, document: dict[str, Any],
 
 
 def _solve_row(case: Any, action: str) -> dict[str, Any]:
+    if case.kind == "column":
+        return column_row(case, action)
     return _optimise_row(case) if action == "optimise" else _evaluate_row(case)
 
 

@@ -14,6 +14,8 @@ Tables (every key is listed in the README):
   ``straight_ahead_deg``, ``on_centre_deg``; default from ``[feel]`` when given);
 * ``[limits]``: limits of the steering criteria and the joint maker's largest
   operating angle (:mod:`sso.column.steering_criteria`);
+* ``[tilt]``: a tilt position, ``P0`` turned about a pivot axis
+  (:mod:`sso.cases.column_tilt`);
 * ``[joint_boxes] min_mm / max_mm``: a box per joint centre (optional table);
   with it ``sso run`` also moves the joints, within ``[bounds]`` on every
   operating angle and shaft length;
@@ -36,6 +38,7 @@ from typing import Any
 
 from sso.cases.column_points import point_list
 from sso.cases.column_robust import ROBUST_KEYS, ROBUST_TABLES, check_robust
+from sso.cases.column_tilt import TILT_KEYS, TILT_TABLE, case_points
 from sso.cases.schema import (
     REQUIRED,
     Key,
@@ -134,6 +137,7 @@ COLUMN_KEYS: tuple[Key, ...] = (
     Key("bounds", "shaft_length_mm", bounds_list(0.0, math.inf, "mm"), None, "mm",
         "[lower, upper] or one pair per shaft, lower > 0 (default: each shaft at least half "
         "its given length)"),
+    *TILT_KEYS,
     *ROBUST_KEYS,
     # After [feel], whose keys are their defaults.
     Key("steering", "lock_deg", number(0.0, MAX_LOCK_DEG, "deg", lower_open=True),
@@ -188,8 +192,8 @@ class ColumnCase:
     warnings: tuple[str, ...] = field(default=(), compare=False)
 
     def geometry(self) -> ColumnGeometry:
-        """The column from ``hardpoints.points_mm``."""
-        return ColumnGeometry(self.values["hardpoints.points_mm"])
+        """The column from ``hardpoints.points_mm`` (in the ``[tilt]`` position, if given)."""
+        return ColumnGeometry(case_points(self.values))
 
     @property
     def teeth(self) -> tuple[int, ...] | None:
@@ -269,6 +273,8 @@ class ColumnCase:
         extras = ([f"spline teeth {', '.join(str(count) for count in self.teeth)}"]
                   if self.teeth else [])
         extras += ["joint boxes"] if self.has_joint_boxes else []
+        if self.values.get("tilt.angle_deg") is not None:
+            extras.append(f"tilted {self.values['tilt.angle_deg']:g} deg")
         positions = self.values.get("hardpoints.positions")
         if positions is not None:
             extras.append(f"positions {', '.join(positions)} "
@@ -322,10 +328,13 @@ def _plain(value: Any) -> Any:
 
 def _build(values: dict[str, Any], path: str) -> ColumnCase:
     """Check the keys against each other, then build the :class:`ColumnCase`."""
+    points = case_points(values)
     try:
-        geometry = ColumnGeometry(values["hardpoints.points_mm"])
+        geometry = ColumnGeometry(points)
     except ValueError as error:
-        raise ValueError(f"hardpoints.{error}") from None
+        where = "hardpoints." if points == values["hardpoints.points_mm"] else (
+            f"hardpoints tilted by tilt.angle_deg = {values['tilt.angle_deg']:g}: ")
+        raise ValueError(f"{where}{error}") from None
     joints, shafts = geometry.joint_count, geometry.joint_count - 1
     if joints < 2:
         raise ValueError("hardpoints.points_mm has 3 points (1 joint): a column case needs at "
@@ -400,4 +409,5 @@ def _check_bounds(values: dict[str, Any], joints: int) -> None:
 
 
 register_case_kind(COLUMN_KIND, COLUMN_KEYS, _build,
-                   optional_tables=frozenset({"splines", "joint_boxes", *ROBUST_TABLES}))
+                   optional_tables=frozenset({"splines", "joint_boxes", TILT_TABLE,
+                                             *ROBUST_TABLES}))

@@ -91,6 +91,10 @@ def run_tolerance(args: argparse.Namespace) -> int:
         if args.at == "start" and args.result is not None:
             raise ValueError("--at start studies the case's design as given; --result gives an "
                              "optimum: use one of them")
+        if case.kind == "column":
+            from sso.cli.column_tolerance import run_column_tolerance
+
+            return run_column_tolerance(args, case, client)
         design, study_of = _studied_design(args, case)
         settings = dict(case.tolerance_study or {})
         settings.update({name: value for name, value in (("samples", args.samples),
@@ -190,6 +194,8 @@ COMMANDS = (
             "optimum's angles and phases as the case's [tolerance] table says (normal or "
             "uniform, deg), evaluate every sample, and write percentiles of RE, fluctuation "
             "and output acceleration with a histogram into DIR/<case name>/. --at start "
-            "studies the case's design as given instead.",
+            "studies the case's design as given instead. A column case: its hardpoints (mm) "
+            "and yoke phasings (deg) as its [tolerances] table says (default 0.5 mm, 1 deg), "
+            "with RE and the steering figures from lock to lock.",
             configure_tolerance, run_tolerance),
 )

@@ -12,6 +12,7 @@ from sso.column.chain_matrix import residual_error
 from sso.column.geometry import ColumnGeometry, wrap_half_turn
 from sso.display import Part, Readable, TextTable, format_number, format_numbers
 from sso.limits import (
+    CONVENTIONAL_PHASE_DEG,
     CROSS_CHECK_SOLVERS,
     DEFAULT_COLUMN_SEED,
     DEFAULT_INPUT_SPEED_RPM,
@@ -30,6 +31,12 @@ from sso.shafts.optimise import OptimisationResult, optimise
 PHASE_BOUNDS_DEG = (-90.0, 270.0)
 # Two phasings are the same assembly when they differ by less than this (deg, mod 180).
 SAME_PHASING_DEG = 1e-6
+EXACT_SET_CRITERION = ("nearest the textbook correction: the exact optimum whose model phases "
+                       "lie furthest inside the bounds (-90, 270) deg, i.e. nearest phi = 90 "
+                       "(delta = gamma)")
+"""How :func:`sso.optimise` chooses within a set of exact optima of a column's phasing (the
+largest margin to the bounds of :data:`PHASE_BOUNDS_DEG`, said in a column's terms)."""
+FULL_TURN_SLACK_DEG = 1e-6
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -97,14 +104,52 @@ class PhasingResult(Record, Readable):
                  format_number(self.in_phase_re)),
                 ("each yoke turned by its bend-plane angle", "", 
                  format_number(self.plane_corrected_re)))
-        return [f"Phasing: {self.message}",
-                TextTable(("assembly", "yoke phase (deg)", "RE"), rows),
-                f"least RE any phasing reaches: {format_number(self.minimum_residual_error)}"]
+        parts: list[Part] = [
+            f"Phasing: {self.message}", TextTable(("assembly", "yoke phase (deg)", "RE"), rows),
+            f"least RE any phasing reaches: {format_number(self.minimum_residual_error)}"]
+        extent = self.exact_optimum_extent_deg
+        if extent is not None and self.optimisation.exact_optima is not None:
+            parts += [f"exact optima: a set of dimension "
+                      f"{self.optimisation.exact_optima.dimension}, chosen "
+                      f"{self.exact_optimum_criterion}",
+                      TextTable(("intermediate shaft", "set from delta (deg)",
+                                 "set to delta (deg)"),
+                                tuple((str(shaft + 1), format_number(low), format_number(high))
+                                      for shaft, (low, high) in enumerate(extent)))]
+        return parts
 
     @property
     def yoke_phase_deg(self) -> tuple[float, ...]:
         """Best yoke phasing per intermediate shaft, deg (same as ``x``)."""
         return self.x
+
+    @property
+    def exact_optimum_criterion(self) -> str | None:
+        """How the phasing was chosen within a set of exact optima (RE at round-off zero),
+        or None when the least RE is above zero (one optimum, mod 180 deg and mirrors)."""
+        return None if self.optimisation.exact_optima is None else EXACT_SET_CRITERION
+
+    @property
+    def exact_optimum_extent_deg(self) -> tuple[tuple[float, float], ...] | None:
+        """Per intermediate shaft, the least and the largest yoke phasing ``delta`` on the
+        set of exact optima connected to the chosen phasing, deg, or None (no such set).
+
+        The first value lies in ``[-90, 90)``; the second may exceed 90 (the interval
+        wraps). An interval of 180 deg or more: the set holds every phasing of that
+        shaft. Each end is found by SLSQP on the set (2 solves per shaft, on first use).
+        """
+        exact = self.optimisation.exact_optima
+        if exact is None:
+            return None
+        extents = []
+        for (low, high), gamma in zip(exact.extent_deg, self.geometry.plane_angle_deg,
+                                      strict=True):
+            width = min(high - low, 180.0)
+            start = float(wrap_half_turn(low - CONVENTIONAL_PHASE_DEG + gamma))
+            if width >= 180.0 - FULL_TURN_SLACK_DEG:
+                start, width = -90.0, 180.0
+            extents.append((start, start + width))
+        return tuple(extents)
 
 
 def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,

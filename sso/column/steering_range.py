@@ -174,8 +174,7 @@ def steering_range(design: Any, *, lock_deg: float = DEFAULT_LOCK_DEG,
     theta = np.radians(centre + wheel)
     ratio = chain.ratio(theta)
     error = np.degrees(chain.transmission_error(theta))
-    ratio_low, ratio_high = chain.ratio_extremes(low, high)
-    error_low, error_high = (math.degrees(value) for value in chain.error_extremes(low, high))
+    ratio_low, ratio_high, error_low, error_high = _extremes(chain, low, high)
     window_low, window_high = chain.ratio_extremes(math.radians(centre - min(window, lock)),
                                                    math.radians(centre + min(window, lock)))
     ends = np.array([low, high])
@@ -198,6 +197,33 @@ def steering_range(design: Any, *, lock_deg: float = DEFAULT_LOCK_DEG,
         lock_torque_ratio=(float(1.0 / end_ratio[0]), float(1.0 / end_ratio[1])),
         lock_transmission_error_deg=(float(end_error[0]), float(end_error[1])),
     )
+
+
+def range_extremes(matrix: np.ndarray, straight_ahead_deg: float,
+                   lock_deg: float) -> tuple[float, float, float, float]:
+    """Exact extremes of one chain matrix's figures over the steering range.
+
+    Parameters
+    ----------
+    matrix : numpy.ndarray, shape (2, 2)
+        The chain matrix (:func:`sso.column.chain_matrix.chain_matrix`).
+    straight_ahead_deg, lock_deg : float
+        As :func:`steering_range` takes them (not checked here), deg.
+
+    Returns
+    -------
+    (float, float, float, float)
+        Least and largest speed ratio, least and largest transmission error (deg).
+    """
+    centre = math.radians(straight_ahead_deg)
+    lock = math.radians(lock_deg)
+    return _extremes(_Chain(matrix, centre), centre - lock, centre + lock)
+
+
+def _extremes(chain: _Chain, low: float, high: float) -> tuple[float, float, float, float]:
+    ratio_low, ratio_high = chain.ratio_extremes(low, high)
+    error_low, error_high = (math.degrees(value) for value in chain.error_extremes(low, high))
+    return ratio_low, ratio_high, error_low, error_high
 
 
 class _Chain:

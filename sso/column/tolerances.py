@@ -98,8 +98,10 @@ class Tolerances:
         rng = np.random.default_rng(self.seed)
         points = np.asarray(geometry.points_mm)
         joints = geometry.joint_count
-        offsets = self._draw(rng, self.hardpoint_mm, (self.samples, *points.shape))
-        phase_errors = self._draw(rng, self.yoke_phase_deg, (self.samples, joints - 1))
+        offsets = draw_errors(rng, self.hardpoint_mm, self.distribution,
+                              (self.samples, *points.shape))
+        phase_errors = draw_errors(rng, self.yoke_phase_deg, self.distribution,
+                                   (self.samples, joints - 1))
         beta = np.empty((self.samples, joints))
         gamma = np.empty((self.samples, joints - 1))
         for index in range(self.samples):
@@ -114,19 +116,26 @@ class Tolerances:
                                gamma_rad=np.radians(gamma - phase_errors),
                                hardpoint_offsets_mm=offsets, yoke_phase_errors_deg=phase_errors)
 
-    def _draw(self, rng: np.random.Generator, tolerance: float,
-              shape: tuple[int, ...]) -> np.ndarray:
-        if tolerance == 0.0:
-            return np.zeros(shape)
-        if self.distribution == "normal":
-            return rng.normal(0.0, tolerance, shape)
-        return rng.uniform(-tolerance, tolerance, shape)
-
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {"hardpoint_mm": self.hardpoint_mm, "yoke_phase_deg": self.yoke_phase_deg,
                 "cross_angle_deg": self.cross_angle_deg, "samples": self.samples,
                 "seed": self.seed, "distribution": self.distribution}
+
+
+def draw_errors(rng: np.random.Generator, tolerance: float, distribution: str,
+                shape: tuple[int, ...]) -> np.ndarray:
+    """Errors of one kind, drawn from ``rng`` (nothing drawn for a zero tolerance).
+
+    ``rng.normal(0, tolerance, shape)`` (``"normal"``: the tolerance is the standard
+    deviation) or ``rng.uniform(-tolerance, tolerance, shape)`` (``"uniform"``: the
+    half-width).
+    """
+    if tolerance == 0.0:
+        return np.zeros(shape)
+    if distribution == "normal":
+        return rng.normal(0.0, tolerance, shape)
+    return rng.uniform(-tolerance, tolerance, shape)
 
 
 @dataclass(frozen=True)

@@ -83,7 +83,8 @@ def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> li
                _shaft_table(document), Paragraph(CONVENTION), _scene(document),
                Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
                Heading(2, "Assemblies compared"), _assembly_table(document),
-               Heading(2, "Yoke phasing for the fitter"), _phasing_table(document)]
+               Heading(2, "Yoke phasing for the fitter"), _phasing_table(document),
+               *_exact_set_blocks(document)]
     if "splines" in document:
         splines = document["splines"]
         objective = splines.get("objective", "RE")
@@ -177,6 +178,20 @@ def _assembly_table(document: Mapping[str, Any]) -> Table:
                      _angles(entry["phase_deg"]), number(entry["residual_error"], ".6g")))
     return Table(("assembly", "yoke phasing delta (deg)", "model phase phi (deg)", "RE"),
                  tuple(rows))
+
+
+def _exact_set_blocks(document: Mapping[str, Any]) -> list[Block]:
+    exact = (document.get("phasing") or {}).get("exact_optima")
+    if exact is None:
+        return []
+    ends = "; ".join(f"shaft {shaft + 1}: "
+                     + ("every phasing" if high - low >= 180.0 else
+                        f"{number(low, '.3f')} to {number(high, '.3f')} deg")
+                     for shaft, (low, high) in enumerate(exact["extent_yoke_phase_deg"]))
+    return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
+                      f"{exact['dimension']}; the best phasing above is the one "
+                      f"{exact['criterion']}. The set's extent in delta (from the chosen "
+                      f"phasing along the set): {ends}.")]
 
 
 def _phasing_table(document: Mapping[str, Any]) -> Table:

@@ -164,9 +164,21 @@ def _phasing_dict(phasing: Any) -> dict[str, Any]:
         "plane_corrected_re": phasing.plane_corrected_re,
         "success": phasing.success,
         "message": phasing.message,
+        "exact_optima": _exact_optima(phasing),
         "solutions": {name: solution.to_dict() for name, solution in run.solutions.items()},
         "crosscheck": None if run.crosscheck is None else run.crosscheck.to_dict(),
     }
+
+
+def _exact_optima(phasing: Any) -> dict[str, Any] | None:
+    """The set of exact optima of the phasing (RE at round-off zero): how the phasing was
+    chosen within it and its extent per intermediate shaft; None without such a set."""
+    extent = phasing.exact_optimum_extent_deg
+    if extent is None:
+        return None
+    return {"criterion": phasing.exact_optimum_criterion,
+            "dimension": phasing.optimisation.exact_optima.dimension,
+            "extent_yoke_phase_deg": [list(pair) for pair in extent]}
 
 
 def _excitation(geometry: ColumnGeometry, case: ColumnCase, assemblies: dict[str, Any],

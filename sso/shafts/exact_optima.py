@@ -509,10 +509,20 @@ def _extent(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
             answer = _slsqp(functools.partial(_linear, goal), functools.partial(_constant, goal),
                             x_rad, bounds, constraint, counts)
             projected = _project(residuals, answer, lower, upper)
-            ends.append(float(x_rad[index] if projected is None else projected[index]))
+            end = float(x_rad[index] if projected is None else projected[index])
+            ends.append(_on_bound(end, float(lower[index]), float(upper[index])))
         low, high = min(ends[0], float(x_rad[index])), max(ends[1], float(x_rad[index]))
         extent.append((math.degrees(low), math.degrees(high)))
     return tuple(extent)
+
+
+def _on_bound(value_rad: float, lower_rad: float, upper_rad: float) -> float:
+    """``value_rad``, or the bound it lies within :data:`ON_BOUND_RAD` of: an end the
+    solver stops a round-off step short of its bound is that bound."""
+    for bound in (lower_rad, upper_rad):
+        if abs(value_rad - bound) <= ON_BOUND_RAD:
+            return bound
+    return value_rad
 
 
 def _linear(goal: np.ndarray, x: np.ndarray) -> float:

@@ -99,7 +99,7 @@ def test_a_sweep_of_three_axes_draws_three_panels(tmp_path):
 
 def test_a_mechanism_case_cannot_be_swept():
     with pytest.raises(ValueError, match="kind = 'fourbar': sso sweep and sso tolerance work on "
-                                         "shaft_series cases only"):
+                                         "shaft_series and column cases"):
         sso.sweep("cases/mechanisms/fourbar_crank2.toml", {"input_speed_rpm": [1.0, 2.0]})
 
 

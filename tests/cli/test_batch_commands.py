@@ -109,6 +109,6 @@ def test_sso_sweep_refuses_a_mechanism_case_with_exit_2(tmp_path):
     (tmp_path / "bad.toml").write_text(f'case = "{mechanism}"\n[axes]\ninput_speed_rpm = [1, 2]\n')
     completed = sso_command("sweep", "bad.toml", cwd=tmp_path)
     assert completed.returncode == 2
-    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series cases only"
+    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series and column cases"
             in completed.stderr)
     assert "Traceback" not in completed.stderr

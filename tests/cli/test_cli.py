@@ -396,6 +396,6 @@ def test_a_rerun_without_plots_leaves_no_plot_of_the_earlier_run(tmp_path):
 def test_a_tolerance_study_of_a_mechanism_case_is_refused_naming_the_kind(tmp_path):
     completed = sso("tolerance", CASES / "mechanisms" / "fourbar_crank2.toml", cwd=tmp_path)
     assert completed.returncode == 2
-    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series cases only"
+    assert ("kind = 'fourbar': sso sweep and sso tolerance work on shaft_series and column cases"
             in completed.stderr)
     assert "Traceback" not in completed.stderr

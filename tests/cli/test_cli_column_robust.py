@@ -150,14 +150,12 @@ def test_bad_robust_input_exits_2_naming_the_field(tmp_path, tables, message):
     assert not (tmp_path / "case").exists()
 
 
-@pytest.mark.parametrize("command", ["tolerance", "sweep"])
-def test_batch_commands_refuse_a_column_case_naming_the_kind(tmp_path, command):
-    target = CASE
-    if command == "sweep":
-        target = write_case(tmp_path, f'case = "{CASE}"\n[axes]\n"excitation.rows" = [5, 6]\n',
-                            "sweep.toml")
-    completed = sso(command, target, "--out", tmp_path, "--workers", "1", cwd=tmp_path)
-    assert completed.returncode == 2
-    assert "kind = 'column': sso sweep and sso tolerance work on shaft_series cases only" \
-        in completed.stderr
-    assert len(completed.stderr) < 300  # the message, not the whole case
+def test_sso_tolerance_studies_a_column_case_with_its_tolerances_table(tmp_path):
+    # The case's [tolerances]: 1 mm and 1 deg, normal, 200 samples, seed 1; its [feel]
+    # lock of 600 deg is the steering range's default.
+    completed = sso("tolerance", CASE, "--at", "start", "--out", tmp_path, "--workers", "1",
+                    "--no-plots", "--quiet", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    assert "column tolerance study: 200 built columns (normal, seed 1)" in completed.stdout
+    assert "every hardpoint coordinate 1 mm, each yoke phasing 1 deg" in completed.stdout
+    assert "steering range: +-600 deg" in completed.stdout

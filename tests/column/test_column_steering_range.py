@@ -11,60 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from column_cases import load, random_column
-from cross_and_yoke import output_angle, shaft_axes
-from cross_and_yoke import speed_ratio as simulated_speed_ratio
-from scipy.optimize import minimize_scalar
+from cross_and_yoke import Simulated, extremes
 
 from sso.column.geometry import ColumnGeometry
 from sso.column.steering_range import CURVE_POINTS, steering_range
-
-GRID = 4001
-
-
-def first_bend_normal(points: np.ndarray) -> np.ndarray:
-    axes = shaft_axes(points)
-    normal = np.cross(axes[0], axes[1])
-    return normal / np.linalg.norm(normal)
-
-
-class Simulated:
-    """Speed ratio and transmission error of the 3D simulation, straight ahead at theta_c."""
-
-    def __init__(self, points: np.ndarray, yoke: np.ndarray, centre_rad: float) -> None:
-        self.points, self.yoke, self.centre = points, yoke, centre_rad
-        self.reference = first_bend_normal(points)
-        output_axis = shaft_axes(points)[-1]
-        side = np.cross(output_axis, [0.31, -0.72, 0.62])
-        self.output_reference = side / np.linalg.norm(side)
-        self.centre_output = self._output(np.array([centre_rad]))[0]
-
-    def _output(self, theta: np.ndarray) -> np.ndarray:
-        return output_angle(self.points, self.yoke, theta, self.reference, self.output_reference)
-
-    def ratio(self, theta: np.ndarray) -> np.ndarray:
-        return simulated_speed_ratio(self.points, self.yoke, theta, self.reference)
-
-    def error(self, theta: np.ndarray) -> np.ndarray:
-        """Output turn minus input turn from straight ahead, rad, wrapped to +-90 deg (a
-        pin axis is a line; the error of these columns stays far inside that)."""
-        turn = self._output(theta) - self.centre_output - (theta - self.centre)
-        return np.mod(turn + np.pi / 2, np.pi) - np.pi / 2
-
-
-def extremes(function, low: float, high: float) -> tuple[float, float]:
-    """Least and largest value of a smooth function on [low, high]: grid, then Brent."""
-    grid = np.linspace(low, high, GRID)
-    values = function(grid)
-    found = [values[0], values[-1]]
-    for sign in (1.0, -1.0):
-        signed = sign * values
-        peaks = np.flatnonzero((signed[1:-1] >= signed[:-2]) & (signed[1:-1] >= signed[2:])) + 1
-        for index in peaks:
-            result = minimize_scalar(lambda x, sign=sign: -sign * function(np.array([x]))[0],
-                                     bounds=(grid[index - 1], grid[index + 1]), method="bounded",
-                                     options={"xatol": 1e-13})
-            found.append(function(np.array([result.x]))[0])
-    return float(min(found)), float(max(found))
 
 
 @pytest.mark.parametrize("seed, joints, lock_deg", [

@@ -63,6 +63,8 @@ MAKERS: dict[str, Callable[[], Any]] = {
                                      workers=1, plots=False, progress=False),
     "ToleranceResult": lambda: sso.tolerance_study(SERIES, beta_tolerance_deg=0.5, samples=30,
                                                    seed=1),
+    "ColumnToleranceResult": lambda: sso.tolerance_study((column(), (10.0, -60.0)),
+                                                         tolerances=tolerances(), workers=1),
     "FourBarDesignResult": lambda: sso.optimise(
         sso.FourBar(ground=12, crank=2, coupler=15, rocker=9), crank_bounds=(1.0, 3.0),
         coupler_bounds=(12.0, 18.0), rocker_bounds=(6.0, 12.0), starts=2),

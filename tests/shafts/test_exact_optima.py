@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import sso
+from sso.shafts.exact_optima import _on_bound
 from sso.shafts.quadrature import adaptive_residual_error
 
 README_SERIES = sso.ShaftSeries(beta_deg=[30, 40, 40], phase_deg=[90, 90], model="exact")
@@ -62,6 +63,17 @@ def test_the_report_states_the_extent_of_the_exact_optimum_set():
     assert "set from (deg)" in summary and "a set of dimension 3" in summary
     document = result.to_dict()["exact_optima"]
     assert document["extent_deg"] == [list(pair) for pair in exact.extent_deg]
+
+
+def test_an_end_of_the_set_at_a_bound_is_that_bound_exactly():
+    # The phases' set reaches both bounds (0 and 180 deg); the solver of each end stops a
+    # round-off step short of it (8.4e-12 deg was printed), which is the bound itself.
+    exact = sso.optimise(README_SERIES, **README_CALL).exact_optima
+    assert exact.extent_deg[3] == (0.0, 180.0)
+    assert exact.extent_deg[4] == (0.0, 180.0)
+    assert _on_bound(1e-10, 0.0, np.pi) == 0.0
+    assert _on_bound(np.pi - 1e-10, 0.0, np.pi) == np.pi
+    assert _on_bound(1e-8, 0.0, np.pi) == 1e-8
 
 
 def test_with_tolerances_the_chosen_exact_optimum_has_the_lowest_p95():

@@ -1,0 +1,83 @@
+"""``sso tolerance`` of a column case: the design studied, the study and its report.
+
+The optimum is studied unless ``--at start``: the best assembly on the case's splines
+(``[splines]``), else the best continuous yoke phasing, found first; or the
+recommended assembly read from ``--result`` (a ``result.json`` of ``sso run``). The
+tolerances are the case's ``[tolerances]`` (hardpoint mm, yoke phasing deg), else
+sso's defaults (:data:`sso.limits.DEFAULT_HARDPOINT_TOLERANCE_MM`,
+:data:`sso.limits.DEFAULT_YOKE_PHASE_TOLERANCE_DEG`); the steering range is the
+case's ``[steering]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+
+def run_column_tolerance(args: argparse.Namespace, case: Any, client: Any) -> int:
+    """Study the column case's design; write the report; 0 (bad input raises ValueError)."""
+    from sso.batch.column_tolerance import column_tolerance_study, study_settings
+    from sso.cli.common import DEFAULT_OUT, EXIT_OK
+    from sso.limits import OUTPUT_FORMATS
+    from sso.reports.kinds import write_report
+
+    design, study_of = _studied_design(args, case)
+    tolerances, count = study_settings(None, case, args.samples, args.seed, None)
+    result = column_tolerance_study(
+        design, tolerances, samples=count, lock_deg=case.values["steering.lock_deg"],
+        straight_ahead_deg=case.values["steering.straight_ahead_deg"], study_of=study_of,
+        client=client, workers=args.workers, progress=False if args.quiet else None,
+        memory_limit_mb=args.memory_limit)
+    formats = tuple(name for name in OUTPUT_FORMATS if not (args.no_plots and name == "png"))
+    folder = Path(args.out or DEFAULT_OUT) / case.name
+    result = replace(result, files=tuple(write_report(result, folder, formats)))
+    print(result.summary(), flush=True)
+    return EXIT_OK
+
+
+def _studied_design(args: argparse.Namespace, case: Any) -> tuple[tuple[Any, Any], str]:
+    """``(geometry, yoke_phase_deg)`` studied, and the words that say which it is."""
+    geometry = case.geometry()
+    name = Path(args.case).name
+    if args.at == "start":
+        return ((geometry, case.values["phasing.yoke_phase_deg"]),
+                f"the assembly as built (phasing.yoke_phase_deg) in {name}")
+    if args.result is not None:
+        return _recommended(args.result)
+    if not args.quiet:
+        print(f"{case.name}: optimising first, to study the optimum", flush=True)
+    if case.teeth is not None:
+        from sso.column.splines import best_spline_teeth
+
+        splines = best_spline_teeth(geometry, case.teeth)
+        return ((geometry, splines.yoke_phase_deg),
+                f"the best assembly on the splines (teeth {list(case.teeth)}, tooth offsets "
+                f"{list(splines.tooth_offset)}) of {name}, found first")
+    from sso.column.phasing import optimise_phasing
+
+    phasing = optimise_phasing(geometry, **case.solver_options())
+    return ((geometry, phasing.yoke_phase_deg),
+            f"the best yoke phasing of {name}, optimised first")
+
+
+def _recommended(path: str) -> tuple[tuple[Any, Any], str]:
+    """The recommended assembly of a column's result document."""
+    from sso.column.geometry import ColumnGeometry
+    from sso.reports.writer import read_result
+
+    document = read_result(path)
+    if document.get("kind") != "column":
+        raise ValueError(f"{path} is no column case's result (kind = "
+                         f"{document.get('kind')!r}); give the result.json of sso run of this "
+                         "column case, or --at start")
+    role = document.get("recommended")
+    chosen = [entry for entry in document.get("assemblies", []) if entry.get("role") == role]
+    if not chosen:
+        raise ValueError(f"{path} names no recommended assembly; give a result of sso run, or "
+                         "--at start")
+    geometry = ColumnGeometry(document["geometry"]["points_mm"])
+    return ((geometry, chosen[0]["yoke_phase_deg"]),
+            f"the recommended assembly ({chosen[0]['label']}) read from {path}")

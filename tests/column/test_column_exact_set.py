@@ -1,0 +1,93 @@
+"""A column whose yoke phasing cancels on a set of exact optima: the phasing chosen within
+the set (nearest the textbook correction) and the set's extent per intermediate shaft,
+checked with the independent 3D cross-and-yoke simulation (tests/column/cross_and_yoke.py):
+at a phasing inside the reported extent the simulated speed ratio can be made constant by
+the other yokes; just outside it, it cannot."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from cross_and_yoke import residual_error as simulated_residual_error
+from cross_and_yoke import shaft_axes, speed_ratio
+from scipy.optimize import least_squares
+
+import sso
+from sso.column.geometry import ColumnGeometry
+
+# Four joints that can cancel (the continuum of tests/column/test_column_phasing.py).
+POINTS = np.asarray([[0, 0, 0], [300, 0, 0], [600, 80, 0], [900, 120, 60], [1200, 100, 150],
+                     [1500, 60, 170]], dtype=float)
+ANGLES = np.pi * np.arange(64) / 64
+
+
+def _least_re_with(shaft: int, value_deg: float, start: np.ndarray) -> float:
+    """The least simulated RE over the other yokes with yoke ``shaft`` held at ``value_deg``."""
+    reference = np.cross(shaft_axes(POINTS)[0], [0.3, -0.5, 0.8])
+    reference /= np.linalg.norm(reference)
+
+    def residuals(others: np.ndarray) -> np.ndarray:
+        yoke = np.insert(others, shaft, value_deg)
+        return speed_ratio(POINTS, yoke, ANGLES, reference) - 1.0
+
+    found = least_squares(residuals, np.delete(start, shaft), xtol=1e-15, ftol=1e-15,
+                          gtol=1e-15)
+    return simulated_residual_error(POINTS, np.insert(found.x, shaft, value_deg))
+
+
+def _deviation_deg(yoke: np.ndarray, gamma: np.ndarray) -> float:
+    """Largest |phi - 90| of a phasing, mod 180 deg (phi = 90 + delta - gamma)."""
+    return float(np.max(np.abs(np.mod(yoke - gamma + 90.0, 180.0) - 90.0)))
+
+
+def test_the_phasing_is_chosen_nearest_the_textbook_correction_and_the_extent_is_the_sets():
+    geometry = ColumnGeometry(POINTS)
+    result = sso.optimise(geometry)
+    assert result.success, result.message
+    assert simulated_residual_error(POINTS, result.yoke_phase_deg) <= 1e-12
+    assert result.exact_optimum_criterion.startswith("nearest the textbook correction")
+    gamma = np.asarray(geometry.plane_angle_deg)
+    chosen = _deviation_deg(np.asarray(result.yoke_phase_deg), gamma)
+    # No other exact optimum found lies nearer (within the bisection's 0.1 deg).
+    for yoke in result.equivalent_yoke_phase_deg:
+        assert chosen <= _deviation_deg(np.asarray(yoke), gamma) + 0.1
+    extent = result.exact_optimum_extent_deg
+    assert len(extent) == 3
+    start = np.asarray(result.yoke_phase_deg)
+    bounded = [(shaft, low, high) for shaft, (low, high) in enumerate(extent)
+               if high - low < 180.0]
+    assert bounded, extent  # this column's set does not hold every phasing of every shaft
+    for shaft, low, high in bounded:
+        assert low <= start[shaft] + 1e-9 <= high + 2e-9 or low <= start[shaft] + 180.0 <= high
+        for inside in (low + 0.2, high - 0.2):
+            assert _least_re_with(shaft, inside, start) <= 1e-12, (shaft, inside)
+        for outside in (low - 1.0, high + 1.0):
+            assert _least_re_with(shaft, outside, start) > 1e-9, (shaft, outside)
+    assert "exact optima: a set of dimension 1" in result.summary()
+
+
+def test_a_column_that_cannot_cancel_reports_no_set():
+    points = np.asarray([[0, 0, 0], [300, 0, 0], [600, 80, 0], [900, 120, 160]], dtype=float)
+    result = sso.optimise(ColumnGeometry(points))
+    assert result.fun > 1e-6
+    assert result.exact_optimum_criterion is None and result.exact_optimum_extent_deg is None
+    assert "exact optima" not in result.summary()
+
+
+@pytest.fixture(scope="module")
+def document():
+    from sso.cases.schema import parse_case
+    from sso.run.column_document import column_document
+
+    case = parse_case({"kind": "column", "hardpoints": {"points_mm": POINTS.tolist()},
+                       "solver": {"starts": 4}}, "cancelling")
+    return column_document(case, optimising=True)
+
+
+def test_the_column_report_states_the_criterion_and_the_extent(document, tmp_path):
+    exact = document["phasing"]["exact_optima"]
+    assert exact["dimension"] == 1 and len(exact["extent_yoke_phase_deg"]) == 3
+    sso.write_report(document, tmp_path / "report", formats=("md",))
+    text = (tmp_path / "report" / "report.md").read_text()
+    assert "RE = 0 is reached on a set of exact optima of dimension 1" in text
+    assert "nearest the textbook correction" in text
