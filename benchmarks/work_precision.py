@@ -564,8 +564,9 @@ def write_summary(out: Path, ratios: dict[str, Any], batch: dict[str, Any],
                      f"(median of {cold['repeats']}).")
     else:
         lines.append(cold["note"])
-    lines += ["", "One design, the paper's options (medians of interleaved rounds after a "
-              "warm-up; CPU time is this process's):", "",
+    lines += ["", "One design, the paper's options (medians of interleaved rounds, each a "
+              "pass of a few calls per method, after a warm-up; CPU time is this process's):",
+              "",
               "| option | method | time (ms) | CPU time (ms) | RE | skilled time / method time "
               "| skilled CPU / method CPU |",
               "|---|---|---|---|---|---|---|"]
