@@ -10,6 +10,7 @@ import numpy as np
 from sso._column.cancel import CancelVerdict, can_cancel, minimising_phases_deg
 from sso._column.chain_matrix import residual_error
 from sso._column.geometry import ColumnGeometry, wrap_half_turn
+from sso._column.tolerances import BuiltColumnSpread, Tolerances
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
 from sso._limits import (
     CONVENTIONAL_PHASE_DEG,
@@ -36,6 +37,10 @@ EXACT_SET_CRITERION = ("nearest the textbook correction: the exact optimum whose
                        "(delta = gamma)")
 """How :func:`sso.optimise` chooses within a set of exact optima of a column's phasing (the
 largest margin to the bounds of :data:`PHASE_BOUNDS_DEG`, said in a column's terms)."""
+TOLERANCE_SET_CRITERION = ("lowest p95 RE over the built columns of the tolerances (the "
+                           "seeded sample of the tolerance study)")
+"""How it chooses there with tolerances (the shaft series' p95 criterion, on a column's
+hardpoint and yoke-phasing errors)."""
 FULL_TURN_SLACK_DEG = 1e-6
 
 
@@ -125,9 +130,13 @@ class PhasingResult(Record, Readable):
 
     @property
     def exact_optimum_criterion(self) -> str | None:
-        """How the phasing was chosen within a set of exact optima (RE at round-off zero),
-        or None when the least RE is above zero (one optimum, mod 180 deg and mirrors)."""
-        return None if self.optimisation.exact_optima is None else EXACT_SET_CRITERION
+        """How the phasing was chosen within a set of exact optima (RE at round-off zero):
+        :data:`EXACT_SET_CRITERION`, or :data:`TOLERANCE_SET_CRITERION` with tolerances;
+        None when the least RE is above zero (one optimum, mod 180 deg and mirrors)."""
+        exact = self.optimisation.exact_optima
+        if exact is None:
+            return None
+        return EXACT_SET_CRITERION if exact.tolerances is None else TOLERANCE_SET_CRITERION
 
     @property
     def exact_optimum_extent_deg(self) -> tuple[tuple[float, float], ...] | None:
@@ -157,12 +166,17 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
                      input_speed_rpm: float = DEFAULT_INPUT_SPEED_RPM,
                      solver_tol: float = DEFAULT_SHAFT_SOLVER_TOL,
                      max_iterations: int = DEFAULT_MAX_ITERATIONS,
-                     seed: int = DEFAULT_COLUMN_SEED) -> PhasingResult:
+                     seed: int = DEFAULT_COLUMN_SEED,
+                     tolerances: Tolerances | None = None) -> PhasingResult:
     """Best yoke phasing of a column whose hardpoints are fixed.
 
     Runs :func:`sso.optimise` option 1 (operating angles fixed by the points, every
     phase free over a full period) from the in-phase assembly and space-filling
-    starts, and checks the answer against the closed-form least RE.
+    starts, and checks the answer against the closed-form least RE. Where RE = 0 is
+    reached on a set of phasings, the one returned is chosen within the set as
+    :func:`sso.optimise` chooses for a shaft series: nearest the textbook correction
+    (the largest margin to the phase bounds), or with ``tolerances`` the lowest p95 RE
+    over their built columns.
 
     Parameters
     ----------
@@ -179,6 +193,9 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
     seed : int
         Seed of the space-filling starts and of the search for representatives of
         a continuum of optima.
+    tolerances : Tolerances, optional
+        Hardpoint and yoke-phasing errors by whose p95 RE the phasing is chosen within
+        a set of exact optima (its sample has its own seed).
 
     Returns
     -------
@@ -204,7 +221,9 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
     run = optimise(in_phase, option=1, phase_bounds_deg=PHASE_BOUNDS_DEG,
                    solvers=solvers, starts=starts, input_speed_rpm=input_speed_rpm,
                    solver_tol=solver_tol, max_iterations=max_iterations, seed=seed,
-                   screen_starts=False)
+                   screen_starts=False,
+                   exact_set_tolerances=(None if tolerances is None
+                                         else BuiltColumnSpread(geometry, tolerances)))
     best_phase = np.mod(np.asarray(run.best_series.phase_deg), 180.0)
     verdict = can_cancel(geometry.beta_deg)
     closed = minimising_phases_deg(geometry.beta_deg)

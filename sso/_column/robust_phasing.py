@@ -1,26 +1,37 @@
 """Yoke phasing with tolerances in the objective: the design production builds well.
 
-The nominal optimum can sit in a narrow valley. Here the objective is RE over a
-fixed, seeded sample of built columns (:class:`sso._column.tolerances.Tolerances`):
-its mean, or for a percentile ``q`` the conditional value at risk (CVaR, the mean
-of the worst ``100 - q`` % of the sample) in Rockafellar and Uryasev's epigraph
-form, the least convex upper bound of the percentile; both smooth, with exact
-derivatives (:mod:`sso._column.scenarios`). The result reports the empirical
-percentiles of the robust design and of the nominal optimum on the same sample.
+The nominal optimum can sit in a narrow valley. Where the column can cancel (the
+least RE is round-off zero on a set of phasings), the phasing is chosen within that
+set as :func:`sso.optimise` chooses for a shaft series with tolerances: the exact
+optimum of lowest p95 RE over a fixed, seeded sample of built columns
+(:class:`sso._column.tolerances.Tolerances`), so no nominal RE is given up. Where it
+cannot, the objective is RE over that sample: its mean, or for a percentile ``q``
+the conditional value at risk (CVaR, the mean of the worst ``100 - q`` % of the
+sample) in Rockafellar and Uryasev's epigraph form, the least convex upper bound of
+the percentile; both smooth, with exact derivatives (:mod:`sso._column.scenarios`).
+The result reports the empirical percentiles of the robust design and of the nominal
+optimum on the same sample.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from sso._column.geometry import ColumnGeometry
 from sso._column.phasing import PhasingResult, optimise_phasing
-from sso._column.scenarios import PhasingOutcome, cvar, outcome_fields, scenario_re, solve_scenarios
+from sso._column.scenarios import (
+    PhasingOutcome,
+    ScenarioRun,
+    cvar,
+    outcome_fields,
+    scenario_re,
+    solve_scenarios,
+)
 from sso._column.tolerances import SampleStudy, Tolerances
 from sso._limits import (
     CROSS_CHECK_SOLVERS,
@@ -31,6 +42,8 @@ from sso._limits import (
     MAX_ITERATIONS,
     MAX_STARTS,
 )
+from sso._shafts.exact_optima import is_exact
+from sso._solvers.solution import Solution
 from sso._validation import validate_count, validate_solver_tol, validate_solvers
 
 PERCENTILE_PATTERN = re.compile(r"p(\d+(?:\.\d+)?)")
@@ -48,7 +61,9 @@ class RobustResult(PhasingOutcome):
     x, fun, nit, nfev, status, success, message, best, solutions, runs, crosscheck
         As :class:`sso._column.scenarios.PhasingOutcome`: ``x`` the robust yoke
         phasing (deg), ``fun`` the objective at ``x`` over the sample (mean RE or
-        CVaR).
+        CVaR). Where the phasing was chosen within a set of exact optima
+        (``exact_choice``), the solver fields are that phasing run's (``x`` in yoke
+        phasing, deg; ``fun`` the nominal RE).
     robust_objective : str
         ``"mean"`` or ``"pNN"``.
     level : float
@@ -58,7 +73,8 @@ class RobustResult(PhasingOutcome):
     nominal_optimum_re : float
         RE of the nominal optimum (:func:`sso.optimise`) there.
     nominal_re_given_up : float
-        ``nominal_re - nominal_optimum_re`` (>= 0 up to solver tolerance).
+        ``nominal_re - nominal_optimum_re``, or 0 where the robust phasing is no worse
+        (both at round-off zero: an exact optimum chosen within the set).
     robust_study, nominal_study : SampleStudy
         p50 / p95 / max / mean / CVaR of RE over the sample, of the robust phasing
         and of the nominal optimum (the same built columns).
@@ -68,6 +84,12 @@ class RobustResult(PhasingOutcome):
     tolerances : Tolerances
     geometry : ColumnGeometry
     nominal : PhasingResult
+        The nominal optimum (:func:`sso.optimise` of the geometry, no tolerances).
+    exact_choice : PhasingResult or None
+        Where the least RE is round-off zero: the phasing run that chose ``x`` within
+        the set of exact optima by the lowest p95 RE over the sample (its
+        ``optimisation.exact_optima`` holds the figures of the choice); None where
+        the column cannot cancel and ``x`` minimises the objective over all phasings.
     """
 
     robust_objective: str
@@ -82,6 +104,26 @@ class RobustResult(PhasingOutcome):
     tolerances: Tolerances
     geometry: ColumnGeometry
     nominal: PhasingResult
+    exact_choice: PhasingResult | None = None
+
+    @property
+    def exact_optimum_criterion(self) -> str | None:
+        """How ``x`` was chosen within the set of exact optima, or None (no such set)."""
+        return None if self.exact_choice is None else self.exact_choice.exact_optimum_criterion
+
+    @property
+    def exact_optimum_extent_deg(self) -> tuple[tuple[float, float], ...] | None:
+        """Per intermediate shaft, the least and largest yoke phasing on the set of exact
+        optima connected to ``x``, deg (as :attr:`PhasingResult.exact_optimum_extent_deg`),
+        or None (no such set)."""
+        return None if self.exact_choice is None else self.exact_choice.exact_optimum_extent_deg
+
+    @property
+    def design_label(self) -> str:
+        """The robust phasing in words, as a report names it."""
+        if self.exact_choice is None:
+            return f"tolerance-aware ({self.robust_objective})"
+        return "tolerance-aware (the exact optimum of lowest p95 RE)"
 
     @property
     def objective_name(self) -> str:
@@ -123,7 +165,18 @@ class RobustResult(PhasingOutcome):
             "validation_robust_study": asdict(self.validation_robust_study),
             "validation_nominal_study": asdict(self.validation_nominal_study),
             "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
+            "exact_optima": self._exact_optima_dict(),
         }
+
+    def _exact_optima_dict(self) -> dict[str, Any] | None:
+        if self.exact_choice is None or self.exact_choice.optimisation.exact_optima is None:
+            return None
+        exact = self.exact_choice.optimisation.exact_optima
+        extent = self.exact_optimum_extent_deg or ()
+        return {"criterion": self.exact_optimum_criterion, "dimension": exact.dimension,
+                "starts": exact.starts, "p95_re": exact.p95_residual_error,
+                "first_found_p95_re": exact.first_p95_residual_error,
+                "extent_yoke_phase_deg": [list(pair) for pair in extent]}
 
 
 def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
@@ -187,15 +240,19 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     def objective_value(values: np.ndarray) -> float:
         return float(np.mean(values)) if objective == "mean" else cvar(values, weights, level)
 
-    reference = objective_value(nominal_values)
-    scale = 1.0 / reference if reference > 0 else 1.0
-
-    solved = solve_scenarios(
-        sample.beta_rad, sample.gamma_rad, objective=objective, weights=weights,
-        scale=scale, level=level,
-        user_starts_deg=[nominal.yoke_phase_deg, *nominal.equivalent_yoke_phase_deg],
-        starts=starts, solvers=solver_names, solver_tol=solver_tol,
-        max_iterations=max_iterations, seed=seed)
+    within = (optimise_phasing(geometry, solvers=solver_names, seed=seed, tolerances=tolerances)
+              if is_exact(nominal.fun) else None)
+    if within is not None and within.optimisation.exact_optima is not None:
+        solved = _phasing_run(within)
+    else:
+        within = None
+        reference = objective_value(nominal_values)
+        solved = solve_scenarios(
+            sample.beta_rad, sample.gamma_rad, objective=objective, weights=weights,
+            scale=1.0 / reference if reference > 0 else 1.0, level=level,
+            user_starts_deg=[nominal.yoke_phase_deg, *nominal.equivalent_yoke_phase_deg],
+            starts=starts, solvers=solver_names, solver_tol=solver_tol,
+            max_iterations=max_iterations, seed=seed)
     robust_values = sample.residual_error(solved.yoke_phase_deg)
     beta_rad = np.radians([geometry.beta_deg])
     gamma_rad = np.radians([geometry.plane_angle_deg])
@@ -205,20 +262,39 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
                        tolerances.distribution).sample(geometry)
     robust_study = SampleStudy.of(nominal_re, robust_values)
     nominal_study = SampleStudy.of(nominal.fun, nominal_values)
-    message = (f"{solved.best.message}; {robust_objective} objective "
+    chosen_within = ("" if within is None else
+                     f"{within.exact_optimum_criterion}, within the set of exact optima; ")
+    message = (f"{solved.best.message}; {chosen_within}{robust_objective} objective "
                f"{objective_value(robust_values):.6g} (nominal optimum "
                f"{objective_value(nominal_values):.6g}); p95 {robust_study.p95:.6g} against "
                f"{nominal_study.p95:.6g}; nominal RE {nominal_re:.6g} against {nominal.fun:.6g}")
     return RobustResult(
         **outcome_fields(solved, objective_value(robust_values), message),
         robust_objective=robust_objective, level=level, nominal_re=nominal_re,
-        nominal_optimum_re=nominal.fun, nominal_re_given_up=nominal_re - nominal.fun,
+        nominal_optimum_re=nominal.fun,
+        nominal_re_given_up=max(0.0, nominal_re - nominal.fun),
         robust_study=robust_study, nominal_study=nominal_study,
         validation_robust_study=SampleStudy.of(nominal_re,
                                                fresh.residual_error(solved.yoke_phase_deg)),
         validation_nominal_study=SampleStudy.of(nominal.fun,
                                                 fresh.residual_error(nominal.yoke_phase_deg)),
-        tolerances=tolerances, geometry=geometry, nominal=nominal)
+        tolerances=tolerances, geometry=geometry, nominal=nominal, exact_choice=within)
+
+
+def _phasing_run(phasing: PhasingResult) -> ScenarioRun:
+    """The solvers' answers of a phasing run (:func:`optimise_phasing`), their designs
+    in yoke phasing (deg) as a shared-phasing result holds them."""
+    geometry = phasing.geometry
+
+    def in_yoke_terms(solution: Solution) -> Solution:
+        return replace(solution, x=geometry.yoke_phase_deg_from_phase(solution.x))
+
+    run = phasing.optimisation
+    return ScenarioRun(yoke_phase_deg=phasing.yoke_phase_deg, best=in_yoke_terms(run.best),
+                       solutions={name: in_yoke_terms(solution)
+                                  for name, solution in run.solutions.items()},
+                       runs=tuple(in_yoke_terms(solution) for solution in run.runs),
+                       crosscheck=run.crosscheck)
 
 
 def _objective(robust_objective: Any, samples: int) -> tuple[str, float]:

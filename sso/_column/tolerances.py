@@ -8,8 +8,9 @@ columns, so two designs' percentiles differ only by the designs.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -19,6 +20,9 @@ from sso._display import Part, Readable, TextTable, format_number
 from sso._limits import DEFAULT_TOLERANCE_SAMPLES
 from sso._record import Record, register_record
 from sso._validation import check_choice, finite_in_range, validate_count
+
+if TYPE_CHECKING:
+    from sso._shafts.options import DesignProblem
 
 DISTRIBUTIONS = ("normal", "uniform")
 MAX_HARDPOINT_MM = 100.0
@@ -161,6 +165,63 @@ class ToleranceSample:
     def residual_error(self, yoke_phase_deg: Any) -> np.ndarray:
         """RE of every built column at a design yoke phasing (deg), shape ``(samples,)``."""
         return scenario_re(self.beta_rad, self.gamma_rad, yoke_phase_deg)
+
+
+@register_record
+@dataclass(frozen=True)
+class BuiltColumnSpread:
+    """A column's tolerances as the criterion of the choice within its exact optima.
+
+    What :func:`sso.optimise` (a shaft series, ``exact_set_tolerances=``) chooses a
+    column's phasing by where RE = 0 is reached on a set of phasings: the p95 RE over
+    the seeded sample of built columns of :meth:`Tolerances.sample` (the one the
+    tolerance study and the robust phasing judge designs on), and as the smooth measure
+    minimised on the set, the mean RE over that sample.
+
+    Parameters
+    ----------
+    geometry : ColumnGeometry
+        The nominal column; the design variables are its model phases (option 1).
+    tolerances : Tolerances
+    """
+
+    geometry: ColumnGeometry
+    tolerances: Tolerances
+
+    @property
+    def seed(self) -> int:
+        """The seed of the sample."""
+        return self.tolerances.seed
+
+    @functools.cached_property
+    def _sample(self) -> ToleranceSample:
+        return self.tolerances.sample(self.geometry)
+
+    def _residual_errors(self, problem: DesignProblem, x_rad: np.ndarray) -> np.ndarray:
+        _, phase_rad = problem.split(list(x_rad), problem.parameters_rad.tolist())
+        yoke = self.geometry.yoke_phase_deg_from_phase(np.degrees(np.asarray(phase_rad)))
+        return self._sample.residual_error(yoke)
+
+    @property
+    def description(self) -> str:
+        """The tolerances in words, as a report states them."""
+        tolerances = self.tolerances
+        return (f"{tolerances.distribution}, every hardpoint coordinate "
+                f"{tolerances.hardpoint_mm:g} mm, each yoke phasing {tolerances.yoke_phase_deg:g}"
+                f" deg, {tolerances.samples} built columns, seed {tolerances.seed}")
+
+    def p95_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """p95 RE (``numpy.percentile``, linear) over the built columns at the model
+        phases ``x_rad`` (rad, the free variables of ``problem``)."""
+        return float(np.percentile(self._residual_errors(problem, x_rad), 95.0))
+
+    def expected_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """Mean RE over the built columns at the model phases ``x_rad`` (rad)."""
+        return float(np.mean(self._residual_errors(problem, x_rad)))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of the nominal column and the tolerances."""
+        return {"geometry": self.geometry.to_dict(), "tolerances": self.tolerances.to_dict()}
 
 
 SAMPLE_FIGURES = ("nominal_re", "mean", "p50", "p95", "max", "cvar95")

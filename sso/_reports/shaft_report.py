@@ -212,10 +212,8 @@ def _exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
             f"{number(exact.first_margin_deg, '.4g')} deg).")
     tolerances = exact.tolerances
     if exact.p95_residual_error is not None and tolerances is not None:
-        text += (f" p95 RE under the tolerances ({tolerances.distribution}, beta "
-                 f"{list(tolerances.beta_tolerance_deg)} deg, phase "
-                 f"{list(tolerances.phase_tolerance_deg)} deg, {tolerances.samples} samples, "
-                 f"seed {tolerances.seed}): {number(exact.p95_residual_error, '.4g')} "
+        text += (f" p95 RE under the tolerances ({tolerances.description}): "
+                 f"{number(exact.p95_residual_error, '.4g')} "
                  f"(the first found: {number(exact.first_p95_residual_error, '.4g')}).")
     rows = tuple((name, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
                  for name, (low, high), chosen in zip(exact.variables, exact.extent_deg,

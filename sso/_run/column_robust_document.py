@@ -131,8 +131,8 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: list[float],
                                      robust_objective=case.values["tolerances.robust_objective"],
                                      **options)
             section["tolerances"]["result"] = _without_geometries(robust._document_dict())
-            add("robust", f"tolerance-aware ({robust.robust_objective})", robust.yoke_phase_deg)
-            add_teeth("robust", f"tolerance-aware ({robust.robust_objective})", robust)
+            add("robust", robust.design_label, robust.yoke_phase_deg)
+            add_teeth("robust", robust.design_label, robust)
             success = success and robust.success
             verdicts.append(f"tolerances: {robust.message}")
     feel: dict[str, Any] | None = case.feel_options()

@@ -10,11 +10,13 @@ stated secondary criterion:
   nearest to one of its bounds is furthest from it (deg), i.e. ``max t`` subject to
   ``RE = 0`` and ``lower + t <= x <= upper - t``;
 * with manufacturing tolerances, the **lowest p95 RE**: the candidates are the
-  designs of the set that minimise the first-order expected RE under the tolerances
-  (``sum_j sigma_j^2 |d r / d angle_j|^2``, every operating angle and phase perturbed,
-  as :func:`sso.tolerance_study` does), and the choice among them is by the p95 of a
-  Monte Carlo study drawn exactly as :func:`sso.tolerance_study` draws it (same
-  distribution, samples and seed).
+  designs of the set that minimise a smooth measure of the expected RE under the
+  tolerances, and the choice among them is by the p95 of a Monte Carlo study. The
+  tolerances are a :class:`SpreadMeasure`: a shaft series' (:class:`ToleranceSettings`:
+  the first-order expected RE ``sum_j sigma_j^2 |d r / d angle_j|^2``, every operating
+  angle and phase perturbed, and the p95 drawn exactly as :func:`sso.tolerance_study`
+  draws it, same distribution, samples and seed) or a steering column's (hardpoint and
+  yoke-phasing errors, :mod:`sso._column.tolerances`).
 
 Both are solved by SciPy's SLSQP with the residuals as equality constraints, from
 every distinct exact optimum the solvers found; an answer is kept only when it is
@@ -31,7 +33,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -77,6 +79,32 @@ BoxSolve = Callable[[np.ndarray, np.ndarray, np.ndarray, int],
 least-squares solver in a box (rad)."""
 
 
+@runtime_checkable
+class SpreadMeasure(Protocol):
+    """Manufacturing tolerances by which a design is chosen within a set of exact optima.
+
+    A registered record (the set saves it as its ``tolerances``) that measures a
+    design of a :class:`DesignProblem` (its free variables ``x_rad``, rad).
+    """
+
+    @property
+    def seed(self) -> int:
+        """Seed of the spread starts (and of the measure's own samples)."""
+
+    def p95_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """p95 RE of the design under the tolerances: the criterion of the choice."""
+
+    def expected_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """A smooth measure of the RE the tolerances add (minimised on the set)."""
+
+    @property
+    def description(self) -> str:
+        """The tolerances in words, as a report states them."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary of the settings."""
+
+
 @register_record
 @dataclass(frozen=True)
 class ToleranceSettings:
@@ -104,6 +132,33 @@ class ToleranceSettings:
         return {"beta_tolerance_deg": list(self.beta_tolerance_deg),
                 "phase_tolerance_deg": list(self.phase_tolerance_deg),
                 "distribution": self.distribution, "samples": self.samples, "seed": self.seed}
+
+    @property
+    def description(self) -> str:
+        """The tolerances in words, as a report states them."""
+        return (f"{self.distribution}, beta {list(self.beta_tolerance_deg)} deg, phase "
+                f"{list(self.phase_tolerance_deg)} deg, {self.samples} samples, seed {self.seed}")
+
+    def p95_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """p95 RE of the design, drawn as :func:`sso.tolerance_study` draws it."""
+        beta, phase = _full_angles(problem, x_rad)
+        beta_offsets, phase_offsets = _offsets(problem.n_joints, self)
+        beta_deg = np.abs(np.degrees(beta) + beta_offsets)
+        phase_deg = np.degrees(phase) + phase_offsets
+        values = closed_form_residual_error(np, list(np.radians(beta_deg).T),
+                                            list(np.radians(phase_deg).T))
+        return float(np.percentile(values, 95.0))
+
+    def expected_residual_error(self, problem: DesignProblem, x_rad: np.ndarray) -> float:
+        """First-order expected RE: ``sum_j sigma_j^2 |d r / d angle_j|^2``."""
+        _, jacobian = residuals_and_jacobian_numpy(*_full_angles(problem, x_rad))
+        return float(np.sum((jacobian * self._sigma_rad()) ** 2))
+
+    def _sigma_rad(self) -> np.ndarray:
+        """Standard deviation of every angle (every beta, then every phase), rad."""
+        spread: np.ndarray = np.radians(np.array([*self.beta_tolerance_deg,
+                                                  *self.phase_tolerance_deg], dtype=float))
+        return spread if self.distribution == "normal" else spread / math.sqrt(3.0)
 
 
 def tolerance_settings(joints: int, beta_tolerance_deg: Any, phase_tolerance_deg: Any,
@@ -159,8 +214,9 @@ class ExactOptimumSet(Readable):
         solvers and the screen), free variables, deg.
     margin_deg, first_margin_deg : float
         Least distance of a free variable to its bounds, deg, at each.
-    tolerances : ToleranceSettings or None
-        The tolerances of the p95 criterion.
+    tolerances : SpreadMeasure or None
+        The tolerances of the p95 criterion: a shaft series' :class:`ToleranceSettings`
+        or a column's (``sso._column.tolerances.BuiltColumnSpread``).
     p95_residual_error, first_p95_residual_error : float or None
         p95 RE of each under ``tolerances`` (None without).
     time_s : float
@@ -178,7 +234,7 @@ class ExactOptimumSet(Readable):
     first_deg: tuple[float, ...]
     margin_deg: float
     first_margin_deg: float
-    tolerances: ToleranceSettings | None
+    tolerances: SpreadMeasure | None
     p95_residual_error: float | None
     first_p95_residual_error: float | None
     time_s: float
@@ -257,7 +313,7 @@ class Choice:
 
 def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_box: BoxSolve,
                          exact_points: Sequence[np.ndarray],
-                         tolerances: ToleranceSettings | None) -> Choice:
+                         tolerances: SpreadMeasure | None) -> Choice:
     """The most robust design of the set of exact optima, by the stated criterion.
 
     Parameters
@@ -272,7 +328,7 @@ def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_
         the least-squares solver ``"lm"`` within other bounds (rad).
     exact_points : sequence of numpy.ndarray
         Exact optima found (rad, free variables), the first being the reported one.
-    tolerances : ToleranceSettings, optional
+    tolerances : SpreadMeasure, optional
         With them the criterion is the lowest p95 RE; without, the largest margin.
     """
     started = time.perf_counter()
@@ -306,10 +362,10 @@ def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_
         chosen, solver = max(exact, key=lambda pair: _margin_deg(pair[0], lower, upper))
         p95 = first_p95 = None
     else:
-        spreads = [_p95(problem, point, tolerances) for point, _ in exact]
+        spreads = [tolerances.p95_residual_error(problem, point) for point, _ in exact]
         index = min(range(len(exact)), key=spreads.__getitem__)
         (chosen, solver), p95 = exact[index], spreads[index]
-        first_p95 = _p95(problem, first, tolerances)
+        first_p95 = tolerances.p95_residual_error(problem, first)
     exact_set = ExactOptimumSet(
         criterion=MARGIN_CRITERION if tolerances is None else P95_CRITERION,
         variables=_variable_names(problem),
@@ -416,29 +472,17 @@ def _largest_margin(solve_in_box: BoxSolve, start: np.ndarray, lower: np.ndarray
     return best
 
 
-def _sigma_rad(tolerances: ToleranceSettings) -> np.ndarray:
-    """Standard deviation of every angle (every beta, then every phase), rad."""
-    spread: np.ndarray = np.radians(np.array([*tolerances.beta_tolerance_deg,
-                                  *tolerances.phase_tolerance_deg], dtype=float))
-    return spread if tolerances.distribution == "normal" else spread / math.sqrt(3.0)
-
-
 def _full_angles(problem: DesignProblem, x_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     beta, phase = problem.split(list(x_rad), problem.parameters_rad.tolist())
     return np.asarray(beta, dtype=float), np.asarray(phase, dtype=float)
 
 
 def _least_spread(problem: DesignProblem, residuals: Residuals, start: np.ndarray,
-                  tolerances: ToleranceSettings, counts: list[int]) -> np.ndarray:
-    """The exact optimum of least first-order expected RE under the tolerances."""
-    sigma = _sigma_rad(tolerances)
-
-    def expected(x: np.ndarray) -> float:
-        _, jacobian = residuals_and_jacobian_numpy(*_full_angles(problem, x))
-        return float(np.sum((jacobian * sigma) ** 2))
-
+                  tolerances: SpreadMeasure, counts: list[int]) -> np.ndarray:
+    """The exact optimum of least expected RE under the tolerances."""
     bounds = list(zip(problem.lower_rad.tolist(), problem.upper_rad.tolist(), strict=True))
-    return _slsqp(expected, None, start, bounds, [_constraint(residuals, 0)], counts)
+    return _slsqp(functools.partial(tolerances.expected_residual_error, problem), None, start,
+                  bounds, [_constraint(residuals, 0)], counts)
 
 
 @functools.lru_cache(maxsize=8)
@@ -447,17 +491,6 @@ def _offsets(joints: int, tolerances: ToleranceSettings) -> tuple[np.ndarray, np
     zero = checked_series((0.0,) * joints, (0.0,) * (joints - 1), "exact")
     return draw_samples(zero, tolerances.beta_tolerance_deg, tolerances.phase_tolerance_deg,
                         tolerances.distribution, tolerances.samples, tolerances.seed)
-
-
-def _p95(problem: DesignProblem, x_rad: np.ndarray, tolerances: ToleranceSettings) -> float:
-    """p95 RE of the design under the tolerances, drawn as :func:`sso.tolerance_study` does."""
-    beta, phase = _full_angles(problem, x_rad)
-    beta_offsets, phase_offsets = _offsets(problem.n_joints, tolerances)
-    beta_deg = np.abs(np.degrees(beta) + beta_offsets)
-    phase_deg = np.degrees(phase) + phase_offsets
-    values = closed_form_residual_error(np, list(np.radians(beta_deg).T),
-                                        list(np.radians(phase_deg).T))
-    return float(np.percentile(values, 95.0))
 
 
 def _project(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,

@@ -35,7 +35,7 @@ from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso._shafts.exact_optima import (
     ExactOptimumSet,
-    ToleranceSettings,
+    SpreadMeasure,
     choose_exact_optimum,
     is_exact,
     tolerance_settings,
@@ -267,6 +267,7 @@ def optimise(
     phase_tolerance_deg: float | Sequence[float] | None = None,
     distribution: str | None = None,
     samples: int | None = None,
+    exact_set_tolerances: SpreadMeasure | None = None,
 ) -> OptimisationResult:
     """Choose operating angles and/or phases that make the output turn evenly.
 
@@ -341,8 +342,17 @@ def optimise(
     if not isinstance(series, ShaftSeries):
         raise TypeError(f"series must be an sso.ShaftSeries, not {type(series).__name__}")
     solver_names = validate_solvers(solvers, SOLVERS)
-    tolerances = tolerance_settings(series.n_joints, beta_tolerance_deg, phase_tolerance_deg,
-                                    distribution, samples, seed)
+    tolerances: SpreadMeasure | None = tolerance_settings(
+        series.n_joints, beta_tolerance_deg, phase_tolerance_deg, distribution, samples, seed)
+    if exact_set_tolerances is not None:
+        if tolerances is not None:
+            raise TypeError("give the tolerance keywords (beta_tolerance_deg, ...) or "
+                            "exact_set_tolerances, not both")
+        if not isinstance(exact_set_tolerances, SpreadMeasure):
+            raise TypeError("exact_set_tolerances must measure the p95 RE of a design "
+                            "(p95_residual_error, expected_residual_error), not a "
+                            f"{type(exact_set_tolerances).__name__}")
+        tolerances = exact_set_tolerances
     if tolerances is not None and series.model != "exact":
         raise ValueError("beta_tolerance_deg, phase_tolerance_deg, distribution and samples "
                          "choose the most robust of a set of exact optima (RE = 0), which "
@@ -392,7 +402,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            quadrature_rtol: float, quadrature_atol: float, objective_rtol: float,
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...],
-           tolerances: ToleranceSettings | None) -> OptimisationResult:
+           tolerances: SpreadMeasure | None) -> OptimisationResult:
     screened = _screened(series, solver_names, starts, screen_starts)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
@@ -448,7 +458,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
 
 
 def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: str,
-                 tolerances: ToleranceSettings | None) -> tuple[Solution, ExactOptimumSet]:
+                 tolerances: SpreadMeasure | None) -> tuple[Solution, ExactOptimumSet]:
     """The chosen design of the set of exact optima, as the reported best."""
     fixed = problem.parameters_rad.tolist()
     found = [solved["best"], *(run for run in solved["runs"]
