@@ -18,6 +18,11 @@ up to that positive factor, which RE ignores (:mod:`sso._column.chain_matrix`). 
 ``atan2`` or ``acos`` enters the graph. The chain itself is the numpy source of
 :func:`sso._column.chain_matrix.chain_entries`, run on CasADi symbols.
 
+Where RE = 0 is reachable the exact optima form a set (many coordinates, two
+residuals ``r = (m11 - m22, m12 + m21) / sqrt(2 det M)``); the design is chosen within
+it as a shaft series' is (:mod:`sso._shafts.exact_optima`): the joint centres furthest
+inside their boxes, and the set's extent per coordinate is reported.
+
 Straight-joint singularity: at ``beta_k = 0`` the bend plane is undefined, ``m_k``
 vanishes and ``M`` degenerates to 0/0. The lower operating-angle bound must
 therefore be positive (it is refused otherwise); the constraints keep every
@@ -26,10 +31,12 @@ joint at least that far from straight.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
+import time
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -59,9 +66,17 @@ from sso._limits import (
     MAX_STARTS,
 )
 from sso._record import NON_NEGATIVE, FieldRule
-from sso._solvers.multistart import solution_from_run, solve_from_starts
+from sso._shafts.exact_optima import (
+    ExactOptimumSet,
+    SetProblem,
+    choose_exact_optimum,
+    is_exact,
+    selection_run,
+)
+from sso._solvers.multistart import SolverFields, solution_from_run, solve_from_starts
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
+from sso._solvers.solution import ROLE_SELECTION, Solution
 from sso._validation import (
     as_float_tuple,
     check_chain_cosines,
@@ -75,6 +90,10 @@ from sso._validation import (
 # The NLP works in metres and radians: RE changes by about as much per metre of
 # joint travel as per radian of phasing, so neither set of variables is flat.
 MM_PER_UNIT = 1000.0
+JOINT_SET_CRITERION = "largest margin of the joint centres to their boxes"
+"""How a design is chosen within a set of exact optima of joint centres (mm)."""
+BOX_SOLVER = "least_squares"
+"""SciPy's bounded least squares (``trf``): the box solves of that choice."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False, repr=False)
@@ -113,7 +132,12 @@ class JointCentresResult(DesignResult):
     constraint_violation : float
         Largest violation of a box, angle or length bound at the optimum, in the
         NLP's units (m; cosine of an angle).
-
+    exact_optima : sso._shafts.exact_optima.ExactOptimumSet or None
+        Where RE is at round-off zero and the solvers are cross-checked: how the
+        design was chosen within the set of exact optima (the joint centres furthest
+        inside their boxes, margin in mm; the angle and length bounds kept), its
+        figures and the set's extent per coordinate (mm) and free yoke phasing (deg);
+        None otherwise.
     """
 
     _record_rules: ClassVar[dict[str, FieldRule]] = {"fun": NON_NEGATIVE}
@@ -129,6 +153,7 @@ class JointCentresResult(DesignResult):
     shaft_length_bounds_mm: tuple[tuple[float, float], ...]
     joint_boxes_mm: tuple[tuple[tuple[float, ...], tuple[float, ...]], ...]
     constraint_violation: float
+    exact_optima: ExactOptimumSet | None = None
 
     @property
     def message(self) -> str:
@@ -155,10 +180,12 @@ class JointCentresResult(DesignResult):
                                    format_number(solution.fun), str(solution.nit),
                                    solution.message)
                                   for name, solution in self.solutions.items()))
+        exact = [] if self.exact_optima is None else self.exact_optima._summary_parts()
         return [f"Joint centres: {verdict}; RE {format_number(self.initial_re)} as given, "
                 f"{format_number(self.fixed_points_re)} with the given points and the best "
                 f"phasing, {format_number(self.fun)} at the optimum",
-                points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
+                points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", *exact,
+                solvers]
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
@@ -178,6 +205,7 @@ class JointCentresResult(DesignResult):
             "shaft_length_bounds_mm": [list(pair) for pair in self.shaft_length_bounds_mm],
             "joint_boxes_mm": [[list(corner) for corner in box] for box in self.joint_boxes_mm],
             "constraint_violation": self.constraint_violation,
+            "exact_optima": None if self.exact_optima is None else self.exact_optima.to_dict(),
             **self.solver_dict(),
         }
 
@@ -299,6 +327,13 @@ def optimise_joint_centres(
                                                         _user_units(run.outcome.x, joints)),
         objective_rtol=DEFAULT_OBJECTIVE_RTOL, objective_atol=DEFAULT_OBJECTIVE_ATOL,
         kkt_tolerance=DEFAULT_KKT_TOLERANCE)
+    exact_optima = None
+    # As for a shaft series: the choice is made where the solvers are cross-checked.
+    if is_exact(solved["best"].fun) and solved["best"].success and len(solver_names) > 1:
+        chosen, exact_optima = _most_robust(nlp, solved, parameters, limits, joints,
+                                            phasing_free)
+        if chosen is not solved["best"]:
+            solved["best"], solved["runs"] = chosen, (*solved["runs"], chosen)
     best = solved["best"]
     optimum_points = np.vstack([geometry.points_mm[0],
                                 np.asarray(best.x[:3 * joints]).reshape(joints, 3),
@@ -319,6 +354,7 @@ def optimise_joint_centres(
         shaft_length_bounds_mm=length_bounds,
         joint_boxes_mm=boxes,
         constraint_violation=best.constraint_violation,
+        exact_optima=exact_optima,
         **solved,
     )
 
@@ -337,6 +373,21 @@ def column_residual_error(xp: Any, points: Sequence[Any], yoke_phase_rad: Sequen
 
     Every joint must be bent (see the module notes).
     """
+    return entries_residual_error(*_chain_of_points(xp, points, yoke_phase_rad))
+
+
+def column_residuals(xp: Any, points: Sequence[Any], yoke_phase_rad: Sequence[Any]
+                     ) -> tuple[Any, Any]:
+    """The two residuals ``r = (m11 - m22, m12 + m21) / sqrt(2 det M)`` with ``RE = |r|^2``,
+    in ``xp``; parameters as :func:`column_residual_error`."""
+    m11, m12, m21, m22 = _chain_of_points(xp, points, yoke_phase_rad)
+    scale = 1.0 / xp.sqrt(2.0 * (m11 * m22 - m12 * m21))
+    return (m11 - m22) * scale, (m12 + m21) * scale
+
+
+def _chain_of_points(xp: Any, points: Sequence[Any], yoke_phase_rad: Sequence[Any]
+                     ) -> tuple[Any, Any, Any, Any]:
+    """The chain matrix's entries (phases scaled by positive factors, see the notes)."""
     directions = []
     for start, end in itertools.pairwise(points):
         difference = end - start
@@ -349,7 +400,8 @@ def column_residual_error(xp: Any, points: Sequence[Any], yoke_phase_rad: Sequen
         sine = xp.dot(xp.cross(normals[k], normals[k + 1]), directions[k + 1])
         cos_phase.append(sine * xp.cos(delta) - cosine * xp.sin(delta))
         sin_phase.append(cosine * xp.cos(delta) + sine * xp.sin(delta))
-    return entries_residual_error(*chain_entries(cos_beta, cos_phase, sin_phase))
+    entries: tuple[Any, Any, Any, Any] = chain_entries(cos_beta, cos_phase, sin_phase)
+    return entries
 
 
 def compiled_joint_nlp(joints: int, phasing_free: bool) -> Any:
@@ -360,17 +412,26 @@ def compiled_joint_nlp(joints: int, phasing_free: bool) -> Any:
                       lambda: _build(joints, phasing_free))
 
 
-def _build(joints: int, phasing_free: bool) -> Any:
+def _symbols(joints: int, phasing_free: bool) -> tuple[Any, Any, list[Any], list[Any]]:
+    """The NLP's variables ``x`` and parameters ``p``, the points ``P0 .. P(n+1)`` and the
+    yoke phasings as CasADi symbols."""
     import casadi
-
-    from sso._solvers.nlp import compile_nlp
 
     shafts = joints - 1
     x = casadi.SX.sym("x", 3 * joints + (shafts if phasing_free else 0))
     p = casadi.SX.sym("p", 6 + (0 if phasing_free else shafts))
     points = [p[0:3]] + [x[3 * j:3 * j + 3] for j in range(joints)] + [p[3:6]]
     phases = x[3 * joints:] if phasing_free else p[6:]
-    objective = column_residual_error(casadi, points, [phases[k] for k in range(shafts)])
+    return x, p, points, [phases[k] for k in range(shafts)]
+
+
+def _build(joints: int, phasing_free: bool) -> Any:
+    import casadi
+
+    from sso._solvers.nlp import compile_nlp
+
+    x, p, points, phases = _symbols(joints, phasing_free)
+    objective = column_residual_error(casadi, points, phases)
     differences = [end - start for start, end in itertools.pairwise(points)]
     lengths = [casadi.sqrt(casadi.dot(d, d)) for d in differences]
     cos_beta = [casadi.dot(before, after) / (length_before * length_after)
@@ -379,6 +440,107 @@ def _build(joints: int, phasing_free: bool) -> Any:
     constraints = casadi.vertcat(*cos_beta, *lengths)
     return compile_nlp(f"sso_column_joints_{joints}_{'free' if phasing_free else 'fixed'}", x, p,
                        objective, constraints)
+
+
+@functools.lru_cache(maxsize=8)
+def _residual_graph(joints: int, phasing_free: bool) -> Any:
+    """``(x, p) -> (r, dr/dx)``: the two residuals of the NLP's design and their Jacobian."""
+    import casadi
+
+    x, p, points, phases = _symbols(joints, phasing_free)
+    residuals = casadi.vertcat(*column_residuals(casadi, points, phases))
+    return casadi.Function(f"sso_column_joint_residuals_{joints}_{phasing_free}", [x, p],
+                           [residuals, casadi.densify(casadi.jacobian(residuals, x))])
+
+
+def _most_robust(nlp: Any, solved: SolverFields, parameters: np.ndarray, limits: RunLimits,
+                 joints: int, phasing_free: bool) -> tuple[Solution, ExactOptimumSet]:
+    """The design of the set of exact optima with the joint centres furthest inside their
+    boxes, as the reported best (the shaft series' choice, :mod:`sso._shafts.exact_optima`)."""
+    started = time.perf_counter()
+    graph = _residual_graph(joints, phasing_free)
+
+    def residuals_of(x: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        values, jacobian = graph(x, parameters)
+        return np.asarray(values, dtype=float).ravel(), np.asarray(jacobian, dtype=float)
+
+    def residuals(x: list[float]) -> tuple[complex, list[complex]]:
+        values, jacobian = residuals_of(x)
+        return (complex(values[0], values[1]),
+                [complex(real, imaginary) for real, imaginary in zip(*jacobian, strict=True)])
+
+    problem = _set_problem(nlp, parameters, limits, joints, phasing_free)
+
+    def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                     max_iterations: int) -> tuple[np.ndarray, float, int, int]:
+        from scipy.optimize import least_squares
+
+        moving = upper > lower
+        x = np.clip(np.asarray(start, dtype=float), lower, upper)
+        evaluations = 0
+        if moving.any():
+            def placed(free: np.ndarray) -> np.ndarray:
+                full: np.ndarray = x.copy()
+                full[moving] = free
+                return full
+
+            answer = least_squares(lambda free: residuals_of(placed(free))[0], x[moving],
+                                   jac=lambda free: residuals_of(placed(free))[1][:, moving],
+                                   bounds=(lower[moving], upper[moving]), method="trf",
+                                   xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=max_iterations)
+            x, evaluations = placed(answer.x), int(answer.nfev)
+        values, _ = residuals_of(x)
+        fun = float(values @ values) if problem.feasible(x) else math.inf
+        return x, fun, evaluations, evaluations
+
+    found = [solved["best"], *(run for run in solved["runs"] if run.success and is_exact(run.fun))]
+    choice = choose_exact_optimum(problem, residuals, solve_in_box,
+                                  [_nlp_units(solution.x, joints) for solution in found], None)
+    if choice.solver is None:
+        return solved["best"], choice.exact_set
+    run = selection_run(choice, solved["best"].start_index, nlp, parameters, limits, started)
+    chosen = replace(solution_from_run(run, [run], _user_units(run.outcome.x, joints)),
+                     role=ROLE_SELECTION)
+    return chosen, choice.exact_set
+
+
+def _set_problem(nlp: Any, parameters: np.ndarray, limits: RunLimits, joints: int,
+                 phasing_free: bool) -> SetProblem:
+    """The joint-centre design as a :class:`SetProblem`: coordinates in m (reported in mm,
+    the margin), yoke phasings in rad (reported in deg), angle and length bounds kept."""
+    shafts = joints - 1 if phasing_free else 0
+    lower_finite = np.isfinite(limits.constraint_lower)
+    upper_finite = np.isfinite(limits.constraint_upper)
+
+    def constraint_values(x: np.ndarray) -> np.ndarray:
+        values, _ = nlp.constraints_and_jacobian(np.asarray(x, dtype=float), parameters)
+        values = np.asarray(values, dtype=float).ravel()
+        return np.concatenate([(values - limits.constraint_lower)[lower_finite],
+                               (limits.constraint_upper - values)[upper_finite]])
+
+    def constraint_jacobian(x: np.ndarray) -> np.ndarray:
+        _, jacobian = nlp.constraints_and_jacobian(np.asarray(x, dtype=float), parameters)
+        jacobian = np.asarray(jacobian, dtype=float)
+        return np.vstack([jacobian[lower_finite], -jacobian[upper_finite]])
+
+    return SetProblem(
+        lower=limits.lower, upper=limits.upper,
+        variables=(*(f"P{joint} {axis}" for joint in range(1, joints + 1) for axis in "xyz"),
+                   *(f"delta_{shaft}" for shaft in range(1, shafts + 1))),
+        units=("mm",) * (3 * joints) + ("deg",) * shafts,
+        scale=np.concatenate([np.full(3 * joints, MM_PER_UNIT), np.full(shafts, 180.0 / math.pi)]),
+        in_margin=np.arange(3 * joints + shafts) < 3 * joints,
+        margin_step=1.0 / MM_PER_UNIT, margin_unit="mm", margin_criterion=JOINT_SET_CRITERION,
+        solver=BOX_SOLVER,
+        constraints=({"type": "ineq", "fun": constraint_values, "jac": constraint_jacobian},))
+
+
+def _nlp_units(x: Sequence[float], joints: int) -> np.ndarray:
+    """The user's vector (mm, deg) in the NLP's units (m, rad)."""
+    values = np.asarray(x, dtype=float)
+    converted: np.ndarray = np.concatenate([values[:3 * joints] / MM_PER_UNIT,
+                                            np.radians(values[3 * joints:])])
+    return converted
 
 
 def _user_units(x: np.ndarray, joints: int) -> tuple[float, ...]:

@@ -151,7 +151,7 @@ class PhasingResult(Record, Readable):
         if exact is None:
             return None
         extents = []
-        for (low, high), gamma in zip(exact.extent_deg, self.geometry.plane_angle_deg,
+        for (low, high), gamma in zip(exact.extent, self.geometry.plane_angle_deg,
                                       strict=True):
             width = min(high - low, 180.0)
             start = float(wrap_half_turn(low - CONVENTIONAL_PHASE_DEG + gamma))

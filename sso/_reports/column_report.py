@@ -16,6 +16,7 @@ from sso._limits import REPORT_DIGITS
 from sso._reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
 from sso._reports.documents import report_files
+from sso._reports.shaft_report import exact_optima_blocks
 from sso._reports.summary import (
     Block,
     Heading,
@@ -251,9 +252,10 @@ def _joint_blocks(moved: JointCentresResult) -> list[Block]:
                ("largest bound violation", number(moved.constraint_violation, ".3g")),
                ("cross-check", moved.crosscheck.message if moved.crosscheck else
                 "one solver, no cross-check"))
+    exact = [] if moved.exact_optima is None else exact_optima_blocks(moved.exact_optima)
     return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
                    "beta given (deg)", "beta moved (deg)"), tuple(rows)),
-            Table(("item", "value"), summary)]
+            Table(("item", "value"), summary), *exact]
 
 
 def _excitation_blocks(run: ColumnRun) -> list[Block]:

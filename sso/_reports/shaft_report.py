@@ -96,7 +96,7 @@ def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block
                Heading(2, "Figures of merit"), _figure_table(report.designs)]
     if report.optimisation is not None and report.optimisation.exact_optima is not None:
         blocks += [Heading(2, "Exact optima"),
-                   *_exact_optima_blocks(report.optimisation.exact_optima)]
+                   *exact_optima_blocks(report.optimisation.exact_optima)]
     if report.optimisation is not None:
         blocks += [Heading(2, "Solvers"), _solver_table(report.optimisation),
                    Heading(2, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
@@ -210,23 +210,24 @@ def _runs_table(result: OptimisationResult) -> Table:
                   "iterations", "time (s)"), rows)
 
 
-def _exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
+def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
     """The set of exact optima: the criterion of the choice, its figures, the set's extent."""
+    unit = exact.margin_unit
     text = (f"RE is at round-off zero on a set of designs of dimension {exact.dimension}; "
             f"the design reported was chosen within it by {exact.criterion}, from "
             f"{exact.starts} exact optimum(s) found. Margin to the bounds: "
-            f"{number(exact.margin_deg, '.4g')} deg (the first found: "
-            f"{number(exact.first_margin_deg, '.4g')} deg).")
+            f"{number(exact.margin, '.4g')} {unit} (the first found: "
+            f"{number(exact.first_margin, '.4g')} {unit}).")
     tolerances = exact.tolerances
     if exact.p95_residual_error is not None and tolerances is not None:
         text += (f" p95 RE under the tolerances ({tolerances.description}): "
                  f"{number(exact.p95_residual_error, '.4g')} "
                  f"(the first found: {number(exact.first_p95_residual_error, '.4g')}).")
-    rows = tuple((name, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
-                 for name, (low, high), chosen in zip(exact.variables, exact.extent_deg,
-                                                      exact.chosen_deg, strict=True))
-    return [Paragraph(text), Table(("variable", "set from (deg)", "set to (deg)",
-                                    "chosen (deg)"), rows)]
+    rows = tuple((name, unit, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
+                 for name, unit, (low, high), chosen in zip(exact.variables, exact.units,
+                                                            exact.extent, exact.chosen,
+                                                            strict=True))
+    return [Paragraph(text), Table(("variable", "unit", "set from", "set to", "chosen"), rows)]
 
 
 def _crosscheck_text(result: OptimisationResult) -> str:

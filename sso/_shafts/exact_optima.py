@@ -3,12 +3,13 @@
 Where the least residual error is round-off zero, the exact optima of an exact-model
 shaft series usually form a set (more design variables than the two residuals they
 must cancel): every point of it has RE = 0, and :func:`sso.optimise` would otherwise
-return whichever point a solver reached. Within that set this module chooses by a
-stated secondary criterion:
+return whichever point a solver reached. So do a column's yoke phasings and its joint
+centres moved within their boxes. Within that set this module chooses by a stated
+secondary criterion:
 
 * by default, the **largest margin to the bounds**: the design whose free variable
-  nearest to one of its bounds is furthest from it (deg), i.e. ``max t`` subject to
-  ``RE = 0`` and ``lower + t <= x <= upper - t``;
+  nearest to one of its bounds is furthest from it (deg; mm for joint centres), i.e.
+  ``max t`` subject to ``RE = 0`` and ``lower + t <= x <= upper - t``;
 * with manufacturing tolerances, the **lowest p95 RE**: the candidates are the
   designs of the set that minimise a smooth measure of the expected RE under the
   tolerances, and the choice among them is by the p95 of a Monte Carlo study. The
@@ -18,10 +19,11 @@ stated secondary criterion:
   draws it, same distribution, samples and seed) or a steering column's (hardpoint and
   yoke-phasing errors, :mod:`sso._column.tolerances`).
 
-Both are solved by SciPy's SLSQP with the residuals as equality constraints, from
-every distinct exact optimum the solvers found; an answer is kept only when it is
-back at round-off zero (a few minimum-norm Gauss-Newton steps put it there) and does
-not worsen the criterion. The set's extent per free variable is the least and the
+Both are solved by SciPy's SLSQP with the residuals as equality constraints (and the
+problem's other constraints, :class:`SetProblem`), from every distinct exact optimum
+the solvers found; an answer is kept only when it is back at round-off zero (a few
+minimum-norm Gauss-Newton steps put it there), within every constraint, and does not
+worsen the criterion. The set's extent per free variable is the least and the
 largest value that variable takes on the set, each found by SLSQP from the chosen
 design (so it is the extent of the part of the set connected to it).
 """
@@ -50,14 +52,20 @@ from sso._shafts.perturbed import (
     per_item_tolerances,
 )
 from sso._shafts.series import checked_series
+from sso._solvers.multistart import MeasuredRun, measure_run
+from sso._solvers.run import RunLimits, RunOutcome
 from sso._solvers.saddle import ZERO_OBJECTIVE
 from sso._solvers.starts import start_points
 from sso._validation import check_choice, validate_count
 
 MARGIN_CRITERION = "largest margin to the bounds"
 P95_CRITERION = "lowest p95 RE under the given tolerances"
-MARGIN_RESOLUTION_DEG = 0.1
-"""Bracket (deg) at which the bisection for the largest margin stops."""
+MARGIN_RESOLUTION = 0.1
+"""Bracket (in the margin's unit: deg, mm) at which the bisection for the largest margin
+stops."""
+CONSTRAINT_SLACK = 1e-12
+"""A design violating a constraint of :class:`SetProblem` by more than this (its units)
+is no candidate."""
 MARGIN_MAX_ITERATIONS = 50
 """Iterations of each feasibility solve of the bisection (it converges in a few where the
 margin is feasible; where it is not, it would creep towards a nonzero minimum)."""
@@ -77,6 +85,77 @@ BoxSolve = Callable[[np.ndarray, np.ndarray, np.ndarray, int],
                     tuple[np.ndarray, float, int, int]]
 """``(start, lower, upper, max_iterations) -> (x, RE, iterations, evaluations)``: the
 least-squares solver in a box (rad)."""
+
+
+@dataclass(frozen=True)
+class SetProblem:
+    """What the choice within a set of exact optima needs of a design problem.
+
+    Attributes
+    ----------
+    lower, upper : numpy.ndarray
+        Bounds of the free variables, in the solver's units (rad; m).
+    variables : tuple of str
+        Their names.
+    units : tuple of str
+        The unit each is reported in (``"deg"``, ``"mm"``).
+    scale : numpy.ndarray
+        Reported units per solver unit, per variable.
+    in_margin : numpy.ndarray of bool
+        The variables whose distance to their bounds is the margin (all reported in
+        ``margin_unit``).
+    margin_step : float
+        One ``margin_unit`` in the solver's units (``pi / 180`` rad; 0.001 m).
+    margin_unit : str
+    margin_criterion : str
+        The margin criterion in the problem's words.
+    solver : str
+        Who solves the least-squares problems in a box (``solve_in_box``).
+    constraints : tuple of dict
+        SLSQP inequality constraints (``fun(x) >= 0``, with ``jac``) beyond the bounds.
+    design : object
+        What a :class:`SpreadMeasure` measures (a shaft series' ``DesignProblem``).
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    variables: tuple[str, ...]
+    units: tuple[str, ...]
+    scale: np.ndarray
+    in_margin: np.ndarray
+    margin_step: float = math.pi / 180.0
+    margin_unit: str = "deg"
+    margin_criterion: str = MARGIN_CRITERION
+    solver: str = "lm"
+    constraints: tuple[dict[str, Any], ...] = ()
+    design: Any = None
+
+    def margin(self, x: np.ndarray) -> float:
+        """Least distance of a margin variable (one its bounds do not pin) to a bound, in
+        ``margin_unit``."""
+        counted = self.in_margin & (self.upper > self.lower)
+        if not counted.any():
+            return 0.0
+        distance = np.minimum(x - self.lower, self.upper - x) * self.scale
+        return float(np.min(distance[counted]))
+
+    def feasible(self, x: np.ndarray) -> bool:
+        """Whether ``x`` meets every constraint (within :data:`CONSTRAINT_SLACK`)."""
+        return all(float(np.min(constraint["fun"](x), initial=0.0)) >= -CONSTRAINT_SLACK
+                   for constraint in self.constraints)
+
+    def reported(self, x: np.ndarray) -> tuple[float, ...]:
+        """``x`` in the reported units."""
+        return tuple((np.asarray(x, dtype=float) * self.scale).tolist())
+
+
+def series_set_problem(problem: DesignProblem) -> SetProblem:
+    """The :class:`SetProblem` of a shaft series' design problem (every variable an angle)."""
+    count = len(problem.lower_rad)
+    return SetProblem(lower=problem.lower_rad, upper=problem.upper_rad,
+                      variables=_variable_names(problem), units=("deg",) * count,
+                      scale=np.full(count, 180.0 / math.pi), in_margin=np.ones(count, dtype=bool),
+                      design=problem)
 
 
 @runtime_checkable
@@ -203,17 +282,21 @@ class ExactOptimumSet(Readable):
         :data:`MARGIN_CRITERION` or :data:`P95_CRITERION`.
     variables : tuple of str
         Names of the free design variables (``"beta_1"``, ``"phase_1"``, ...).
+    units : tuple of str
+        The unit of each (``"deg"``; ``"mm"`` for a joint centre's coordinate).
     dimension : int
         Dimension of the set at the chosen design, bounds aside: the free variables
         that the bounds do not pin, less the rank of the residuals' Jacobian over them
         (0: isolated exact optima, where the choice is among those found).
     starts : int
         Distinct exact optima the choice started from.
-    chosen_deg, first_deg : tuple of float
+    chosen, first_found : tuple of float
         The chosen design and the exact optimum first found (the lowest RE of the
-        solvers and the screen), free variables, deg.
-    margin_deg, first_margin_deg : float
-        Least distance of a free variable to its bounds, deg, at each.
+        solvers and the screen), free variables, in ``units``.
+    margin, first_margin : float
+        Least distance of a free variable counted in the margin to its bounds, in
+        ``margin_unit``, at each.
+    margin_unit : str
     tolerances : SpreadMeasure or None
         The tolerances of the p95 criterion: a shaft series' :class:`ToleranceSettings`
         or a column's (``sso._column.tolerances.BuiltColumnSpread``).
@@ -222,18 +305,20 @@ class ExactOptimumSet(Readable):
     time_s : float
         Wall time of the choice, s.
     extent_of : callable or None
-        Computes :attr:`extent_deg` (on first access: 2 solves per variable). Not
-        saved: a reloaded set holds its saved ``extent_deg`` and no callable.
+        Computes :attr:`extent` (on first access: 2 solves per variable). Not
+        saved: a reloaded set holds its saved ``extent`` and no callable.
     """
 
     criterion: str
     variables: tuple[str, ...]
+    units: tuple[str, ...]
     dimension: int
     starts: int
-    chosen_deg: tuple[float, ...]
-    first_deg: tuple[float, ...]
-    margin_deg: float
-    first_margin_deg: float
+    chosen: tuple[float, ...]
+    first_found: tuple[float, ...]
+    margin: float
+    first_margin: float
+    margin_unit: str
     tolerances: SpreadMeasure | None
     p95_residual_error: float | None
     first_p95_residual_error: float | None
@@ -241,12 +326,12 @@ class ExactOptimumSet(Readable):
     extent_of: Callable[[], tuple[tuple[float, float], ...]] | None = field(
         default=None, compare=False, metadata=NOT_SAVED)
 
-    _record_derived: ClassVar[tuple[str, ...]] = ("extent_deg",)
+    _record_derived: ClassVar[tuple[str, ...]] = ("extent",)
 
     @functools.cached_property
-    def extent_deg(self) -> tuple[tuple[float, float], ...]:
+    def extent(self) -> tuple[tuple[float, float], ...]:
         """Least and largest value of each free variable on the set (the part connected
-        to the chosen design), deg; found on first access.
+        to the chosen design), in ``units``; found on first access.
 
         Raises
         ------
@@ -260,86 +345,93 @@ class ExactOptimumSet(Readable):
     def _repr_text(self) -> str:
         figure = (f"p95 RE {format_number(self.p95_residual_error, 4)}"
                   if self.p95_residual_error is not None
-                  else f"margin {format_number(self.margin_deg, 4)} deg")
+                  else f"margin {format_number(self.margin, 4)} {self.margin_unit}")
         return f"{self.criterion}: {figure}, set of dimension {self.dimension}"
 
     def _summary_parts(self) -> list[Part]:
-        rows = tuple((name, format_number(low), format_number(high), format_number(chosen))
-                     for name, (low, high), chosen in zip(self.variables, self.extent_deg,
-                                                          self.chosen_deg, strict=True))
+        rows = tuple((name, unit, format_number(low), format_number(high),
+                      format_number(chosen))
+                     for name, unit, (low, high), chosen in zip(
+                         self.variables, self.units, self.extent, self.chosen, strict=True))
         lines: list[Part] = [
             f"exact optima (RE at round-off zero): a set of dimension {self.dimension}; chosen "
             f"by {self.criterion} from {self.starts} exact optimum(s) found",
-            f"margin to the bounds: {format_number(self.margin_deg)} deg (first found "
-            f"{format_number(self.first_margin_deg)} deg)"]
+            f"margin to the bounds: {format_number(self.margin)} {self.margin_unit} (first "
+            f"found {format_number(self.first_margin)} {self.margin_unit})"]
         if self.p95_residual_error is not None and self.first_p95_residual_error is not None:
             lines.append(f"p95 RE under the tolerances: {format_number(self.p95_residual_error)}"
                          f" (first found {format_number(self.first_p95_residual_error)})")
-        return [*lines, TextTable(("variable", "set from (deg)", "set to (deg)", "chosen (deg)"),
-                                  rows)]
+        return [*lines, TextTable(("variable", "unit", "set from", "set to", "chosen"), rows)]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary of every field."""
         return {
             "criterion": self.criterion,
             "variables": list(self.variables),
+            "units": list(self.units),
             "dimension": self.dimension,
             "starts": self.starts,
-            "chosen_deg": list(self.chosen_deg),
-            "first_deg": list(self.first_deg),
-            "margin_deg": self.margin_deg,
-            "first_margin_deg": self.first_margin_deg,
+            "chosen": list(self.chosen),
+            "first_found": list(self.first_found),
+            "margin": self.margin,
+            "first_margin": self.first_margin,
+            "margin_unit": self.margin_unit,
             "tolerances": None if self.tolerances is None else self.tolerances.to_dict(),
             "p95_residual_error": self.p95_residual_error,
             "first_p95_residual_error": self.first_p95_residual_error,
-            "extent_deg": [list(pair) for pair in self.extent_deg],
+            "extent": [list(pair) for pair in self.extent],
             "time_s": self.time_s,
         }
 
 
 @dataclass(frozen=True)
 class Choice:
-    """What :func:`choose_exact_optimum` returns: the design (rad) and the set's record."""
+    """What :func:`choose_exact_optimum` returns: the design (the solver's units) and the
+    set's record."""
 
-    x_rad: np.ndarray
+    x: np.ndarray
     exact_set: ExactOptimumSet
     solver: str | None
-    """Who found the chosen design (``"lm"`` by the margin's bisection, ``"slsqp"`` by
-    the least spread); None when it is the exact optimum first found."""
+    """Who found the chosen design (the problem's least-squares solver by the margin's
+    bisection, ``"slsqp"`` by the least spread); None when it is the exact optimum first
+    found."""
     nit: int
     nfev: int
     message: str
 
 
-def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_box: BoxSolve,
+def choose_exact_optimum(problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve,
                          exact_points: Sequence[np.ndarray],
                          tolerances: SpreadMeasure | None) -> Choice:
     """The most robust design of the set of exact optima, by the stated criterion.
 
     Parameters
     ----------
-    problem : DesignProblem
-        The exact-model problem (its bounds and fixed angles).
+    problem : SetProblem
+        The bounds, names, units and constraints of the free variables
+        (:func:`series_set_problem` for a shaft series).
     residuals : callable
-        ``x_rad (list) -> (rho, jacobian)``, the problem's two residuals as one complex
+        ``x (list) -> (rho, jacobian)``, the problem's two residuals as one complex
         number and one complex derivative per free variable.
     solve_in_box : callable
         ``(start, lower, upper, max_iterations) -> (x, RE, iterations, evaluations)``,
-        the least-squares solver ``"lm"`` within other bounds (rad).
+        the least-squares solver ``problem.solver`` within other bounds; an answer
+        outside the problem's constraints has RE ``inf``.
     exact_points : sequence of numpy.ndarray
-        Exact optima found (rad, free variables), the first being the reported one.
+        Exact optima found (free variables, the solver's units), the first being the
+        reported one.
     tolerances : SpreadMeasure, optional
         With them the criterion is the lowest p95 RE; without, the largest margin.
     """
     started = time.perf_counter()
-    lower, upper = problem.lower_rad, problem.upper_rad
+    lower, upper = problem.lower, problem.upper
     starts = _distinct(exact_points)
     first = starts[0]
     counts = [0, 0]
     # (design, who found it): None for the exact optimum first found
     candidates: list[tuple[np.ndarray, str | None]] = [(first, None)]
-    widest = max(starts, key=lambda point: _margin_deg(point, lower, upper))
-    candidates.append((_largest_margin(solve_in_box, widest, lower, upper, counts), "lm"))
+    widest = max(starts, key=problem.margin)
+    candidates.append((_largest_margin(problem, solve_in_box, widest, counts), problem.solver))
     if tolerances is not None:
         # from the exact optima found, the set's point of largest margin and the exact
         # optima the least-squares solver reaches from the middle of the bounds and from
@@ -351,41 +443,65 @@ def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_
             counts[0] += nit
             counts[1] += nfev
             if is_exact(fun):
-                candidates.append((reached, "lm"))
+                candidates.append((reached, problem.solver))
         for start in _distinct([point for point, _ in candidates]):
             candidates.append((_least_spread(problem, residuals, start, tolerances, counts),
                                "slsqp"))
     exact = [(point, origin) for point, origin in
              ((_project(residuals, point, lower, upper), origin) for point, origin in candidates)
-             if point is not None]
+             if point is not None and problem.feasible(point)]
     if tolerances is None:
-        chosen, solver = max(exact, key=lambda pair: _margin_deg(pair[0], lower, upper))
+        chosen, solver = max(exact, key=lambda pair: problem.margin(pair[0]))
         p95 = first_p95 = None
     else:
-        spreads = [tolerances.p95_residual_error(problem, point) for point, _ in exact]
+        spreads = [tolerances.p95_residual_error(problem.design, point) for point, _ in exact]
         index = min(range(len(exact)), key=spreads.__getitem__)
         (chosen, solver), p95 = exact[index], spreads[index]
-        first_p95 = tolerances.p95_residual_error(problem, first)
+        first_p95 = tolerances.p95_residual_error(problem.design, first)
     exact_set = ExactOptimumSet(
-        criterion=MARGIN_CRITERION if tolerances is None else P95_CRITERION,
-        variables=_variable_names(problem),
+        criterion=problem.margin_criterion if tolerances is None else P95_CRITERION,
+        variables=problem.variables,
+        units=problem.units,
         dimension=_dimension(residuals, chosen, lower, upper),
         starts=len(starts),
-        chosen_deg=tuple(np.degrees(chosen).tolist()),
-        first_deg=tuple(np.degrees(first).tolist()),
-        margin_deg=_margin_deg(chosen, lower, upper),
-        first_margin_deg=_margin_deg(first, lower, upper),
+        chosen=problem.reported(chosen),
+        first_found=problem.reported(first),
+        margin=problem.margin(chosen),
+        first_margin=problem.margin(first),
+        margin_unit=problem.margin_unit,
         tolerances=tolerances,
         p95_residual_error=p95,
         first_p95_residual_error=first_p95,
         time_s=time.perf_counter() - started,
-        extent_of=functools.partial(_extent, residuals, chosen, lower, upper),
+        extent_of=functools.partial(_extent, problem, residuals, chosen),
     )
     if solver is not None and float(np.max(np.abs(chosen - first))) <= SAME_DESIGN_RAD:
         solver = None
     message = (f"most robust exact optimum ({exact_set.criterion}) of a set of dimension "
                f"{exact_set.dimension}")
     return Choice(chosen, exact_set, solver, counts[0], counts[1], message)
+
+
+def selection_run(choice: Choice, start_index: int, nlp: Any, parameters: np.ndarray,
+                  limits: RunLimits, started: float) -> MeasuredRun:
+    """The chosen design as a run of its solver on the problem's graph, measured there (a
+    :class:`sso.Solution` of role ``"selection"`` is made of it).
+
+    Parameters
+    ----------
+    choice : Choice
+        A choice that moved the design (``choice.solver`` not None).
+    start_index : int
+        The start of the exact optimum first found.
+    nlp, parameters, limits
+        The problem's graph, its parameters and its bounds.
+    started : float
+        ``time.perf_counter()`` when the choice began.
+    """
+    assert choice.solver is not None
+    outcome = RunOutcome(choice.x, float("nan"), choice.nit, choice.nfev, choice.nfev, 0, True,
+                         choice.message, time.perf_counter() - started)
+    return measure_run(choice.solver, start_index, outcome, nlp, parameters, limits)
 
 
 def is_exact(fun: float) -> bool:
@@ -400,14 +516,6 @@ def _distinct(points: Sequence[np.ndarray]) -> list[np.ndarray]:
         if all(float(np.max(np.abs(point - other))) > SAME_DESIGN_RAD for other in kept):
             kept.append(point)
     return kept
-
-
-def _margin_deg(x_rad: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
-    """Least distance of a free variable (one that its bounds do not pin) to a bound, deg."""
-    free = upper > lower
-    if not free.any():
-        return 0.0
-    return float(np.degrees(np.min(np.minimum(x_rad - lower, upper - x_rad)[free])))
 
 
 def _constraint(residuals: Residuals, extra: int) -> dict[str, Any]:
@@ -441,32 +549,35 @@ def _slsqp(objective: Callable[[np.ndarray], float], gradient: Any, start: np.nd
     return solution
 
 
-def _largest_margin(solve_in_box: BoxSolve, start: np.ndarray, lower: np.ndarray,
-                    upper: np.ndarray, counts: list[int]) -> np.ndarray:
+def _largest_margin(problem: SetProblem, solve_in_box: BoxSolve, start: np.ndarray,
+                    counts: list[int]) -> np.ndarray:
     """The exact optimum of largest margin to the bounds that bisection finds.
 
     A margin ``t`` is feasible when the least-squares solver, started from the best
-    design so far moved into the bounds shrunk by ``t``, reaches round-off zero inside
-    them within :data:`MARGIN_MAX_ITERATIONS`; ``t`` is bisected between the start's
-    margin and half the narrowest free bound until the bracket is under
-    :data:`MARGIN_RESOLUTION_DEG`.
+    design so far moved into the bounds shrunk by ``t`` (the margin's variables only),
+    reaches round-off zero inside them within :data:`MARGIN_MAX_ITERATIONS`; ``t`` is
+    bisected between the start's margin and half the narrowest counted bound until the
+    bracket is under :data:`MARGIN_RESOLUTION`.
     """
-    free = upper > lower
-    if not free.any():
+    lower, upper = problem.lower, problem.upper
+    counted = problem.in_margin & (upper > lower)
+    if not counted.any():
         return start
     best = start
-    low = math.radians(_margin_deg(start, lower, upper))
-    high = 0.5 * float(np.min((upper - lower)[free]))
-    while high - low > math.radians(MARGIN_RESOLUTION_DEG):
+    # bisected in the solver's units
+    step = problem.margin_step
+    low = problem.margin(start) * step
+    high = 0.5 * float(np.min((upper - lower)[counted]))
+    while high - low > MARGIN_RESOLUTION * step:
         margin = 0.5 * (low + high)
-        shrunk_lower = np.where(free, lower + margin, lower)
-        shrunk_upper = np.where(free, upper - margin, upper)
+        shrunk_lower = np.where(counted, lower + margin, lower)
+        shrunk_upper = np.where(counted, upper - margin, upper)
         x, fun, nit, nfev = solve_in_box(np.clip(best, shrunk_lower, shrunk_upper),
                                          shrunk_lower, shrunk_upper, MARGIN_MAX_ITERATIONS)
         counts[0] += nit
         counts[1] += nfev
         if is_exact(fun):
-            best, low = x, max(margin, math.radians(_margin_deg(x, lower, upper)))
+            best, low = x, max(margin, problem.margin(x) * step)
         else:
             high = margin
     return best
@@ -477,12 +588,12 @@ def _full_angles(problem: DesignProblem, x_rad: np.ndarray) -> tuple[np.ndarray,
     return np.asarray(beta, dtype=float), np.asarray(phase, dtype=float)
 
 
-def _least_spread(problem: DesignProblem, residuals: Residuals, start: np.ndarray,
+def _least_spread(problem: SetProblem, residuals: Residuals, start: np.ndarray,
                   tolerances: SpreadMeasure, counts: list[int]) -> np.ndarray:
     """The exact optimum of least expected RE under the tolerances."""
-    bounds = list(zip(problem.lower_rad.tolist(), problem.upper_rad.tolist(), strict=True))
-    return _slsqp(functools.partial(tolerances.expected_residual_error, problem), None, start,
-                  bounds, [_constraint(residuals, 0)], counts)
+    bounds = list(zip(problem.lower.tolist(), problem.upper.tolist(), strict=True))
+    return _slsqp(functools.partial(tolerances.expected_residual_error, problem.design), None,
+                  start, bounds, [_constraint(residuals, 0), *problem.constraints], counts)
 
 
 @functools.lru_cache(maxsize=8)
@@ -493,11 +604,11 @@ def _offsets(joints: int, tolerances: ToleranceSettings) -> tuple[np.ndarray, np
                         tolerances.distribution, tolerances.samples, tolerances.seed)
 
 
-def _project(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
+def _project(residuals: Residuals, start: np.ndarray, lower: np.ndarray,
              upper: np.ndarray) -> np.ndarray | None:
     """The point back at round-off zero by minimum-norm Gauss-Newton steps inside the
     bounds, or None when it does not get there."""
-    x: np.ndarray = np.clip(np.asarray(x_rad, dtype=float), lower, upper)
+    x: np.ndarray = np.clip(np.asarray(start, dtype=float), lower, upper)
     for _ in range(PROJECTION_STEPS):
         rho, derivative = residuals(x.tolist())
         if abs(rho) ** 2 <= ZERO_OBJECTIVE:
@@ -511,10 +622,10 @@ def _project(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
     return x if abs(rho) ** 2 <= ZERO_OBJECTIVE else None
 
 
-def _dimension(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
+def _dimension(residuals: Residuals, x: np.ndarray, lower: np.ndarray,
                upper: np.ndarray) -> int:
     moving = upper > lower
-    _, derivative = residuals(x_rad.tolist())
+    _, derivative = residuals(x.tolist())
     jacobian = np.array([[entry.real for entry in derivative],
                          [entry.imag for entry in derivative]])[:, moving]
     if jacobian.shape[1] == 0:
@@ -524,28 +635,30 @@ def _dimension(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
     return int(np.count_nonzero(moving)) - rank
 
 
-def _extent(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
-            upper: np.ndarray) -> tuple[tuple[float, float], ...]:
-    """Least and largest value of each variable on the set, from ``x_rad`` (deg)."""
+def _extent(problem: SetProblem, residuals: Residuals,
+            x: np.ndarray) -> tuple[tuple[float, float], ...]:
+    """Least and largest value of each variable on the set, from ``x`` (reported units)."""
+    lower, upper = problem.lower, problem.upper
     counts = [0, 0]
     bounds = list(zip(lower.tolist(), upper.tolist(), strict=True))
-    constraint = [_constraint(residuals, 0)]
+    constraints = [_constraint(residuals, 0), *problem.constraints]
     extent = []
-    for index in range(len(x_rad)):
+    for index in range(len(x)):
         ends = []
         for sign in (1.0, -1.0):
             if upper[index] <= lower[index]:
-                ends.append(float(x_rad[index]))
+                ends.append(float(x[index]))
                 continue
-            goal = np.zeros(len(x_rad))
+            goal = np.zeros(len(x))
             goal[index] = sign
             answer = _slsqp(functools.partial(_linear, goal), functools.partial(_constant, goal),
-                            x_rad, bounds, constraint, counts)
+                            x, bounds, constraints, counts)
             projected = _project(residuals, answer, lower, upper)
-            end = float(x_rad[index] if projected is None else projected[index])
+            usable = projected is not None and problem.feasible(projected)
+            end = float(projected[index] if usable and projected is not None else x[index])
             ends.append(_on_bound(end, float(lower[index]), float(upper[index])))
-        low, high = min(ends[0], float(x_rad[index])), max(ends[1], float(x_rad[index]))
-        extent.append((math.degrees(low), math.degrees(high)))
+        low, high = min(ends[0], float(x[index])), max(ends[1], float(x[index]))
+        extent.append((low * float(problem.scale[index]), high * float(problem.scale[index])))
     return tuple(extent)
 
 

@@ -38,6 +38,8 @@ from sso._shafts.exact_optima import (
     SpreadMeasure,
     choose_exact_optimum,
     is_exact,
+    selection_run,
+    series_set_problem,
     tolerance_settings,
 )
 from sso._shafts.options import (
@@ -54,14 +56,13 @@ from sso._solvers.lm_kernel import kernel_of, run_kernel
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
-    measure_run,
     solution_from_run,
     solve_from_starts,
 )
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory, multistart_estimate
 from sso._solvers.result import DesignResult
-from sso._solvers.run import RunLimits, RunOutcome
+from sso._solvers.run import RunLimits
 from sso._solvers.solution import ROLE_SELECTION, Solution
 from sso._validation import (
     validate_count,
@@ -481,15 +482,13 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
         return (np.array(state["x"], dtype=float), float(state["fun"]), int(state["nit"]),
                 int(state["nfev"]))
 
-    choice = choose_exact_optimum(problem, lambda x: nlp.residuals_and_jacobian(x, fixed),
-                                  solve_in_box, [np.radians(solution.x) for solution in found],
-                                  tolerances)
+    choice = choose_exact_optimum(series_set_problem(problem),
+                                  lambda x: nlp.residuals_and_jacobian(x, fixed), solve_in_box,
+                                  [np.radians(solution.x) for solution in found], tolerances)
     if choice.solver is None:
         return solved["best"], choice.exact_set
-    outcome = RunOutcome(choice.x_rad, float("nan"), choice.nit, choice.nfev, choice.nfev, 0,
-                         True, choice.message, time.perf_counter() - started)
-    run = measure_run(choice.solver, solved["best"].start_index, outcome, nlp,
-                      problem.parameters_rad, RunLimits(problem.lower_rad, problem.upper_rad))
+    run = selection_run(choice, solved["best"].start_index, nlp, problem.parameters_rad,
+                        RunLimits(problem.lower_rad, problem.upper_rad), started)
     chosen = replace(_to_solution(run, problem, model, [run]), role=ROLE_SELECTION)
     return chosen, choice.exact_set
 

@@ -151,9 +151,9 @@ def test_the_set_of_exact_optima_is_saved_without_its_callable(tmp_path):
     assert reloaded == result
     assert reloaded.exact_optima is not None and reloaded.exact_optima.extent_of is None
     # the extent is the one computed before saving, read back, not searched again
-    assert reloaded.exact_optima.extent_deg == exact.extent_deg
-    assert len(exact.extent_deg) == len(exact.variables) == 5
-    for (low, high), chosen in zip(exact.extent_deg, exact.chosen_deg, strict=True):
+    assert reloaded.exact_optima.extent == exact.extent
+    assert len(exact.extent) == len(exact.variables) == 5
+    for (low, high), chosen in zip(exact.extent, exact.chosen, strict=True):
         assert low <= chosen <= high
     markdown = (tmp_path / "report" / "report.md").read_text()
     assert "## Exact optima" in markdown

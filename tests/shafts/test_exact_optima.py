@@ -41,8 +41,8 @@ def test_without_tolerances_the_chosen_exact_optimum_lies_strictly_inside_the_bo
     # strictly inside: every variable at least 10 deg from its bounds (the first exact
     # optimum found sits on the 40 deg bound)
     assert min(margins) >= 10.0
-    assert exact.margin_deg == pytest.approx(min(margins), rel=1e-9)
-    assert exact.margin_deg > exact.first_margin_deg + 5.0
+    assert exact.margin == pytest.approx(min(margins), rel=1e-9)
+    assert exact.margin > exact.first_margin + 5.0
     assert _quadrature_residual_error(result.best.series) <= 1e-18
     assert result.best.role == "selection"
     assert result.found_by == "lm choosing within the exact optima"
@@ -55,22 +55,22 @@ def test_the_report_states_the_extent_of_the_exact_optimum_set():
     exact = result.exact_optima
     assert exact.variables == ("beta_1", "beta_2", "beta_3", "phase_1", "phase_2")
     assert exact.dimension == 3  # five free angles, two residuals
-    for (low, high), chosen, (lower, upper) in zip(exact.extent_deg, exact.chosen_deg,
+    for (low, high), chosen, (lower, upper) in zip(exact.extent, exact.chosen,
                                                      BOUNDS_DEG, strict=True):
         assert lower - 1e-9 <= low <= chosen <= high <= upper + 1e-9
         assert high - low > 1.0  # a set, not a point, along every variable
     summary = result.summary()
-    assert "set from (deg)" in summary and "a set of dimension 3" in summary
+    assert "set from" in summary and "a set of dimension 3" in summary
     document = result.to_dict()["exact_optima"]
-    assert document["extent_deg"] == [list(pair) for pair in exact.extent_deg]
+    assert document["extent"] == [list(pair) for pair in exact.extent]
 
 
 def test_an_end_of_the_set_at_a_bound_is_that_bound_exactly():
     # The phases' set reaches both bounds (0 and 180 deg); the solver of each end stops a
     # round-off step short of it (8.4e-12 deg was printed), which is the bound itself.
     exact = sso.optimise(README_SERIES, **README_CALL).exact_optima
-    assert exact.extent_deg[3] == (0.0, 180.0)
-    assert exact.extent_deg[4] == (0.0, 180.0)
+    assert exact.extent[3] == (0.0, 180.0)
+    assert exact.extent[4] == (0.0, 180.0)
     assert _on_bound(1e-10, 0.0, np.pi) == 0.0
     assert _on_bound(np.pi - 1e-10, 0.0, np.pi) == np.pi
     assert _on_bound(1e-8, 0.0, np.pi) == 1e-8
