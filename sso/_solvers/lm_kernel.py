@@ -26,17 +26,20 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from functools import cache
 from typing import Any
 
 from sso._solvers.lm_rules import (
+    EIGENVALUE_HALVINGS,
     NEWTON,
     NEWTON_INDEFINITE,
     RUNNING,
     SCALARS,
     Operations,
-    bisected_lowest_eigenvalue,
+    eigenvalue_bracket,
     fresh_state,
     gauss_newton_iteration,
+    halve_eigenvalue_bracket,
     newton_iteration,
 )
 from sso._solvers.nlp import BufferedFunction
@@ -228,8 +231,7 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton
 
 def casadi_operations(shifting: bool = False) -> Operations:
     """The rules' operations on CasADi symbols (branches as ``if_else`` selections); with
-    ``shifting``, the lowest eigenvalue by bisection
-    (:func:`sso._solvers.lm_rules.bisected_lowest_eigenvalue`)."""
+    ``shifting``, the lowest eigenvalue by bisection (:func:`lowest_eigenvalue_function`)."""
     import casadi
 
     ops = Operations(select=casadi.if_else, both=casadi.logic_and, either=casadi.logic_or,
@@ -237,7 +239,41 @@ def casadi_operations(shifting: bool = False) -> Operations:
                      absolute=casadi.fabs, sqrt=casadi.sqrt)
     if not shifting:
         return ops
-    return replace(ops, lowest_eigenvalue=lambda matrix: bisected_lowest_eigenvalue(ops, matrix))
+
+    def lowest_eigenvalue(matrix: list[list[Any]]) -> Any:
+        entries = casadi.vertcat(*(entry for row in matrix for entry in row))
+        return lowest_eigenvalue_function(len(matrix))(entries)
+
+    return replace(ops, lowest_eigenvalue=lowest_eigenvalue)
+
+
+@cache
+def lowest_eigenvalue_function(size: int) -> Any:
+    """``entries -> lowest eigenvalue`` of a ``size`` x ``size`` symmetric matrix that is not
+    positive definite (its entries row by row), by the rules' bisection
+    (:func:`sso._solvers.lm_rules.eigenvalue_bracket`, then
+    :data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS` times
+    :func:`sso._solvers.lm_rules.halve_eigenvalue_bracket`).
+
+    The halvings are one SX function folded into a loop, and the function is never
+    inlined: a kernel that calls it holds one call instruction, not the halvings'
+    Cholesky factors unrolled (which made its build, and a compiler's, many times longer).
+    """
+    import casadi
+
+    ops = casadi_operations()
+    entries = casadi.SX.sym("matrix", size * size)
+    matrix = [[entries[row * size + column] for column in range(size)] for row in range(size)]
+    bracket = casadi.SX.sym("bracket", 2)
+    halved = halve_eigenvalue_bracket(ops, matrix, bracket[0], bracket[1])
+    halve = casadi.Function("lm_halve_bracket", [bracket, entries], [casadi.vertcat(*halved)])
+    start = casadi.Function("lm_eigenvalue_bracket", [entries],
+                            [casadi.vertcat(*eigenvalue_bracket(ops, matrix))])
+    given = casadi.MX.sym("matrix", size * size)
+    found = halve.fold(EIGENVALUE_HALVINGS)(start(given),
+                                             casadi.repmat(given, 1, EIGENVALUE_HALVINGS))
+    return casadi.Function(f"lm_lowest_eigenvalue_{size}", [given], [-found[1]],
+                           {"never_inline": True})
 
 
 def pack(state: Mapping[str, Any]) -> list[Any]:

@@ -441,17 +441,31 @@ def bisected_lowest_eigenvalue(ops: Operations, matrix: list[list[Any]]) -> Any:
 
     ``matrix + t I`` has a Cholesky factor exactly when ``t`` exceeds minus the lowest
     eigenvalue, and no eigenvalue lies below minus the largest absolute row sum
-    (Gershgorin); :data:`EIGENVALUE_HALVINGS` halvings of ``[0, 2 * row sum]`` keep the
-    least ``t`` found with a factor. The value returned is minus that ``t``: at most the
-    lowest eigenvalue, by round-off, so a shift past it gives a factor.
+    (Gershgorin); :data:`EIGENVALUE_HALVINGS` halvings (:func:`halve_eigenvalue_bracket`)
+    of :func:`eigenvalue_bracket` keep the least ``t`` found with a factor. The value
+    returned is minus that ``t``: at most the lowest eigenvalue, by round-off, so a shift
+    past it gives a factor.
     """
-    bound = ops.largest([sum(ops.absolute(entry) for entry in row) for row in matrix])
-    low, high = 0.0 * bound, 2.0 * bound + 1e-300
+    low, high = eigenvalue_bracket(ops, matrix)
     for _ in range(EIGENVALUE_HALVINGS):
-        middle = 0.5 * (low + high)
-        positive = cholesky(ops, matrix, middle)[1]
-        low, high = ops.select(positive, low, middle), ops.select(positive, middle, high)
+        low, high = halve_eigenvalue_bracket(ops, matrix, low, high)
     return -high
+
+
+def eigenvalue_bracket(ops: Operations, matrix: list[list[Any]]) -> tuple[Any, Any]:
+    """Shifts ``(0, 2 * largest absolute row sum)``: between them lies minus the lowest
+    eigenvalue of a matrix that is not positive definite."""
+    bound = ops.largest([sum(ops.absolute(entry) for entry in row) for row in matrix])
+    return 0.0 * bound, 2.0 * bound + 1e-300
+
+
+def halve_eigenvalue_bracket(ops: Operations, matrix: list[list[Any]], low: Any, high: Any
+                             ) -> tuple[Any, Any]:
+    """The half of the bracket ``(low, high)`` of shifts that holds the least shift giving
+    ``matrix`` a Cholesky factor."""
+    middle = 0.5 * (low + high)
+    positive = cholesky(ops, matrix, middle)[1]
+    return ops.select(positive, low, middle), ops.select(positive, middle, high)
 
 
 def cholesky(ops: Operations, matrix: list[list[Any]], shift: Any

@@ -9,6 +9,7 @@ import pytest
 import sso
 from sso._kinematics import hooke_matrix
 from sso._shafts.batch import optimise_batch
+from sso._solvers import lm_native
 
 CASES = {  # option: beta bounds (deg), as in cases/paper_option*_exact.toml
     1: (0.0, 40.0),
@@ -160,8 +161,18 @@ def test_unknown_keyword_fails():
         optimise_batch([[10.0, 20.0]], [[90.0]], tolerence=1e-9)  # type: ignore[call-arg]
 
 
+@pytest.fixture(params=["numpy", "native"])
+def solve_path(request, monkeypatch):
+    # The shape's compiled library is built on the first call ("native"), or never.
+    monkeypatch.setattr(lm_native, "_solvers", {})
+    monkeypatch.setattr(lm_native, "_designs_asked", {})
+    monkeypatch.setattr(lm_native, "NATIVE_AFTER_DESIGNS",
+                        0 if request.param == "native" else 10**12)
+    return request.param
+
+
 @pytest.mark.parametrize("option", [1, 2, 3])
-def test_a_design_gets_the_same_answer_in_any_batch(option):
+def test_a_design_gets_the_same_answer_in_any_batch(option, solve_path):
     # Sweeps batch their points in chunks of any size: each design's answer must not
     # depend on the designs beside it (bit for bit, the status and counts too).
     rng = np.random.default_rng(40 + option)
@@ -177,7 +188,7 @@ def test_a_design_gets_the_same_answer_in_any_batch(option):
 
 
 @pytest.mark.parametrize("option", [1, 2, 3])
-def test_every_design_reaches_the_single_solve_s_residual_error(option):
+def test_every_design_reaches_the_single_solve_s_residual_error(option, solve_path):
     # Reference: sso.optimise with "lm" alone and one start, the same rules one design at
     # a time; the batch takes its Gauss-Newton steps and hands minima above zero to the
     # batched least squares, which must not stop higher.
