@@ -10,20 +10,27 @@ each design from its start to its end, Newton steps included, and compiled by th
 system's C compiler (``$CC``, else ``cc``) into a shared library loaded with ctypes:
 one call solves every design. ``-ffp-contract=off`` keeps each operation rounded as
 CasADi's virtual machine rounds it, so a design ends where the single solve's kernels
-end it.
+end it, bit for bit.
 
-The build (about half a second for a few variables, more with the cube of their
-count) is paid only by a shape solved often: :func:`native_solver_of` builds it once
-the shape has been asked for :data:`NATIVE_AFTER_DESIGNS` designs (a single call of
-that many pays it at once) and keeps it for the process. Without a compiler, or where
-the build fails, it returns None and the caller keeps the numpy path: the answers are
-the same rules' up to round-off.
+Every call of a shape uses the library when it can be had, whatever ran before, so a
+design's answer does not depend on the history of the process (a sweep gives the same
+rows in one process, a pool or a cluster). The build (about half a second for a few
+variables, up to about 7 s on 2 busy cores) is kept in a cache folder (:func:`cache_folder`) under a name that hashes
+the source, the compiler command and the machine, written atomically: a shape is
+compiled once per machine, and each process loads it in milliseconds. Without a
+compiler, where the build fails, for more than :data:`NATIVE_VARIABLES` variables, or
+with
+``SSO_NATIVE_LM=0`` in the environment, the numpy path runs: the same rules, whose
+answers differ from these in the last digits (and, for a design that turns to Newton
+steps, by the batched least squares' finish).
 """
 
 from __future__ import annotations
 
 import ctypes
+import hashlib
 import os
+import platform
 import subprocess
 import tempfile
 from collections.abc import Callable, Hashable
@@ -39,14 +46,27 @@ from sso._solvers.least_squares import (
     leave_saddles,
 )
 from sso._solvers.lm_batch import BatchRun
-from sso._solvers.lm_kernel import NEWTON_KERNEL_VARIABLES, iteration_functions
+from sso._solvers.lm_kernel import iteration_functions
 from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING, SCALARS
 
-NATIVE_AFTER_DESIGNS = 40_000
-"""Designs of one shape solved on the numpy path before the shape's library is built:
-its build (about 0.6 s for 3 joints of option 3) costs what the numpy path spends on
-about this many designs more than the compiled one does, so a shape solved once, or a
-few thousand times, never pays it."""
+NATIVE_VARIABLES = 5
+"""Shapes of at most this many free variables are compiled (3 joints of option 3, up to 6
+joints of option 1, 5 of option 2). The symbolic Hessian and its Cholesky factor grow
+the source with the square and the cube of the count, and the compiler's time faster:
+measured on 2 busy cores, 2 to 4.5 s up to 5 variables, 5.5 s for 7 (4 joints of
+option 3), 34 s for 11 (6 joints of option 3), a first call's cost no batch of a few
+thousand designs repays."""
+
+SWITCH_VARIABLE = "SSO_NATIVE_LM"
+"""Environment variable: ``0`` keeps ``sso.optimise_batch`` on the numpy path."""
+
+CACHE_VARIABLE = "SSO_CACHE_DIR"
+"""Environment variable naming the folder of compiled libraries (see :func:`cache_folder`)."""
+
+COMPILER_FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off")
+"""Flags of the build: ``-ffp-contract=off`` forbids fused multiply-adds, which would round
+differently from CasADi's virtual machine (``-O2`` ran the 2,000-start benchmark 27% faster
+than ``-O1`` with the same bits, for twice the build time)."""
 
 MAX_SADDLE_ESCAPES = 3
 """Times a design that stopped on a saddle is moved downhill and solved again."""
@@ -133,39 +153,66 @@ class NativeSolver:
         return 3 * self.size + 2 + len(SCALARS)
 
 
-_designs_asked: dict[Hashable, int] = {}
 _solvers: dict[Hashable, NativeSolver | None] = {}
 
 
-def native_solver_of(shape: Hashable, designs: int, nlp_of_shape: Callable[[], Any]
+def native_solver_of(shape: Hashable, nlp_of_shape: Callable[[], Any]
                      ) -> NativeSolver | None:
-    """The shape's compiled solver once it has been asked for :data:`NATIVE_AFTER_DESIGNS`
-    designs (``designs`` more now), built then from ``nlp_of_shape()``; None before, for
-    a shape with more than :data:`sso._solvers.lm_kernel.NEWTON_KERNEL_VARIABLES`
-    variables or without residuals, and where no compiler could build it (tried once)."""
-    if shape in _solvers:
-        return _solvers[shape]
-    _designs_asked[shape] = _designs_asked.get(shape, 0) + designs
-    if _designs_asked[shape] < NATIVE_AFTER_DESIGNS:
+    """The shape's compiled solver, built (or loaded from the cache) from ``nlp_of_shape()``
+    on the shape's first call in this process and kept; None where it cannot be had
+    (tried once) or ``SSO_NATIVE_LM=0``."""
+    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
         return None
-    _solvers[shape] = build_native_solver(nlp_of_shape())
+    if shape not in _solvers:
+        _solvers[shape] = build_native_solver(nlp_of_shape())
     return _solvers[shape]
 
 
-def built_native_solver(shape: Hashable) -> NativeSolver | None:
-    """The shape's compiled solver if :func:`native_solver_of` has built it, else None."""
-    return _solvers.get(shape)
+def cache_folder() -> Path:
+    """Where compiled libraries are kept: ``$SSO_CACHE_DIR``, else ``$XDG_CACHE_HOME/sso``,
+    else ``~/.cache/sso``."""
+    given = os.environ.get(CACHE_VARIABLE)
+    if given:
+        return Path(given)
+    base = os.environ.get("XDG_CACHE_HOME")
+    return (Path(base) if base else Path.home() / ".cache") / "sso"
 
 
 def build_native_solver(nlp: Any) -> NativeSolver | None:
-    """Generate, compile and load the NLP's iterations; None where the NLP has no residuals
-    or more than :data:`sso._solvers.lm_kernel.NEWTON_KERNEL_VARIABLES` variables, or the
-    compiler is missing or fails."""
+    """Generate the NLP's iterations as C, and load their library from the cache or compile
+    it there; None where the NLP has no residuals or more than :data:`NATIVE_VARIABLES`
+    variables, or the compiler is missing or fails."""
+    size = int(nlp.symbols["x"].numel()) if nlp.residuals is not None else 0
+    if not 0 < size <= NATIVE_VARIABLES:
+        return None
+    source = _source(nlp)
+    command = [os.environ.get("CC") or "cc", *COMPILER_FLAGS]
+    key = hashlib.sha256("\0".join([source, *command, platform.machine()]).encode())
+    name = f"sso-lm-{key.hexdigest()[:32]}.so"
+    try:
+        library = cache_folder() / name
+        if not library.is_file():
+            _compile(source, command, library)
+        loaded = ctypes.CDLL(str(library))
+    except (OSError, subprocess.SubprocessError):
+        try:  # no cache folder to write: a private build for this process
+            with tempfile.TemporaryDirectory(prefix="sso-lm-native-") as folder:
+                library = Path(folder) / name
+                _compile(source, command, library)
+                loaded = ctypes.CDLL(str(library))
+        except (OSError, subprocess.SubprocessError):
+            return None
+    solve = loaded.sso_lm_solve
+    solve.restype = ctypes.c_int
+    solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
+                      ctypes.c_longlong, ctypes.c_longlong]
+    return NativeSolver(solve, size)
+
+
+def _source(nlp: Any) -> str:
+    """The C source of the NLP's iterations and the loop over designs."""
     import casadi
 
-    size = int(nlp.symbols["x"].numel()) if nlp.residuals is not None else 0
-    if not 0 < size <= NEWTON_KERNEL_VARIABLES:
-        return None
     symbols = (nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
     start, gauss_newton = iteration_functions(*symbols, mode="gauss_newton")
     newton = iteration_functions(*symbols, mode="newton")[1]
@@ -176,22 +223,32 @@ def build_native_solver(nlp: Any) -> NativeSolver | None:
         generator.add(casadi.Function(name, inputs, function.call(inputs), {"cse": True}))
     statuses = (f"#define SSO_RUNNING {RUNNING}\n#define SSO_NEWTON {NEWTON}\n"
                 f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n")
-    compiler = os.environ.get("CC") or "cc"
+    return str(generator.dump()) + statuses + _DRIVER
+
+
+def _compile(source: str, command: list[str], library: Path) -> None:
+    """Compile ``source`` into ``library``, written atomically (a partial library is never
+    seen under its name, and processes building it at once each replace it whole).
+
+    Raises
+    ------
+    OSError, subprocess.SubprocessError
+        If the folder cannot be written or the compiler is missing, fails or times out.
+    """
+    library.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="sso-lm-native-") as folder:
-        source, library = Path(folder) / "sso_lm_native.c", Path(folder) / "sso_lm_native.so"
-        source.write_text(generator.dump() + statuses + _DRIVER)
+        source_file = Path(folder) / "sso_lm_native.c"
+        source_file.write_text(source)
+        descriptor, partial = tempfile.mkstemp(dir=library.parent, prefix=".building-",
+                                               suffix=".so")
+        os.close(descriptor)
         try:
-            subprocess.run([compiler, "-O1", "-shared", "-fPIC", "-ffp-contract=off",
-                            "-o", str(library), str(source), "-lm"],
-                           check=True, capture_output=True, timeout=COMPILE_TIMEOUT_S)
-            loaded = ctypes.CDLL(str(library))
-        except (OSError, subprocess.SubprocessError):
-            return None
-    solve = loaded.sso_lm_solve
-    solve.restype = ctypes.c_int
-    solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
-                      ctypes.c_longlong, ctypes.c_longlong]
-    return NativeSolver(solve, size)
+            subprocess.run([*command, "-o", partial, str(source_file), "-lm"], check=True,
+                           capture_output=True, timeout=COMPILE_TIMEOUT_S)
+            os.replace(partial, library)
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
 
 
 def solve_native(solver: NativeSolver, start: np.ndarray, parameters: np.ndarray,
