@@ -14,10 +14,11 @@ end it, bit for bit.
 
 Every call of a shape uses the library when it can be had, whatever ran before, so a
 design's answer does not depend on the history of the process (a sweep gives the same
-rows in one process, a pool or a cluster). The build (about half a second for a few
-variables, up to about 7 s on 2 busy cores) is kept in a cache folder (:func:`cache_folder`) under a name that hashes
-the source, the compiler command and the machine, written atomically: a shape is
-compiled once per machine, and each process loads it in milliseconds. Without a
+rows in one process, a pool or a cluster). The build (about a second for a few
+variables, up to about 7 s on 2 busy cores) is kept in a cache folder
+(:func:`cache_folder`) under a name that hashes the source, the compiler command and
+the machine, written atomically: a shape is compiled once per machine, and each
+process generates its source (to find the name) and loads it. Without a
 compiler, where the build fails, for more than :data:`NATIVE_VARIABLES` variables, or
 with
 ``SSO_NATIVE_LM=0`` in the environment, the numpy path runs: the same rules, whose
