@@ -471,10 +471,11 @@ def _most_robust(nlp: Any, solved: SolverFields, parameters: np.ndarray, limits:
 
     problem = _set_problem(nlp, parameters, limits, joints, phasing_free)
 
-    def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                     max_iterations: int) -> tuple[np.ndarray, float, int, int]:
+    def solve_in_box(start: list[float], low: list[float], high: list[float],
+                     max_iterations: int) -> tuple[list[float], float, int, int]:
         from scipy.optimize import least_squares
 
+        lower, upper = np.asarray(low, dtype=float), np.asarray(high, dtype=float)
         moving = upper > lower
         x = np.clip(np.asarray(start, dtype=float), lower, upper)
         evaluations = 0
@@ -491,7 +492,7 @@ def _most_robust(nlp: Any, solved: SolverFields, parameters: np.ndarray, limits:
             x, evaluations = placed(answer.x), int(answer.nfev)
         values, _ = residuals_of(x)
         fun = float(values @ values) if problem.feasible(x) else math.inf
-        return x, fun, evaluations, evaluations
+        return x.tolist(), fun, evaluations, evaluations
 
     found = [solved["best"], *(run for run in solved["runs"] if run.success and is_exact(run.fun))]
     choice = choose_exact_optimum(problem, residuals, solve_in_box,

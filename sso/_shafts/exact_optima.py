@@ -81,10 +81,10 @@ ON_BOUND_RAD = 1e-9
 RANK_TOLERANCE = 1e-9
 
 Residuals = Callable[[list[float]], tuple[complex, list[complex]]]
-BoxSolve = Callable[[np.ndarray, np.ndarray, np.ndarray, int],
-                    tuple[np.ndarray, float, int, int]]
+BoxSolve = Callable[[list[float], list[float], list[float], int],
+                    tuple[list[float], float, int, int]]
 """``(start, lower, upper, max_iterations) -> (x, RE, iterations, evaluations)``: the
-least-squares solver in a box (rad)."""
+least-squares solver in a box (the solver's units; lists of floats in and out)."""
 
 
 @dataclass(frozen=True)
@@ -130,14 +130,23 @@ class SetProblem:
     constraints: tuple[dict[str, Any], ...] = ()
     design: Any = None
 
-    def margin(self, x: np.ndarray) -> float:
+    def margin(self, x: np.ndarray | list[float]) -> float:
         """Least distance of a margin variable (one its bounds do not pin) to a bound, in
         ``margin_unit``."""
-        counted = self.in_margin & (self.upper > self.lower)
-        if not counted.any():
+        bounds = self._margin_bounds
+        if not bounds:
             return 0.0
-        distance = np.minimum(x - self.lower, self.upper - x) * self.scale
-        return float(np.min(distance[counted]))
+        values = x.tolist() if isinstance(x, np.ndarray) else x
+        return _margin_of(values, bounds) * bounds[0][3]
+
+    @functools.cached_property
+    def _margin_bounds(self) -> list[tuple[int, float, float, float]]:
+        """``(index, lower, upper, scale)`` of each margin variable its bounds do not pin,
+        in plain floats (the bisection runs on lists)."""
+        return [(index, bottom, top, scale) for index, (bottom, top, scale, counted)
+                in enumerate(zip(self.lower.tolist(), self.upper.tolist(), self.scale.tolist(),
+                                 self.in_margin.tolist(), strict=True))
+                if counted and top > bottom]
 
     def feasible(self, x: np.ndarray) -> bool:
         """Whether ``x`` meets every constraint (within :data:`CONSTRAINT_SLACK`)."""
@@ -439,11 +448,12 @@ def choose_exact_optimum(problem: SetProblem, residuals: Residuals, solve_in_box
         spread_starts = start_points(0.5 * (lower + upper), lower, upper, SPREAD_STARTS,
                                      tolerances.seed)
         for start in spread_starts:
-            reached, fun, nit, nfev = solve_in_box(start, lower, upper, MARGIN_MAX_ITERATIONS)
+            reached, fun, nit, nfev = solve_in_box(start.tolist(), lower.tolist(),
+                                                   upper.tolist(), MARGIN_MAX_ITERATIONS)
             counts[0] += nit
             counts[1] += nfev
             if is_exact(fun):
-                candidates.append((reached, problem.solver))
+                candidates.append((np.array(reached, dtype=float), problem.solver))
         for start in _distinct([point for point, _ in candidates]):
             candidates.append((_least_spread(problem, residuals, start, tolerances, counts),
                                "slsqp"))
@@ -511,10 +521,14 @@ def is_exact(fun: float) -> bool:
 
 def _distinct(points: Sequence[np.ndarray]) -> list[np.ndarray]:
     kept: list[np.ndarray] = []
+    kept_lists: list[list[float]] = []
     for point in points:
         point = np.asarray(point, dtype=float)
-        if all(float(np.max(np.abs(point - other))) > SAME_DESIGN_RAD for other in kept):
+        values = point.tolist()
+        if all(max(abs(value - previous) for value, previous in zip(values, other, strict=True))
+               > SAME_DESIGN_RAD for other in kept_lists):
             kept.append(point)
+            kept_lists.append(values)
     return kept
 
 
@@ -556,31 +570,44 @@ def _largest_margin(problem: SetProblem, solve_in_box: BoxSolve, start: np.ndarr
     A margin ``t`` is feasible when the least-squares solver, started from the best
     design so far moved into the bounds shrunk by ``t`` (the margin's variables only),
     reaches round-off zero inside them within :data:`MARGIN_MAX_ITERATIONS`; ``t`` is
-    bisected between the start's margin and half the narrowest counted bound until the
-    bracket is under :data:`MARGIN_RESOLUTION`.
+    bisected, in the solver's units, between the start's margin and half the narrowest
+    counted bound until the bracket is under :data:`MARGIN_RESOLUTION`. Plain floats: the
+    vectors are short and the loop runs a handful of times per call, where each numpy
+    call costs more than its arithmetic.
     """
-    lower, upper = problem.lower, problem.upper
-    counted = problem.in_margin & (upper > lower)
-    if not counted.any():
+    bounds = problem._margin_bounds
+    if not bounds:
         return start
-    best = start
-    # bisected in the solver's units
+    low_bounds, high_bounds = problem.lower.tolist(), problem.upper.tolist()
+    counted = [False] * len(low_bounds)
+    for index, *_ in bounds:
+        counted[index] = True
     step = problem.margin_step
-    low = problem.margin(start) * step
-    high = 0.5 * float(np.min((upper - lower)[counted]))
+    best = start.tolist()
+    low = problem.margin(best) * step
+    high = 0.5 * min(top - bottom for _, bottom, top, _ in bounds)
     while high - low > MARGIN_RESOLUTION * step:
         margin = 0.5 * (low + high)
-        shrunk_lower = np.where(counted, lower + margin, lower)
-        shrunk_upper = np.where(counted, upper - margin, upper)
-        x, fun, nit, nfev = solve_in_box(np.clip(best, shrunk_lower, shrunk_upper),
-                                         shrunk_lower, shrunk_upper, MARGIN_MAX_ITERATIONS)
+        shrunk_lower = [bottom + margin if moves else bottom
+                        for bottom, moves in zip(low_bounds, counted, strict=True)]
+        shrunk_upper = [top - margin if moves else top
+                        for top, moves in zip(high_bounds, counted, strict=True)]
+        moved = [min(max(value, bottom), top) for value, bottom, top
+                 in zip(best, shrunk_lower, shrunk_upper, strict=True)]
+        x, fun, nit, nfev = solve_in_box(moved, shrunk_lower, shrunk_upper,
+                                         MARGIN_MAX_ITERATIONS)
         counts[0] += nit
         counts[1] += nfev
         if is_exact(fun):
             best, low = x, max(margin, problem.margin(x) * step)
         else:
             high = margin
-    return best
+    return np.array(best, dtype=float)
+
+
+def _margin_of(x: list[float], bounds: list[tuple[int, float, float, float]]) -> float:
+    """Least distance of the ``bounds``' variables of ``x`` to a bound, the solver's units."""
+    return min(min(x[index] - bottom, top - x[index]) for index, bottom, top, _ in bounds)
 
 
 def _full_angles(problem: DesignProblem, x_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -624,15 +651,36 @@ def _project(residuals: Residuals, start: np.ndarray, lower: np.ndarray,
 
 def _dimension(residuals: Residuals, x: np.ndarray, lower: np.ndarray,
                upper: np.ndarray) -> int:
-    moving = upper > lower
+    moving = [top > bottom for bottom, top in zip(lower.tolist(), upper.tolist(), strict=True)]
     _, derivative = residuals(x.tolist())
-    jacobian = np.array([[entry.real for entry in derivative],
-                         [entry.imag for entry in derivative]])[:, moving]
-    if jacobian.shape[1] == 0:
+    columns = [entry for entry, moves in zip(derivative, moving, strict=True) if moves]
+    return len(columns) - _rank_of_two_rows(columns)
+
+
+def _rank_of_two_rows(columns: list[complex]) -> int:
+    """Rank of the real 2-row matrix ``[Re; Im]`` of ``columns``: its singular values
+    above :data:`RANK_TOLERANCE` times the largest.
+
+    Closed form (no numpy call for a 2 by n matrix): the largest singular value from
+    the rows' Gram matrix, the smallest as the rows' wedge product over it (Lagrange's
+    identity, a sum of squares: accurate however small it is), on the columns scaled
+    by their largest entry.
+    """
+    scale = max((max(abs(entry.real), abs(entry.imag)) for entry in columns), default=0.0)
+    if not 0.0 < scale < math.inf:
+        return 0 if scale == 0.0 else 2
+    columns = [entry / scale for entry in columns]
+    first = math.fsum(entry.real * entry.real for entry in columns)
+    second = math.fsum(entry.imag * entry.imag for entry in columns)
+    cross = math.fsum(entry.real * entry.imag for entry in columns)
+    largest = math.sqrt(0.5 * (first + second + math.hypot(first - second, 2.0 * cross)))
+    if largest == 0.0:
         return 0
-    singular = np.linalg.svd(jacobian, compute_uv=False)
-    rank = int(np.sum(singular > RANK_TOLERANCE * max(float(singular[0]), 1e-300)))
-    return int(np.count_nonzero(moving)) - rank
+    wedge = math.sqrt(math.fsum((one.real * other.imag - other.real * one.imag) ** 2
+                                for index, one in enumerate(columns)
+                                for other in columns[index + 1:]))
+    floor = RANK_TOLERANCE * largest
+    return int(largest > floor) + int(wedge / largest > floor)
 
 
 def _extent(problem: SetProblem, residuals: Residuals,
