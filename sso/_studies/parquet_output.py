@@ -38,11 +38,13 @@ _FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "minimum_residual_error", "speed_fluctuation_percent",
                   "torque_fluctuation_percent", "largest_transmission_error_deg",
                   "transmission_error_peak_to_peak_deg", "on_centre_fluctuation_percent",
-                  "continuous_residual_error")
+                  "continuous_residual_error", "joint_centres_residual_error",
+                  "joint_centres_margin_mm", "tolerance_p95_residual_error",
+                  "robust_p95_residual_error")
 _FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS),
-                 "can_cancel")
+                 "can_cancel", "joint_centres_success")
 _LIST_COLUMNS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
-                 "continuous_yoke_phase_deg")
+                 "continuous_yoke_phase_deg", "joint_centres_points_mm", "robust_yoke_phase_deg")
 _INTEGER_COLUMNS = ("point", *(f"{solver}_status" for solver in SOLVERS))
 
 

@@ -26,7 +26,7 @@ from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import ResourceEstimate, check_memory
 from sso._studies.array_engine import ArrayPlan, array_plan
 from sso._studies.axes import Axis, base_case, parse_axes, point_count, value_positions
-from sso._studies.column_rows import check_axis_values
+from sso._studies.column_rows import check_axis_values, check_sweepable
 from sso._studies.columns import RowTable, TableAssembly
 from sso._studies.estimate import sweep_estimate
 from sso._studies.execution import run_tasks, validate_workers
@@ -163,6 +163,7 @@ def sweep(
     document = case.to_dict()
     parsed_axes = parse_axes(axes, document)
     if case.kind == "column":
+        check_sweepable(case)
         check_axis_values(document, parsed_axes)
     if action not in ACTIONS:
         raise ValueError(f"action = {shown(action)} is not one of "

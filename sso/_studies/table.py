@@ -41,7 +41,10 @@ COLUMN_RESULT_COLUMNS = (
     "torque_fluctuation_percent", "largest_transmission_error_deg",
     "transmission_error_peak_to_peak_deg", "on_centre_fluctuation_percent",
     "continuous_residual_error", "continuous_yoke_phase_deg", "tooth_offset", "success",
-    "crosscheck_agree", "crosscheck_objective_gap", "time_s", "warnings",
+    "crosscheck_agree", "crosscheck_objective_gap", "joint_centres_residual_error",
+    "joint_centres_points_mm", "joint_centres_margin_mm", "joint_centres_success",
+    "tolerance_p95_residual_error", "robust_yoke_phase_deg", "robust_p95_residual_error",
+    "time_s", "warnings",
 )
 """The result columns of a sweep of a column case (:mod:`sso._studies.column_rows`)."""
 TIME_COLUMNS = ("time_s", *(f"{solver}_time_s" for solver in SOLVERS))

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -23,6 +24,8 @@ ROOT = Path(__file__).resolve().parents[2]
 TRUCK = ROOT / "cases" / "column_truck_three_joints.toml"
 SHIPPED_SWEEP = ROOT / "sweeps" / "column_truck_upper_joint_height.toml"
 POINTS = np.asarray(load_case(TRUCK).values["hardpoints.points_mm"])
+BOX_LOWER = np.asarray(load_case(TRUCK).values["joint_boxes.min_mm"])
+BOX_UPPER = np.asarray(load_case(TRUCK).values["joint_boxes.max_mm"])
 
 
 def _sso(*arguments, cwd):
@@ -50,7 +53,70 @@ def test_the_shipped_sweep_over_p1_height_exits_0_with_its_reports(tmp_path):
                                                              rel=1e-9)
         assert all(offset % 1 == 0 for offset in json.loads(row["tooth_offset"]))
         assert float(row["residual_error"]) >= float(row["continuous_residual_error"])
+        # The case's [joint_boxes] runs at each point: the moved joint centres cancel
+        # (3D simulation, the case's phasing held) and lie in their boxes, at least the
+        # reported margin inside them (measured 2.25 to 2.33 mm).
+        moved = points.copy()
+        moved[1:-1] = np.reshape(json.loads(row["joint_centres_points_mm"]), (-1, 3))
+        assert row["joint_centres_success"] == "true"
+        assert simulated_re(moved, [10.0, -80.0]) <= 1e-12
+        assert float(row["joint_centres_residual_error"]) <= 1e-20
+        margin = np.min(np.minimum(moved[1:-1] - BOX_LOWER, BOX_UPPER - moved[1:-1]))
+        assert float(row["joint_centres_margin_mm"]) == pytest.approx(margin, abs=1e-6)
+        assert margin >= 2.0
+        assert row["tolerance_p95_residual_error"] == ""  # the case has no [tolerances]
     assert "speed fluctuation, lock to lock (%)" in (folder / "report.md").read_text()
+
+
+def test_each_point_runs_the_cases_tolerances(tmp_path):
+    # The truck case with [tolerances] (1 mm, 1 deg, 50 columns, seed 3): each point's row
+    # holds the p95 RE of its design over the built columns (numpy.percentile of the
+    # sample's RE, each the 3D simulation of a built column: tests/column/
+    # test_column_robust.py) and the tolerance-aware phasing's p95 on the same sample.
+    case = tmp_path / "case.toml"
+    without_boxes = re.sub(r"\[joint_boxes\]\nmin_mm = .*\nmax_mm = .*\n", "",
+                           TRUCK.read_text())
+    assert "[joint_boxes]" not in without_boxes  # this test is about the tolerances
+    case.write_text(without_boxes + "\n[tolerances]\nhardpoint_mm = 1.0\n"
+                    "yoke_phase_deg = 1.0\nsamples = 50\nseed = 3\n")
+    heights = [1236.8, 1241.8]
+    result = sso.sweep(case, {"hardpoints.points_mm[1][2]": heights}, action="optimise",
+                       workers=1, progress=False)
+    tolerances = sso.Tolerances(hardpoint_mm=1.0, yoke_phase_deg=1.0, samples=50, seed=3)
+    for row, height in zip(sorted(result.rows, key=lambda row: row["point"]), heights,
+                           strict=True):
+        assert row["status"] == "ok", row["error"]
+        points = POINTS.copy()
+        points[1, 2] = height
+        geometry = sso.ColumnGeometry(points)
+        sample = tolerances.sample(geometry)
+        p95 = np.percentile(sample.residual_error(row["yoke_phase_deg"]), 95.0)
+        assert row["tolerance_p95_residual_error"] == pytest.approx(p95, rel=1e-12)
+        robust = np.percentile(sample.residual_error(row["robust_yoke_phase_deg"]), 95.0)
+        assert row["robust_p95_residual_error"] == pytest.approx(robust, rel=1e-12)
+        # the truck cannot cancel: the CVaR95 phasing over all phasings, whose p95 is
+        # near that of the best continuous phasing (measured within 5 %)
+        best = np.percentile(sample.residual_error(row["continuous_yoke_phase_deg"]), 95.0)
+        assert robust == pytest.approx(best, rel=0.05)
+
+
+@pytest.mark.parametrize(("table", "text"), [
+    ("[hardpoints.positions]\nup = POINTS\ndown = POINTS\n", "[hardpoints.positions]"),
+    ("[band]\nre_limit = 1e-3\n", "[band]"),
+    ("[feel]\nstraight_ahead_deg = 45.0\nlock_deg = 600.0\n", "[feel]"),
+])
+def test_a_table_a_sweep_point_does_not_run_exits_2_naming_it(tmp_path, table, text):
+    case = tmp_path / "case.toml"
+    case.write_text(TRUCK.read_text() + "\n"
+                    + table.replace("POINTS", json.dumps(POINTS.tolist())))
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text('case = "case.toml"\naction = "optimise"\n[axes]\n'
+                     '"hardpoints.points_mm[1][2]" = [1236.8, 1241.8]\n')
+    done = _sso("sweep", sweep, "--out", tmp_path / "out", "--quiet", cwd=tmp_path)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr
+    assert f"a sweep of a column case does not run {text}" in done.stderr
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("sweep.csv"))
 
 
 def test_a_tilt_sweep_turns_p0_about_the_lateral_axis_through_p1():
