@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -151,32 +151,6 @@ class RobustResult(PhasingOutcome):
             return np.array([cvar(row, weights, self.level) for row in values])
 
         return objective
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the figures."""
-        return {
-            **self.outcome_dict(), "robust_objective": self.robust_objective,
-            "level": self.level, "nominal_re": self.nominal_re,
-            "nominal_optimum_re": self.nominal_optimum_re,
-            "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg),
-            "nominal_re_given_up": self.nominal_re_given_up,
-            "robust_study": asdict(self.robust_study),
-            "nominal_study": asdict(self.nominal_study),
-            "validation_robust_study": asdict(self.validation_robust_study),
-            "validation_nominal_study": asdict(self.validation_nominal_study),
-            "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
-            "exact_optima": self._exact_optima_dict(),
-        }
-
-    def _exact_optima_dict(self) -> dict[str, Any] | None:
-        if self.exact_choice is None or self.exact_choice.optimisation.exact_optima is None:
-            return None
-        exact = self.exact_choice.optimisation.exact_optima
-        extent = self.exact_optimum_extent_deg or ()
-        return {"criterion": self.exact_optimum_criterion, "dimension": exact.dimension,
-                "starts": exact.starts, "p95_re": exact.p95_residual_error,
-                "first_found_p95_re": exact.first_p95_residual_error,
-                "extent_yoke_phase_deg": [list(pair) for pair in extent]}
 
 
 def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
