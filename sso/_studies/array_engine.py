@@ -47,6 +47,9 @@ MOST_CHECKED_VALUES = 20_000
 """Most axis values read as cases beforehand; a sweep with more takes the point path."""
 _DESIGN_PATH = re.compile(r"^design\.(?P<field>beta_deg|phase_deg)\[(?P<index>\d+)\]$")
 SOLVER = "lm"
+FIGURE_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
+                  "max_output_accel_rad_s2")
+"""The figures of a design, each a number per point (:func:`_figures`)."""
 
 
 @dataclass(frozen=True)
@@ -180,6 +183,25 @@ def _axis_values(document: dict[str, Any], axis: Axis, target: tuple[str, int],
                       *(message for message in moved
                         if message.startswith(f"start {field}[{index}] "))))
     return AxisValues(target, accepted, tuple(notes))
+
+
+def number_columns(plan: ArrayPlan,
+                   axes: Sequence[Axis]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
+    """The number columns of every chunk :func:`run_array_points` makes for a sweep
+    over ``axes``: each one's dtype and the shape of one row (columns of no width,
+    the phases of one joint, left out)."""
+    whole, number = np.dtype(np.int64), np.dtype(float)
+    kinds: dict[str, tuple[np.dtype, tuple[int, ...]]] = {"point": (whole, ())}
+    kinds.update({axis.path: (number, ()) for axis in axes
+                  if all(isinstance(value, float) for value in axis.values)})
+    if plan.action == "optimise":
+        kinds.update({f"{SOLVER}_residual_error": (number, ()), f"{SOLVER}_status": (whole, ()),
+                      f"{SOLVER}_kkt_per_rad": (number, ()), f"{SOLVER}_time_s": (number, ())})
+    kinds.update({name: (number, ()) for name in (*FIGURE_COLUMNS, "time_s")})
+    kinds.update({name: (number, (width,)) for name, width in (
+        ("design_beta_deg", len(plan.beta_deg)), ("design_phase_deg", len(plan.phase_deg)))
+        if width})
+    return kinds
 
 
 def run_array_points(plan: ArrayPlan, header: Sequence[str], paths: Sequence[str],

@@ -92,7 +92,7 @@ class RowTable:
         its distinct values. A chunk's status, flags, messages and hash then unpickle
         in the calling process as one ``take`` (or one fill) instead of one object at
         a time, and its constant numbers (a time per point, a fixed phase) travel once."""
-        return _unpack, (self.header, {name: _packed(column)
+        return _unpack, (self.header, {name: packed(column)
                                        for name, column in self.columns.items()},
                          self.length)
 
@@ -143,6 +143,9 @@ class TableAssembly:
     same columns (names, types and widths) is copied into its place, so the work of
     joining the chunks is spread over the run instead of following it. A chunk of
     other columns (an error row's text, say) is kept as it is and joined at the end.
+    Columns a worker writes in place (``shared``, :mod:`sso._studies.shared_rows`)
+    are the sweep's columns themselves: a chunk written there brings only its other
+    columns, and nothing is copied.
 
     Parameters
     ----------
@@ -150,30 +153,40 @@ class TableAssembly:
         Every column, in order.
     lengths : sequence of int
         Rows of each chunk, in order.
+    shared : mapping of str to numpy.ndarray, optional
+        Columns of every row that workers write into.
     """
 
-    def __init__(self, header: Sequence[str], lengths: Sequence[int]) -> None:
+    def __init__(self, header: Sequence[str], lengths: Sequence[int],
+                 shared: Mapping[str, np.ndarray] | None = None) -> None:
         self.header = tuple(header)
         self.offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).tolist()
+        self.shared = dict(shared or {})
         self.columns: dict[str, np.ndarray] | None = None
         self.placed = [False] * len(lengths)
         self.apart: dict[int, RowTable] = {}
 
-    def place(self, index: int, table: RowTable) -> None:
-        """Put chunk ``index``'s rows (``table``) in their place."""
+    def place(self, index: int, table: RowTable, in_shared: bool = False) -> None:
+        """Put chunk ``index``'s rows (``table``) in their place (``in_shared``: its
+        shared columns are already there, ``table`` holds the others)."""
         start, stop = self.offsets[index], self.offsets[index + 1]
         if table.length != stop - start:
             raise ValueError(f"chunk {index} has {table.length} rows, not {stop - start}")
+        written = self.shared if in_shared else {}
+        if written:
+            table = RowTable(table.header, {**table.columns, **{
+                name: column[start:stop] for name, column in written.items()}}, table.length)
         if self.columns is None:
-            self.columns = {name: np.empty((self.offsets[-1], *column.shape[1:]),
-                                           dtype=column.dtype)
+            self.columns = {name: written[name] if name in written else
+                            np.empty((self.offsets[-1], *column.shape[1:]), dtype=column.dtype)
                             for name, column in table.columns.items()}
         if table.columns.keys() == self.columns.keys() and all(
                 column.dtype == self.columns[name].dtype
                 and column.shape[1:] == self.columns[name].shape[1:]
                 for name, column in table.columns.items()):
             for name, column in table.columns.items():
-                self.columns[name][start:stop] = column
+                if written.get(name) is not self.columns[name]:
+                    self.columns[name][start:stop] = column
             self.placed[index] = True
         else:
             self.apart[index] = table
@@ -204,7 +217,7 @@ _CODED_KINDS = ({str, type(None)}, {bool, type(None)})
 set no value equals a value of another type (unlike ``True == 1``)."""
 
 
-def _packed(column: np.ndarray) -> Any:
+def packed(column: np.ndarray) -> Any:
     """A column as it travels: ``("same", first row, rows)`` where every row holds the
     same bits, ``("range", first, rows)`` for consecutive whole numbers (a chunk's
     points), ``("codes", codes, distinct values)`` for an object column of text or
@@ -233,11 +246,12 @@ def _packed(column: np.ndarray) -> Any:
 
 
 def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> RowTable:
-    return RowTable(header, {name: _unpacked(column) for name, column in columns.items()},
+    return RowTable(header, {name: unpacked(column) for name, column in columns.items()},
                     length)
 
 
-def _unpacked(column: Any) -> np.ndarray:
+def unpacked(column: Any) -> np.ndarray:
+    """The column :func:`packed` made ``column`` of."""
     if not isinstance(column, tuple):
         kept: np.ndarray = column
         return kept

@@ -10,8 +10,10 @@ starts in milliseconds instead of an interpreter and its imports per worker (abo
 a second of CPU each); elsewhere the workers are spawned. The fork server lives as
 long as the calling process and exits with it.
 
-A local pool never outlives its run: when the run is interrupted (Ctrl-C, or
-SIGTERM, which the ``sso`` command turns into the same interruption) the workers
+A local pool that ends its run normally is kept, idle, for the next run of the
+same process with the same workers and environment (a notebook running sweep after
+sweep starts its workers once). When a run is interrupted (Ctrl-C, or
+SIGTERM, which the ``sso`` command turns into the same interruption) its workers
 are killed rather than awaited, workers ignore SIGINT (the terminal sends it to
 the whole process group; the parent decides), and each worker ends with its
 caller: a forked worker watches the caller and exits the moment it is gone (a
@@ -109,7 +111,7 @@ def run_tasks(
     """
     if client is not None:
         yield from _run_on_dask(function, tasks, client)
-    elif workers == 1 or len(tasks) <= 1:
+    elif not runs_in_pool(client, workers, len(tasks)):
         for index, task in enumerate(tasks):
             try:
                 yield index, function(task), None
@@ -117,6 +119,12 @@ def run_tasks(
                 yield index, None, error
     else:
         yield from _run_in_pool(function, tasks, workers)
+
+
+def runs_in_pool(client: Any, workers: int, tasks: int) -> bool:
+    """Whether :func:`run_tasks` runs ``tasks`` tasks in a local pool (not on Dask,
+    not in this process)."""
+    return client is None and workers > 1 and tasks > 1
 
 
 def connect(address: str) -> Any:
@@ -155,15 +163,8 @@ def pool_context() -> Any:
 
 def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
                  workers: int) -> Iterator[tuple[int, Any, BaseException | None]]:
-    context = pool_context()
+    key, executor = _take_pool(workers)
     finished = False
-    # The workers (and the fork server, when the first pool starts it) start while
-    # the first tasks are submitted; each takes this process's environment of now.
-    with _environment(WORKER_ENVIRONMENT):
-        executor = ProcessPoolExecutor(
-            max_workers=min(workers, len(tasks)), mp_context=context,
-            initializer=_start_worker,
-            initargs=(os.getpid(), context.get_start_method() == "spawn", dict(os.environ)))
     try:
         with _environment(WORKER_ENVIRONMENT):
             futures = {executor.submit(function, task): index
@@ -173,9 +174,48 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
             yield futures[future], None if error else future.result(), error
         finished = True
     finally:
-        if not finished:  # interrupted, or the caller stopped early: do not wait for work
+        # The pool's private flag: a worker was lost, the pool takes no more work.
+        if finished and not getattr(executor, "_broken", False):
+            _keep_pool(key, executor)
+        else:  # interrupted, stopped early or broken: do not wait for work
             _kill_workers(executor)
-        executor.shutdown(wait=True, cancel_futures=True)
+            executor.shutdown(wait=True, cancel_futures=True)
+
+
+_IDLE_POOL: dict[tuple[Any, ...], ProcessPoolExecutor] = {}
+"""The local pool of the last run that ended normally, idle, kept for the next run
+of this process that asks for the same (at most one)."""
+
+
+def _take_pool(workers: int) -> tuple[tuple[Any, ...], ProcessPoolExecutor]:
+    """A pool of ``workers`` processes with this process's environment of now, for one
+    run: the idle pool, if it is such a pool, else a new one.
+
+    A pool kept between runs holds idle workers (each waiting for a task, and each
+    ending with this process), so a process running sweep after sweep starts its
+    workers once, and they keep the solvers they built.
+    """
+    context = pool_context()
+    with _environment(WORKER_ENVIRONMENT):
+        environment = dict(os.environ)
+    key = (os.getpid(), workers, context.get_start_method(),
+           tuple(sorted(environment.items())))
+    if key in _IDLE_POOL:
+        return key, _IDLE_POOL.pop(key)
+    # The workers (and the fork server, when the first pool starts it) start while
+    # the first tasks are submitted; each takes this process's environment of now.
+    with _environment(WORKER_ENVIRONMENT):
+        return key, ProcessPoolExecutor(
+            max_workers=workers, mp_context=context, initializer=_start_worker,
+            initargs=(os.getpid(), context.get_start_method() == "spawn", environment))
+
+
+def _keep_pool(key: tuple[Any, ...], executor: ProcessPoolExecutor) -> None:
+    """Keep ``executor`` idle for the next run (shutting down the pool kept before)."""
+    for earlier in _IDLE_POOL.values():
+        earlier.shutdown(wait=True)
+    _IDLE_POOL.clear()
+    _IDLE_POOL[key] = executor
 
 
 def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -> None:

@@ -24,15 +24,29 @@ from sso._shafts.options import build_problem
 from sso._shafts.quadrature import rule_for_bounds
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import ResourceEstimate, check_memory
-from sso._studies.array_engine import ArrayPlan, array_plan
-from sso._studies.axes import Axis, base_case, parse_axes, point_count, value_positions
+from sso._studies.array_engine import ArrayPlan, array_plan, number_columns
+from sso._studies.axes import (
+    Axis,
+    base_case,
+    parse_axes,
+    point_count,
+    value_positions,
+    value_ranges,
+)
 from sso._studies.column_rows import check_axis_values
 from sso._studies.columns import RowTable, TableAssembly
 from sso._studies.estimate import sweep_estimate
-from sso._studies.execution import run_tasks, validate_workers
-from sso._studies.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
+from sso._studies.execution import run_tasks, runs_in_pool, validate_workers
+from sso._studies.parquet_output import (
+    PARQUET_NAME,
+    arrow_schema,
+    part_data,
+    start_parts,
+    write_part,
+)
 from sso._studies.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
 from sso._studies.results import SweepResult, SweepRows
+from sso._studies.shared_rows import shared_columns
 from sso._studies.table import (
     CSV_NAME,
     HASH_COLUMN,
@@ -48,6 +62,7 @@ from sso._studies.table import (
 from sso._studies.worker import (
     ACTIONS,
     ChunkTask,
+    GridPositions,
     SweepChunk,
     chunk_output,
     failed_rows,
@@ -224,23 +239,23 @@ class _Job:
                 for axis, position in zip(self.axes, positions, strict=True)]
 
     def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
-        """The tasks of the pending points (each with its slice of every axis)."""
+        """The tasks of the pending points (sorted), each with the slice of every axis
+        its points take, found from its first and last point alone."""
         size = _chunk_size(self.chunk_size, len(pending), _parallelism(self.client, self.workers),
                            self.plan is not None)
+        lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
         for start in range(0, len(pending), size):
             indices = pending[start:start + size]
-            positions = value_positions(self.axes, self.mode, indices)
-            bounds = [(int(position.min()), int(position.max()) + 1) for position in positions]
+            bounds = value_ranges(lengths, self.mode, int(indices[0]), int(indices[-1]))
             chunks.append(SweepChunk(
                 self.document, self.action, tuple(self.header),
                 tuple(axis.path for axis in self.axes), indices,
-                tuple(position - low for position, (low, _) in zip(positions, bounds,
-                                                                   strict=True)),
                 tuple(axis.values[low:high] for axis, (low, high) in zip(self.axes, bounds,
                                                                          strict=True)),
                 None if self.plan is None else self.plan.sliced(bounds),
-                self.identity[HASH_COLUMN]))
+                self.identity[HASH_COLUMN],
+                GridPositions(self.mode, lengths, tuple(low for low, _ in bounds))))
         return chunks
 
     def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None,
@@ -254,29 +269,39 @@ class _Job:
         chunks = self.chunks(pending)
         resumed = RowTable.from_rows(self.header, typed_rows(earlier.values()))
         if schema is not None and csv_path is not None and resumed.length:
-            write_part(csv_path.parent, resumed, schema, resumed=True)
+            write_part(csv_path.parent, int(resumed.columns["point"].min()), resumed.length,
+                       part_data(resumed, schema), resumed=True)
         # Each chunk's rows go to their place as the chunk ends: the chunks cover the
         # pending points in order, so the rows come out sorted whichever order the
         # chunks finish in, and joining them overlaps the work still running.
-        assembly = TableAssembly(self.header, [len(chunk.indices) for chunk in chunks])
+        lengths = [len(chunk.indices) for chunk in chunks]
+        # A local pool's workers write the number columns in place (shared_rows).
+        shared = (shared_columns(number_columns(self.plan, self.axes), len(pending))
+                  if self.plan is not None and runs_in_pool(self.client, self.workers,
+                                                            len(chunks)) else None)
+        assembly = TableAssembly(self.header, lengths, None if shared is None else shared.arrays)
+        offsets = np.cumsum([0, *lengths]).tolist()
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
-            tasks = [ChunkTask(chunk, csv_path is not None, schema) for chunk in chunks]
+            tasks = [ChunkTask(chunk, csv_path is not None, schema,
+                               None if shared is None else shared.layout, offsets[index])
+                     for index, chunk in enumerate(chunks)]
             for index, output, error in run_tasks(run_chunk_task, tasks, self.client,
                                                    self.workers):
                 if error is not None:
                     output = chunk_output(failed_rows(chunks[index], error),
                                           csv_path is not None, schema)
-                table = output.table
                 if csv_path is not None:
                     append_rows(csv_path, output.csv)
                     if schema is not None:
-                        write_part(csv_path.parent, table, schema, data=output.parquet_part)
-                assembly.place(index, table)
-                status = table.columns["status"]
-                bar.advance(table.length, int(np.count_nonzero(status != "ok")))
+                        write_part(csv_path.parent, int(chunks[index].indices[0]),
+                                   lengths[index], output.parquet_part or b"")
+                assembly.place(index, output.table, output.in_shared)
+                bar.advance(output.table.length, output.failed)
         finally:
             bar.close()
+            if shared is not None:
+                shared.close()
         rows = RowTable.concatenate(self.header, [resumed, assembly.table()])
         points = rows.columns.get("point", np.zeros(0, dtype=np.int64))
         if np.all(points[1:] > points[:-1]):
