@@ -46,7 +46,7 @@ from sso._limits import NO_WORKER_TIMEOUT_S, NO_WORKER_TIMEOUT_VARIABLE
 DASK_POLL_S = 1.0
 """How often a Dask run checks that its cluster still has a worker, s."""
 DASK_IDLE_S = 0.02
-"""Pause between looks for finished Dask tasks, s."""
+"""Longest wait for a Dask task to end between looks at the cluster's workers, s."""
 CALLER_POLL_S = 0.2
 """How often a forked pool worker looks for its caller where it cannot wait for it, s."""
 MAX_NO_WORKER_TIMEOUT_S = 1e6
@@ -380,8 +380,10 @@ def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
                         "done); start workers for it (dask worker ADDRESS) and run the same "
                         f"command with --resume (wait longer: {NO_WORKER_TIMEOUT_VARIABLE}"
                         "=SECONDS)")
-            else:
-                time.sleep(DASK_IDLE_S)
+            else:  # wait for the next task to end (as_completed notifies its condition)
+                with completed.thread_condition:
+                    if not completed.has_ready():
+                        completed.thread_condition.wait(timeout=DASK_IDLE_S)
     finally:
         completed.clear()
         client.cancel([future for future in futures if not future.done()])

@@ -10,14 +10,16 @@ place; only the text columns travel. The columns of the sweep's result are views
 of that memory. The file has no name: it is gone when the last process holding
 it ends, so even a killed sweep leaves nothing behind.
 
-Where there is no such file (not Linux) or a worker cannot open it, the chunk's
-rows travel as before: :func:`write_rows` says whether it wrote them.
+A Dask worker on the same machine writes there too; one on another machine (no
+such file there) and a system without such files (not Linux) send the chunk's
+rows as before: :func:`write_rows` says whether it wrote them.
 """
 
 from __future__ import annotations
 
 import mmap
 import os
+import secrets
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -35,6 +37,10 @@ class SharedLayout:
 
     Attributes
     ----------
+    name : str
+        The file's name, unique to it (a random token): a worker writes only into the
+        file of this name, so one on another machine, where the process number
+        may be another process's, writes nothing.
     caller_pid : int
         The process holding the memory file.
     descriptor : int
@@ -47,6 +53,7 @@ class SharedLayout:
         Per column: its name, dtype, shape of a row and byte offset.
     """
 
+    name: str
     caller_pid: int
     descriptor: int
     size: int
@@ -74,10 +81,12 @@ class SharedColumns:
             size = np.dtype(dtype).itemsize * int(np.prod(shape, dtype=np.int64)) * length
             offset += -(-size // ALIGNMENT) * ALIGNMENT
         size = max(offset, 1)
-        self._descriptor = os.memfd_create("sso-sweep-rows", os.MFD_CLOEXEC)
+        name = f"sso-sweep-rows-{secrets.token_hex(16)}"
+        self._descriptor = os.memfd_create(name, os.MFD_CLOEXEC)
         os.ftruncate(self._descriptor, size)
         memory = mmap.mmap(self._descriptor, size)
-        self.layout = SharedLayout(os.getpid(), self._descriptor, size, length, tuple(placed))
+        self.layout = SharedLayout(name, os.getpid(), self._descriptor, size, length,
+                                   tuple(placed))
         self.arrays = _views(memory, self.layout)
         """The columns (they keep the memory mapped while any of them lives)."""
 
@@ -115,9 +124,13 @@ def write_rows(layout: SharedLayout, start: int, table: RowTable) -> RowTable | 
             or table.columns[name].shape[1:] != shape
             for name, (dtype, shape) in expected.items()):
         return None
+    path = f"/proc/{layout.caller_pid}/fd/{layout.descriptor}"
     try:
-        with open(f"/proc/{layout.caller_pid}/fd/{layout.descriptor}", "r+b") as handle:
-            if os.fstat(handle.fileno()).st_size != layout.size:
+        if not _is_file(path, layout.name):  # not that file: look before opening
+            return None
+        with open(path, "r+b") as handle:
+            if (not _is_file(f"/proc/self/fd/{handle.fileno()}", layout.name)
+                    or os.fstat(handle.fileno()).st_size != layout.size):
                 return None
             memory = mmap.mmap(handle.fileno(), layout.size)
     except OSError:
@@ -128,6 +141,11 @@ def write_rows(layout: SharedLayout, start: int, table: RowTable) -> RowTable | 
     memory.close()
     return RowTable(table.header, {name: column for name, column in table.columns.items()
                                    if name not in expected}, table.length)
+
+
+def _is_file(link: str, name: str) -> bool:
+    """Whether ``link`` (a /proc file descriptor) is the anonymous memory file ``name``."""
+    return os.readlink(link) == f"/memfd:{name} (deleted)"
 
 
 def _views(memory: mmap.mmap, layout: SharedLayout) -> dict[str, np.ndarray]:

@@ -275,10 +275,10 @@ class _Job:
         # pending points in order, so the rows come out sorted whichever order the
         # chunks finish in, and joining them overlaps the work still running.
         lengths = [len(chunk.indices) for chunk in chunks]
-        # A local pool's workers write the number columns in place (shared_rows).
+        # Workers of this machine write the number columns in place (shared_rows).
+        elsewhere = self.client is not None or runs_in_pool(None, self.workers, len(chunks))
         shared = (shared_columns(number_columns(self.plan, self.axes), len(pending))
-                  if self.plan is not None and runs_in_pool(self.client, self.workers,
-                                                            len(chunks)) else None)
+                  if self.plan is not None and elsewhere else None)
         assembly = TableAssembly(self.header, lengths, None if shared is None else shared.arrays)
         offsets = np.cumsum([0, *lengths]).tolist()
         bar = ProgressBar(len(pending), "points", self.progress)

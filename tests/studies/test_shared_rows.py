@@ -7,6 +7,7 @@ the anonymous memory file, and this process reads them back bit for bit.
 
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing
 import pickle
 import sys
@@ -61,6 +62,9 @@ def test_a_chunk_of_other_columns_or_an_unreachable_memory_writes_nothing():
     text.columns["residual_error"] = text.columns["residual_error"].astype(object)
     assert write_rows(shared.layout, 0, text) is None
     assert write_rows(shared.layout, 1, chunk(0, 4)) is None  # past the last row
+    # Another file at the same process and descriptor numbers (another machine's):
+    elsewhere = dataclasses.replace(shared.layout, name="sso-sweep-rows-elsewhere")
+    assert write_rows(elsewhere, 0, chunk(0, 4)) is None
     gone = shared.layout
     shared.close()
     assert write_rows(gone, 0, chunk(0, 4)) is None  # the file is closed
