@@ -1,7 +1,7 @@
 """A sweep's rows as columns: one array per column, never one dict per point.
 
 A chunk's rows travel from a worker as a :class:`RowTable` (pickled compactly:
-an object column as codes into its distinct values, see :meth:`RowTable.__reduce__`),
+an object column as codes into its distinct objects, see :meth:`RowTable.__reduce__`),
 the calling process appends its CSV text to ``sweep.csv`` (and its Parquet part)
 and places the table into the sweep's columns as it arrives
 (:class:`TableAssembly`); a row becomes a dict only when a user asks for it. Every cell means what
@@ -14,6 +14,7 @@ empty in every row.
 
 from __future__ import annotations
 
+import ctypes
 import itertools
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -88,8 +89,8 @@ class RowTable:
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         """Pickle compactly: a column of one value as that value, a chunk's point
-        indices as their first, an object column of text or flags as int32 codes into
-        its distinct values. A chunk's status, flags, messages and hash then unpickle
+        indices as their first, an object column as int32 codes into its distinct
+        objects. A chunk's status, flags, messages and hash then unpickle
         in the calling process as one ``take`` (or one fill) instead of one object at
         a time, and its constant numbers (a time per point, a fixed phase) travel once."""
         return _unpack, (self.header, {name: packed(column)
@@ -212,16 +213,11 @@ class TableAssembly:
             for index in range(len(self.placed))])
 
 
-_CODED_KINDS = ({str, type(None)}, {bool, type(None)})
-"""Kinds of the values an object column may hold to be sent as codes: within each
-set no value equals a value of another type (unlike ``True == 1``)."""
-
-
 def packed(column: np.ndarray) -> Any:
     """A column as it travels: ``("same", first row, rows)`` where every row holds the
-    same bits, ``("range", first, rows)`` for consecutive whole numbers (a chunk's
-    points), ``("codes", codes, distinct values)`` for an object column of text or
-    flags; any other column as it is."""
+    same bits (or, in an object column, the same object), ``("range", first, rows)``
+    for consecutive whole numbers (a chunk's points), ``("codes", codes, distinct
+    objects)`` for any other object column; any other column as it is."""
     if not len(column):
         return column
     if column.dtype != object:
@@ -231,18 +227,18 @@ def packed(column: np.ndarray) -> Any:
         if column.dtype == np.int64 and column.ndim == 1 and np.all(np.diff(column) == 1):
             return "range", int(column[0]), len(column)
         return column
-    values = column.tolist()
-    kinds = set(map(type, values))
-    if not any(kinds <= allowed for allowed in _CODED_KINDS):
+    if column.ndim != 1:
         return column
-    distinct = dict.fromkeys(values)
-    table = np.empty(len(distinct), dtype=object)
-    table[:] = list(distinct)
-    if len(distinct) == 1:
-        return "same", table, len(values)
-    position = {value: index for index, value in enumerate(distinct)}
-    codes = np.fromiter(map(position.__getitem__, values), dtype=np.int32, count=len(values))
-    return "codes", codes, table
+    column = np.ascontiguousarray(column)
+    # An object array holds pointers to its objects: rows of one pointer hold one
+    # object, found without touching an object (a text column of a million rows in a
+    # millisecond; by value, True == 1 would also merge a flag and a number).
+    pointers = np.frombuffer(memoryview(
+        (ctypes.c_char * column.nbytes).from_address(column.ctypes.data)), dtype=np.uintp)
+    if np.all(pointers == pointers[0]):
+        return "same", column[:1].copy(), len(column)
+    _, first, codes = np.unique(pointers, return_index=True, return_inverse=True)
+    return "codes", codes.astype(np.int32).ravel(), column[first]
 
 
 def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> RowTable:
@@ -256,6 +252,10 @@ def unpacked(column: Any) -> np.ndarray:
         kept: np.ndarray = column
         return kept
     kind, first, rest = column
+    if kind == "same" and first.dtype == object:
+        same = np.empty(rest, dtype=object)
+        same.fill(first[0])
+        return same
     if kind == "same":
         return np.repeat(first, rest, axis=0)
     if kind == "range":

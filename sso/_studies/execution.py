@@ -53,10 +53,11 @@ MAX_NO_WORKER_TIMEOUT_S = 1e6
 
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                       "MKL_NUM_THREADS": "1"}
-WORKER_PRELOAD = ["sso._studies.worker", "sso._studies.parquet_output", "numpy.ma"]
+WORKER_PRELOAD = ["sso._studies.worker", "sso._studies.parquet_output", "sso._cases.schema",
+                  "sso._cases.shaft_series", "numpy.ma"]
 """Modules the fork server imports once, so no pool worker imports them again: a
-sweep's worker, its output, and the part of numpy that ``numpy.unique`` imports on
-its first call."""
+sweep's worker, its output, the case reader that checks a sweep's axis values, and
+the part of numpy that ``numpy.unique`` imports on its first call."""
 
 
 def available_cores() -> int:
@@ -119,6 +120,14 @@ def run_tasks(
                 yield index, None, error
     else:
         yield from _run_in_pool(function, tasks, workers)
+
+
+def parallelism(client: Any, workers: int) -> int:
+    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
+    if client is None:
+        return workers
+    threads: int = sum(client.nthreads().values())
+    return max(1, threads)
 
 
 def runs_in_pool(client: Any, workers: int, tasks: int) -> bool:

@@ -36,7 +36,7 @@ from sso._studies.axes import (
 from sso._studies.column_rows import check_axis_values
 from sso._studies.columns import RowTable, TableAssembly
 from sso._studies.estimate import sweep_estimate
-from sso._studies.execution import run_tasks, runs_in_pool, validate_workers
+from sso._studies.execution import parallelism, run_tasks, runs_in_pool, validate_workers
 from sso._studies.parquet_output import (
     PARQUET_NAME,
     arrow_schema,
@@ -183,7 +183,7 @@ def sweep(
         raise ValueError(f"action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
     worker_count = validate_workers(workers)
-    plan = array_plan(case, parsed_axes, action)
+    plan = array_plan(case, parsed_axes, action, client, worker_count)
     check_memory(_estimate(case, parsed_axes, mode, action,
                            worker_count if client is None else 1, plan is not None),
                  memory_limit_mb)
@@ -241,7 +241,7 @@ class _Job:
     def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
         """The tasks of the pending points (sorted), each with the slice of every axis
         its points take, found from its first and last point alone."""
-        size = _chunk_size(self.chunk_size, len(pending), _parallelism(self.client, self.workers),
+        size = _chunk_size(self.chunk_size, len(pending), parallelism(self.client, self.workers),
                            self.plan is not None)
         lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
@@ -362,21 +362,13 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
                           min(count, ARRAY_CHUNK_CAP))
 
 
-def _parallelism(client: Any, workers: int) -> int:
-    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
-    if client is None:
-        return workers
-    threads: int = sum(client.nthreads().values())
-    return max(1, threads)
-
-
-def _chunk_size(chunk_size: Any, points: int, parallelism: int, arrays: bool = False) -> int:
+def _chunk_size(chunk_size: Any, points: int, at_once: int, arrays: bool = False) -> int:
     if chunk_size is None:
         if arrays:
             return max(1, min(ARRAY_CHUNK_CAP,
-                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * parallelism))))
+                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once))))
         return max(1, min(DEFAULT_CHUNK_CAP,
-                          math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
+                          math.ceil(points / (CHUNKS_PER_WORKER * at_once))))
     if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
             or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
         raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "
