@@ -77,6 +77,8 @@ OPTIMISE_PER_AXIS = 47
 """Grid values per angle of the optimise sweep: 47^3 = 103,823 points."""
 EVALUATE_PER_AXIS = 100
 """Grid values per angle of the evaluate sweep: 100^3 = 1,000,000 points."""
+IDLE_WINDOW_S = 3.0
+"""How long the CPU the processes use idle is measured, s."""
 
 
 def base_document() -> dict[str, Any]:
@@ -173,6 +175,26 @@ def modes(client: Any) -> dict[str, dict[str, Any]]:
             f"Dask LocalCluster, {WORKERS} workers": {"client": client}}
 
 
+def idle_cpu_per_s(seconds: float = IDLE_WINDOW_S) -> dict[str, float]:
+    """CPU seconds per second that the calling process and the processes below it
+    use while no sweep runs (the Dask client's and cluster's heartbeats and event
+    loops): subtracted from each run's CPU times in proportion to its wall time."""
+    wall_started, cpu_started = time.perf_counter(), time.process_time()
+    others_started = descendants_cpu_s()
+    time.sleep(seconds)
+    wall_s = time.perf_counter() - wall_started
+    return {"calling_process": (time.process_time() - cpu_started) / wall_s,
+            "workers": (descendants_cpu_s() - others_started) / wall_s}
+
+
+def busy_cpu_s(run: dict[str, Any], idle: dict[str, float]) -> tuple[float, float]:
+    """A run's CPU times of the calling process and of the workers, per point, less
+    what they use idle over the run's wall time."""
+    return ((run["calling_process_cpu_s"] - idle["calling_process"] * run["wall_s"])
+            / run["points"],
+            (run["workers_cpu_s"] - idle["workers"] * run["wall_s"]) / run["points"])
+
+
 def interleaved(actions: dict[str, dict[str, Any]], client: Any,
                 passes: int) -> dict[str, Any]:
     """Every action run every way in each pass; medians, ratios, same rows."""
@@ -193,18 +215,16 @@ def interleaved(actions: dict[str, dict[str, Any]], client: Any,
                 else:
                     identical[action] &= same_rows(rows, reference[action])
                 del rows
-    figures: dict[str, Any] = {}
+    idle = idle_cpu_per_s()
+    figures: dict[str, Any] = {"idle_cpu_per_s": idle}
     for action, runs in samples.items():
         one = statistics.median(run["points_per_s"] for run in runs["one process"])
-        one_cpu = statistics.median(run["calling_process_cpu_s"] / run["points"]
-                                    for run in runs["one process"])
+        one_cpu = statistics.median(busy_cpu_s(run, idle)[0] for run in runs["one process"])
         table = {}
         for label, passes_of in runs.items():
             rate = statistics.median(run["points_per_s"] for run in passes_of)
-            calling = statistics.median(run["calling_process_cpu_s"] / run["points"]
-                                        for run in passes_of)
-            workers = statistics.median(run["workers_cpu_s"] / run["points"]
-                                        for run in passes_of)
+            calling = statistics.median(busy_cpu_s(run, idle)[0] for run in passes_of)
+            workers = statistics.median(busy_cpu_s(run, idle)[1] for run in passes_of)
             table[label] = {"points": passes_of[0]["points"],
                             "median_points_per_s": rate,
                             "ratio_to_one_process": rate / one,
@@ -389,14 +409,18 @@ def report(figures: dict[str, Any]) -> None:
                              for one in run["passes"])
             print(f"{label:<34}{run['median_points_per_s']:>12,.0f}"
                   f"{run['ratio_to_one_process']:>15.2f}  {each}")
-        print(f"CPU per point (us; medians): {'run':<26}{'calling':>9}{'workers':>9}"
-              f"{'calling / one process':>23}{'CPU-bound ratio':>17}")
+        print("CPU per point (us; medians, less the CPU used idle):")
+        print(f"{'run':<34}{'calling':>9}{'workers':>9}{'calling / one process':>23}"
+              f"{'CPU-bound ratio':>17}")
         for label, run in runs.items():
-            print(f"{'':<29}{label:<26}{run['calling_process_cpu_us_per_point']:>9.3f}"
+            print(f"{label:<34}{run['calling_process_cpu_us_per_point']:>9.3f}"
                   f"{run['workers_cpu_us_per_point']:>9.3f}"
                   f"{run['calling_process_cpu_over_one_process']:>23.2f}"
                   f"{run['cpu_bound_ratio']:>17.2f}")
         print(f"identical rows in every run: {figures[action]['identical_rows']}")
+    idle = figures["idle_cpu_per_s"]
+    print(f"CPU used idle (cluster and pool up, no sweep): calling process "
+          f"{idle['calling_process']:.3f} s/s, the processes below it {idle['workers']:.3f} s/s")
     print(f"Dask cluster start: {figures['dask_cluster_start_s']:.1f} s; local pool start "
           f"(fork server and workers, first pool of the process): "
           f"{figures['pool_start_s']:.2f} s (neither counted)")
