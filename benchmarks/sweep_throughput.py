@@ -339,7 +339,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     from distributed import Client, LocalCluster
 
     import sso
-    from sso._studies.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+    from sso._studies.sweep import (
+        ARRAY_CHUNK_CAP,
+        ARRAY_CHUNK_FLOOR,
+        ARRAY_CHUNKS_PER_WORKER,
+        ARRAY_SHARE,
+    )
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--optimise-per-axis", type=int, default=OPTIMISE_PER_AXIS,
@@ -361,7 +366,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                      "evaluate_per_axis": args.evaluate_per_axis, "passes": args.passes,
                      "workers": WORKERS, "case": CASE.name},
         "load_before": load_now(),
-        "chunks": {"most_points": ARRAY_CHUNK_CAP, "per_worker": ARRAY_CHUNKS_PER_WORKER},
+        "chunks": {"most_points": ARRAY_CHUNK_CAP, "fewest_points": ARRAY_CHUNK_FLOOR,
+                   "share_of_a_worker": 1 / ARRAY_SHARE,
+                   "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER},
     }
     cluster_started = time.perf_counter()
     with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True,

@@ -74,13 +74,17 @@ from sso._validation import shown
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
-# An array sweep (sso._studies.array_engine) is cut into about this many tasks per
-# worker (load balance: the last task of a worker waits for no other), each of at
-# most ARRAY_CHUNK_CAP points: 0.05 s (evaluating, about 1 us a point) to 0.5 s
-# (optimising, about 10 us a point) of work, far above a task's cost to the pool
-# or to Dask (a few milliseconds, with the transfer of its rows), and a few tens
-# of MB of arrays at the peak.
+# An array sweep (sso._studies.array_engine) is cut into tasks of decreasing size
+# (guided self-scheduling): each takes 1 / (ARRAY_SHARE x workers) of the points
+# not yet cut, at most ARRAY_CHUNK_CAP points (0.05 s of evaluating, about 1 us a
+# point, to 0.5 s of optimising, about 10 us a point, and a few tens of MB of
+# arrays at the peak) and at least ARRAY_CHUNK_FLOOR (a few ms of work, still
+# above a task's cost to the pool or to Dask), or in a small sweep an
+# ARRAY_CHUNKS_PER_WORKER-th of a worker's share. The first tasks are long and
+# the last ones short, so the workers end within a short task of each other.
+ARRAY_SHARE = 2
 ARRAY_CHUNKS_PER_WORKER = 8
+ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
@@ -141,8 +145,8 @@ def sweep(
         Local processes (default: every available core); 1 runs in this process.
     chunk_size : int, optional
         Points per task, ``1..50000`` (default: about four tasks per worker, at
-        most 25 points each; a sweep run as arrays, about eight per worker, at most
-        50,000 points each).
+        most 25 points each; a sweep run as arrays, tasks of decreasing size, each
+        half a worker's share of the points left, 2,000 to 50,000 points).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -241,11 +245,11 @@ class _Job:
     def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
         """The tasks of the pending points (sorted), each with the slice of every axis
         its points take, found from its first and last point alone."""
-        size = _chunk_size(self.chunk_size, len(pending), parallelism(self.client, self.workers),
-                           self.plan is not None)
+        sizes = _chunk_sizes(self.chunk_size, len(pending),
+                             parallelism(self.client, self.workers), self.plan is not None)
         lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
-        for start in range(0, len(pending), size):
+        for start, size in zip(np.cumsum([0, *sizes]).tolist()[:-1], sizes, strict=True):
             indices = pending[start:start + size]
             bounds = value_ranges(lengths, self.mode, int(indices[0]), int(indices[-1]))
             chunks.append(SweepChunk(
@@ -362,15 +366,24 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
                           min(count, ARRAY_CHUNK_CAP))
 
 
-def _chunk_size(chunk_size: Any, points: int, at_once: int, arrays: bool = False) -> int:
+def _chunk_sizes(chunk_size: Any, points: int, at_once: int,
+                 arrays: bool = False) -> list[int]:
+    """Points of each task, in order (see the chunking constants above)."""
+    if chunk_size is None and arrays:
+        floor = min(ARRAY_CHUNK_FLOOR, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
+        sizes = []
+        while points > 0:
+            size = min(points, ARRAY_CHUNK_CAP,
+                       max(floor, math.ceil(points / (ARRAY_SHARE * at_once))))
+            sizes.append(size)
+            points -= size
+        return sizes
     if chunk_size is None:
-        if arrays:
-            return max(1, min(ARRAY_CHUNK_CAP,
-                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once))))
-        return max(1, min(DEFAULT_CHUNK_CAP,
-                          math.ceil(points / (CHUNKS_PER_WORKER * at_once))))
-    if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
+        size = max(1, min(DEFAULT_CHUNK_CAP, math.ceil(points / (CHUNKS_PER_WORKER * at_once))))
+    elif (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
             or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
         raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "
                          f"[1, {MAX_CHUNK_SIZE}] (a whole number of points per task)")
-    return chunk_size
+    else:
+        size = chunk_size
+    return [min(size, points - start) for start in range(0, points, size)]
