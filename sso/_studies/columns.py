@@ -221,11 +221,12 @@ def packed(column: np.ndarray) -> Any:
     if not len(column):
         return column
     if column.dtype != object:
+        if (column.dtype == np.int64 and column.ndim == 1 and len(column) > 1
+                and np.all(np.diff(column) == 1)):
+            return "range", int(column[0]), len(column)
         raw = np.ascontiguousarray(column).view(np.uint8).reshape(len(column), -1)
         if np.array_equal(raw, np.broadcast_to(raw[0], raw.shape)):
             return "same", column[:1].copy(), len(column)
-        if column.dtype == np.int64 and column.ndim == 1 and np.all(np.diff(column) == 1):
-            return "range", int(column[0]), len(column)
         return column
     if column.ndim != 1:
         return column
