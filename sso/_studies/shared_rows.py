@@ -83,8 +83,12 @@ class SharedColumns:
         size = max(offset, 1)
         name = f"sso-sweep-rows-{secrets.token_hex(16)}"
         self._descriptor = os.memfd_create(name, os.MFD_CLOEXEC)
-        os.ftruncate(self._descriptor, size)
-        memory = mmap.mmap(self._descriptor, size)
+        try:
+            os.ftruncate(self._descriptor, size)
+            memory = mmap.mmap(self._descriptor, size)
+        except OSError:
+            self.close()
+            raise
         self.layout = SharedLayout(name, os.getpid(), self._descriptor, size, length,
                                    tuple(placed))
         self.arrays = _views(memory, self.layout)
