@@ -41,7 +41,6 @@ from sso._limits import (
 from sso._record import Record
 from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
-    OPTION_NAMES,
     StartMovedWarning,
     build_problem,
     free_angles,
@@ -176,28 +175,6 @@ class BatchResult(Record, Readable):
             ) from None
         return pandas.DataFrame(self.to_columns())
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (arrays as nested lists)."""
-        return {
-            "option": self.option,
-            "option_name": OPTION_NAMES[self.option],
-            "model": self.model,
-            "input_speed_rpm": self.input_speed_rpm,
-            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
-            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
-            "fun": self.fun.tolist(),
-            "beta_deg": self.beta_deg.tolist(),
-            "phase_deg": self.phase_deg.tolist(),
-            "success": self.success.tolist(),
-            "status": self.status.tolist(),
-            "message": list(self.message),
-            "nit": self.nit.tolist(),
-            "nfev": self.nfev.tolist(),
-            "kkt": self.kkt.tolist(),
-            "speed_min_rpm": self.speed_min_rpm.tolist(),
-            "speed_max_rpm": self.speed_max_rpm.tolist(),
-        }
-
 
 def optimise_batch(
     beta_deg: Any,
@@ -297,7 +274,7 @@ def optimise_batch(
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
     native = native_solver_of(
-        (n_joints, option_number),
+        (n_joints, option_number), len(free),
         lambda: compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model,
                                            option_number, beta_bounds, phase_bounds), 0))
     parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,

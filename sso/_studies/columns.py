@@ -265,6 +265,10 @@ def unpacked(column: Any) -> np.ndarray:
     return taken
 
 
+INT64_RANGE = (-(2**63), 2**63 - 1)
+"""Whole numbers an int64 column holds; a column with any other keeps Python ints."""
+
+
 def _column(name: str, values: list[Any]) -> np.ndarray:
     """The best array for one column's values (object when the kinds mix)."""
     present = [value for value in values if value is not None]
@@ -273,7 +277,8 @@ def _column(name: str, values: list[Any]) -> np.ndarray:
             return np.array([np.nan if value is None else value for value in values],
                             dtype=float)
         if len(present) == len(values) and all(
-                isinstance(value, int) and not isinstance(value, bool) for value in values):
+                isinstance(value, int) and not isinstance(value, bool)
+                and INT64_RANGE[0] <= value <= INT64_RANGE[1] for value in values):
             return np.array(values, dtype=np.int64)
         lists = [value for value in present if isinstance(value, (list, tuple))]
         if (lists and len(lists) == len(present) and len({len(value) for value in lists}) == 1
