@@ -431,10 +431,14 @@ def issue_12_targets(quick: bool) -> dict[str, Any]:
             "measured": ", ".join(f"{option} {ratio:.2f}x (CPU time {default_cpu[option]:.2f}x)"
                                   for option, ratio in default.items())},
         "optimise_batch >= 100,000 designs/s and >= 20x the skilled baseline": {
-            "met": batch["designs_per_s"] >= 100_000 and batch["ratio"] >= 20,
-            "measured": (f"{batch['designs_per_s']:,.0f} designs/s, {batch['ratio']:.1f}x; "
-                         f"RE <= 1e-10 where the baseline reaches it: "
-                         f"{batch['batch_reached_where_baseline_did']:.2%}; "
+            "met": (batch["designs_per_s"] >= 100_000 and batch["ratio"] >= 20
+                    and batch["batch_reached_where_single_did"] == 1.0),
+            "measured": (f"{batch['designs_per_s']:,.0f} designs/s ({batch['path']} path; "
+                         f"the numpy path {batch['numpy_designs_per_s']:,.0f} designs/s in "
+                         f"this run, {batch['compiled_over_numpy']:.2f}x), "
+                         f"{batch['ratio']:.1f}x; RE <= 1e-10 where the baseline reaches "
+                         f"it: {batch['batch_reached_where_baseline_did']:.2%}, where the "
+                         f"single solve does: {batch['batch_reached_where_single_did']:.2%}; "
                          f"{batch['over_array_floor']:.1f}x the time of its arithmetic "
                          f"({batch['operations_per_design']:,.0f} operations per design) as "
                          f"element-wise numpy operations on arrays of its size, "

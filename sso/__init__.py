@@ -40,6 +40,7 @@ _EXPORTS: dict[str, str] = {
     "JointCentresResult": "sso._column.joint_centres",
     "PhasingResult": "sso._column.phasing",
     "SplineResult": "sso._column.splines",
+    "ColumnRun": "sso._run.column",
     "YokeInstruction": "sso._column.splines",
     "excitation_table": "sso._column.excitation",
     "ExcitationRow": "sso._column.excitation",

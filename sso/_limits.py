@@ -126,8 +126,13 @@ INPUT_MAGNITUDE_RANGE = (1e-100, 1e100)
 products and ratios of such numbers neither overflow nor vanish."""
 
 MAX_INPUT_FILE_BYTES = 1_000_000
-"""Largest case, sweep or result file read, bytes (1 MB); larger files, and paths
-that are not regular files (FIFOs, devices, folders), are refused unread."""
+"""Largest case or sweep file read, bytes (1 MB); larger files, and paths that are
+not regular files (FIFOs, devices, folders), are refused unread."""
+
+MAX_RESULT_FILE_BYTES = 100_000_000
+"""Largest saved result (``result.json``) read back, bytes (100 MB): sso reads back
+what it writes, and the result of a column case with positions, tolerances and a
+steering feel holds about 2 MB of the curves its report draws."""
 
 DEFAULT_MEMORY_LIMIT_MB = 4096.0
 """Memory a tolerance study, sweep or multi-start run may be estimated to need, MB.

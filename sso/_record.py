@@ -41,6 +41,7 @@ import numpy as np
 
 from sso._files import read_input_bytes
 from sso._kinematics.hooke import MODELS
+from sso._limits import MAX_RESULT_FILE_BYTES
 from sso._validation import shown
 
 RECORD_VERSION = 1
@@ -174,7 +175,7 @@ def read_json_object(path: str | Path) -> dict[str, Any]:
         number that cannot be read, or is not a JSON object.
     """
     try:
-        data = read_input_bytes(path)
+        data = read_input_bytes(path, MAX_RESULT_FILE_BYTES)
     except ValueError as error:
         raise RecordError(f"{path}: cannot read the result file: {error}") from None
     try:

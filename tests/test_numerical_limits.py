@@ -257,9 +257,10 @@ def test_validate_then_evaluate_refuses_both_times_or_gives_the_exact_figures(tm
 
 
 PROBE_DIGITS = 200
-"""Enough for the RE of a chain at the floor: its matrix entries fall to sqrt(1e-140)
-from partial products of size up to 1 (70 digits), and RE itself is a difference
-from 1 (the 40 digits below 1e-40)."""
+"""Far more than the RE of any chain sso accepts needs: its matrix entries fall no lower
+than sqrt(det M) (det M >= 3.9e-16, docs/model.md "Numerical limits") from partial
+products of size up to 1, and RE is a difference from 1 (40 more digits for RE down
+to 1e-40)."""
 
 PROBE_STEPS_RAD = (1e-9, 1e-6, 1e-3)
 """Moves of one design variable tried around a reported optimum (rad)."""

@@ -42,6 +42,7 @@ from sso._cases.column_tilt import TILT_KEYS, TILT_TABLE, case_points
 from sso._cases.schema import (
     REQUIRED,
     Key,
+    SavedCase,
     bounds_list,
     choice,
     number,
@@ -66,6 +67,7 @@ from sso._limits import (
     DEFAULT_STRAIGHT_AHEAD_DEG,
     DEFAULT_WINDOW_DEG,
 )
+from sso._record import register_record
 
 COLUMN_KIND = "column"
 MAX_EXCITATION_ROWS = 1000
@@ -166,9 +168,13 @@ COLUMN_KEYS: tuple[Key, ...] = (
 )
 
 
+@register_record
 @dataclass(frozen=True)
-class ColumnCase:
+class ColumnCase(SavedCase):
     """A 3D-column case as read from a case file, after defaults.
+
+    A column run's result holds it in its saved form (the case-file tables), read
+    back through every check of a case file.
 
     Attributes
     ----------
@@ -205,6 +211,14 @@ class ColumnCase:
     def has_joint_boxes(self) -> bool:
         """True when the case moves the joints (``[joint_boxes]`` given)."""
         return "joint_boxes.min_mm" in self.values
+
+    @property
+    def joint_boxes_mm(self) -> tuple[tuple[tuple[float, ...], tuple[float, ...]], ...]:
+        """Lower and upper corner of each joint's box, mm (``[joint_boxes]``), or none."""
+        if not self.has_joint_boxes:
+            return ()
+        return tuple(zip(self.values["joint_boxes.min_mm"], self.values["joint_boxes.max_mm"],
+                         strict=True))
 
     def positions(self) -> dict[str, ColumnGeometry] | None:
         """The named positions (``[hardpoints.positions]``), or None."""

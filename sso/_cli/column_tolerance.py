@@ -64,20 +64,20 @@ def _studied_design(args: argparse.Namespace, case: Any) -> tuple[tuple[Any, Any
 
 
 def _recommended(path: str) -> tuple[tuple[Any, Any], str]:
-    """The recommended assembly of a column's result document."""
-    from sso._column.geometry import ColumnGeometry
-    from sso._reports.writer import read_result
+    """The recommended assembly of a column run's saved result.
 
-    document = read_result(path)
-    if document.get("kind") != "column":
-        raise ValueError(f"{path} is no column case's result (kind = "
-                         f"{document.get('kind')!r}); give the result.json of sso run of this "
-                         "column case, or --at start")
-    role = document.get("recommended")
-    chosen = [entry for entry in document.get("assemblies", []) if entry.get("role") == role]
-    if not chosen:
-        raise ValueError(f"{path} names no recommended assembly; give a result of sso run, or "
-                         "--at start")
-    geometry = ColumnGeometry(document["geometry"]["points_mm"])
-    return ((geometry, chosen[0]["yoke_phase_deg"]),
-            f"the recommended assembly ({chosen[0]['label']}) read from {path}")
+    Raises
+    ------
+    ValueError
+        If ``path`` holds no saved column run (a RecordError names the field).
+    """
+    from sso._cli.saved_results import read_saved_result
+    from sso._run.column import ColumnRun
+
+    run = read_saved_result(path)
+    if not isinstance(run, ColumnRun):
+        raise ValueError(f"{path} is no column case's result (type = {type(run).__name__}); "
+                         "give the result.json of sso run of this column case, or --at start")
+    chosen = run.assembly(run.recommended)
+    return ((run.geometry, chosen.yoke_phase_deg),
+            f"the recommended assembly ({chosen.label}) read from {path}")

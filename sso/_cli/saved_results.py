@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from sso._files import write_text_atomic
-from sso._record import Record, RecordError, json_schema, read_json_object
+from sso._record import RECORD_VERSION, Record, RecordError, json_schema, read_json_object
 from sso._validation import shown
 
 SHIPPED_SCHEMA = "result.schema.json"
@@ -54,6 +54,11 @@ def read_saved_result(path: str | Path) -> Record:
         field is missing, unknown, of the wrong type or out of range (named).
     """
     saved = read_json_object(path)
+    if "type" not in saved and "schema_version" in saved:
+        raise RecordError(f"{path}: a result document of an earlier sso (schema_version = "
+                          f"{shown(saved['schema_version'])}): this sso reads saved results "
+                          f'("type" and "version" {RECORD_VERSION}) only; write it again with '
+                          "sso run or sso evaluate of its case")
     classes = result_classes()
     kind = saved.get("type")
     if not isinstance(kind, str) or kind not in classes:

@@ -116,7 +116,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     from sso._cases.mechanism import MECHANISM_KINDS
     from sso._files import replace_folder
     from sso._reports.kinds import CASE_REPORT, render_report
-    from sso._run.column_document import column_document
+    from sso._run.column import run_column
     from sso._run.mechanism_run import run_mechanism
     from sso._run.shaft_series import run_shaft_series
 
@@ -124,7 +124,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     result: Any
     try:
         if case.kind == COLUMN_KIND:
-            result = column_document(case, optimising)
+            result = run_column(case, optimising)
         elif case.kind in MECHANISM_KINDS:
             result = run_mechanism(case, optimising)
         else:
@@ -169,7 +169,8 @@ class _Told:
 
 
 def _told(result: Any) -> _Told:
-    """What to tell of a shaft-series or mechanism run (a result) or a column document."""
+    """What to tell of a case run's result."""
+    from sso._run.column import ColumnRun
     from sso._run.mechanism_run import MechanismRun
     from sso._run.shaft_series import ShaftSeriesRun
 
@@ -181,15 +182,15 @@ def _told(result: Any) -> _Told:
     if isinstance(result, MechanismRun):
         return _Told(result.mode, result.success, result.verdict, result.warnings,
                      (None, None, None))
-    designs = result.get("designs", {})
-    objective = designs.get("optimum", {}).get("objective")
-    note = None if objective is None else (
-        f"{objective['name']} {format_number(objective['at_teeth'], 3)} at the teeth, "
-        f"{format_number(objective['continuous'], 3)} continuous")
-    return _Told(result["mode"], result["success"], result["verdict"],
-                 tuple(result["warnings"]),
-                 tuple(designs[role]["evaluation"]["residual_error"] if role in designs else None
-                       for role in ("initial", "optimum", "reference")), note)
+    if not isinstance(result, ColumnRun):
+        raise TypeError(f"no case run gives a {type(result).__name__}")
+    optimum = result.optimum
+    note = None if optimum is None or optimum.objective is None else (
+        f"{optimum.objective} {format_number(optimum.objective_at_teeth, 3)} at the teeth, "
+        f"{format_number(optimum.objective_continuous, 3)} continuous")
+    return _Told(result.mode, result.success, result.verdict, result.warnings,
+                 (result.initial.residual_error,
+                  None if optimum is None else optimum.residual_error, None), note)
 
 
 def _status(told: _Told) -> tuple[str, int]:

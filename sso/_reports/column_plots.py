@@ -1,17 +1,19 @@
-"""Plots of a column result: ``column_3d.png`` (the column in space) and ``excitation.png``.
+"""Plots of a column case run: ``column_3d.png`` (the column in space) and ``excitation.png``.
 
-Drawn from the result document alone, on the figures of :mod:`sso._reports.plots`
-(matplotlib imported on first use, Agg canvas, no pyplot state).
+Drawn from the run alone (:class:`sso._run.column.ColumnRun`), on the figures of
+:mod:`sso._reports.plots` (matplotlib imported on first use, Agg canvas, no pyplot
+state).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
+from sso._column.geometry import ColumnGeometry
 from sso._reports.plots import _new_figure, _png
+from sso._run.column import ColumnRun
 
 # Half the side of a bend-plane patch, as a fraction of the column's extent.
 PATCH_FRACTION = 0.1
@@ -25,48 +27,46 @@ FIGURE_NAMES = {"drive_rad_s2": "drive (SAE AE-7)", "coast_rad_s2": "coast (SAE 
                 "exact_output_accel_rad_s2": "exact output acceleration"}
 
 
-def render_column_plots(document: Mapping[str, Any]) -> dict[str, bytes]:
-    """PNG images of a column result, keyed by file name.
+def render_column_plots(run: ColumnRun) -> dict[str, bytes]:
+    """PNG images of a column run, keyed by file name.
 
     Returns
     -------
     dict of str to bytes
-        ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's plots
-        (:mod:`sso._reports.column_robust_plots`) when the document has one.
+        ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's
+        plots (:mod:`sso._reports.column_robust_plots`) when the run has one.
     """
     from sso._reports.column_robust_plots import render_robust_plots
     from sso._reports.column_steering_plots import steering_plot
     from sso._reports.column_steering_report import STEERING_PLOT
 
-    steering = {STEERING_PLOT: steering_plot(document)} if "steering" in document else {}
-    return {"column_3d.png": _column_3d(document), "excitation.png": _excitation(document),
-            **steering, **render_robust_plots(document)}
+    return {"column_3d.png": _column_3d(run), "excitation.png": _excitation(run),
+            STEERING_PLOT: steering_plot(run.steering), **render_robust_plots(run)}
 
 
-def _column_3d(document: Mapping[str, Any]) -> bytes:
+def _column_3d(run: ColumnRun) -> bytes:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     figure = _new_figure()
     axes = figure.add_subplot(projection="3d")
-    geometry = document["geometry"]
-    points = np.asarray(geometry["points_mm"], dtype=float)
-    moved = document.get("joint_positions")
+    geometry = run.geometry
+    points = np.asarray(geometry.points_mm, dtype=float)
+    moved = run.joint_centres
     _draw_column(axes, points, "#1f77b4", "given hardpoints", "-")
-    patches = bend_patches(points, geometry["bend_normals"])
+    patches = bend_patches(points, geometry.bend_normals)
     axes.add_collection3d(Poly3DCollection(patches, facecolors="#ff7f0e", alpha=0.3,
                                            edgecolors="#ff7f0e", linewidths=0.6))
     every = [points]
-    positions = (document.get("robust") or {}).get("positions")
-    for index, (name, entry) in enumerate((positions or {}).get("geometry", {}).items()):
-        position = np.asarray(entry["points_mm"], dtype=float)
+    for index, (name, column) in enumerate(position_geometries(run).items()):
+        position = np.asarray(column.points_mm, dtype=float)
         axes.plot(position[:, 0], position[:, 1], position[:, 2], linestyle=":", linewidth=1.6,
                   color=POSITION_COLOURS[index % len(POSITION_COLOURS)],
                   label=f"position {name}")
         every.append(position)
-    for low, high, _ in joint_boxes(document):
+    for low, high in run.case.joint_boxes_mm:
         _draw_box(axes, np.asarray(low, dtype=float), np.asarray(high, dtype=float))
     if moved is not None:
-        moved_points = np.asarray(moved["points_mm"], dtype=float)
+        moved_points = np.asarray(moved.points_mm, dtype=float)
         _draw_column(axes, moved_points, "#2ca02c", "joints moved within their boxes", "--")
         every.append(moved_points)
     for index, point in enumerate(points):
@@ -77,21 +77,19 @@ def _column_3d(document: Mapping[str, Any]) -> bytes:
     axes.set_xlabel("x (mm)")
     axes.set_ylabel("y (mm)")
     axes.set_zlabel("z (mm)")
-    angles = ", ".join(f"{beta:.1f}" for beta in geometry["beta_deg"])
-    gammas = ", ".join(f"{gamma:.1f}" for gamma in geometry["plane_angle_deg"])
+    angles = ", ".join(f"{beta:.1f}" for beta in geometry.beta_deg)
+    gammas = ", ".join(f"{gamma:.1f}" for gamma in geometry.plane_angle_deg)
     axes.set_title(f"Column: operating angles {angles} deg; bend planes (orange) turned by "
                    f"{gammas} deg", fontsize=10)
     axes.legend(loc="upper left", fontsize=9)
     return _png(figure)
 
 
-def joint_boxes(document: Mapping[str, Any]) -> list[tuple[Any, Any, int]]:
-    """``(low, high, joint)`` of each box of ``[joint_boxes]`` (mm; joints from 1), or none."""
-    boxes = document["case"].get("joint_boxes")
-    if not boxes:
-        return []
-    return [(low, high, joint) for joint, (low, high)
-            in enumerate(zip(boxes["min_mm"], boxes["max_mm"], strict=True), start=1)]
+def position_geometries(run: ColumnRun) -> dict[str, ColumnGeometry]:
+    """The named tilt positions of the run (``[hardpoints.positions]``), or none."""
+    if run.robust is None or run.robust.positions is None:
+        return {}
+    return run.robust.positions.geometries
 
 
 def _draw_column(axes: Any, points: np.ndarray, colour: str, label: str, style: str) -> None:
@@ -154,33 +152,33 @@ def _equal_aspect(axes: Any, points: np.ndarray) -> None:
     axes.set_box_aspect((1.0, 1.0, 1.0))
 
 
-def _excitation(document: Mapping[str, Any]) -> bytes:
+def _excitation(run: ColumnRun) -> bytes:
     figure = _new_figure()
     axes = figure.add_subplot()
-    excitation = document["excitation"]
-    recommended = document["recommended"]
-    labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
-    first = next(iter(excitation["rows"].values()))[0]
-    judged = first["inertial_limit_rad_s2"] is not None
+    labels = {assembly.role: assembly.label for assembly in run.assemblies}
+    first = next(iter(run.excitation.values()))[0]
+    vehicle = next(iter(run.excitation.values())).vehicle
+    judged = first.inertial_limit_rad_s2 is not None and first.torsional_limit_rad_s2 is not None
     # A log axis cannot show 0: a cancelled figure is drawn on the floor, a millionth
     # of the largest figure (of the torsional limit where limits apply), and said to
     # be below it in the label.
-    largest = max(row[name] for rows in excitation["rows"].values() for row in rows
+    largest = max(getattr(row, name) for table in run.excitation.values() for row in table
                   for name in FIGURE_COLOURS)
-    floor = 1e-6 * (first["torsional_limit_rad_s2"] if judged else max(largest, 1e-300))
-    for role, rows in excitation["rows"].items():
-        style = ROLE_STYLES["recommended" if role == recommended else "as_built"]
-        speeds = [row["input_speed_rpm"] for row in rows]
+    floor = 1e-6 * (first.torsional_limit_rad_s2
+                    if first.torsional_limit_rad_s2 is not None else max(largest, 1e-300))
+    for role, table in run.excitation.items():
+        style = ROLE_STYLES["recommended" if role == run.recommended else "as_built"]
+        speeds = [row.input_speed_rpm for row in table]
         for figure_name, colour in FIGURE_COLOURS.items():
-            values = np.array([row[figure_name] for row in rows])
+            values = np.array([getattr(row, figure_name) for row in table])
             below = " (below the plot)" if np.all(values < floor) else ""
             axes.plot(speeds, np.maximum(values, floor), color=colour, **style,
                       label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
     if judged:
-        axes.axhline(first["inertial_limit_rad_s2"], color="black", linestyle=":",
-                     linewidth=1.5, label=f"inertial limit ({excitation['vehicle']})")
-        axes.axhline(first["torsional_limit_rad_s2"], color="grey", linestyle="-.",
-                     linewidth=1.5, label=f"torsional limit ({excitation['vehicle']})")
+        axes.axhline(first.inertial_limit_rad_s2, color="black", linestyle=":",
+                     linewidth=1.5, label=f"inertial limit ({vehicle})")
+        axes.axhline(first.torsional_limit_rad_s2, color="grey", linestyle="-.",
+                     linewidth=1.5, label=f"torsional limit ({vehicle})")
     axes.set_yscale("log")
     axes.set_xlabel("input speed (rpm)")
     axes.set_ylabel("angular acceleration excitation (rad/s^2)")

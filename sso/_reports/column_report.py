@@ -1,20 +1,21 @@
-"""Report of a column result: ``report.md``/``.html`` blocks and ``excitation.csv``.
+"""Report of a column case run: ``report.md``/``.html`` blocks and ``excitation.csv``.
 
-Rendered from the result document alone (:mod:`sso._run.column_document`), with
-the same Markdown and HTML writers as every other report.
+Rendered from the run alone (:class:`sso._run.column.ColumnRun`), with the same
+Markdown and HTML writers as every other report.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
 
 from sso._column.geometry import shaft_name
+from sso._column.joint_centres import JointCentresResult
 from sso._limits import REPORT_DIGITS
 from sso._reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
+from sso._reports.documents import report_files
 from sso._reports.summary import (
     Block,
     Heading,
@@ -24,7 +25,9 @@ from sso._reports.summary import (
     Table,
     closing_blocks,
     number,
+    opening_blocks,
 )
+from sso._run.column import ColumnRun
 
 EXCITATION_FILE = "excitation.csv"
 EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsional_rad_s2",
@@ -56,82 +59,92 @@ CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k
               "by its bend-plane angle (the textbook correction).")
 
 
-def excitation_csv(document: Mapping[str, Any]) -> str:
+def column_files(run: ColumnRun, formats: Sequence[str]) -> dict[str, bytes]:
+    """Contents of every requested file of a column run's report but ``result.json``,
+    keyed by file name (nothing is written).
+
+    Parameters
+    ----------
+    run : ColumnRun
+    formats : sequence of {"json", "csv", "md", "html", "png"}
+        Files to render. Without ``"png"`` matplotlib is never imported and the
+        reports carry no plots.
+    """
+    from sso._reports.column_plots import render_column_plots
+
+    return report_files(formats, lambda: {EXCITATION_FILE: excitation_csv(run)},
+                        lambda: render_column_plots(run),
+                        lambda images: column_blocks(run, images))
+
+
+def excitation_csv(run: ColumnRun) -> str:
     """``excitation.csv``: one row per speed and assembly (as built, recommended), six
     significant digits (``result.json`` keeps every digit)."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(("assembly", *EXCITATION_COLUMNS))
-    for role, rows in document["excitation"]["rows"].items():
-        for row in rows:
-            writer.writerow((role, *(f"{row[name]:.{REPORT_DIGITS}g}"
-                                     if isinstance(row[name], float) else row[name]
-                                     for name in EXCITATION_COLUMNS)))
+    for role, table in run.excitation.items():
+        for row in table:
+            values = (getattr(row, name) for name in EXCITATION_COLUMNS)
+            writer.writerow((role, *(f"{value:.{REPORT_DIGITS}g}" if isinstance(value, float)
+                                     else value for value in values)))
     return buffer.getvalue()
 
 
-def column_blocks(document: Mapping[str, Any], image_files: Sequence[str]) -> list[Block]:
-    """Blocks of the whole report of a column result."""
-    case = document["case"]
-    blocks: list[Block] = [Heading(1, f"SSO report: {case['name']}")]
-    if case.get("description"):
-        blocks.append(Paragraph(case["description"]))
-    status = "OK" if document["success"] else "FAILED"
-    blocks += [_case_table(document), Heading(2, "Verdict"),
-               Paragraph(f"{status}: {document['verdict']}"),
-               Heading(2, "Geometry from the hardpoints"), _geometry_table(document),
-               _shaft_table(document), Paragraph(CONVENTION), _scene(document),
-               Heading(2, "Can phasing cancel the fluctuation?"), *_cancel_blocks(document),
-               Heading(2, "Assemblies compared"), _assembly_table(document),
-               Heading(2, "Yoke phasing for the fitter"), _phasing_table(document),
-               *_exact_set_blocks(document)]
-    if "splines" in document:
-        splines = document["splines"]
-        objective = splines.get("objective", "RE")
-        subject = ("the best continuous phasing" if objective == "RE"
+def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
+    """Blocks of the whole report of a column run."""
+    blocks = opening_blocks(run.case.name, run.case.description, _case_table(run), run.success,
+                            run.verdict)
+    blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),
+               _shaft_table(run), Paragraph(CONVENTION), _scene(run),
+               Heading(2, "Can phasing cancel the fluctuation?"), _cancel_table(run),
+               Heading(2, "Assemblies compared"), _assembly_table(run),
+               Heading(2, "Yoke phasing for the fitter"), _phasing_table(run),
+               *_exact_set_blocks(run)]
+    splines = run.splines
+    if splines is not None:
+        subject = ("the best continuous phasing" if splines.objective == "RE"
                    else "the continuous phasing of that objective")
-        blocks += [Paragraph(f"Best on the splines for the {objective}: "
-                             f"{number(splines['residual_error'], '.6g')} at the teeth, against "
-                             f"{number(splines['continuous_residual_error'], '.6g')} for "
+        blocks += [Paragraph(f"Best on the splines for the {splines.objective}: "
+                             f"{number(splines.residual_error, '.6g')} at the teeth, against "
+                             f"{number(splines.continuous_residual_error, '.6g')} for "
                              f"{subject} (loss "
-                             f"{number(splines['loss'], '.3g')}; {splines['method']}, "
-                             f"{splines['assemblies_evaluated']} assemblies evaluated, "
-                             f"{len(splines['ties'])} tied)."),
+                             f"{number(splines.loss, '.3g')}; {splines.method}, "
+                             f"{splines.assemblies_evaluated} assemblies evaluated, "
+                             f"{len(splines.ties)} tied)."),
                    Heading(3, "Assembly instructions"),
-                   *[Paragraph(item["text"]) for item in document["splines"]["instructions"]]]
-    if "joint_positions" in document:
+                   *[Paragraph(item.text) for item in splines.instructions]]
+    if run.joint_centres is not None:
         blocks += [Heading(2, "Joint positions moved within their boxes"),
-                   *_joint_blocks(document)]
-    blocks += steering_blocks(document)
-    blocks += robust_blocks(document)
-    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(document)]
+                   *_joint_blocks(run.joint_centres)]
+    blocks += steering_blocks(run)
+    blocks += robust_blocks(run)
+    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(run)]
     images = [Image(name, CAPTIONS[name]) for name in image_files]
-    return blocks + closing_blocks(document["warnings"], document["versions"], images)
+    return blocks + closing_blocks(run.warnings, run.versions, images)
 
 
-def _scene(document: Mapping[str, Any]) -> Scene:
+def _scene(run: ColumnRun) -> Scene:
     from sso._reports.column_scene import column_scene
 
-    return Scene(column_scene(document), VIEW_CAPTION)
+    return Scene(column_scene(run), VIEW_CAPTION)
 
 
-def _case_table(document: Mapping[str, Any]) -> Table:
-    case = document["case"]
-    geometry = document["geometry"]
-    rows = [("case file", str(document["case_file"])), ("kind", document["kind"]),
+def _case_table(run: ColumnRun) -> Table:
+    excitation = run.excitation["as_built"]
+    rows = [("case file", run.case.source), ("kind", run.case.kind),
             ("run", {"optimise": "phasing, spline teeth and joint-position optimisation",
-                     "evaluate": "analysis of the assembly as built"}[document["mode"]]),
-            ("joints", str(len(geometry["beta_deg"]))),
-            ("application", document["excitation"].get("application", "driveline")),
-            ("vehicle (limits)", document["excitation"]["vehicle"]),
-            ("spline teeth", ", ".join(str(t) for t in case.get("splines", {}).get("teeth", []))
-             or "not given")]
+                     "evaluate": "analysis of the assembly as built"}[run.mode]),
+            ("joints", str(run.geometry.joint_count)),
+            ("application", excitation.application),
+            ("vehicle (limits)", excitation.vehicle),
+            ("spline teeth", ", ".join(str(t) for t in run.case.teeth or ()) or "not given")]
     return Table(("item", "value"), tuple(rows))
 
 
-def _geometry_table(document: Mapping[str, Any]) -> Table:
-    geometry = document["geometry"]
-    points = geometry["points_mm"]
+def _geometry_table(run: ColumnRun) -> Table:
+    geometry = run.geometry
+    points = geometry.points_mm
     rows = []
     for index, point in enumerate(points):
         coordinates = ", ".join(f"{value:.1f}" for value in point)
@@ -139,16 +152,15 @@ def _geometry_table(document: Mapping[str, Any]) -> Table:
             role = "input shaft point" if index == 0 else "output shaft point"
             rows.append((f"P{index}", role, coordinates, "-"))
         else:
-            straight = " (straight)" if geometry["straight_joints"][index - 1] else ""
+            straight = " (straight)" if geometry.straight_joints[index - 1] else ""
             rows.append((f"P{index}", f"joint {index}", coordinates,
-                         number(geometry["beta_deg"][index - 1], ".4f") + straight))
+                         number(geometry.beta_deg[index - 1], ".4f") + straight))
     return Table(("point", "role", "x, y, z (mm)", "operating angle beta (deg)"), tuple(rows))
 
 
-def _shaft_table(document: Mapping[str, Any]) -> Table:
-    geometry = document["geometry"]
-    lengths = geometry["shaft_length_mm"]
-    gammas = geometry["plane_angle_deg"]
+def _shaft_table(run: ColumnRun) -> Table:
+    lengths = run.geometry.shaft_length_mm
+    gammas = run.geometry.plane_angle_deg
     rows = []
     for shaft, length in enumerate(lengths):
         gamma = number(gammas[shaft - 1], ".4f") if 1 <= shaft <= len(gammas) else "-"
@@ -158,106 +170,102 @@ def _shaft_table(document: Mapping[str, Any]) -> Table:
                  tuple(rows))
 
 
-def _cancel_blocks(document: Mapping[str, Any]) -> list[Block]:
-    verdict = document["cancel"]
-    answer = "yes" if verdict["possible"] else "no"
-    rows = (("rule", verdict["rule"]),
-            ("RE = 0 reachable", answer),
-            ("margin cos(beta_max) - prod cos(beta_other)", number(verdict["margin"], ".6g")),
-            ("limiting joint", str(verdict["limiting_joint"])),
+def _cancel_table(run: ColumnRun) -> Table:
+    verdict = run.cancel
+    rows = (("rule", verdict.rule),
+            ("RE = 0 reachable", "yes" if verdict.possible else "no"),
+            ("margin cos(beta_max) - prod cos(beta_other)", number(verdict.margin, ".6g")),
+            ("limiting joint", str(verdict.limiting_joint)),
             ("Spicer small-angle margin sum beta_other^2 - beta_max^2 (deg^2)",
-             number(verdict["small_angle_margin_deg2"], ".4g")),
-            ("least RE any phasing reaches", number(verdict["minimum_residual_error"], ".6g")))
-    return [Table(("criterion", "value"), rows)]
+             number(verdict.small_angle_margin_deg2, ".4g")),
+            ("least RE any phasing reaches", number(verdict.minimum_residual_error, ".6g")))
+    return Table(("criterion", "value"), rows)
 
 
-def _assembly_table(document: Mapping[str, Any]) -> Table:
-    rows = []
-    for entry in document["assemblies"]:
-        rows.append((entry["label"], _angles(entry["yoke_phase_deg"]),
-                     _angles(entry["phase_deg"]), number(entry["residual_error"], ".6g")))
-    return Table(("assembly", "yoke phasing delta (deg)", "model phase phi (deg)", "RE"),
-                 tuple(rows))
+def _assembly_table(run: ColumnRun) -> Table:
+    rows = tuple((assembly.label, _angles(assembly.yoke_phase_deg), _angles(assembly.phase_deg),
+                  number(assembly.residual_error, ".6g"))
+                 for assembly in run.assemblies)
+    return Table(("assembly", "yoke phasing delta (deg)", "model phase phi (deg)", "RE"), rows)
 
 
-def _exact_set_blocks(document: Mapping[str, Any]) -> list[Block]:
-    exact = (document.get("phasing") or {}).get("exact_optima")
-    if exact is None:
+def _exact_set_blocks(run: ColumnRun) -> list[Block]:
+    phasing = run.phasing
+    extent = None if phasing is None else phasing.exact_optimum_extent_deg
+    if phasing is None or extent is None or phasing.optimisation.exact_optima is None:
         return []
     ends = "; ".join(f"shaft {shaft + 1}: "
                      + ("every phasing" if high - low >= 180.0 else
                         f"{number(low, '.3f')} to {number(high, '.3f')} deg")
-                     for shaft, (low, high) in enumerate(exact["extent_yoke_phase_deg"]))
+                     for shaft, (low, high) in enumerate(extent))
     return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
-                      f"{exact['dimension']}; the best phasing above is the one "
-                      f"{exact['criterion']}. The set's extent in delta (from the chosen "
-                      f"phasing along the set): {ends}.")]
+                      f"{phasing.optimisation.exact_optima.dimension}; the best phasing above "
+                      f"is the one {phasing.exact_optimum_criterion}. The set's extent in delta "
+                      f"(from the chosen phasing along the set): {ends}.")]
 
 
-def _phasing_table(document: Mapping[str, Any]) -> Table:
-    geometry = document["geometry"]
-    phasing = document.get("phasing")
-    splines = document.get("splines")
-    as_built = next(entry for entry in document["assemblies"] if entry["role"] == "as_built")
+def _phasing_table(run: ColumnRun) -> Table:
+    phasing, splines = run.phasing, run.splines
+    as_built = run.assembly("as_built")
     header = ["intermediate shaft", "gamma (deg)", "delta as built (deg)"]
     if phasing is not None:
         header += ["best delta (deg)", "all optimal delta, mod 180 (deg)"]
     if splines is not None:
         header += ["teeth", "tooth offset", "delta on the splines (deg)", "direction"]
     rows = []
-    for shaft, gamma in enumerate(geometry["plane_angle_deg"]):
+    for shaft, gamma in enumerate(run.geometry.plane_angle_deg):
         row = [f"{shaft + 1} (joint {shaft + 1} to {shaft + 2})", number(gamma, ".3f"),
-               number(as_built["yoke_phase_deg"][shaft], ".3f")]
+               number(as_built.yoke_phase_deg[shaft], ".3f")]
         if phasing is not None:
-            row += [number(phasing["yoke_phase_deg"][shaft], ".3f"),
+            row += [number(phasing.yoke_phase_deg[shaft], ".3f"),
                     "; ".join(number(optimum[shaft], ".3f")
-                              for optimum in phasing["equivalent_yoke_phase_deg"])]
+                              for optimum in phasing.equivalent_yoke_phase_deg)]
         if splines is not None:
-            offset = splines["tooth_offset"][shaft]
+            offset = splines.tooth_offset[shaft]
             direction = ("in phase" if offset == 0 else
                          "clockwise" if offset > 0 else "anticlockwise")
-            row += [str(splines["teeth"][shaft]), f"{offset:+d}",
-                    number(splines["yoke_phase_deg"][shaft], ".3f"),
+            row += [str(splines.teeth[shaft]), f"{offset:+d}",
+                    number(splines.yoke_phase_deg[shaft], ".3f"),
                     f"{direction}, looking from joint {shaft + 1} to joint {shaft + 2}"
                     if offset else direction]
         rows.append(tuple(row))
     return Table(tuple(header), tuple(rows))
 
 
-def _joint_blocks(document: Mapping[str, Any]) -> list[Block]:
-    moved = document["joint_positions"]
-    given = moved["initial"]["points_mm"]
+def _joint_blocks(moved: JointCentresResult) -> list[Block]:
+    given = moved.initial.points_mm
     rows = []
     for joint in range(1, len(given) - 1):
-        before, after = given[joint], moved["points_mm"][joint]
+        before, after = given[joint], moved.points_mm[joint]
         travel = sum((a - b) ** 2 for a, b in zip(after, before, strict=False)) ** 0.5
         rows.append((str(joint), ", ".join(f"{value:.2f}" for value in before),
                      ", ".join(f"{value:.2f}" for value in after), number(travel, ".3f"),
-                     number(moved["initial"]["beta_deg"][joint - 1], ".3f"),
-                     number(moved["geometry"]["beta_deg"][joint - 1], ".3f")))
-    phasing = "free" if moved["phasing_free"] else "fixed"
-    summary = (("yoke phasing", f"{phasing}: {_angles(moved['yoke_phase_deg'])} deg"),
-               ("RE at the given points (start phasing)", number(moved["initial_re"], ".6g")),
+                     number(moved.initial.beta_deg[joint - 1], ".3f"),
+                     number(moved.geometry.beta_deg[joint - 1], ".3f")))
+    phasing = "free" if moved.phasing_free else "fixed"
+    summary = (("yoke phasing", f"{phasing}: {_angles(moved.yoke_phase_deg)} deg"),
+               ("RE at the given points (start phasing)", number(moved.initial_re, ".6g")),
                ("least RE over phasing at the given points",
-                number(moved["fixed_points_re"], ".6g")),
-               ("RE with the joints moved", number(moved["fun"], ".6g")),
-               ("largest bound violation", number(moved["constraint_violation"], ".3g")),
-               ("cross-check", moved["crosscheck"]["message"] if moved["crosscheck"] else
+                number(moved.fixed_points_re, ".6g")),
+               ("RE with the joints moved", number(moved.fun, ".6g")),
+               ("largest bound violation", number(moved.constraint_violation, ".3g")),
+               ("cross-check", moved.crosscheck.message if moved.crosscheck else
                 "one solver, no cross-check"))
     return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
                    "beta given (deg)", "beta moved (deg)"), tuple(rows)),
             Table(("item", "value"), summary)]
 
 
-def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
-    excitation = document["excitation"]
-    labels = {entry["role"]: entry["label"] for entry in document["assemblies"]}
-    angle_rows = tuple((labels[role], number(angles["drive_deg"], ".4f"),
-                        number(angles["coast_deg"], ".4f"), number(angles["torsional_deg"], ".4f"),
-                        number(angles["exact_deg"], ".4f"))
-                       for role, angles in excitation["angles"].items())
-    judged = excitation.get("application", "driveline") == "driveline"
-    limits = (f"Limits ({excitation['vehicle']}): inertial (drive, coast) and torsional, as "
+def _excitation_blocks(run: ColumnRun) -> list[Block]:
+    labels = {assembly.role: assembly.label for assembly in run.assemblies}
+    angle_rows = tuple((labels[role], number(table.angles.drive_deg, ".4f"),
+                        number(table.angles.coast_deg, ".4f"),
+                        number(table.angles.torsional_deg, ".4f"),
+                        number(table.angles.exact_deg, ".4f"))
+                       for role, table in run.excitation.items())
+    first = run.excitation["as_built"]
+    judged = first.application == "driveline"
+    limits = (f"Limits ({first.vehicle}): inertial (drive, coast) and torsional, as "
               "used by driveline makers." if judged else
               "The SAE AE-7 limits (inertial 1000 / 2000, torsional 300 / 500 rad/s^2) are "
               "for propeller shafts at driveline speeds: they do not judge a steering column, "
@@ -269,16 +277,16 @@ def _excitation_blocks(document: Mapping[str, Any]) -> list[Block]:
                   "exact output acceleration is the largest |d w_out/dt| at constant input "
                   f"speed. {limits}"),
         Table(("assembly", "drive", "coast", "torsional", "exact beta_eq"), angle_rows)]
-    for role, rows in excitation["rows"].items():
-        table_rows = tuple((number(row["input_speed_rpm"], ".4g"),
-                            number(row["drive_rad_s2"], ".4g"), number(row["coast_rad_s2"], ".4g"),
-                            number(row["torsional_rad_s2"], ".4g"),
-                            number(row["exact_torsional_rad_s2"], ".4g"),
-                            number(row["exact_output_accel_rad_s2"], ".4g"),
-                            *((f"{row['inertial_limit_rad_s2']:g} / "
-                               f"{row['torsional_limit_rad_s2']:g}",
-                               "yes" if row["within_limits"] else "NO") if judged else ()))
-                           for row in rows)
+    for role, table in run.excitation.items():
+        table_rows = tuple((number(row.input_speed_rpm, ".4g"),
+                            number(row.drive_rad_s2, ".4g"), number(row.coast_rad_s2, ".4g"),
+                            number(row.torsional_rad_s2, ".4g"),
+                            number(row.exact_torsional_rad_s2, ".4g"),
+                            number(row.exact_output_accel_rad_s2, ".4g"),
+                            *((f"{row.inertial_limit_rad_s2:g} / "
+                               f"{row.torsional_limit_rad_s2:g}",
+                               "yes" if row.within_limits else "NO") if judged else ()))
+                           for row in table)
         limit_header = ("limits inertial / torsional", "within") if judged else ()
         blocks += [Heading(3, labels[role]),
                    Table(("rpm", "drive", "coast", "torsional", "exact torsional",

@@ -1,4 +1,4 @@
-"""The scene of a column's interactive 3D view (:mod:`sso._reports.view3d`), from its document.
+"""The scene of a column's interactive 3D view (:mod:`sso._reports.view3d`), from its run.
 
 Drawn: the shafts (named as everywhere else: input shaft, intermediate shafts from
 1, output shaft), the joints with their operating angles, the end points, each
@@ -9,13 +9,14 @@ boxes and the moved column when the case has them.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from sso._column.geometry import shaft_name
-from sso._reports.column_plots import POSITION_COLOURS, bend_patches, joint_boxes
+from sso._column.geometry import ColumnGeometry, shaft_name
+from sso._reports.column_plots import POSITION_COLOURS, bend_patches, position_geometries
+from sso._run.column import ColumnRun
 
 SHAFT_COLOUR = "#1f77b4"
 PLANE_COLOUR = "#ff7f0e"
@@ -27,22 +28,20 @@ VIEW_TURN_DEG = 20.0
 MAX_PITCH_DEG = 60.0
 
 
-def column_scene(document: Mapping[str, Any]) -> dict[str, Any]:
-    """The scene of a column result document (items in mm, centre, radius, first view)."""
-    geometry = document["geometry"]
-    points = np.asarray(geometry["points_mm"], dtype=float)
+def column_scene(run: ColumnRun) -> dict[str, Any]:
+    """The scene of a column run (items in mm, centre, radius, first view)."""
+    geometry = run.geometry
+    points = np.asarray(geometry.points_mm, dtype=float)
     items = _column_items(points, geometry)
-    positions = (document.get("robust") or {}).get("positions")
-    if positions is not None:
-        for index, (name, entry) in enumerate(positions["geometry"].items()):
-            items.append(_line(entry["points_mm"], POSITION_COLOURS[index % len(POSITION_COLOURS)],
-                               2.0, True, f"position {name} (hardpoints.positions.{name})"))
-    for low, high, joint in joint_boxes(document):
+    for index, (name, column) in enumerate(position_geometries(run).items()):
+        items.append(_line(column.points_mm, POSITION_COLOURS[index % len(POSITION_COLOURS)],
+                           2.0, True, f"position {name} (hardpoints.positions.{name})"))
+    for joint, (low, high) in enumerate(run.case.joint_boxes_mm, start=1):
         items += [_line(edge, BOX_COLOUR, 1.0, False, f"box of joint {joint} (joint_boxes)")
                   for edge in _box_edges(low, high)]
-    moved = document.get("joint_positions")
+    moved = run.joint_centres
     if moved is not None:
-        items.append(_line(moved["points_mm"], BOX_COLOUR, 2.5, True,
+        items.append(_line(moved.points_mm, BOX_COLOUR, 2.5, True,
                            "the column with its joints moved within their boxes"))
     # Fit everything drawn, bend-plane patches included.
     stacked = np.array([point for item in items
@@ -54,15 +53,15 @@ def column_scene(document: Mapping[str, Any]) -> dict[str, Any]:
             "yaw_deg": yaw_deg, "pitch_deg": pitch_deg}
 
 
-def _column_items(points: np.ndarray, geometry: Mapping[str, Any]) -> list[dict[str, Any]]:
+def _column_items(points: np.ndarray, geometry: ColumnGeometry) -> list[dict[str, Any]]:
     shafts = len(points) - 1
-    lengths = geometry["shaft_length_mm"]
-    gammas = geometry["plane_angle_deg"]
+    lengths = geometry.shaft_length_mm
+    gammas = geometry.plane_angle_deg
     items = [_line(points[[shaft, shaft + 1]], SHAFT_COLOUR, 4.0, False,
                    f"{shaft_name(shaft, shafts)} (P{shaft} to P{shaft + 1}), "
                    f"{lengths[shaft]:.1f} mm")
              for shaft in range(shafts)]
-    for joint, patch in enumerate(bend_patches(points, geometry["bend_normals"]), start=1):
+    for joint, patch in enumerate(bend_patches(points, geometry.bend_normals), start=1):
         turned = (f"; bend plane {joint + 1} turned by gamma_{joint} = "
                   f"{gammas[joint - 1]:.2f} deg about intermediate shaft {joint}"
                   if joint <= len(gammas) else "")
@@ -74,9 +73,9 @@ def _column_items(points: np.ndarray, geometry: Mapping[str, Any]) -> list[dict[
             items.append(_point(point, 4.0, f"P{index}: a point on the {side} shaft's axis",
                                 f"P{index}"))
         else:
-            straight = " (straight)" if geometry["straight_joints"][index - 1] else ""
+            straight = " (straight)" if geometry.straight_joints[index - 1] else ""
             items.append(_point(point, 6.0, f"joint {index} (P{index}): operating angle "
-                                f"{geometry['beta_deg'][index - 1]:.2f} deg{straight}",
+                                f"{geometry.beta_deg[index - 1]:.2f} deg{straight}",
                                 f"joint {index}"))
     return items
 

@@ -1,13 +1,12 @@
 """``steering.png``: speed ratio, torque ratio and transmission error from lock to lock.
 
-Drawn from ``document["steering"]`` alone, on the figures of :mod:`sso._reports.plots`.
+Drawn from the run's :class:`sso.SteeringAssessment` alone, on the figures of
+:mod:`sso._reports.plots`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
-
+from sso._column.steering_criteria import SteeringAssessment
 from sso._reports.plots import _new_figure, _png
 
 # Assemblies often coincide (as built = best on the splines): a dash each keeps every
@@ -18,22 +17,21 @@ CURVES = (("speed_ratio", "speed ratio out / in"),
           ("transmission_error_deg", "transmission error (deg)"))
 
 
-def steering_plot(document: Mapping[str, Any]) -> bytes:
+def steering_plot(steering: SteeringAssessment) -> bytes:
     """PNG of the steering curves of every assembly (one line each) against wheel angle."""
-    steering = document["steering"]
     figure = _new_figure()
     axes = figure.subplots(len(CURVES), 1, sharex=True)
-    for index, design in enumerate(steering["designs"]):
-        figures = design["range"]
+    for index, design in enumerate(steering.designs):
+        figures = design.range
         for panel, (name, _) in zip(axes, CURVES, strict=True):
-            panel.plot(figures["wheel_angle_deg"], figures[name], linewidth=1.6,
-                       linestyle=LINESTYLES[index % len(LINESTYLES)], label=design["label"])
+            panel.plot(figures.wheel_angle_deg, getattr(figures, name), linewidth=1.6,
+                       linestyle=LINESTYLES[index % len(LINESTYLES)], label=design.label)
     for panel, (_, label) in zip(axes, CURVES, strict=True):
         panel.set_ylabel(label, fontsize=8)
         panel.grid(True, alpha=0.3)
     axes[-1].set_xlabel("steering-wheel angle from straight ahead (deg; + clockwise as the "
                         "driver sees it)")
-    axes[0].set_title(f"Lock to lock (+-{steering['lock_deg']:g} deg): every assembly compared",
+    axes[0].set_title(f"Lock to lock (+-{steering.lock_deg:g} deg): every assembly compared",
                       fontsize=10)
     axes[0].legend(fontsize=7, loc="upper right")
     figure.tight_layout()

@@ -1,15 +1,15 @@
 """Report blocks of a column's steering figures: lock to lock, per assembly, and the criteria.
 
-Rendered from ``document["steering"]``
-(:meth:`sso._column.steering_criteria.SteeringAssessment.to_dict`).
+Rendered from the run's :class:`sso.SteeringAssessment` (``ColumnRun.steering``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Sequence
 
+from sso._column.steering_criteria import AssessedDesign
 from sso._reports.summary import Block, Heading, Paragraph, Table, number
+from sso._run.column import ColumnRun
 
 STEERING_PLOT = "steering.png"
 STEERING_CAPTION = ("Speed ratio (output over input speed), output torque ratio and "
@@ -18,22 +18,20 @@ STEERING_CAPTION = ("Speed ratio (output over input speed), output torque ratio 
                     "lock to lock (positive: clockwise as the driver sees the wheel).")
 
 
-def steering_blocks(document: Mapping[str, Any]) -> list[Block]:
-    """The section "Steering from lock to lock" (empty when the document has none)."""
-    steering = document.get("steering")
-    if steering is None:
-        return []
-    lock = steering["lock_deg"]
-    designs = steering["designs"]
+def steering_blocks(run: ColumnRun) -> list[Block]:
+    """The section "Steering from lock to lock"."""
+    steering = run.steering
+    lock = steering.lock_deg
+    designs = steering.designs
     settings = (f"Steering-wheel angle from -{lock:g} to +{lock:g} deg (steering.lock_deg; "
                 f"{2.0 * lock / 360.0:.3g} turns lock to lock), straight ahead at input yoke "
-                f"angle theta = {steering['straight_ahead_deg']:g} deg "
+                f"angle theta = {steering.straight_ahead_deg:g} deg "
                 "(steering.straight_ahead_deg, from the first bend plane's normal), positive "
                 "clockwise as the driver sees the wheel. Speed ratio: output over input speed "
                 "(mean 1 over a turn); output torque ratio: its inverse (no friction, no "
                 "inertia); transmission error: output turn minus steering-wheel turn from "
                 "straight ahead. Fluctuations are peak to peak, in percent of the mean ratio "
-                f"1; on-centre: within +-{steering['on_centre_deg']:g} deg of straight ahead "
+                f"1; on-centre: within +-{steering.on_centre_deg:g} deg of straight ahead "
                 "(steering.on_centre_deg). Extremes are exact (the chain's stationary angles), "
                 "not sampled.")
     figure_rows = tuple(_figure_row(design) for design in designs)
@@ -43,40 +41,39 @@ def steering_blocks(document: Mapping[str, Any]) -> list[Block]:
                    "on-centre fluctuation (%)", "speed ratio at the locks (acw / cw)",
                    "transmission error at the locks (acw / cw, deg)"), figure_rows),
             Heading(3, "Steering criteria"), _criteria_table(designs),
-            Paragraph(_excitation_note(document))]
+            Paragraph(_excitation_note(run))]
 
 
-def _excitation_note(document: Mapping[str, Any]) -> str:
-    if document["excitation"].get("application", "driveline") == "driveline":
+def _excitation_note(run: ColumnRun) -> str:
+    if run.excitation["as_built"].application == "driveline":
         return ("Excitation limits: the SAE AE-7 driveline limits judge the excitation rows "
                 "below (excitation.application = 'driveline').")
-    return f"Excitation limits: {document['steering']['excitation_note']}."
+    return f"Excitation limits: {run.steering.excitation_note}."
 
 
-def _figure_row(design: Mapping[str, Any]) -> tuple[str, ...]:
-    figures = design["range"]
-    return (design["label"], number(figures["speed_fluctuation_percent"], ".4g"),
-            number(figures["torque_fluctuation_percent"], ".4g"),
-            f"{number(figures['transmission_error_min_deg'], '.4g')} / "
-            f"{number(figures['transmission_error_max_deg'], '.4g')}, "
-            f"{number(figures['transmission_error_peak_to_peak_deg'], '.4g')}",
-            number(figures["on_centre_speed_ratio"], ".6g"),
-            number(figures["on_centre_fluctuation_percent"], ".4g"),
-            " / ".join(number(value, ".6g") for value in figures["lock_speed_ratio"]),
-            " / ".join(number(value, ".4g") for value in figures["lock_transmission_error_deg"]))
+def _figure_row(design: AssessedDesign) -> tuple[str, ...]:
+    figures = design.range
+    return (design.label, number(figures.speed_fluctuation_percent, ".4g"),
+            number(figures.torque_fluctuation_percent, ".4g"),
+            f"{number(figures.transmission_error_min_deg, '.4g')} / "
+            f"{number(figures.transmission_error_max_deg, '.4g')}, "
+            f"{number(figures.transmission_error_peak_to_peak_deg, '.4g')}",
+            number(figures.on_centre_speed_ratio, ".6g"),
+            number(figures.on_centre_fluctuation_percent, ".4g"),
+            " / ".join(number(value, ".6g") for value in figures.lock_speed_ratio),
+            " / ".join(number(value, ".4g") for value in figures.lock_transmission_error_deg))
 
 
-def _criteria_table(designs: list[Mapping[str, Any]]) -> Table:
-    first = designs[0]["criteria"]
+def _criteria_table(designs: Sequence[AssessedDesign]) -> Table:
     rows = []
-    for index, criterion in enumerate(first):
-        limit = ("not set" if criterion["limit"] is None else
-                 f"{criterion['sense']} {criterion['limit']:g} {criterion['unit']}")
-        cells = [f"{criterion['name']} ({criterion['unit']})", limit, criterion["source"]]
+    for index, criterion in enumerate(designs[0].criteria):
+        limit = ("not set" if criterion.limit is None else
+                 f"{criterion.sense} {criterion.limit:g} {criterion.unit}")
+        cells = [f"{criterion.name} ({criterion.unit})", limit, criterion.source]
         for design in designs:
-            judged = design["criteria"][index]
-            verdict = {None: "no limit", True: "within", False: "OUTSIDE"}[judged["within"]]
-            cells.append(f"{number(judged['value'], '.4g')} ({verdict})")
+            judged = design.criteria[index]
+            verdict = {None: "no limit", True: "within", False: "OUTSIDE"}[judged.within]
+            cells.append(f"{number(judged.value, '.4g')} ({verdict})")
         rows.append(tuple(cells))
     return Table(("criterion", "limit", "source of the limit",
-                  *(design["label"] for design in designs)), tuple(rows))
+                  *(design.label for design in designs)), tuple(rows))

@@ -5,10 +5,11 @@ A report kind renders one kind of result into the contents of its report files
 the whole report folder (:func:`sso._files.replace_folder`). The command line calls
 the same function, so a report written from Python is the one ``sso`` writes.
 
-Kinds of this layer and below are registered here: ``"document"`` (the result
-document of a mechanism or column case, e.g. read from ``result.json``),
-``"optimisation"`` (:class:`sso.OptimisationResult`), ``"shaft_series_run"`` (a
-shaft-series case run, :class:`sso._run.shaft_series.ShaftSeriesRun`),
+Kinds of this layer and below are registered here: ``"optimisation"``
+(:class:`sso.OptimisationResult`), ``"shaft_series_run"`` (a shaft-series case run,
+:class:`sso._run.shaft_series.ShaftSeriesRun`), ``"column_run"`` (a column case run,
+:class:`sso.ColumnRun`), ``"mechanism_run"`` (a mechanism case run,
+:class:`sso._run.mechanism_run.MechanismRun`),
 ``"fourbar_design"`` (:class:`sso.FourBarDesignResult`), ``"mechanism_table"`` (a
 :class:`sso.MechanismTable`, what a mechanism's ``analyse`` returns) and
 ``"record"`` (every other result: its summary). The studies
@@ -21,7 +22,7 @@ class attribute.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -72,7 +73,7 @@ def register_report_kind(name: str, render: Renderer, folder: str) -> None:
 
 
 def report_kind_of(result: Any) -> ReportKind:
-    """The report kind of ``result`` (a mapping is a result document).
+    """The report kind of ``result``.
 
     A result that names no kind of its own is reported by the kind ``"record"``:
     its summary as Markdown and HTML, and its saved form.
@@ -82,16 +83,11 @@ def report_kind_of(result: Any) -> ReportKind:
     TypeError
         If ``result`` is no result sso can report.
     """
-    if isinstance(result, Mapping):
-        name: Any = "document"
-    elif isinstance(result, Record):
-        name = getattr(result, "report_kind", RECORD_KIND)
-    else:
-        name = None
+    name = getattr(result, "report_kind", RECORD_KIND) if isinstance(result, Record) else None
     if not isinstance(name, str) or name not in REPORT_KINDS:
         raise TypeError("result must be an sso result (an object sso.optimise, "
-                        "sso.sweep or another sso function returns) "
-                        f"or a result document, not {type(result).__name__}")
+                        f"sso.sweep or another sso function returns), not "
+                        f"{type(result).__name__}")
     return REPORT_KINDS[name]
 
 
@@ -120,7 +116,7 @@ def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str
     kind = report_kind_of(result)
     chosen = validate_formats(formats)
     files = kind.render(result, chosen)
-    if "json" in chosen and isinstance(result, Record):  # the saved result comes first
+    if "json" in chosen:  # the saved result comes first
         files = {RESULT_FILE: record_json(result).encode("utf-8"),
                  **{name: data for name, data in files.items() if name != RESULT_FILE}}
     return files
@@ -137,11 +133,10 @@ def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None 
 
     Parameters
     ----------
-    result : sso result or mapping
-        An :class:`sso.OptimisationResult`, :class:`sso.FourBarDesignResult`,
-        :class:`sso.SweepResult`, :class:`sso.ToleranceResult`, a mechanism
-        analysis, or a result document (``result.json`` as read by
-        :func:`sso._reports.writer.read_result`).
+    result : sso result
+        Any result of ``sso.__all__`` (what :func:`sso.optimise`, :func:`sso.sweep`
+        and the other functions return), or a case run's (:class:`sso.ColumnRun`, a
+        saved ``result.json`` read back with ``from_dict``).
     folder : str or pathlib.Path
         The report folder. It is written afresh: the new files go into a
         temporary folder beside it, which replaces it only when complete, so
@@ -179,12 +174,6 @@ def write_report(result: Any, folder: str | Path, formats: Sequence[str] | None 
         return replace_folder(folder, files, kind.folder, adopt)
 
 
-def _render_document(document: Mapping[str, Any], formats: tuple[str, ...]) -> dict[str, bytes]:
-    from sso._reports.writer import render
-
-    return render(document, formats)
-
-
 def _render_optimisation(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     from sso._reports.shaft_report import optimisation_files
 
@@ -195,6 +184,12 @@ def _render_shaft_series_run(run: Any, formats: tuple[str, ...]) -> dict[str, by
     from sso._reports.shaft_report import run_files
 
     return run_files(run, formats)
+
+
+def _render_column_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso._reports.column_report import column_files
+
+    return column_files(run, formats)
 
 
 def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
@@ -222,9 +217,9 @@ def _render_record(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     return render_record(result, formats)
 
 
-register_report_kind("document", _render_document, CASE_REPORT)
 register_report_kind("optimisation", _render_optimisation, CASE_REPORT)
 register_report_kind("shaft_series_run", _render_shaft_series_run, CASE_REPORT)
+register_report_kind("column_run", _render_column_run, CASE_REPORT)
 register_report_kind("fourbar_design", _render_fourbar_design, CASE_REPORT)
 register_report_kind("mechanism_run", _render_mechanism_run, CASE_REPORT)
 register_report_kind("mechanism_table", _render_mechanism_table, CASE_REPORT)

@@ -29,6 +29,7 @@ from sso._reports.summary import (
     Table,
     closing_blocks,
     number,
+    opening_blocks,
 )
 from sso._run.mechanism_run import LinkageCurves, MechanismRun
 
@@ -85,12 +86,9 @@ def mechanism_blocks(run: MechanismRun, image_files: Sequence[str]) -> list[Bloc
         Plot files written beside the report (empty when plots are off).
     """
     case = run.case
-    blocks: list[Block] = [Heading(1, f"SSO report: {case.name}")]
-    if case.description:
-        blocks.append(Paragraph(case.description))
-    status = "OK" if run.success else "FAILED"
-    blocks += [_case_table(run), Heading(2, "Verdict"), Paragraph(f"{status}: {run.verdict}"),
-               Heading(2, "Linkage"), _linkage_table(run)]
+    blocks = opening_blocks(case.name, case.description, _case_table(run), run.success,
+                            run.verdict)
+    blocks += [Heading(2, "Linkage"), _linkage_table(run)]
     for linkage in run.linkages:
         blocks += [Heading(2, f"Extremes over the crank revolution ({linkage.label})"),
                    Paragraph("Sampled every 0.1 deg of crank angle over a whole revolution "

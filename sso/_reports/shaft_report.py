@@ -15,7 +15,16 @@ from dataclasses import dataclass
 from typing import Any
 
 from sso._reports import documents
-from sso._reports.summary import Block, Heading, Image, Paragraph, Table, closing_blocks, number
+from sso._reports.summary import (
+    Block,
+    Heading,
+    Image,
+    Paragraph,
+    Table,
+    closing_blocks,
+    number,
+    opening_blocks,
+)
 from sso._run.shaft_series import ShaftSeriesRun
 from sso._shafts.curves import ComparedDesign
 from sso._shafts.exact_optima import ExactOptimumSet
@@ -80,12 +89,10 @@ def report_files(report: ShaftReport, formats: tuple[str, ...]) -> dict[str, byt
 
 def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report."""
-    blocks: list[Block] = [Heading(1, f"SSO report: {report.name}")]
-    if report.description:
-        blocks.append(Paragraph(report.description))
-    blocks += [Table(("item", "value"), report.case_rows), Heading(2, "Verdict"),
-               Paragraph(f"{'OK' if report.success else 'FAILED'}: {report.verdict}"),
-               Heading(2, "Designs"), _design_table(report.designs),
+    blocks = opening_blocks(report.name, report.description,
+                            Table(("item", "value"), report.case_rows), report.success,
+                            report.verdict)
+    blocks += [Heading(2, "Designs"), _design_table(report.designs),
                Heading(2, "Figures of merit"), _figure_table(report.designs)]
     if report.optimisation is not None and report.optimisation.exact_optima is not None:
         blocks += [Heading(2, "Exact optima"),

@@ -74,6 +74,16 @@ def number(value: Any, spec: str = ".6g") -> str:
     return format(value, spec)
 
 
+def opening_blocks(name: str, description: str, case_table: Table, success: bool,
+                   verdict: str) -> list[Block]:
+    """The start every case report shares: title, description, case table, verdict."""
+    blocks: list[Block] = [Heading(1, f"SSO report: {name}")]
+    if description:
+        blocks.append(Paragraph(description))
+    return [*blocks, case_table, Heading(2, "Verdict"),
+            Paragraph(f"{'OK' if success else 'FAILED'}: {verdict}")]
+
+
 def closing_blocks(warnings: Sequence[str], versions: Mapping[str, str] | None,
                    images: Sequence[Image]) -> list[Block]:
     """The end every report shares: warnings, plots (or why there are none), versions.

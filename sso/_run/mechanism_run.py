@@ -29,7 +29,7 @@ from sso._linkages.mechanisms import (
 from sso._linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso._linkages.table import MechanismTable
 from sso._record import Record, register_record
-from sso._run.document import CaseRun, created_utc, package_versions
+from sso._run.case_run import CaseRun, created_utc, package_versions
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""
@@ -119,7 +119,7 @@ class MechanismRun(CaseRun):
         An in-line slider-crank's exact against series piston motion.
     verdict : str
     warnings, versions, created_utc
-        As :class:`sso._run.document.CaseRun`.
+        As :class:`sso._run.case_run.CaseRun`.
     """
 
     case: MechanismCase

@@ -15,7 +15,7 @@ from typing import ClassVar
 
 from sso._cases.shaft_series import Case
 from sso._display import Part, TextTable, format_number, format_numbers
-from sso._run.document import CaseRun, created_utc, package_versions
+from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.optimise import OptimisationResult, optimise
 
@@ -38,7 +38,7 @@ class ShaftSeriesRun(CaseRun):
         The designs beside the optimisation's own: the design as given (evaluate)
         and the case's reference design, if it gives one.
     warnings, versions, created_utc
-        As :class:`sso._run.document.CaseRun`.
+        As :class:`sso._run.case_run.CaseRun`.
     """
 
     case: Case

@@ -3,8 +3,9 @@
 The exact model's residual error is the squared norm of two residuals of the chain
 matrix (``sso._kinematics.hooke_matrix``), so ``m`` starts form ``m`` tiny
 least-squares problems that the ``"lm"`` solver's rules solve together as array work
-(:mod:`sso._solvers.lm_batch`): no quadrature, no CasADi build, no per-design Python
-loop, and the iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The
+(:mod:`sso._solvers.lm_batch`; compiled to machine code for a shape solved often,
+:mod:`sso._solvers.lm_native`): no quadrature, no per-design Python loop, and the
+iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The
 paper's model has no closed form and is refused here (use :func:`sso.optimise`);
 falling back to a per-design quadrature solve would silently change the speed a
 caller relies on.
@@ -41,13 +42,20 @@ from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     OPTION_NAMES,
     StartMovedWarning,
+    build_problem,
     free_angles,
     validate_option_and_bounds,
 )
+from sso._shafts.problem import compiled_nlp
 from sso._solvers import round_off_stops
 from sso._solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
 from sso._solvers.lm_batch import solve_batch
-from sso._solvers.lm_rules import NEWTON
+from sso._solvers.lm_native import (
+    NativeSolver,
+    native_solver_of,
+    solve_native_leaving_saddles,
+)
+from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE
 from sso._solvers.resources import (
     batch_estimate,
     batch_least_squares_mb,
@@ -287,9 +295,13 @@ def optimise_batch(
     if moved:
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
+    native = native_solver_of(
+        (n_joints, option_number),
+        lambda: compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model,
+                                           option_number, beta_bounds, phase_bounds), 0))
     parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,
                     np.radians(start[part]), np.radians(lower), np.radians(upper),
-                    gradient_tolerance, iterations)
+                    gradient_tolerance, iterations, native)
              for part in _parts(len(start), n_joints, len(free), memory_limit_mb)]
     solved = _Solved(*(np.concatenate([getattr(part, field.name) for part in parts])
                        for field in fields(_Solved)))
@@ -351,17 +363,19 @@ class _Solved:
 
 def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: bool,
            phase_free: bool, start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-           tolerance: float, max_iterations: int) -> _Solved:
-    """Every start by the ``"lm"`` rules in numpy, those above zero finished by the batched
-    least squares (Newton steps and saddle escapes).
+           tolerance: float, max_iterations: int, native: NativeSolver | None) -> _Solved:
+    """Every start by the ``"lm"`` rules, compiled or in numpy, those above zero finished by
+    the batched least squares (saddle escapes; on the numpy path Newton steps too).
 
-    The Gauss-Newton iterations are the single solve's (:mod:`sso._solvers.lm_batch`), so a
-    start that Gauss-Newton takes to round-off zero ends where
-    ``sso.optimise(..., solvers="lm")`` ends. A start whose sum of squares stays above
-    round-off zero goes to :func:`sso._solvers.least_squares.batch_least_squares`, which
-    takes Newton steps from differences of the gradient and leaves saddles: afresh from
-    its start where its steps turned to Newton steps, from where it stopped otherwise.
-    The iterations already taken count against the limit.
+    With the shape's compiled rules (``native``, :mod:`sso._solvers.lm_native`) every
+    start runs as the single solve ``sso.optimise(..., solvers="lm")`` runs it, Newton
+    steps included. On the numpy path (:mod:`sso._solvers.lm_batch`) the Gauss-Newton
+    iterations are the single solve's, so a start that Gauss-Newton takes to round-off
+    zero ends where the single solve ends; a start whose steps turned to Newton steps
+    goes to :func:`sso._solvers.least_squares.batch_least_squares` afresh from its start.
+    A start whose sum of squares stays above round-off zero either way goes to it from
+    where it stopped, which checks for saddles and leaves them. The iterations already
+    taken count against the limit.
     """
     design_rad = np.radians(design_deg)
     fixed = np.setdiff1d(np.arange(design_rad.shape[1]), free)
@@ -379,31 +393,40 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
         return (first, second, [pair[0] for pair in derivatives],
                 [pair[1] for pair in derivatives])
 
-    run = solve_batch(column_residuals, start, design_rad[:, fixed], lower, upper, tolerance,
-                      max_iterations)
+    def residual_and_jacobian(x_rad: np.ndarray, rows: np.ndarray
+                              ) -> tuple[np.ndarray, np.ndarray]:
+        full = design_rad[rows]
+        full[:, free] = x_rad
+        residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])
+        return residual, jacobian[..., free]
+
+    run = (None if native is None else
+           solve_native_leaving_saddles(native, start, design_rad[:, fixed], lower, upper,
+                                        tolerance, max_iterations, residual_and_jacobian,
+                                        ZERO_RESIDUAL_LEVEL))
+    compiled = run is not None
+    if run is None:
+        run = solve_batch(column_residuals, start, design_rad[:, fixed], lower, upper,
+                          tolerance, max_iterations)
     x, fun, nit, nfev, status = run.x, run.fun, run.nit, run.nfev, run.status
     # A design that turned to Newton steps on its last allowed iteration ends there, as
     # the single solve does at the iteration limit.
-    status[(status == NEWTON) & (nit >= max_iterations)] = 0
+    status[np.isin(status, (NEWTON, NEWTON_INDEFINITE)) & (nit >= max_iterations)] = 0
     held = ((x <= lower) & (run.gradient > 0)) | ((x >= upper) & (run.gradient < 0))
     kkt = np.max(np.where(held, 0.0, np.abs(run.gradient)), axis=1, initial=0.0)
+    # The compiled path has left its saddles already: only its failures above zero go on.
     unfinished = np.flatnonzero((fun > ZERO_RESIDUAL_LEVEL) & (status != -2)
-                                & (nit < max_iterations))
-    # A design that turned to Newton steps starts the batched least squares afresh from
-    # its start (Newton steps from where Gauss-Newton slowed down, taken without the
-    # single solve's eigenvalue shift, can stall); the others continue from where they
-    # stopped (a saddle check of a point that has converged).
-    restart = status[unfinished] == NEWTON
+                                & (nit < max_iterations)
+                                & ~(compiled & np.isin(status, SUCCESS_STATUSES)))
+    # A design that turned to Newton steps on the numpy path, or whose shifted Newton step
+    # stayed indefinite, starts the batched least squares afresh from its start (Newton
+    # steps from where Gauss-Newton slowed down, taken without the single solve's
+    # eigenvalue shift, can stall); the others continue from where they stopped (a
+    # saddle check of a point that has converged).
+    restart = np.isin(status[unfinished], (NEWTON, NEWTON_INDEFINITE))
     if unfinished.size:
-        def residual_and_jacobian(x_rad: np.ndarray,
-                                  rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            full = design_rad[unfinished[rows]]
-            full[:, free] = x_rad
-            residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints],
-                                                              full[:, n_joints:])
-            return residual, jacobian[..., free]
-
-        finished = batch_least_squares(residual_and_jacobian,
+        finished = batch_least_squares(lambda x_rad, rows: residual_and_jacobian(
+                                           x_rad, unfinished[rows]),
                                        np.where(restart[:, None], start[unfinished],
                                                 x[unfinished]), lower, upper,
                                        gtol=tolerance, max_iterations=max_iterations,
@@ -418,9 +441,7 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
                               & (kkt > round_off_stops.SUSPECT_GRADIENT))
     if suspects.size:
         def sum_of_squares(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
-            full = design_rad[rows]
-            full[:, free] = points
-            residual = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])[0]
+            residual = residual_and_jacobian(points, rows)[0]
             values: np.ndarray = residual[:, 0] ** 2 + residual[:, 1] ** 2
             return values
 

@@ -71,10 +71,10 @@ ON_BOUND_RAD = 1e-9
 RANK_TOLERANCE = 1e-9
 
 Residuals = Callable[[list[float]], tuple[complex, list[complex]]]
-BoxSolve = Callable[[np.ndarray, np.ndarray, np.ndarray, int],
-                    tuple[np.ndarray, float, int, int]]
+BoxSolve = Callable[[list[float], list[float], list[float], int],
+                    tuple[list[float], float, int, int]]
 """``(start, lower, upper, max_iterations) -> (x, RE, iterations, evaluations)``: the
-least-squares solver in a box (rad)."""
+least-squares solver in a box (rad; lists of floats in and out)."""
 
 
 @register_record
@@ -291,11 +291,12 @@ def choose_exact_optimum(problem: DesignProblem, residuals: Residuals, solve_in_
         spread_starts = start_points(0.5 * (lower + upper), lower, upper, SPREAD_STARTS,
                                      tolerances.seed)
         for start in spread_starts:
-            reached, fun, nit, nfev = solve_in_box(start, lower, upper, MARGIN_MAX_ITERATIONS)
+            reached, fun, nit, nfev = solve_in_box(start.tolist(), lower.tolist(),
+                                                   upper.tolist(), MARGIN_MAX_ITERATIONS)
             counts[0] += nit
             counts[1] += nfev
             if is_exact(fun):
-                candidates.append((reached, "lm"))
+                candidates.append((np.array(reached, dtype=float), "lm"))
         for start in _distinct([point for point, _ in candidates]):
             candidates.append((_least_spread(problem, residuals, start, tolerances, counts),
                                "slsqp"))
@@ -339,19 +340,23 @@ def is_exact(fun: float) -> bool:
 
 def _distinct(points: Sequence[np.ndarray]) -> list[np.ndarray]:
     kept: list[np.ndarray] = []
+    kept_lists: list[list[float]] = []
     for point in points:
         point = np.asarray(point, dtype=float)
-        if all(float(np.max(np.abs(point - other))) > SAME_DESIGN_RAD for other in kept):
+        values = point.tolist()
+        if all(max(abs(value - previous) for value, previous in zip(values, other, strict=True))
+               > SAME_DESIGN_RAD for other in kept_lists):
             kept.append(point)
+            kept_lists.append(values)
     return kept
 
 
 def _margin_deg(x_rad: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> float:
     """Least distance of a free variable (one that its bounds do not pin) to a bound, deg."""
-    free = upper > lower
-    if not free.any():
+    low, high = lower.tolist(), upper.tolist()
+    if not any(top > bottom for bottom, top in zip(low, high, strict=True)):
         return 0.0
-    return float(np.degrees(np.min(np.minimum(x_rad - lower, upper - x_rad)[free])))
+    return math.degrees(_margin_rad(np.asarray(x_rad, dtype=float).tolist(), low, high))
 
 
 def _constraint(residuals: Residuals, extra: int) -> dict[str, Any]:
@@ -393,27 +398,42 @@ def _largest_margin(solve_in_box: BoxSolve, start: np.ndarray, lower: np.ndarray
     design so far moved into the bounds shrunk by ``t``, reaches round-off zero inside
     them within :data:`MARGIN_MAX_ITERATIONS`; ``t`` is bisected between the start's
     margin and half the narrowest free bound until the bracket is under
-    :data:`MARGIN_RESOLUTION_DEG`.
+    :data:`MARGIN_RESOLUTION_DEG`. Plain floats: the vectors are short and the loop
+    runs a handful of times per call, where each numpy call costs more than its
+    arithmetic.
     """
-    free = upper > lower
-    if not free.any():
+    low_bounds, high_bounds = lower.tolist(), upper.tolist()
+    free = [high > low for low, high in zip(low_bounds, high_bounds, strict=True)]
+    if not any(free):
         return start
-    best = start
+    best = start.tolist()
     low = math.radians(_margin_deg(start, lower, upper))
-    high = 0.5 * float(np.min((upper - lower)[free]))
+    high = 0.5 * min(top - bottom for top, bottom, moves
+                     in zip(high_bounds, low_bounds, free, strict=True) if moves)
     while high - low > math.radians(MARGIN_RESOLUTION_DEG):
         margin = 0.5 * (low + high)
-        shrunk_lower = np.where(free, lower + margin, lower)
-        shrunk_upper = np.where(free, upper - margin, upper)
-        x, fun, nit, nfev = solve_in_box(np.clip(best, shrunk_lower, shrunk_upper),
-                                         shrunk_lower, shrunk_upper, MARGIN_MAX_ITERATIONS)
+        shrunk_lower = [bottom + margin if moves else bottom
+                        for bottom, moves in zip(low_bounds, free, strict=True)]
+        shrunk_upper = [top - margin if moves else top
+                        for top, moves in zip(high_bounds, free, strict=True)]
+        moved = [min(max(value, bottom), top) for value, bottom, top
+                 in zip(best, shrunk_lower, shrunk_upper, strict=True)]
+        x, fun, nit, nfev = solve_in_box(moved, shrunk_lower, shrunk_upper,
+                                         MARGIN_MAX_ITERATIONS)
         counts[0] += nit
         counts[1] += nfev
         if is_exact(fun):
-            best, low = x, max(margin, math.radians(_margin_deg(x, lower, upper)))
+            best, low = x, max(margin, math.radians(math.degrees(
+                _margin_rad(x, low_bounds, high_bounds))))
         else:
             high = margin
-    return best
+    return np.array(best, dtype=float)
+
+
+def _margin_rad(x_rad: list[float], lower: list[float], upper: list[float]) -> float:
+    """:func:`_margin_deg` in rad, on lists of floats (at least one variable free)."""
+    return min(min(value - bottom, top - value) for value, bottom, top
+               in zip(x_rad, lower, upper, strict=True) if top > bottom)
 
 
 def _sigma_rad(tolerances: ToleranceSettings) -> np.ndarray:
@@ -480,15 +500,36 @@ def _project(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
 
 def _dimension(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
                upper: np.ndarray) -> int:
-    moving = upper > lower
+    moving = [top > bottom for bottom, top in zip(lower.tolist(), upper.tolist(), strict=True)]
     _, derivative = residuals(x_rad.tolist())
-    jacobian = np.array([[entry.real for entry in derivative],
-                         [entry.imag for entry in derivative]])[:, moving]
-    if jacobian.shape[1] == 0:
+    columns = [entry for entry, moves in zip(derivative, moving, strict=True) if moves]
+    return len(columns) - _rank_of_two_rows(columns)
+
+
+def _rank_of_two_rows(columns: list[complex]) -> int:
+    """Rank of the real 2-row matrix ``[Re; Im]`` of ``columns``: its singular values
+    above :data:`RANK_TOLERANCE` times the largest.
+
+    Closed form (no numpy call for a 2 by n matrix): the largest singular value from
+    the rows' Gram matrix, the smallest as the rows' wedge product over it (Lagrange's
+    identity, a sum of squares: accurate however small it is), on the columns scaled
+    by their largest entry.
+    """
+    scale = max((max(abs(entry.real), abs(entry.imag)) for entry in columns), default=0.0)
+    if not 0.0 < scale < math.inf:
+        return 0 if scale == 0.0 else 2
+    columns = [entry / scale for entry in columns]
+    first = math.fsum(entry.real * entry.real for entry in columns)
+    second = math.fsum(entry.imag * entry.imag for entry in columns)
+    cross = math.fsum(entry.real * entry.imag for entry in columns)
+    largest = math.sqrt(0.5 * (first + second + math.hypot(first - second, 2.0 * cross)))
+    if largest == 0.0:
         return 0
-    singular = np.linalg.svd(jacobian, compute_uv=False)
-    rank = int(np.sum(singular > RANK_TOLERANCE * max(float(singular[0]), 1e-300)))
-    return int(np.count_nonzero(moving)) - rank
+    wedge = math.sqrt(math.fsum((one.real * other.imag - other.real * one.imag) ** 2
+                                for index, one in enumerate(columns)
+                                for other in columns[index + 1:]))
+    floor = RANK_TOLERANCE * largest
+    return int(largest > floor) + int(wedge / largest > floor)
 
 
 def _extent(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,

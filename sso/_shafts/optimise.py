@@ -50,7 +50,7 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso._shafts.series import ShaftSeries, checked_series
 from sso._solvers import lm
-from sso._solvers.lm_kernel import kernel_of, run_kernel
+from sso._solvers.lm_kernel import flat_outcome, kernel_of, run_kernel_flat
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
@@ -457,19 +457,20 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
 
     kernel = kernel_of(nlp)
 
-    def solve_in_box(start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                     max_iterations: int) -> tuple[np.ndarray, float, int, int]:
+    def solve_in_box(start: list[float], lower: list[float], upper: list[float],
+                     max_iterations: int) -> tuple[list[float], float, int, int]:
         # Gauss-Newton blocks only: a margin is feasible where they reach round-off zero,
         # and the same compiled steps give the same design in every process (the Newton
         # steps after them run compiled or in Python depending on the session's history).
         if kernel is None:
-            outcome = lm.solve(nlp, start, problem.parameters_rad, RunLimits(lower, upper),
+            outcome = lm.solve(nlp, np.array(start), problem.parameters_rad,
+                               RunLimits(np.array(lower), np.array(upper)),
                                DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
-            return outcome.x, outcome.fun, outcome.nit, outcome.nfev
-        state = run_kernel(kernel, start.tolist(), fixed, lower.tolist(), upper.tolist(),
-                           DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
-        return (np.array(state["x"], dtype=float), float(state["fun"]), int(state["nit"]),
-                int(state["nfev"]))
+            return outcome.x.tolist(), outcome.fun, outcome.nit, outcome.nfev
+        x, fun, nit, nfev, _ = flat_outcome(
+            run_kernel_flat(kernel, start, fixed, lower, upper, DEFAULT_SHAFT_SOLVER_TOL,
+                            max_iterations), len(start))
+        return x, fun, nit, nfev
 
     choice = choose_exact_optimum(problem, lambda x: nlp.residuals_and_jacobian(x, fixed),
                                   solve_in_box, [np.radians(solution.x) for solution in found],

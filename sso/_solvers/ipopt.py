@@ -71,9 +71,12 @@ def solve(
         # IPOPT's default accepts a constraint violation of 1e-4 at convergence.
         options["constr_viol_tol"] = solver_tol
     solver = nlp.ipopt(options)
-    arguments = {"x0": start, "p": parameters, "lbx": limits.lower, "ubx": limits.upper}
+    # Lists of floats: CasADi converts them to its matrices faster than numpy arrays.
+    arguments = {"x0": np.asarray(start, dtype=float).tolist(), "p": parameters.tolist(),
+                 "lbx": limits.lower.tolist(), "ubx": limits.upper.tolist()}
     if limits.constrained:
-        arguments.update(lbg=limits.constraint_lower, ubg=limits.constraint_upper)
+        arguments.update(lbg=limits.constraint_lower.tolist(),
+                         ubg=limits.constraint_upper.tolist())
     started = time.perf_counter()
     try:
         with raised_after_native_call():  # CasADi would end the solve and drop Ctrl-C

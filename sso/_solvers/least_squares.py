@@ -221,6 +221,42 @@ def batch_least_squares(
     )
 
 
+def leave_saddles(residual_and_jacobian: ResidualFunction, x: np.ndarray, lower: np.ndarray,
+                  upper: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Move the stationary points ``x`` (one row per problem) that are saddles downhill, as
+    :func:`batch_least_squares` does between its runs, for another solver to go on from.
+
+    Parameters
+    ----------
+    residual_and_jacobian : callable
+        ``f(x, rows) -> (r, J)`` as for :func:`batch_least_squares` (``rows`` index ``x``).
+    x : numpy.ndarray of shape (m, p)
+        Points where a solver stopped, inside the bounds.
+    lower, upper : numpy.ndarray broadcastable to (m, p)
+        Bounds.
+
+    Returns
+    -------
+    moved : numpy.ndarray
+        Rows of ``x`` that were saddles and moved to a lower sum of squares.
+    points : numpy.ndarray of shape (len(moved), p)
+        Where they moved.
+    evaluations : numpy.ndarray of shape (m,)
+        Residual-and-Jacobian evaluations spent on each problem.
+    """
+    count = x.shape[0]
+    state = _State(
+        x=np.array(x, dtype=float), lower=np.broadcast_to(lower, x.shape),
+        upper=np.broadcast_to(upper, x.shape), residual=np.zeros((count, 0)),
+        jacobian=np.zeros((count, 0, x.shape[1])), cost=np.zeros(count),
+        gradient=np.zeros(x.shape), nit=np.zeros(count, dtype=int),
+        nfev=np.ones(count, dtype=int), status=np.zeros(count, dtype=int))
+    every = np.arange(count)
+    state.store(every, *residual_and_jacobian(state.x, every))
+    moved = _leave_saddles(residual_and_jacobian, state, every)
+    return moved, state.x[moved], state.nfev
+
+
 @dataclass(frozen=True)
 class _Settings:
     gtol: float

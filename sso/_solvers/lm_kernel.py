@@ -9,7 +9,11 @@ symbols: one iteration is an SX function (a flat instruction list); a block chai
 runs in about the time Python takes for one iteration. Blocks run one after
 another until the solve ends (RE at round-off zero, the projected gradient under
 the tolerance, a failure, the iteration limit) or turns to Newton steps, which
-the Python loop takes from the state the kernel hands it.
+the Newton kernel takes once a shape has asked for it often enough (the Python loop
+before). A Newton step whose damped Hessian is not positive definite is taken by a
+separate compiled step that shifts it past its most negative eigenvalue (found by
+bisection, :func:`sso._solvers.lm_rules.bisected_lowest_eigenvalue`): its instructions
+are spent only on such a step, not on every Newton iteration.
 
 The kernel and the Python loop are the same rules, step for step, so the kernel
 ends with the Python loop's status and iteration count (up to round-off in the
@@ -21,15 +25,21 @@ block is evaluated, and one after the end leaves the state as it was.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from functools import cache
 from typing import Any
 
 from sso._solvers.lm_rules import (
+    EIGENVALUE_HALVINGS,
     NEWTON,
+    NEWTON_INDEFINITE,
     RUNNING,
     SCALARS,
     Operations,
+    eigenvalue_bracket,
     fresh_state,
     gauss_newton_iteration,
+    halve_eigenvalue_bracket,
     newton_iteration,
 )
 from sso._solvers.nlp import BufferedFunction
@@ -68,27 +78,55 @@ def kernel_of(nlp: Any) -> BufferedFunction | None:
     return kernel
 
 
-def newton_kernel_of(nlp: Any) -> BufferedFunction | None:
-    """The NLP's Newton kernel, kept on it; None without residuals, with more than
+@dataclass(frozen=True)
+class NewtonKernels:
+    """The compiled Newton steps of one shape.
+
+    Attributes
+    ----------
+    blocks : BufferedFunction
+        :data:`NEWTON_KERNEL_ITERATIONS` Newton iterations; a state whose damped Hessian
+        is not positive definite is left with status
+        :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`.
+    shifted : BufferedFunction
+        One Newton iteration whose Hessian is shifted past its most negative eigenvalue
+        where it is not positive definite (the step the Python loop takes there), from
+        a state of status ``NEWTON``.
+    """
+
+    blocks: BufferedFunction
+    shifted: BufferedFunction
+
+
+def newton_kernel_of(nlp: Any) -> NewtonKernels | None:
+    """The NLP's Newton kernels, kept on it; None without residuals, with more than
     :data:`NEWTON_KERNEL_VARIABLES` variables, or while fewer than
-    :data:`NEWTON_KERNEL_AFTER` solves of the shape have asked for it."""
+    :data:`NEWTON_KERNEL_AFTER` solves of the shape have asked for them."""
     if nlp.lm_newton_kernel is None and nlp.residuals is not None:
         nlp.lm_newton_requests += 1
         if (nlp.lm_newton_requests >= NEWTON_KERNEL_AFTER
                 and nlp.symbols["x"].numel() <= NEWTON_KERNEL_VARIABLES):
-            nlp.lm_newton_kernel = build_kernel(nlp.symbols["x"], nlp.symbols["p"],
-                                                nlp.residuals, newton=True)
-    kernel: BufferedFunction | None = nlp.lm_newton_kernel
-    return kernel
+            symbols = (nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
+            nlp.lm_newton_kernel = NewtonKernels(build_kernel(*symbols, mode="newton"),
+                                                 build_kernel(*symbols, mode="shifted"))
+    kernels: NewtonKernels | None = nlp.lm_newton_kernel
+    return kernels
 
 
-def build_kernel(x: Any, p: Any, residual: Any, newton: bool = False) -> BufferedFunction:
+MODES = ("gauss_newton", "newton", "shifted")
+"""The iterations a kernel can chain: Gauss-Newton, Newton (handing back a Hessian that its
+damping leaves indefinite), Newton shifted past the most negative eigenvalue."""
+
+
+def build_kernel(x: Any, p: Any, residual: Any, mode: str = "gauss_newton"
+                 ) -> BufferedFunction:
     """One block of iterations for residuals ``residual(x, p)``.
 
-    :data:`KERNEL_ITERATIONS` Gauss-Newton iterations, or with ``newton``
+    :data:`KERNEL_ITERATIONS` Gauss-Newton iterations; with ``mode = "newton"``
     :data:`NEWTON_KERNEL_ITERATIONS` Newton iterations with CasADi's symbolic Hessian of
     the sum of squares (a state whose shifted Hessian is not positive definite is left
-    with status :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`).
+    with status :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`); with ``"shifted"`` one
+    Newton iteration that shifts such a Hessian past its most negative eigenvalue.
 
     Parameters
     ----------
@@ -111,11 +149,13 @@ def build_kernel(x: Any, p: Any, residual: Any, newton: bool = False) -> Buffere
     """
     import casadi
 
-    start, iteration = _iteration_functions(x, p, residual, newton)
+    start, iteration = iteration_functions(x, p, residual, mode)
     state = casadi.MX.sym("state", start.numel_in(0))
     problem = casadi.MX.sym("problem", start.numel_in(1))
     chained = start(state, problem)
-    for _ in range(NEWTON_KERNEL_ITERATIONS if newton else KERNEL_ITERATIONS):
+    chain = {"gauss_newton": KERNEL_ITERATIONS, "newton": NEWTON_KERNEL_ITERATIONS,
+             "shifted": 1}[mode]
+    for _ in range(chain):
         chained = iteration(chained, problem)
     return BufferedFunction(casadi.Function("lm_kernel", [state, problem], [chained]).expand())
 
@@ -127,19 +167,27 @@ def iteration_operations(nlp: Any) -> int:
     write outputs."""
     import casadi
 
-    _, iteration = _iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
-                                        False)
+    _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
     bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
     return sum(iteration.instruction_id(index) not in bookkeeping
                for index in range(iteration.n_instructions()))
 
 
-def _iteration_functions(x: Any, p: Any, residual: Any, newton: bool) -> tuple[Any, Any]:
-    """The start and one iteration (Gauss-Newton, or Newton with ``newton``) as SX functions
-    ``(state, problem) -> state``, each one flat instruction list."""
+def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton"
+                        ) -> tuple[Any, Any]:
+    """The start and one iteration of ``mode`` (one of :data:`MODES`) as SX functions
+    ``(state, problem) -> state``, each one flat instruction list.
+
+    Raises
+    ------
+    ValueError
+        If ``mode`` is not one of :data:`MODES`.
+    """
     import casadi
 
-    ops = casadi_operations()
+    if mode not in MODES:
+        raise ValueError(f"mode = {mode!r} is not one of {MODES}")
+    ops = casadi_operations(shifting=mode == "shifted")
     size = x.numel()
     evaluate_function = casadi.Function(
         "lm_residual", [x, p], [residual, casadi.densify(casadi.jacobian(residual, x))])
@@ -155,7 +203,7 @@ def _iteration_functions(x: Any, p: Any, residual: Any, newton: bool) -> tuple[A
                 [derivatives[1, i] for i in range(size)])
 
     given = unpack(casadi.vertsplit(state_in), size)
-    if newton:
+    if mode != "gauss_newton":
         hessian_function = casadi.Function(
             "lm_hessian", [x, p], [casadi.densify(casadi.hessian(casadi.dot(residual, residual),
                                                                  x)[0])])
@@ -181,13 +229,51 @@ def _iteration_functions(x: Any, p: Any, residual: Any, newton: bool) -> tuple[A
     return start, iteration
 
 
-def casadi_operations() -> Operations:
-    """The rules' operations on CasADi symbols (branches as ``if_else`` selections)."""
+def casadi_operations(shifting: bool = False) -> Operations:
+    """The rules' operations on CasADi symbols (branches as ``if_else`` selections); with
+    ``shifting``, the lowest eigenvalue by bisection (:func:`lowest_eigenvalue_function`)."""
     import casadi
 
-    return Operations(select=casadi.if_else, both=casadi.logic_and, either=casadi.logic_or,
-                      negate=casadi.logic_not, minimum=casadi.fmin, maximum=casadi.fmax,
-                      absolute=casadi.fabs, sqrt=casadi.sqrt)
+    ops = Operations(select=casadi.if_else, both=casadi.logic_and, either=casadi.logic_or,
+                     negate=casadi.logic_not, minimum=casadi.fmin, maximum=casadi.fmax,
+                     absolute=casadi.fabs, sqrt=casadi.sqrt)
+    if not shifting:
+        return ops
+
+    def lowest_eigenvalue(matrix: list[list[Any]]) -> Any:
+        entries = casadi.vertcat(*(entry for row in matrix for entry in row))
+        return lowest_eigenvalue_function(len(matrix))(entries)
+
+    return replace(ops, lowest_eigenvalue=lowest_eigenvalue)
+
+
+@cache
+def lowest_eigenvalue_function(size: int) -> Any:
+    """``entries -> lowest eigenvalue`` of a ``size`` x ``size`` symmetric matrix that is not
+    positive definite (its entries row by row), by the rules' bisection
+    (:func:`sso._solvers.lm_rules.eigenvalue_bracket`, then
+    :data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS` times
+    :func:`sso._solvers.lm_rules.halve_eigenvalue_bracket`).
+
+    The halvings are one SX function folded into a loop, and the function is never
+    inlined: a kernel that calls it holds one call instruction, not the halvings'
+    Cholesky factors unrolled (which made its build, and a compiler's, many times longer).
+    """
+    import casadi
+
+    ops = casadi_operations()
+    entries = casadi.SX.sym("matrix", size * size)
+    matrix = [[entries[row * size + column] for column in range(size)] for row in range(size)]
+    bracket = casadi.SX.sym("bracket", 2)
+    halved = halve_eigenvalue_bracket(ops, matrix, bracket[0], bracket[1])
+    halve = casadi.Function("lm_halve_bracket", [bracket, entries], [casadi.vertcat(*halved)])
+    start = casadi.Function("lm_eigenvalue_bracket", [entries],
+                            [casadi.vertcat(*eigenvalue_bracket(ops, matrix))])
+    given = casadi.MX.sym("matrix", size * size)
+    found = halve.fold(EIGENVALUE_HALVINGS)(start(given),
+                                             casadi.repmat(given, 1, EIGENVALUE_HALVINGS))
+    return casadi.Function(f"lm_lowest_eigenvalue_{size}", [given], [-found[1]],
+                           {"never_inline": True})
 
 
 def pack(state: Mapping[str, Any]) -> list[Any]:
@@ -207,17 +293,27 @@ def unpack(values: list[Any], size: int) -> dict[str, Any]:
     return state
 
 
-def run_newton_kernel(kernel: BufferedFunction, state: dict[str, Any],
+def run_newton_kernel(kernels: NewtonKernels, state: dict[str, Any],
                       parameters: list[float], lower: list[float], upper: list[float],
                       tolerance: float, max_iterations: int) -> dict[str, Any]:
     """Blocks of the Newton kernel from ``state`` (status
-    :data:`sso._solvers.lm_rules.NEWTON`) until the solve ends or is handed back."""
+    :data:`sso._solvers.lm_rules.NEWTON` or
+    :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`), a Hessian that the damping leaves
+    indefinite shifted by the compiled step, until the solve ends; a state the shifted
+    step still hands back (round-off beyond its rescue shifts) is returned with status
+    ``NEWTON_INDEFINITE``."""
     size = len(lower)
     problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
     values = pack(state)
     status_index = 3 * size + 2 + _STATUS
-    while values[status_index] == NEWTON:
-        values = kernel.flat(values, problem)
+    while values[status_index] in (NEWTON, NEWTON_INDEFINITE):
+        if values[status_index] == NEWTON:
+            values = kernels.blocks.flat(values, problem)
+            continue
+        values[status_index] = float(NEWTON)
+        values = kernels.shifted.flat(values, problem)
+        if values[status_index] == NEWTON_INDEFINITE:
+            break
     return unpack(values, size)
 
 

@@ -427,6 +427,47 @@ def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
     return after
 
 
+EIGENVALUE_HALVINGS = 52
+"""Halvings of the bracket in :func:`bisected_lowest_eigenvalue`: it starts twice as wide
+as the matrix's largest absolute row sum, so the eigenvalue is found to about
+``4.4e-16`` of that (round-off, as a library's eigenvalue solver finds it)."""
+
+
+def bisected_lowest_eigenvalue(ops: Operations, matrix: list[list[Any]]) -> Any:
+    """The most negative eigenvalue of a symmetric matrix (a list of lists) that is not
+    positive definite, by bisection on the shift that makes it so: with only selections
+    and Cholesky factors, so a backend without an eigenvalue solver (CasADi symbols) can
+    shift a Newton step past it.
+
+    ``matrix + t I`` has a Cholesky factor exactly when ``t`` exceeds minus the lowest
+    eigenvalue, and no eigenvalue lies below minus the largest absolute row sum
+    (Gershgorin); :data:`EIGENVALUE_HALVINGS` halvings (:func:`halve_eigenvalue_bracket`)
+    of :func:`eigenvalue_bracket` keep the least ``t`` found with a factor. The value
+    returned is minus that ``t``: at most the lowest eigenvalue, by round-off, so a shift
+    past it gives a factor.
+    """
+    low, high = eigenvalue_bracket(ops, matrix)
+    for _ in range(EIGENVALUE_HALVINGS):
+        low, high = halve_eigenvalue_bracket(ops, matrix, low, high)
+    return -high
+
+
+def eigenvalue_bracket(ops: Operations, matrix: list[list[Any]]) -> tuple[Any, Any]:
+    """Shifts ``(0, 2 * largest absolute row sum)``: between them lies minus the lowest
+    eigenvalue of a matrix that is not positive definite."""
+    bound = ops.largest([sum(ops.absolute(entry) for entry in row) for row in matrix])
+    return 0.0 * bound, 2.0 * bound + 1e-300
+
+
+def halve_eigenvalue_bracket(ops: Operations, matrix: list[list[Any]], low: Any, high: Any
+                             ) -> tuple[Any, Any]:
+    """The half of the bracket ``(low, high)`` of shifts that holds the least shift giving
+    ``matrix`` a Cholesky factor."""
+    middle = 0.5 * (low + high)
+    positive = cholesky(ops, matrix, middle)[1]
+    return ops.select(positive, low, middle), ops.select(positive, middle, high)
+
+
 def cholesky(ops: Operations, matrix: list[list[Any]], shift: Any
              ) -> tuple[list[list[Any]], Any]:
     """Lower Cholesky factor of ``matrix + shift I`` and whether it exists (positive definite).

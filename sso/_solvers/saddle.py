@@ -44,6 +44,8 @@ STATIONARY_START = 1e-12
 HESSIAN_STEP = 1e-4
 # A nonnegative objective at or below this is zero up to round-off: a global minimum.
 ZERO_OBJECTIVE = 1e-20
+# Residuals of a least-squares objective (nlp.residuals_and_jacobian: RE = r1^2 + r2^2).
+LEAST_SQUARES_RESIDUALS = 2
 FIRST_STEP = 0.1
 SMALLEST_STEP = 1e-7
 
@@ -195,21 +197,28 @@ def _hessian(nlp: Any, point: list[float], parameters: np.ndarray, counts: _Coun
 
 def _free_hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, limits: RunLimits,
                   counts: _Counts) -> tuple[list[int], list[list[float]]]:
-    """The variables that may move and the Hessian over them.
+    """The variables that may move and the Hessian over them."""
+    point = x.tolist()
+    _, free = _free_variables(nlp, point, parameters, limits, counts)
+    return free, (_hessian(nlp, point, parameters, counts, free) if free else [])
+
+
+def _free_variables(nlp: Any, point: list[float], parameters: np.ndarray, limits: RunLimits,
+                    counts: _Counts) -> tuple[float, list[int]]:
+    """The objective at ``point`` and the variables that may move there.
 
     A variable is held when its bounds pin it, or when it sits on a bound and the
     gradient pushes it against that bound by more than round-off (at a symmetric
     point the gradient is zero up to a sign that means nothing).
     """
-    point = x.tolist()
-    _, gradient = _value_and_gradient(nlp, point, parameters, counts, "gradient")
-    free = [index for index, (value, low, high, slope)
+    value, gradient = _value_and_gradient(nlp, point, parameters, counts, "gradient")
+    free = [index for index, (entry, low, high, slope)
             in enumerate(zip(point, limits.lower.tolist(), limits.upper.tolist(), gradient,
                              strict=True))
             if not (high - low <= ON_BOUND
-                    or (value - low <= ON_BOUND and slope > STATIONARY_START)
-                    or (high - value <= ON_BOUND and slope < -STATIONARY_START))]
-    return free, (_hessian(nlp, point, parameters, counts, free) if free else [])
+                    or (entry - low <= ON_BOUND and slope > STATIONARY_START)
+                    or (high - entry <= ON_BOUND and slope < -STATIONARY_START))]
+    return value, free
 
 
 def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
@@ -244,15 +253,23 @@ def isolated_minimum(nlp: Any, x: np.ndarray, parameters: np.ndarray,
 
     Bound-only problems: every variable that may move (see :func:`_free_hessian`) has
     positive curvature, the Hessian's smallest eigenvalue above ``RELATIVE_CURVATURE``
-    times its largest (a zero-RE point of more design variables than residuals lies on
-    a set of optima, where it is not). With constraint functions: False (not judged).
+    times its largest. A least-squares objective (``nlp.residuals_and_jacobian``, two
+    residuals) at round-off zero with more than two variables free is not: there its
+    Hessian is ``2 J^T J`` of rank two at most, so the point lies on a set of optima,
+    and no Hessian is computed. With constraint functions: False (not judged).
     """
     if limits.constrained:
         return False
-    point = np.clip(np.asarray(x, dtype=float), limits.lower, limits.upper)
-    free, hessian = _free_hessian(nlp, point, parameters, limits, _Counts())
+    point = np.clip(np.asarray(x, dtype=float), limits.lower, limits.upper).tolist()
+    counts = _Counts()
+    value, free = _free_variables(nlp, point, parameters, limits, counts)
     if not free:
         return True
+    if (getattr(nlp, "nonnegative_objective", False)
+            and getattr(nlp, "residuals_and_jacobian", None) is not None
+            and value <= ZERO_OBJECTIVE and len(free) > LEAST_SQUARES_RESIDUALS):
+        return False
+    hessian = _hessian(nlp, point, parameters, counts, free)
     if not all(math.isfinite(entry) for row in hessian for entry in row):
         return False
     eigenvalues = np.linalg.eigvalsh(np.array(hessian))

@@ -17,6 +17,7 @@ import numpy as np
 
 import sso._studies.report  # noqa: F401  (registers the "sweep" and "tolerance" report kinds)
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
+from sso._limits import ROUND_OFF_FLOOR
 from sso._record import Record
 from sso._shafts.evaluation import Evaluation
 from sso._shafts.perturbed import METRICS
@@ -151,8 +152,10 @@ class SweepResult(Record, Readable):
 
     def lowest_re_order(self) -> np.ndarray:
         """Positions of every point: the finished ones by residual error, lowest first,
-        then the failed ones; an empty RE counts as 0 and ties keep point order."""
-        errors = self.numbers("residual_error")
+        then the failed ones; an empty RE counts as 0 and ties keep point order. RE at
+        or below :data:`sso._limits.ROUND_OFF_FLOOR` ties (the same exact cancellation,
+        whatever its round-off)."""
+        errors = np.maximum(self.numbers("residual_error"), ROUND_OFF_FLOOR)
         return np.lexsort((np.where(np.isnan(errors), 0.0, errors),
                            self.column("status") != "ok"))
 
@@ -162,7 +165,8 @@ class SweepResult(Record, Readable):
         finished = np.flatnonzero(self.column("status") == "ok")
         if not len(finished):
             return None
-        errors = self.numbers("residual_error")[finished]
+        # Exact cancellations tie (the first point wins), as in lowest_re_order.
+        errors = np.maximum(self.numbers("residual_error")[finished], ROUND_OFF_FLOOR)
         return self.rows[int(finished[np.nanargmin(errors) if np.isfinite(errors).any() else 0])]
 
     @property

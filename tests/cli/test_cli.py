@@ -370,10 +370,15 @@ def test_duplicate_names_in_one_run_are_refused(tmp_path):
 
 def test_report_refuses_a_bad_result_file(tmp_path):
     bad = tmp_path / "result.json"
-    bad.write_text('{"schema_version": 99}')
+    # the dict form a column case's result.json had before it became a saved ColumnRun
+    bad.write_text('{"schema_version": 1, "kind": "column", "mode": "optimise", '
+                   '"assemblies": []}')
     completed = sso("report", bad, cwd=tmp_path)
     assert completed.returncode == 2
-    assert "schema_version = 99; this sso reads schema_version 1" in completed.stderr
+    assert (f"error: {bad}: a result document of an earlier sso (schema_version = 1): this sso "
+            'reads saved results ("type" and "version" 1) only; write it again with sso run '
+            "or sso evaluate of its case") in completed.stderr
+    assert "Traceback" not in completed.stderr
     bad.write_text("{not json")
     completed = sso("report", bad, cwd=tmp_path)
     assert completed.returncode == 2

@@ -12,11 +12,18 @@ from pathlib import Path
 import pytest
 from test_cli import png_size, sso, sso_loading, write_case
 
+from sso import ColumnRun
+
 ROOT = Path(__file__).resolve().parents[2]
 CASES = [ROOT / "cases" / "column_car_intermediate_shaft.toml",
          ROOT / "cases" / "column_truck_three_joints.toml"]
 FILES = ("result.json", "excitation.csv", "column_3d.png", "excitation.png", "steering.png",
          "report.md", "report.html")
+
+
+def saved_run(folder: Path) -> ColumnRun:
+    """The column run saved in ``folder/result.json``, read back."""
+    return ColumnRun.from_dict(json.loads((folder / "result.json").read_text()))
 
 
 @pytest.fixture(scope="module")
@@ -39,22 +46,22 @@ def test_run_writes_every_file_without_a_warning(column_run):
 
 def test_truck_report_compares_in_phase_textbook_and_best(column_run):
     _, folder = column_run
-    document = json.loads((folder / "column_truck_three_joints" / "result.json").read_text())
-    assert document["success"]
-    by_role = {entry["role"]: entry["residual_error"] for entry in document["assemblies"]}
+    run = saved_run(folder / "column_truck_three_joints")
+    assert run.success
+    by_role = {assembly.role: assembly.residual_error for assembly in run.assemblies}
     assert by_role["in_phase"] == pytest.approx(4.86e-3, rel=1e-2)
     assert by_role["textbook"] == pytest.approx(1.11e-3, rel=1e-2)
     assert by_role["best"] == pytest.approx(2.268e-4, rel=1e-3)
-    assert by_role["best"] == pytest.approx(document["cancel"]["minimum_residual_error"],
-                                            rel=1e-9)
-    assert not document["cancel"]["possible"]
+    assert by_role["best"] == pytest.approx(run.cancel.minimum_residual_error, rel=1e-9)
+    assert not run.cancel.possible
     # 36 teeth come within 2e-6 relative of the continuous optimum (about 10 and -80
     # deg, whole teeth; the hardpoints are rounded to 0.1 mm).
-    assert document["splines"]["tooth_offset"] == [1, -8]
-    assert document["splines"]["loss"] < 1e-5 * by_role["best"]
-    moved = document["joint_positions"]
-    assert moved["fun"] < moved["initial_re"] and moved["constraint_violation"] <= 1e-8
-    assert moved["yoke_phase_deg"] == [10.0, -80.0]  # phasing.mode = "fixed"
+    assert run.splines is not None and run.splines.tooth_offset == (1, -8)
+    assert run.splines.loss < 1e-5 * by_role["best"]
+    moved = run.joint_centres
+    assert moved is not None
+    assert moved.fun < moved.initial_re and moved.constraint_violation <= 1e-8
+    assert moved.yoke_phase_deg == (10.0, -80.0)  # phasing.mode = "fixed"
     report = (folder / "column_truck_three_joints" / "report.md").read_text()
     for text in ("phi_k = 90 + delta_k - gamma_k", "margin cos(beta_max)",
                  "yoke at joint 3: 8 teeth (80.0 deg) anticlockwise",
@@ -69,20 +76,18 @@ def test_truck_steering_figures_of_every_assembly(column_run):
     # function against the 3D simulation; here the case's lock (900 deg, whole
     # periods) gives the chain's s_max / s_min, and every excitation row is unjudged.
     _, folder = column_run
-    document = json.loads((folder / "column_truck_three_joints" / "result.json").read_text())
-    steering = document["steering"]
-    assert steering["lock_deg"] == 900.0 and steering["straight_ahead_deg"] == 0.0
-    by_role = {design["role"]: design for design in steering["designs"]}
+    run = saved_run(folder / "column_truck_three_joints")
+    steering = run.steering
+    assert steering.lock_deg == 900.0 and steering.straight_ahead_deg == 0.0
+    by_role = {design.role: design for design in steering.designs}
     assert set(by_role) == {"as_built", "in_phase", "textbook", "best", "splines"}
-    assert by_role["splines"]["range"]["speed_fluctuation_percent"] == pytest.approx(4.26,
-                                                                                    abs=0.01)
-    assert by_role["in_phase"]["range"]["speed_fluctuation_percent"] == pytest.approx(19.73,
-                                                                                     abs=0.01)
-    criteria = {item["name"]: item for item in by_role["best"]["criteria"]}
-    assert criteria["speed-ratio fluctuation, lock to lock (peak to peak)"]["within"] is None
-    assert criteria["largest operating angle"]["within"] is True
-    assert all(row["within_limits"] is None and row["inertial_limit_rad_s2"] is None
-               for rows in document["excitation"]["rows"].values() for row in rows)
+    assert by_role["splines"].range.speed_fluctuation_percent == pytest.approx(4.26, abs=0.01)
+    assert by_role["in_phase"].range.speed_fluctuation_percent == pytest.approx(19.73, abs=0.01)
+    criteria = {item.name: item for item in by_role["best"].criteria}
+    assert criteria["speed-ratio fluctuation, lock to lock (peak to peak)"].within is None
+    assert criteria["largest operating angle"].within is True
+    assert all(row.within_limits is None and row.inertial_limit_rad_s2 is None
+               for table in run.excitation.values() for row in table)
 
 
 def test_excitation_csv_has_both_assemblies_over_the_rpm_range(column_run):
@@ -113,9 +118,9 @@ def test_evaluate_loads_no_casadi(tmp_path):
                                     cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert "casadi" not in loaded
-    document = json.loads((tmp_path / "column_truck_three_joints" / "result.json").read_text())
-    assert "phasing" not in document and "joint_positions" not in document
-    assert document["assemblies"][0]["residual_error"] == pytest.approx(2.268e-4, rel=1e-3)
+    run = saved_run(tmp_path / "column_truck_three_joints")
+    assert run.mode == "evaluate" and run.phasing is None and run.joint_centres is None
+    assert run.assemblies[0].residual_error == pytest.approx(2.268e-4, rel=1e-3)
 
 
 def test_bad_column_case_exits_2_naming_the_key(tmp_path):
@@ -137,10 +142,9 @@ def test_a_driveline_column_is_judged_by_the_driveline_limits(tmp_path):
                       'vehicle = "truck"\napplication = "driveline"\n')
     completed = sso("evaluate", path, "--out", tmp_path, "--no-plots", cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    document = json.loads((tmp_path / "driveline" / "result.json").read_text())
-    rows = document["excitation"]["rows"]["as_built"]
-    assert [row["inertial_limit_rad_s2"] for row in rows] == [2000.0] * 3
-    assert all(isinstance(row["within_limits"], bool) for row in rows)
+    rows = saved_run(tmp_path / "driveline").excitation["as_built"].rows
+    assert [row.inertial_limit_rad_s2 for row in rows] == [2000.0] * 3
+    assert all(isinstance(row.within_limits, bool) for row in rows)
     report = (tmp_path / "driveline" / "report.md").read_text()
     assert "limits inertial / torsional" in report
     assert "the SAE AE-7 driveline limits judge the excitation rows" in report

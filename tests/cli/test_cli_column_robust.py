@@ -2,7 +2,7 @@
 
 Reference values: the shipped case cases/column_truck_three_positions.toml (positions
 from tests/data/columns/truck_three_positions.json); the robust-phasing acceptance is
-checked on the document the run writes (each single-position optimum's worst RE,
+checked on the result the run saves (each single-position optimum's worst RE,
 the tolerance study of both designs on one sample), and the band edges against the
 independent 3D cross-and-yoke simulation (tests/column/cross_and_yoke.py).
 """
@@ -14,6 +14,8 @@ import numpy as np
 import pytest
 from column.cross_and_yoke import residual_error as simulated_re
 from test_cli import png_size, sso, sso_loading, write_case
+
+from sso import ColumnRun
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -28,47 +30,54 @@ MID = json.loads((ROOT / "tests" / "data" / "columns" / "truck_three_positions.j
 def robust_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("robust")
     completed = sso("run", CASE, "--out", folder, cwd=folder)
-    document = json.loads((folder / NAME / "result.json").read_text())
-    return completed, folder / NAME, document
+    return completed, folder / NAME, saved_run(folder / NAME)
+
+
+def saved_run(folder: Path) -> ColumnRun:
+    """The column run saved in ``folder/result.json``, read back."""
+    return ColumnRun.from_dict(json.loads((folder / "result.json").read_text()))
 
 
 def test_run_solves_without_a_warning_and_writes_every_plot(robust_run):
-    completed, folder, document = robust_run
+    completed, folder, run = robust_run
     assert completed.returncode == 0, completed.stderr
     assert completed.stderr == ""
-    assert document["success"] and document["warnings"] == []
+    assert run.success and run.warnings == ()
     for name in IMAGES:
         assert png_size(folder / name) == (1000, 700), name
 
 
 def test_shared_phasing_beats_every_single_position_optimum(robust_run):
-    _, _, document = robust_run
-    result = document["robust"]["positions"]["result"]
-    assert result["crosscheck"]["agree"]
-    objectives = result["crosscheck"]["objective"]
+    _, _, run = robust_run
+    result = run.robust.positions.result
+    assert result.crosscheck.agree
+    objectives = result.crosscheck.objective
     assert objectives["ipopt"] == pytest.approx(objectives["slsqp"], rel=1e-9)
-    for single in result["single_position"].values():
-        assert result["worst_re"] <= single["worst_re"]
+    for single in result.single_position.values():
+        assert result.worst_re <= single.worst_re
     # docs/robust.md: the worst case binds at both tilt ends, 6.50e-4.
-    assert result["worst_re"] == pytest.approx(6.4988e-4, rel=1e-4)
-    assert set(result["active_positions"]) == {"tilt_up", "tilt_down"}
+    assert result.worst_re == pytest.approx(6.4988e-4, rel=1e-4)
+    assert set(result.active_positions) == {"tilt_up", "tilt_down"}
 
 
 def test_tolerance_aware_p95_at_or_below_the_nominal_on_the_same_sample(robust_run):
-    _, folder, document = robust_run
-    tolerances = document["robust"]["tolerances"]
-    result = tolerances["result"]
-    assert result["crosscheck"]["agree"]
-    assert result["robust_study"]["p95"] <= result["nominal_study"]["p95"]
+    _, folder, run = robust_run
+    tolerances = run.robust.tolerances
+    result = tolerances.result
+    assert result.crosscheck.agree
+    assert result.robust_study.p95 <= result.nominal_study.p95
     # Below every equivalent nominal optimum too (mirror solutions, equal nominal RE).
-    for equivalent in tolerances["nominal_equivalents"]:
-        assert result["robust_study"]["p95"] <= equivalent["study"]["p95"]
-    by_role = {entry["role"]: entry for entry in document["robust"]["designs"]}
-    assert by_role["robust"]["study"] == pytest.approx(result["robust_study"], rel=1e-12)
-    assert 0.0 < result["nominal_re_given_up"] < 1e-6
+    assert tolerances.nominal_equivalents
+    for equivalent in tolerances.nominal_equivalents:
+        assert result.robust_study.p95 <= equivalent.study.p95
+    by_role = {design.role: design for design in run.robust.designs}
+    for figure in ("nominal_re", "mean", "p50", "p95", "max", "cvar95"):
+        assert getattr(by_role["robust"].study, figure) == pytest.approx(
+            getattr(result.robust_study, figure), rel=1e-12)
+    assert 0.0 < result.nominal_re_given_up < 1e-6
     # The stored sample gives the same p95 (the plot's data).
-    assert np.percentile(tolerances["samples_re"]["robust"], 95.0) == pytest.approx(
-        result["robust_study"]["p95"], rel=1e-12)
+    assert np.percentile(tolerances.samples_re["robust"], 95.0) == pytest.approx(
+        result.robust_study.p95, rel=1e-12)
     report = (folder / "report.md").read_text()
     for text in ("### Tolerance study on one sample", "nominal RE given up",
                  "at or below: yes; against every equivalent nominal optimum: yes",
@@ -78,21 +87,24 @@ def test_tolerance_aware_p95_at_or_below_the_nominal_on_the_same_sample(robust_r
 
 
 def test_band_edges_meet_the_limit_in_the_3d_simulation(robust_run):
-    _, _, document = robust_run
-    limit = document["robust"]["band"]["re_limit"]
-    points = np.asarray(document["geometry"]["points_mm"])
-    for entry in document["robust"]["designs"]:
-        if "band" not in entry:
-            assert "above band.re_limit" in entry["band_note"]
+    _, _, run = robust_run
+    limit = run.robust.band_re_limit
+    points = np.asarray(run.geometry.points_mm)
+    edges = 0
+    for design in run.robust.designs:
+        if design.band is None:
+            assert "above band.re_limit" in design.band_note
             continue
-        for index, interval in enumerate(entry["band"]["yoke_phase"]):
-            for edge, at_limit in (("lower_deg", "lower_at_limit"),
-                                   ("upper_deg", "upper_at_limit")):
-                if not interval[at_limit]:
+        for index, interval in enumerate(design.band.yoke_phase):
+            for edge, at_limit in ((interval.lower_deg, interval.lower_at_limit),
+                                   (interval.upper_deg, interval.upper_at_limit)):
+                if not at_limit:
                     continue
-                yoke = list(entry["yoke_phase_deg"])
-                yoke[index] = interval[edge]
+                yoke = list(design.yoke_phase_deg)
+                yoke[index] = edge
                 assert simulated_re(points, yoke) == pytest.approx(limit, rel=1e-6)
+                edges += 1
+    assert edges > 0
 
 
 def test_evaluate_reports_the_assembly_as_built_at_every_position(tmp_path):
@@ -100,13 +112,13 @@ def test_evaluate_reports_the_assembly_as_built_at_every_position(tmp_path):
                                     cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
     assert "casadi" not in loaded
-    robust = json.loads((tmp_path / NAME / "result.json").read_text())["robust"]
-    (as_built,) = robust["designs"]
-    assert as_built["role"] == "as_built" and "result" not in robust["positions"]
+    robust = saved_run(tmp_path / NAME).robust
+    (as_built,) = robust.designs
+    assert as_built.role == "as_built" and robust.positions.result is None
     # docs/robust.md: mid's optimum (10.0, -80.0) gives 7.61e-4, 2.27e-4, 1.18e-4.
-    assert as_built["position_re"]["tilt_up"] == pytest.approx(7.61e-4, rel=2e-3)
-    assert as_built["position_re"]["mid"] == pytest.approx(2.27e-4, rel=2e-3)
-    assert as_built["position_re"]["tilt_down"] == pytest.approx(1.18e-4, rel=3e-3)
+    assert as_built.positions.position_re["tilt_up"] == pytest.approx(7.61e-4, rel=2e-3)
+    assert as_built.positions.position_re["mid"] == pytest.approx(2.27e-4, rel=2e-3)
+    assert as_built.positions.position_re["tilt_down"] == pytest.approx(1.18e-4, rel=3e-3)
 
 
 def test_on_centre_phasing_moves_the_fluctuation_off_centre(tmp_path):
@@ -116,12 +128,12 @@ def test_on_centre_phasing_moves_the_fluctuation_off_centre(tmp_path):
                       'lock_deg = 600.0\n[output]\nformats = ["json", "md"]\n')
     completed = sso("run", path, "--out", tmp_path, cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    robust = json.loads((tmp_path / "feel" / "result.json").read_text())["robust"]
-    by_role = {entry["role"]: entry for entry in robust["designs"]}
-    assert robust["feel"]["result"]["crosscheck"]["agree"]
-    centred, nominal = by_role["on_centre"]["feel"], by_role["nominal"]["feel"]
-    assert centred["on_centre_fluctuation"] < nominal["on_centre_fluctuation"]
-    assert centred["re"] >= nominal["re"] * (1.0 - 1e-9)
+    robust = saved_run(tmp_path / "feel").robust
+    by_role = {design.role: design for design in robust.designs}
+    assert robust.feel.result.crosscheck.agree
+    centred, nominal = by_role["on_centre"].feel, by_role["nominal"].feel
+    assert centred.on_centre_fluctuation < nominal.on_centre_fluctuation
+    assert centred.re >= nominal.re * (1.0 - 1e-9)
     assert "On-centre phasing (RE + 10 x on-centre variance)" in \
         (tmp_path / "feel" / "report.md").read_text()
 

@@ -75,19 +75,20 @@ def test_a_column_that_cannot_cancel_reports_no_set():
 
 
 @pytest.fixture(scope="module")
-def document():
+def column_run():
     from sso._cases.schema import parse_case
-    from sso._run.column_document import column_document
+    from sso._run.column import run_column
 
     case = parse_case({"kind": "column", "hardpoints": {"points_mm": POINTS.tolist()},
                        "solver": {"starts": 4}}, "cancelling")
-    return column_document(case, optimising=True)
+    return run_column(case, optimising=True)
 
 
-def test_the_column_report_states_the_criterion_and_the_extent(document, tmp_path):
-    exact = document["phasing"]["exact_optima"]
-    assert exact["dimension"] == 1 and len(exact["extent_yoke_phase_deg"]) == 3
-    sso.write_report(document, tmp_path / "report", formats=("md",))
+def test_the_column_report_states_the_criterion_and_the_extent(column_run, tmp_path):
+    phasing = column_run.phasing
+    assert phasing.optimisation.exact_optima.dimension == 1
+    assert len(phasing.exact_optimum_extent_deg) == 3
+    sso.write_report(column_run, tmp_path / "report", formats=("md",))
     text = (tmp_path / "report" / "report.md").read_text()
     assert "RE = 0 is reached on a set of exact optima of dimension 1" in text
     assert "nearest the textbook correction" in text

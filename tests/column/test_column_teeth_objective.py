@@ -41,24 +41,25 @@ def three_position_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("run")
     assert main(["run", str(THREE_POSITIONS), "--out", str(out), "--no-plots", "--quiet"]) == 0
     folder = out / "column_truck_three_positions"
-    return (json.loads((folder / "result.json").read_text(encoding="utf-8")),
-            (folder / "report.md").read_text(encoding="utf-8"))
+    return (sso.ColumnRun.from_dict(json.loads((folder / "result.json").read_text(
+        encoding="utf-8"))), (folder / "report.md").read_text(encoding="utf-8"))
 
 
 def test_the_instructed_teeth_give_the_worst_position_re_the_report_shows(three_position_run):
-    document, report = three_position_run
-    assert document["recommended"] == "splines"
-    splines = document["splines"]
-    assert splines["objective"] == "worst-position RE"
+    run, report = three_position_run
+    assert run.recommended == "splines"
+    splines = run.splines
+    assert splines.objective == "worst-position RE"
     # the fitter's instructions, as data: teeth and tooth offsets per shaft
-    instructions = splines["instructions"]
-    yoke = [item["tooth_offset"] * 360.0 / item["teeth"] for item in instructions]
+    instructions = splines.instructions
+    yoke = [item.tooth_offset * 360.0 / item.teeth for item in instructions]
     worst = _worst_simulated(yoke)
-    assert splines["residual_error"] == pytest.approx(worst, rel=1e-9)
-    optimum = document["designs"]["optimum"]
-    assert optimum["objective"]["at_teeth"] == pytest.approx(worst, rel=1e-9)
-    assert optimum["objective"]["continuous"] == pytest.approx(
-        document["robust"]["positions"]["result"]["worst_re"], rel=1e-12)
+    assert splines.residual_error == pytest.approx(worst, rel=1e-9)
+    optimum = run.optimum
+    assert optimum.objective == "worst-position RE"
+    assert optimum.objective_at_teeth == pytest.approx(worst, rel=1e-9)
+    assert optimum.objective_continuous == pytest.approx(
+        run.robust.positions.result.worst_re, rel=1e-12)
     # the report shows that value (6 digits) beside the continuous one, and the same
     # instructions
     shown = re.search(r"Best on the splines for the worst-position RE: (\S+) at the teeth, "
@@ -66,9 +67,9 @@ def test_the_instructed_teeth_give_the_worst_position_re_the_report_shows(three_
     assert shown is not None
     assert float(shown.group(1)) == pytest.approx(worst, rel=1e-5)
     for item in instructions:
-        assert item["text"] in report
-    # the single position's own teeth are kept, apart
-    assert document["splines_single_position"]["objective"] == "RE"
+        assert item.text in report
+    # the teeth of RE at the hardpoints alone are kept, apart
+    assert run.nominal_splines.objective == "RE"
 
 
 def test_the_shared_phasing_on_splines_is_the_best_assembly_by_brute_force():

@@ -75,3 +75,25 @@ def test_a_missed_and_a_retired_target_are_shown_as_such():
     assert "| fast enough | **MISSED** | 4.6x |" in section
     assert "| few evaluations | retired | would be MISSED |" in section
     assert "- few evaluations: evaluations no longer measure work" in section
+
+
+def test_the_page_shows_the_cpu_times_the_run_recorded():
+    # Every CPU-time figure of the recorded run (docs/data/performance_run.json) is on
+    # the rendered page beside its wall-time figure, at the digits the page prints.
+    document = performance.load()
+    lines = performance.section(document).split("\n")
+    for option, case in document["issue_12"]["latency"].items():
+        for name, figures in case.items():
+            if isinstance(figures, dict):
+                row = (f"| {option} | {name} | {figures['time_s'] * 1e3:.3f} | "
+                       f"{figures['cpu_time_s'] * 1e3:.3f} | {figures['fun']:.3g} | "
+                       f"{figures['baseline_over_method']:.2f} | "
+                       f"{figures['baseline_over_method_cpu']:.2f} |")
+                assert row in lines, row
+        default = (f"| {option} | {case['default_over_baseline']:.2f}x | "
+                   f"{case['default_over_baseline_cpu']:.2f}x |")
+        assert default in lines, default
+    for row in document["issue_12"]["random_cases"]["rows"]:
+        cells = (f"| {row['ratio']:.2f} | {row['ratio_cpu']:.2f} | {row['lm_higher_re']} |")
+        assert any(line.startswith(f"| {row['option']} | {row['joints']} | {row['starts']} |")
+                   and line.endswith(cells) for line in lines), cells

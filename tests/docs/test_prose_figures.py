@@ -122,7 +122,33 @@ def fortran_degree() -> str:
     return f"converts degrees with 0.0174532, {short_ppm:.1f} ppm short"
 
 
-NUMBER_WORDS = {3: "three", 6: "six", 9: "nine"}
+NUMBER_WORDS = {3: "three", 4: "four", 6: "six", 8: "eight", 9: "nine"}
+
+
+def lm_kernel_blocks() -> str:
+    """The compiled blocks of "lm" (sso/_solvers/lm_kernel.py's constants)."""
+    from sso._solvers import lm_kernel
+
+    return (f"Gauss-Newton blocks of {NUMBER_WORDS[lm_kernel.KERNEL_ITERATIONS]} iterations "
+            f"and, for up to {lm_kernel.NEWTON_KERNEL_VARIABLES} variables, Newton blocks of "
+            f"{NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_ITERATIONS]} (built once a shape has "
+            f"needed them {NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_AFTER]} times)")
+
+
+def lm_kernel_newton() -> str:
+    from sso._solvers import lm_kernel
+
+    return (f"Newton steps are compiled too, for up to {lm_kernel.NEWTON_KERNEL_VARIABLES} "
+            "variables (the Hessian and its Cholesky factor grow with the square and the "
+            f"cube), once a shape has needed them {NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_AFTER]} "
+            "times")
+
+
+def finite_difference_port() -> str:
+    from benchmarks.cases import BASELINE_ANGLES_DEG
+
+    return (f"the finite-difference port (SLSQP on RE sampled at {len(BASELINE_ANGLES_DEG)} "
+            "angles)")
 
 
 def shipped_cases() -> str:
@@ -171,6 +197,11 @@ FIGURES = {
     "shipped columns (docs/getting-started.md)": ("docs/getting-started.md", shipped_columns),
     "the paper's degree (docs/tutorials/mechanisms.md)": ("docs/tutorials/mechanisms.md",
                                                           fortran_degree),
+    "lm's compiled blocks (docs/performance.md)": ("docs/performance.md", lm_kernel_blocks),
+    "the paper model's baseline (docs/performance.md)": ("docs/performance.md",
+                                                         finite_difference_port),
+    "lm's compiled Newton steps (docs/architecture.md)": ("docs/architecture.md",
+                                                          lm_kernel_newton),
 }
 
 

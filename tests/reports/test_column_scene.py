@@ -1,4 +1,4 @@
-"""The scene of a column's interactive 3D view, built from the parts of its document.
+"""The scene of a column's interactive 3D view, built from the parts of its run.
 
 Reference values: the shipped three-position truck case (cases/
 column_truck_three_positions.toml) and its hardpoints; a box of +-5 mm around each joint.
@@ -10,27 +10,23 @@ from pathlib import Path
 
 import pytest
 
-from sso._cases.schema import load_case
+from sso._cases.schema import load_case, parse_case
 from sso._reports.column_scene import column_scene
+from sso._run.column import run_column
 
 
 def test_the_column_scene_draws_positions_boxes_and_names_every_shaft():
-    # The shipped three-position truck case, with a box around each joint: the scene
-    # is built from the document's parts the report has (geometry, robust positions,
-    # case joint boxes), without running a solver.
-    case = load_case(Path(__file__).resolve().parents[2] / "cases"
-                     / "column_truck_three_positions.toml")
-    geometry = case.geometry()
-    points = case.values["hardpoints.points_mm"]
-    document = {
-        "geometry": {**geometry.to_dict(), "straight_joints": list(geometry.straight_joints),
-                     "bend_normals": geometry.bend_normals.tolist()},
-        "robust": {"positions": {"geometry": {name: column.to_dict() for name, column
-                                              in case.positions().items()}}},
-        "case": {"joint_boxes": {"min_mm": [[c - 5.0 for c in p] for p in points[1:-1]],
-                                 "max_mm": [[c + 5.0 for c in p] for p in points[1:-1]]}},
-    }
-    scene = column_scene(document)
+    # The shipped three-position truck case (its positions only), with a box around
+    # each joint, analysed as built: the scene is built from the run's parts
+    # (geometry, robust positions, the case's joint boxes), without running a solver.
+    shipped = load_case(Path(__file__).resolve().parents[2] / "cases"
+                        / "column_truck_three_positions.toml").to_dict()
+    points = shipped["hardpoints"]["points_mm"]
+    case = parse_case({"kind": "column", "name": "boxed", "hardpoints": shipped["hardpoints"],
+                       "joint_boxes": {"min_mm": [[c - 5.0 for c in p] for p in points[1:-1]],
+                                       "max_mm": [[c + 5.0 for c in p] for p in points[1:-1]]}},
+                      "boxed")
+    scene = column_scene(run_column(case, optimising=False))
     names = [item["name"] for item in scene["items"]]
     assert [name for name in names if name.startswith("position ")] == [
         f"position {name} (hardpoints.positions.{name})" for name in case.positions()]

@@ -23,7 +23,7 @@ TRUCK = json.loads((Path(__file__).resolve().parents[1] / "data" / "columns"
 def plot(yoke: tuple[float, float]) -> bytes:
     designs = [("as_built", "as built", yoke), ("in_phase", "yokes in phase", (0.0, 0.0))]
     steering = assess_steering(ColumnGeometry(TRUCK), designs, lock_deg=900.0)
-    return steering_plot({"steering": steering.to_dict()})
+    return steering_plot(steering)
 
 
 def test_the_plot_is_a_png_of_the_report_size_and_follows_the_assemblies():

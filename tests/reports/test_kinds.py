@@ -57,8 +57,12 @@ def test_write_report_of_an_optimisation_is_the_report_sso_run_writes(two_joint_
 def test_write_report_refuses_what_is_not_a_result(tmp_path):
     with pytest.raises(TypeError, match="result must be an sso result"):
         sso.write_report(42, tmp_path / "report")
+    # a dict is no result: result.json is read back with from_dict, never reported as a dict
+    with pytest.raises(TypeError, match="result must be an sso result .* not dict"):
+        sso.write_report({"schema_version": 1, "kind": "column"}, tmp_path / "report")
     with pytest.raises(ValueError, match="formats = \\['pdf'\\]"):
-        sso.write_report({}, tmp_path / "report", formats=["pdf"])
+        sso.write_report(sso.can_cancel([10.0, 20.0]), tmp_path / "report", formats=["pdf"])
+    assert not (tmp_path / "report").exists()
 
 
 def test_batch_phasing_and_spline_results_read_well():

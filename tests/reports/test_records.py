@@ -36,7 +36,26 @@ def tolerances() -> sso.Tolerances:
     return sso.Tolerances(hardpoint_mm=0.5, yoke_phase_deg=0.5, samples=20, seed=3)
 
 
+def column_run() -> sso.ColumnRun:
+    """What ``sso run`` of a column case returns (the command saves it as result.json):
+    the tilt-down column with its positions, tolerances, band and feel, on splines."""
+    from sso._cases.schema import parse_case
+    from sso._run.column import run_column
+
+    case = parse_case({
+        "kind": "column", "name": "tilt_down", "hardpoints": {
+            "points_mm": [list(point) for point in TILT_DOWN],
+            "positions": {"down": [list(point) for point in TILT_DOWN],
+                          "up": [list(point) for point in TILT_UP]}},
+        "splines": {"teeth": [24, 24]}, "tolerances": {"hardpoint_mm": 0.5,
+                                                        "yoke_phase_deg": 0.5, "samples": 20},
+        "band": {"re_limit": 1e-3}, "feel": {"straight_ahead_deg": 45.0, "lock_deg": 600.0},
+        "solver": {"starts": 2}}, "tilt_down.toml")
+    return run_column(case, optimising=True)
+
+
 MAKERS: dict[str, Callable[[], Any]] = {
+    "ColumnRun": column_run,
     "OptimisationResult": lambda: sso.optimise(SERIES, 1, starts=2),
     "PhasingResult": phasing,
     "SplineResult": lambda: sso.optimise(column(), teeth=24),

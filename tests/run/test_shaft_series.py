@@ -46,3 +46,24 @@ def test_the_mode_and_the_optimisation_agree():
     with pytest.raises(ValueError, match="an optimise run holds its optimisation"):
         ShaftSeriesRun(run.case, "optimise", None, run.compared, warnings=(), versions={},
                        created_utc="")
+
+
+def test_evaluation_round_trips_through_result_json(tmp_path):
+    import json
+
+    from paper_trials import paper_trial_case
+
+    from sso._reports.kinds import write_report
+
+    run = run_shaft_series(load_case(paper_trial_case(2, "paper", tmp_path)), optimising=False)
+    write_report(run, tmp_path / "report", ["json", "csv"])
+    saved = json.loads((tmp_path / "report" / "result.json").read_text())
+    again = ShaftSeriesRun.from_dict(saved)
+    assert again == run
+    evaluation = again.designs[0].evaluation
+    # docs/model.md: paper model, option 2 trial design at 25 rpm: 22.07 .. 28.31 rpm.
+    assert evaluation.speed_min_rpm == pytest.approx(22.07, abs=5e-3)
+    assert evaluation.speed_max_rpm == pytest.approx(28.31, abs=5e-3)
+    write_report(again, tmp_path / "again", ["csv"])
+    assert ((tmp_path / "again" / "speeds.csv").read_bytes()
+            == (tmp_path / "report" / "speeds.csv").read_bytes())

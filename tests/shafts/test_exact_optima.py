@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso._shafts.exact_optima import _on_bound
+from sso._shafts.exact_optima import RANK_TOLERANCE, _on_bound, _rank_of_two_rows
 from sso._shafts.quadrature import adaptive_residual_error
 
 README_SERIES = sso.ShaftSeries(beta_deg=[30, 40, 40], phase_deg=[90, 90], model="exact")
@@ -114,3 +114,24 @@ def test_the_paper_model_refuses_tolerances():
     with pytest.raises(ValueError, match="only the exact model"):
         sso.optimise(sso.ShaftSeries([30, 40, 40], [90, 90], model="paper"), 3,
                      beta_tolerance_deg=0.5)
+
+
+def test_the_set_s_rank_is_numpy_s_svd_rank():
+    # The rank behind the set's dimension (closed form for two residual rows) against
+    # numpy's SVD at the same tolerance, on random rows, nearly dependent rows (down to
+    # 1e-14 apart), a zero row and rows of extreme scale.
+    rng = np.random.default_rng(20261125)
+    for trial in range(4000):
+        size = int(rng.integers(1, 9))
+        real, imag = rng.normal(size=size), rng.normal(size=size)
+        if trial % 4 == 1:
+            imag = real * rng.normal() + rng.normal(size=size) * 10.0 ** rng.uniform(-14, -5)
+        elif trial % 4 == 2:
+            imag = np.zeros(size)
+        elif trial % 4 == 3:
+            real = real * 10.0 ** rng.uniform(-200, 200)
+            imag = imag * 10.0 ** rng.uniform(-3, 3) * np.abs(real).max()
+        singular = np.linalg.svd(np.vstack([real, imag]), compute_uv=False)
+        expected = int(np.sum(singular > RANK_TOLERANCE * max(float(singular[0]), 1e-300)))
+        columns = [complex(a, b) for a, b in zip(real, imag, strict=True)]
+        assert _rank_of_two_rows(columns) == expected

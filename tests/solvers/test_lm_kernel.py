@@ -16,10 +16,19 @@ from sso._solvers.lm_kernel import (
     NEWTON_KERNEL_AFTER,
     kernel_of,
     newton_kernel_of,
+    pack,
     run_kernel,
     run_newton_kernel,
+    unpack,
 )
-from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING
+from sso._solvers.lm_rules import (
+    NEWTON,
+    NEWTON_INDEFINITE,
+    PYTHON,
+    RUNNING,
+    SCALARS,
+    newton_iteration,
+)
 from sso._solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
@@ -49,6 +58,15 @@ def _python_loop(problem, nlp, max_iterations=3000):
     return lm.minimise(lambda x: nlp.residuals_and_jacobian(x, fixed), problem.start_rad.tolist(),
                        problem.lower_rad.tolist(), problem.upper_rad.tolist(), 1e-12,
                        max_iterations, lambda x: nlp.objective_hessian(x, fixed))
+
+
+def _evaluate(nlp, fixed):
+    # The Python loop's residuals: rho = r1 - i r2.
+    def evaluate(point):
+        rho, jacobian = nlp.residuals_and_jacobian(point, fixed)
+        return (rho.real, -rho.imag, [entry.real for entry in jacobian],
+                [-entry.imag for entry in jacobian])
+    return evaluate
 
 
 def _with_kernel(problem, nlp, max_iterations=3000):
@@ -158,25 +176,54 @@ def test_the_newton_kernel_takes_the_newton_steps_as_the_python_loop_does():
     np.testing.assert_allclose(compiled["x"], loop[0], rtol=0, atol=1e-10)
 
 
-def test_an_indefinite_hessian_is_handed_back_for_one_python_step():
+def _indefinite_case():
     # Found by a random search: six joints of option 1 whose Newton steps begin far from
-    # the minimum, where the Hessian is indefinite; the kernel cannot shift it past its
-    # most negative eigenvalue, so it stops with NEWTON_INDEFINITE and leaves the state.
+    # the minimum, where the Hessian is indefinite. The problem, its NLP, fixed values,
+    # bounds, and the state where the Gauss-Newton kernel hands over.
     problem, nlp = _problem([37.4, 17.0, 16.7, 24.3, 9.7, 11.1],
                             [45.9, 75.2, -11.2, 143.1, 103.2], 1, (13.2, 25.9))
     fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
                            problem.upper_rad.tolist())
     handed = run_kernel(_kernel(nlp), problem.start_rad.tolist(), fixed, lower, upper, 1e-12,
                         3000)
-    stopped = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
-                                1e-12, 3000)
-    assert stopped["status"] == NEWTON_INDEFINITE
+    return problem, nlp, fixed, lower, upper, handed
+
+
+def test_an_indefinite_hessian_is_handed_from_the_blocks_to_the_shifted_step():
+    # The blocks cannot shift a Hessian past its most negative eigenvalue: they stop with
+    # NEWTON_INDEFINITE and leave the state; the compiled shifted step takes the step the
+    # Python loop takes there (its eigenvalue by bisection, the loop's by LAPACK).
+    problem, nlp, fixed, lower, upper, handed = _indefinite_case()
+    kernels = _newton_kernel(nlp)
+    problem_values = [*fixed, *lower, *upper, 1e-12, 3000.0]
+    values = pack(handed)
+    status_index = len(values) - len(SCALARS) + SCALARS.index("status")
+    while values[status_index] == NEWTON:
+        values = kernels.blocks.flat(values, problem_values)
+    assert values[status_index] == NEWTON_INDEFINITE
+    stopped = unpack(values, len(lower))
     assert stopped["nit"] >= handed["nit"]
-    # Alternating with the Python loop, the solve ends as the loop alone ends it.
-    x_loop, fun_loop, _, _, status_loop = _python_loop(problem, nlp)
-    x_kernel, fun_kernel, _, _, status_kernel = _with_kernel(problem, nlp)
-    assert status_kernel > 0 and status_loop > 0
-    assert fun_kernel == pytest.approx(fun_loop, rel=1e-9)
+    values[status_index] = float(NEWTON)
+    compiled = unpack(kernels.shifted.flat(values, problem_values), len(lower))
+    stopped["status"] = NEWTON
+    loop = newton_iteration(PYTHON, _evaluate(nlp, fixed),
+                            lambda point, gradient, free, needed: (
+                                nlp.objective_hessian(point, fixed), 1),
+                            stopped, lower, upper, 1e-12, 3000)
+    assert compiled["status"] == loop["status"] == NEWTON
+    assert compiled["nit"] == loop["nit"] == stopped["nit"] + 1
+    assert compiled["fun"] == pytest.approx(loop["fun"], rel=1e-9)
+    np.testing.assert_allclose(compiled["x"], loop["x"], rtol=0, atol=1e-9)
+
+
+def test_a_solve_through_indefinite_hessians_ends_as_the_python_loop_does():
+    problem, nlp, fixed, lower, upper, handed = _indefinite_case()
+    compiled = run_newton_kernel(_newton_kernel(nlp), dict(handed), fixed, lower, upper,
+                                 1e-12, 3000)
+    x_loop, fun_loop, nit_loop, _, status_loop = _python_loop(problem, nlp)
+    assert compiled["status"] > 0 and status_loop > 0
+    assert compiled["fun"] == pytest.approx(fun_loop, rel=1e-9)
+    assert abs(compiled["nit"] - nit_loop) <= 1
 
 
 def test_the_newton_kernel_is_built_only_for_a_shape_solved_repeatedly():

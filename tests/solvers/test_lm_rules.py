@@ -1,11 +1,11 @@
-"""The rules' Cholesky factor (plain floats and numpy columns) against numpy's (LAPACK's)
-factor and eigenvalues."""
+"""The rules' Cholesky factor (plain floats and numpy columns) and their lowest eigenvalue
+by bisection against numpy's (LAPACK's) factor and eigenvalues."""
 
 import numpy as np
 import pytest
 
 from sso._solvers.lm_batch import NUMPY
-from sso._solvers.lm_rules import PYTHON, cholesky, solve_factored
+from sso._solvers.lm_rules import PYTHON, bisected_lowest_eigenvalue, cholesky, solve_factored
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 5, 8])
@@ -42,3 +42,21 @@ def test_no_factor_exactly_when_the_shifted_matrix_is_not_positive_definite():
     assert not cholesky(PYTHON, matrix, 0.0)[1]
     assert not cholesky(PYTHON, matrix, 0.999)[1]
     assert cholesky(PYTHON, matrix, 1.001)[1]
+
+
+@pytest.mark.parametrize("size", [1, 2, 5, 11])
+def test_bisected_lowest_eigenvalue_matches_lapack_on_indefinite_matrices(size):
+    # Symmetric matrices with a negative eigenvalue, scaled over six decades: the
+    # bisection keeps the least shift that gives a factor, so it ends at or below
+    # LAPACK's eigenvalue by round-off of the matrix's size.
+    rng = np.random.default_rng(100 + size)
+    for scale in (1e-3, 1.0, 1e3):
+        square = rng.normal(size=(size, size))
+        matrix = scale * (square + square.T)
+        matrix[0, 0] -= scale * (abs(matrix[0, 0]) / scale + 1.0)
+        lowest = np.linalg.eigvalsh(matrix)[0]
+        assert lowest < 0.0
+        found = bisected_lowest_eigenvalue(PYTHON, matrix.tolist())
+        size_of_matrix = np.max(np.sum(np.abs(matrix), axis=1))
+        assert lowest - 1e-13 * size_of_matrix <= found <= lowest + 1e-15 * size_of_matrix
+        assert cholesky(PYTHON, matrix.tolist(), -found)[1]

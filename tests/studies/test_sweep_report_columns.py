@@ -52,3 +52,19 @@ def test_each_panel_of_a_large_sweep_draws_a_sample_and_every_lowest_value():
         x = result.numbers(f"design.beta_deg[{joint}]")
         reference = [errors[x == value].min() for value in np.unique(x)]
         np.testing.assert_allclose(lowest.get_ydata(), reference, rtol=0, atol=0)
+
+
+def test_exact_cancellations_tie_and_the_first_point_is_the_lowest():
+    # Two equal joints phased 90 deg apart cancel exactly at any angle; their RE is
+    # round-off of different sizes (1.6e-34 at 30 deg, 1.8e-36 at 10 deg), which prints
+    # as "< 1e-15" alike: the first such point is the sweep's lowest, whatever round-off
+    # the solvers or the platform leave.
+    values = [30.0, 20.0, 10.0]
+    result = sso.sweep({"design": {"beta_deg": [20.0, 20.0], "phase_deg": [90.0]}},
+                       {"design.beta_deg[0]": values, "design.beta_deg[1]": values},
+                       action="evaluate", workers=1, progress=False)
+    errors = result.numbers("residual_error")
+    assert errors[8] < errors[0] < 1e-30  # round-off alone would rank point 8 first
+    assert result.best["point"] == 0
+    assert result.lowest_re_order().tolist()[:3] == [0, 4, 8]
+    assert "lowest RE < 1e-15 at point 0" in result.summary()

@@ -1,9 +1,5 @@
 """What every case run records besides its result: its warnings, the package versions
-and when (:class:`CaseRun`, the base of every case run's result).
-
-The result documents of column cases still open with :func:`document_header`
-(``schema_version`` 1).
-"""
+and when (:class:`CaseRun`, the base of every case run's result)."""
 
 from __future__ import annotations
 
@@ -14,13 +10,11 @@ import re
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
 
 from sso._display import Readable
 from sso._distribution import installed_version
 from sso._record import Record
 
-SCHEMA_VERSION = 1
 VERSIONED_PACKAGES = ("casadi", "scipy", "numpy", "matplotlib")
 
 
@@ -84,28 +78,3 @@ def bundled_ipopt_version() -> str:
 def created_utc() -> str:
     """The time now, UTC, to the second (ISO 8601), as a run records it."""
     return datetime.now(UTC).isoformat(timespec="seconds")
-
-
-def document_header(case: Any, mode: str) -> dict[str, Any]:
-    """The keys every result document opens with, for a case of any kind.
-
-    Parameters
-    ----------
-    case : a checked case
-        Anything with ``kind``, ``source`` and ``to_dict()``.
-    mode : str
-        ``"optimise"``, ``"evaluate"`` or ``"analyse"``.
-
-    Returns
-    -------
-    dict
-        ``schema_version``, ``kind``, ``mode``, ``created_utc``, ``case``, ``case_file``.
-    """
-    return {
-        "schema_version": SCHEMA_VERSION,
-        "kind": case.kind,
-        "mode": mode,
-        "created_utc": created_utc(),
-        "case": case.to_dict(),
-        "case_file": case.source,
-    }

@@ -1,0 +1,329 @@
+"""The ``"lm"`` rules compiled to machine code, for many designs of one shape.
+
+The batch's numpy path (:mod:`sso._solvers.lm_batch`) runs an iteration of every design
+as a few hundred array operations: near numpy's limit at a few thousand designs, and it
+cannot take the Newton steps of a minimum above zero without a per-step pass of Python
+over a shrinking tail. Here the iterations of :mod:`sso._solvers.lm_kernel` (the start,
+Gauss-Newton, Newton, and the Newton step shifted past a negative eigenvalue, each an
+SX function) are written out as C by CasADi's code generator, with a loop that runs
+each design from its start to its end, Newton steps included, and compiled by the
+system's C compiler (``$CC``, else ``cc``) into a shared library loaded with ctypes:
+one call solves every design. ``-ffp-contract=off`` keeps each operation rounded as
+CasADi's virtual machine rounds it, so a design ends where the single solve's kernels
+end it, bit for bit.
+
+Every call of a shape uses the library when it can be had, whatever ran before, so a
+design's answer does not depend on the history of the process (a sweep gives the same
+rows in one process, a pool or a cluster). The build (about a second for a few
+variables, up to about 7 s on 2 busy cores) is kept in a cache folder
+(:func:`cache_folder`) under a name that hashes the source, the compiler command and
+the machine, written atomically: a shape is compiled once per machine, and each
+process generates its source (to find the name) and loads it. Without a
+compiler, where the build fails, for more than :data:`NATIVE_VARIABLES` variables, or
+with
+``SSO_NATIVE_LM=0`` in the environment, the numpy path runs: the same rules, whose
+answers differ from these in the last digits (and, for a design that turns to Newton
+steps, by the batched least squares' finish).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import platform
+import subprocess
+import tempfile
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sso._solvers.least_squares import (
+    SUCCESS_STATUSES,
+    ResidualFunction,
+    leave_saddles,
+)
+from sso._solvers.lm_batch import BatchRun
+from sso._solvers.lm_kernel import iteration_functions
+from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING, SCALARS
+
+NATIVE_VARIABLES = 5
+"""Shapes of at most this many free variables are compiled (3 joints of option 3, up to 6
+joints of option 1, 5 of option 2). The symbolic Hessian and its Cholesky factor grow
+the source with the square and the cube of the count, and the compiler's time faster:
+measured on 2 busy cores, 2 to 4.5 s up to 5 variables, 5.5 s for 7 (4 joints of
+option 3), 34 s for 11 (6 joints of option 3), a first call's cost no batch of a few
+thousand designs repays."""
+
+SWITCH_VARIABLE = "SSO_NATIVE_LM"
+"""Environment variable: ``0`` keeps ``sso.optimise_batch`` on the numpy path."""
+
+CACHE_VARIABLE = "SSO_CACHE_DIR"
+"""Environment variable naming the folder of compiled libraries (see :func:`cache_folder`)."""
+
+COMPILER_FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off")
+"""Flags of the build: ``-ffp-contract=off`` forbids fused multiply-adds, which would round
+differently from CasADi's virtual machine (``-O2`` ran the 2,000-start benchmark 27% faster
+than ``-O1`` with the same bits, for twice the build time)."""
+
+MAX_SADDLE_ESCAPES = 3
+"""Times a design that stopped on a saddle is moved downhill and solved again."""
+
+COMPILE_TIMEOUT_S = 300.0
+"""A compiler still running after this long is stopped and the numpy path kept."""
+
+_FUNCTIONS = ("sso_lm_start", "sso_lm_gauss_newton", "sso_lm_newton", "sso_lm_shifted")
+_DRIVER = """
+#include <stdlib.h>
+#include <string.h>
+
+typedef int (*sso_step_t)(const casadi_real**, casadi_real**, casadi_int*, casadi_real*, int);
+typedef int (*sso_work_t)(casadi_int*, casadi_int*, casadi_int*, casadi_int*);
+
+static void sso_step(sso_step_t step, casadi_real* state, const casadi_real* problem,
+                     casadi_real* next, casadi_int state_size, const casadi_real** arg,
+                     casadi_real** res, casadi_int* iw, casadi_real* w) {
+  arg[0] = state;
+  arg[1] = problem;
+  res[0] = next;
+  step(arg, res, iw, w, 0);
+  memcpy(state, next, (size_t)state_size * sizeof(casadi_real));
+}
+
+/* Each design from its start (state with nfev = 0) to its end; returns 0, or 1 when
+   memory ran out (no design touched). */
+CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* problems,
+                                      casadi_int problem_size, casadi_real* states,
+                                      casadi_int state_size, casadi_int status_index) {
+  sso_work_t works[4] = {sso_lm_start_work, sso_lm_gauss_newton_work, sso_lm_newton_work,
+                         sso_lm_shifted_work};
+  casadi_int most[4] = {0, 0, 0, 0}, sizes[4], function, entry, design;
+  for (function = 0; function < 4; ++function) {
+    works[function](&sizes[0], &sizes[1], &sizes[2], &sizes[3]);
+    for (entry = 0; entry < 4; ++entry)
+      if (sizes[entry] > most[entry]) most[entry] = sizes[entry];
+  }
+  const casadi_real** arg = malloc((size_t)(most[0] + 1) * sizeof(casadi_real*));
+  casadi_real** res = malloc((size_t)(most[1] + 1) * sizeof(casadi_real*));
+  casadi_int* iw = malloc((size_t)(most[2] + 1) * sizeof(casadi_int));
+  casadi_real* w = malloc((size_t)(most[3] + state_size + 1) * sizeof(casadi_real));
+  if (!arg || !res || !iw || !w) {
+    free(arg); free(res); free(iw); free(w);
+    return 1;
+  }
+  casadi_real* next = w + most[3];
+  for (design = 0; design < count; ++design) {
+    casadi_real* state = states + design * state_size;
+    const casadi_real* problem = problems + design * problem_size;
+    sso_step(sso_lm_start, state, problem, next, state_size, arg, res, iw, w);
+    for (;;) {
+      casadi_real status = state[status_index];
+      if (status == SSO_RUNNING) {
+        sso_step(sso_lm_gauss_newton, state, problem, next, state_size, arg, res, iw, w);
+      } else if (status == SSO_NEWTON) {
+        sso_step(sso_lm_newton, state, problem, next, state_size, arg, res, iw, w);
+      } else if (status == SSO_NEWTON_INDEFINITE) {
+        state[status_index] = SSO_NEWTON;
+        sso_step(sso_lm_shifted, state, problem, next, state_size, arg, res, iw, w);
+        if (state[status_index] == SSO_NEWTON_INDEFINITE) break;
+      } else {
+        break;
+      }
+    }
+  }
+  free(arg); free(res); free(iw); free(w);
+  return 0;
+}
+"""
+
+
+@dataclass(frozen=True)
+class NativeSolver:
+    """A shape's compiled iterations: ``solve(count, problems, problem_size, states,
+    state_size, status_index)`` (the library's ``sso_lm_solve``) for ``size`` variables."""
+
+    solve: Any
+    size: int
+
+    @property
+    def state_size(self) -> int:
+        """Entries of one design's state (:func:`sso._solvers.lm_kernel.pack`)."""
+        return 3 * self.size + 2 + len(SCALARS)
+
+
+_solvers: dict[Hashable, NativeSolver | None] = {}
+
+
+def native_solver_of(shape: Hashable, nlp_of_shape: Callable[[], Any]
+                     ) -> NativeSolver | None:
+    """The shape's compiled solver, built (or loaded from the cache) from ``nlp_of_shape()``
+    on the shape's first call in this process and kept; None where it cannot be had
+    (tried once) or ``SSO_NATIVE_LM=0``."""
+    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
+        return None
+    if shape not in _solvers:
+        _solvers[shape] = build_native_solver(nlp_of_shape())
+    return _solvers[shape]
+
+
+def cache_folder() -> Path:
+    """Where compiled libraries are kept: ``$SSO_CACHE_DIR``, else ``$XDG_CACHE_HOME/sso``,
+    else ``~/.cache/sso``."""
+    given = os.environ.get(CACHE_VARIABLE)
+    if given:
+        return Path(given)
+    base = os.environ.get("XDG_CACHE_HOME")
+    return (Path(base) if base else Path.home() / ".cache") / "sso"
+
+
+def build_native_solver(nlp: Any) -> NativeSolver | None:
+    """Generate the NLP's iterations as C, and load their library from the cache or compile
+    it there; None where the NLP has no residuals or more than :data:`NATIVE_VARIABLES`
+    variables, or the compiler is missing or fails."""
+    size = int(nlp.symbols["x"].numel()) if nlp.residuals is not None else 0
+    if not 0 < size <= NATIVE_VARIABLES:
+        return None
+    source = _source(nlp)
+    command = [os.environ.get("CC") or "cc", *COMPILER_FLAGS]
+    key = hashlib.sha256("\0".join([source, *command, platform.machine()]).encode())
+    name = f"sso-lm-{key.hexdigest()[:32]}.so"
+    try:
+        library = cache_folder() / name
+        if not library.is_file():
+            _compile(source, command, library)
+        loaded = ctypes.CDLL(str(library))
+    except (OSError, subprocess.SubprocessError):
+        try:  # no cache folder to write: a private build for this process
+            with tempfile.TemporaryDirectory(prefix="sso-lm-native-") as folder:
+                library = Path(folder) / name
+                _compile(source, command, library)
+                loaded = ctypes.CDLL(str(library))
+        except (OSError, subprocess.SubprocessError):
+            return None
+    solve = loaded.sso_lm_solve
+    solve.restype = ctypes.c_int
+    solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
+                      ctypes.c_longlong, ctypes.c_longlong]
+    return NativeSolver(solve, size)
+
+
+def _source(nlp: Any) -> str:
+    """The C source of the NLP's iterations and the loop over designs."""
+    import casadi
+
+    symbols = (nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
+    start, gauss_newton = iteration_functions(*symbols, mode="gauss_newton")
+    newton = iteration_functions(*symbols, mode="newton")[1]
+    shifted = iteration_functions(*symbols, mode="shifted")[1]
+    generator = casadi.CodeGenerator("sso_lm_native.c", {"with_header": False})
+    for name, function in zip(_FUNCTIONS, (start, gauss_newton, newton, shifted), strict=True):
+        inputs = function.sx_in()
+        generator.add(casadi.Function(name, inputs, function.call(inputs), {"cse": True}))
+    statuses = (f"#define SSO_RUNNING {RUNNING}\n#define SSO_NEWTON {NEWTON}\n"
+                f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n")
+    return str(generator.dump()) + statuses + _DRIVER
+
+
+def _compile(source: str, command: list[str], library: Path) -> None:
+    """Compile ``source`` into ``library``, written atomically (a partial library is never
+    seen under its name, and processes building it at once each replace it whole).
+
+    Raises
+    ------
+    OSError, subprocess.SubprocessError
+        If the folder cannot be written or the compiler is missing, fails or times out.
+    """
+    library.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="sso-lm-native-") as folder:
+        source_file = Path(folder) / "sso_lm_native.c"
+        source_file.write_text(source)
+        descriptor, partial = tempfile.mkstemp(dir=library.parent, prefix=".building-",
+                                               suffix=".so")
+        os.close(descriptor)
+        try:
+            subprocess.run([*command, "-o", partial, str(source_file), "-lm"], check=True,
+                           capture_output=True, timeout=COMPILE_TIMEOUT_S)
+            os.replace(partial, library)
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
+
+
+def solve_native(solver: NativeSolver, start: np.ndarray, parameters: np.ndarray,
+                 lower: np.ndarray, upper: np.ndarray, tolerance: float,
+                 max_iterations: Any) -> BatchRun | None:
+    """Every design from its start to its end by the compiled rules.
+
+    Parameters are those of :func:`sso._solvers.lm_batch.solve_batch`, except that
+    ``max_iterations`` may be one limit per design. A design whose shifted Newton step
+    was still indefinite (round-off beyond its rescue shifts) ends with status
+    :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`. Returns None when the library could
+    not allocate its working memory.
+    """
+    count, size = start.shape
+    problems = np.empty((count, parameters.shape[1] + 2 * size + 2))
+    problems[:, :parameters.shape[1]] = parameters
+    problems[:, parameters.shape[1]:-1] = [*lower, *upper, tolerance]
+    problems[:, -1] = max_iterations
+    states = np.zeros((count, solver.state_size))
+    states[:, :size] = start
+    scalars = 3 * size + 2
+    if solver.solve(count, problems.ctypes.data, problems.shape[1], states.ctypes.data,
+                    solver.state_size, scalars + SCALARS.index("status")):
+        return None
+    residual = states[:, size:size + 2]
+    jacobian = states[:, size + 2:scalars]
+    gradient = 2.0 * (jacobian[:, 0::2] * residual[:, :1] + jacobian[:, 1::2] * residual[:, 1:])
+    value = {name: states[:, scalars + index] for index, name in enumerate(SCALARS)}
+    return BatchRun(states[:, :size].copy(), value["fun"].copy(), gradient,
+                    value["nit"].astype(int), value["nfev"].astype(int),
+                    value["status"].astype(int))
+
+
+def solve_native_leaving_saddles(solver: NativeSolver, start: np.ndarray,
+                                 parameters: np.ndarray, lower: np.ndarray,
+                                 upper: np.ndarray, tolerance: float, max_iterations: int,
+                                 residual_and_jacobian: ResidualFunction,
+                                 zero_level: float) -> BatchRun | None:
+    """:func:`solve_native`, then the designs that stopped with success on a saddle above
+    ``zero_level`` moved downhill (:func:`sso._solvers.least_squares.leave_saddles`) and
+    solved again from there, at most :data:`MAX_SADDLE_ESCAPES` times, as the single
+    solve's second-order care does; each leg's counts add up and count against the limit.
+
+    ``residual_and_jacobian(x, rows)`` gives the residuals of the designs ``rows``.
+    """
+    run = solve_native(solver, start, parameters, lower, upper, tolerance, max_iterations)
+    checked = np.ones(len(start), dtype=bool)
+    for _ in range(MAX_SADDLE_ESCAPES):
+        if run is None:
+            break
+        candidates = np.flatnonzero(checked & np.isin(run.status, SUCCESS_STATUSES)
+                                    & (run.fun > zero_level) & (run.nit < max_iterations))
+        if candidates.size == 0:
+            break
+        moved, points, evaluations = leave_saddles(_rows_of(residual_and_jacobian, candidates),
+                                                   run.x[candidates], lower, upper)
+        run.nfev[candidates] += evaluations
+        rows = candidates[moved]
+        if rows.size == 0:
+            break
+        again = solve_native(solver, points, parameters[rows], lower, upper, tolerance,
+                             max_iterations - run.nit[rows])
+        if again is None:
+            break
+        run.x[rows], run.fun[rows], run.gradient[rows] = again.x, again.fun, again.gradient
+        run.status[rows] = again.status
+        run.nit[rows] += again.nit
+        run.nfev[rows] += again.nfev
+        checked = np.isin(np.arange(len(start)), rows)
+    return run
+
+
+def _rows_of(residual_and_jacobian: ResidualFunction, rows: np.ndarray) -> ResidualFunction:
+    """``residual_and_jacobian`` of the designs ``rows``, indexed from 0."""
+    def of_rows(x: np.ndarray, among: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return residual_and_jacobian(x, rows[among])
+    return of_rows

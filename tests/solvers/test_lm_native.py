@@ -1,0 +1,107 @@
+"""The rules compiled to machine code against the single solve's compiled kernels.
+
+Reference: :func:`sso._solvers.lm.solve` with the shape's Gauss-Newton and Newton kernels
+built (CasADi's virtual machine running the same SX functions): the library is the
+same instructions compiled by the system's C compiler with every operation rounded on
+its own, so each design must end with the same RE, iteration count and status, bit for
+bit.
+"""
+
+import numpy as np
+import pytest
+
+from sso._shafts.options import build_problem
+from sso._shafts.problem import compiled_nlp
+from sso._solvers import lm, lm_native
+from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER, newton_kernel_of
+from sso._solvers.lm_native import (
+    build_native_solver,
+    native_solver_of,
+    solve_native,
+)
+from sso._solvers.run import RunLimits
+
+pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
+
+
+def _problem(beta_deg, phase_deg, option):
+    return build_problem(list(beta_deg), list(phase_deg), "exact", option, (5.0, 35.0),
+                         (0.0, 180.0))
+
+
+@pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])  # 5, 3, 5 variables
+def test_each_design_ends_bit_for_bit_where_the_single_solve_s_kernels_end(joints, option):
+    # Random starts of the shape, zero and nonzero minima, Newton steps through
+    # indefinite Hessians (option 3 turns to Newton steps far from its zeros).
+    rng = np.random.default_rng(60 + joints)
+    beta_deg, phase_deg = rng.uniform(5.0, 35.0, (40, joints)), rng.uniform(0.0, 180.0,
+                                                                           (40, joints - 1))
+    problems = [_problem(beta_deg[row], phase_deg[row], option) for row in range(40)]
+    nlp = compiled_nlp(problems[0], 0)
+    for _ in range(NEWTON_KERNEL_AFTER):
+        newton_kernel_of(nlp)
+    native = build_native_solver(nlp)
+    assert native is not None
+    run = solve_native(native, np.array([problem.start_rad for problem in problems]),
+                       np.array([problem.parameters_rad for problem in problems]),
+                       problems[0].lower_rad, problems[0].upper_rad, 1e-12, 3000)
+    assert run is not None
+    for row, problem in enumerate(problems):
+        single = lm.solve(nlp, problem.start_rad, problem.parameters_rad,
+                          RunLimits(problem.lower_rad, problem.upper_rad), 1e-12, 3000)
+        assert (run.fun[row], run.nit[row], run.status[row]) == (single.fun, single.nit,
+                                                                 single.status)
+        np.testing.assert_array_equal(run.x[row], single.x)
+
+
+def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
+    # No compiler at the path given: no library, and the shape is not tried again.
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(tmp_path / "cache"))
+    monkeypatch.setattr(lm_native, "_solvers", {})
+    nlp = compiled_nlp(_problem([20.0] * 3, [90.0] * 2, 1), 0)
+    assert build_native_solver(nlp) is None
+    built = []
+
+    def nlp_of_shape():
+        built.append(1)
+        return nlp
+
+    assert native_solver_of("shape", nlp_of_shape) is None
+    assert native_solver_of("shape", nlp_of_shape) is None
+    assert built == [1]
+    assert not any((tmp_path / "cache").iterdir())
+
+
+def test_the_library_is_kept_in_the_cache_folder_and_loaded_from_it(monkeypatch, tmp_path):
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(tmp_path))
+    nlp = compiled_nlp(_problem([20.0] * 2, [90.0], 1), 0)
+    assert build_native_solver(nlp) is not None
+    libraries = list(tmp_path.iterdir())
+    assert len(libraries) == 1 and libraries[0].name.startswith("sso-lm-")
+    written = libraries[0].stat()
+    assert build_native_solver(nlp) is not None
+    assert list(tmp_path.iterdir()) == libraries
+    assert libraries[0].stat().st_mtime_ns == written.st_mtime_ns
+
+
+def test_an_unwritable_cache_folder_gives_a_private_build(monkeypatch, tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(blocker / "cache"))
+    native = build_native_solver(compiled_nlp(_problem([20.0] * 2, [90.0], 1), 0))
+    assert native is not None and native.size == 1
+    assert blocker.read_text() == "not a folder"
+
+
+def test_the_switch_keeps_the_numpy_path(monkeypatch):
+    monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
+    monkeypatch.setattr(lm_native, "_solvers", {})
+    assert native_solver_of("shape", lambda: pytest.fail("nothing is built")) is None
+
+
+def test_a_shape_of_more_variables_than_compiled_leaves_the_numpy_path():
+    # 4 joints of option 3: 7 free variables.
+    nlp = compiled_nlp(_problem([20.0] * 4, [90.0] * 3, 3), 0)
+    assert nlp.symbols["x"].numel() == lm_native.NATIVE_VARIABLES + 2
+    assert build_native_solver(nlp) is None
