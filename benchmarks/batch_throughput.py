@@ -112,7 +112,7 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
     optimise_batch(beta_deg[:1], phase_deg[:1], **arguments)
     first_call_s = time.perf_counter() - started
     times, result = timed()
-    compiled = native_solver_of((3, 3), lambda: None) is not None
+    compiled = native_solver_of((3, 3), 5, lambda: None) is not None
     started = time.perf_counter()
     baseline = [baseline_solve(beta_deg[row], phase_deg[row], 3, BETA_BOUNDS_DEG,
                                PHASE_BOUNDS_DEG) for row in range(count)]

@@ -296,7 +296,7 @@ def optimise_batch(
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
     native = native_solver_of(
-        (n_joints, option_number),
+        (n_joints, option_number), len(free),
         lambda: compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model,
                                            option_number, beta_bounds, phase_bounds), 0))
     parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,

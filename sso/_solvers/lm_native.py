@@ -16,9 +16,9 @@ Every call of a shape uses the library when it can be had, whatever ran before, 
 design's answer does not depend on the history of the process (a sweep gives the same
 rows in one process, a pool or a cluster). The build (about a second for a few
 variables, up to about 7 s on 2 busy cores) is kept in a cache folder
-(:func:`cache_folder`) under a name that hashes the source, the compiler command and
-the machine, written atomically: a shape is compiled once per machine, and each
-process generates its source (to find the name) and loads it. Without a
+(:func:`cache_folder`) under a name that hashes the shape, the package's code, the
+compiler command and the machine, written atomically: a shape is compiled once per
+machine and version of the code, and each process loads it in milliseconds. Without a
 compiler, where the build fails, for more than :data:`NATIVE_VARIABLES` variables, or
 with
 ``SSO_NATIVE_LM=0`` in the environment, the numpy path runs: the same rules, whose
@@ -36,6 +36,8 @@ import subprocess
 import tempfile
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass
+from functools import cache
+from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -157,15 +159,15 @@ class NativeSolver:
 _solvers: dict[Hashable, NativeSolver | None] = {}
 
 
-def native_solver_of(shape: Hashable, nlp_of_shape: Callable[[], Any]
+def native_solver_of(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
                      ) -> NativeSolver | None:
-    """The shape's compiled solver, built (or loaded from the cache) from ``nlp_of_shape()``
-    on the shape's first call in this process and kept; None where it cannot be had
-    (tried once) or ``SSO_NATIVE_LM=0``."""
+    """The compiled solver of ``shape`` (``size`` free variables), loaded from the cache or
+    built from ``nlp_of_shape()`` on the shape's first call in this process and kept;
+    None where it cannot be had (tried once) or ``SSO_NATIVE_LM=0``."""
     if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
         return None
     if shape not in _solvers:
-        _solvers[shape] = build_native_solver(nlp_of_shape())
+        _solvers[shape] = _load_or_build(shape, size, nlp_of_shape)
     return _solvers[shape]
 
 
@@ -180,26 +182,40 @@ def cache_folder() -> Path:
 
 
 def build_native_solver(nlp: Any) -> NativeSolver | None:
-    """Generate the NLP's iterations as C, and load their library from the cache or compile
-    it there; None where the NLP has no residuals or more than :data:`NATIVE_VARIABLES`
-    variables, or the compiler is missing or fails."""
+    """The NLP's compiled solver, loaded from the cache or built there; None where the NLP
+    has no residuals or more than :data:`NATIVE_VARIABLES` variables, or the compiler is
+    missing or fails."""
     size = int(nlp.symbols["x"].numel()) if nlp.residuals is not None else 0
+    return _load_or_build(nlp.name, size, lambda: nlp)
+
+
+def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
+                   ) -> NativeSolver | None:
+    """The library of ``shape`` from the cache, else compiled into it from the source of
+    ``nlp_of_shape()`` (or privately where the cache cannot be written); None where it
+    cannot be had.
+
+    Its name hashes the shape, the code that makes its source (every module of the
+    package, :func:`_code_fingerprint`), the compiler command and the machine: a load
+    from the cache needs neither the NLP nor the source.
+    """
     if not 0 < size <= NATIVE_VARIABLES:
         return None
-    source = _source(nlp)
     command = [os.environ.get("CC") or "cc", *COMPILER_FLAGS]
-    key = hashlib.sha256("\0".join([source, *command, platform.machine()]).encode())
+    key = hashlib.sha256("\0".join([repr(shape), str(size), _code_fingerprint(), *command,
+                                     platform.machine()]).encode())
     name = f"sso-lm-{key.hexdigest()[:32]}.so"
+    source = cache(lambda: _source(nlp_of_shape()))  # made once, and only for a build
     try:
         library = cache_folder() / name
         if not library.is_file():
-            _compile(source, command, library)
+            _compile(source(), command, library)
         loaded = ctypes.CDLL(str(library))
     except (OSError, subprocess.SubprocessError):
         try:  # no cache folder to write: a private build for this process
             with tempfile.TemporaryDirectory(prefix="sso-lm-native-") as folder:
                 library = Path(folder) / name
-                _compile(source, command, library)
+                _compile(source(), command, library)
                 loaded = ctypes.CDLL(str(library))
         except (OSError, subprocess.SubprocessError):
             return None
@@ -208,6 +224,18 @@ def build_native_solver(nlp: Any) -> NativeSolver | None:
     solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
                       ctypes.c_longlong, ctypes.c_longlong]
     return NativeSolver(solve, size)
+
+
+@cache
+def _code_fingerprint() -> str:
+    """A hash of every module of the package and of CasADi's version: any change to the
+    code that writes a library's source names a new library."""
+    package = Path(__file__).resolve().parent.parent
+    digest = hashlib.sha256(metadata.version("casadi").encode())
+    for path in sorted(package.rglob("*.py")):
+        digest.update(path.relative_to(package).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
 
 
 def _source(nlp: Any) -> str:

@@ -200,7 +200,7 @@ def test_every_design_reaches_the_single_solve_s_residual_error(option, joints, 
     # Compiled up to NATIVE_VARIABLES free variables (option 1: the phases, option 2:
     # the angles, option 3: both).
     variables = {1: joints - 1, 2: joints, 3: 2 * joints - 1}[option]
-    compiled = lm_native.native_solver_of((joints, option), lambda: None)
+    compiled = lm_native.native_solver_of((joints, option), variables, lambda: None)
     assert (compiled is not None) == (solve_path == "native"
                                       and variables <= lm_native.NATIVE_VARIABLES)
     for row in range(30):

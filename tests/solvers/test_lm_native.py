@@ -67,8 +67,8 @@ def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
         built.append(1)
         return nlp
 
-    assert native_solver_of("shape", nlp_of_shape) is None
-    assert native_solver_of("shape", nlp_of_shape) is None
+    assert native_solver_of("shape", 2, nlp_of_shape) is None
+    assert native_solver_of("shape", 2, nlp_of_shape) is None
     assert built == [1]
     assert not any((tmp_path / "cache").iterdir())
 
@@ -80,7 +80,9 @@ def test_the_library_is_kept_in_the_cache_folder_and_loaded_from_it(monkeypatch,
     libraries = list(tmp_path.iterdir())
     assert len(libraries) == 1 and libraries[0].name.startswith("sso-lm-")
     written = libraries[0].stat()
-    assert build_native_solver(nlp) is not None
+    # Another process's first call: the library is found by its name, no source is made.
+    monkeypatch.setattr(lm_native, "_solvers", {})
+    assert native_solver_of(nlp.name, 1, lambda: pytest.fail("no source is made")) is not None
     assert list(tmp_path.iterdir()) == libraries
     assert libraries[0].stat().st_mtime_ns == written.st_mtime_ns
 
@@ -97,7 +99,7 @@ def test_an_unwritable_cache_folder_gives_a_private_build(monkeypatch, tmp_path)
 def test_the_switch_keeps_the_numpy_path(monkeypatch):
     monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
     monkeypatch.setattr(lm_native, "_solvers", {})
-    assert native_solver_of("shape", lambda: pytest.fail("nothing is built")) is None
+    assert native_solver_of("shape", 2, lambda: pytest.fail("nothing is built")) is None
 
 
 def test_a_shape_of_more_variables_than_compiled_leaves_the_numpy_path():
