@@ -46,7 +46,6 @@ STILL_WITHOUT_TEST_MODULE = {
     "sso/_reports/column_robust_report.py",
     "sso/_reports/html.py",
     "sso/_reports/mechanism_plots.py",
-    "sso/_reports/mechanism_report.py",
     "sso/_reports/plots.py",
     "sso/_reports/speeds.py",
     "sso/_reports/summary.py",

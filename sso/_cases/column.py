@@ -167,6 +167,9 @@ COLUMN_KEYS: tuple[Key, ...] = (
     *solver_keys(COLUMN_SOLVER_DEFAULTS),
 )
 
+KEY_ORDER = {f"{key.table}.{key.name}": index for index, key in enumerate(COLUMN_KEYS)}
+"""Place of each dotted label in the schema (the order :meth:`ColumnCase.to_dict` writes)."""
+
 
 @register_record
 @dataclass(frozen=True)
@@ -326,7 +329,9 @@ class ColumnCase(SavedCase):
         document: dict[str, Any] = {"kind": self.kind, "name": self.name,
                                     "description": self.description,
                                     "output": {"formats": list(self.formats)}}
-        for label, value in self.values.items():
+        # in the schema's order, whatever the file's: a case read back saves the same
+        for label, value in sorted(self.values.items(),
+                                   key=lambda item: KEY_ORDER.get(item[0], len(KEY_ORDER))):
             if value is None:
                 continue
             table, name = label.split(".", 1)

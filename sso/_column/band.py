@@ -77,10 +77,6 @@ class Interval:
     lower_re: float
     upper_re: float
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return dict(self.__dict__)
-
 
 @dataclass(frozen=True, eq=False, repr=False)
 class ToleranceBand(Record, Readable):
@@ -144,16 +140,6 @@ class ToleranceBand(Record, Readable):
                 f"deg (scale {format_number(self.box_scale)}); largest RE at its corners "
                 f"{format_number(self.box_corner_max_re)}, over its grid "
                 f"{format_number(self.box_grid_max_re)}"]
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the figures."""
-        return {"re_limit": self.re_limit, "nominal_re": self.nominal_re,
-                "yoke_phase_deg": list(self.yoke_phase_deg),
-                "yoke_phase": [interval.to_dict() for interval in self.yoke_phase],
-                "operating_angle": [interval.to_dict() for interval in self.operating_angle],
-                "box_half_width_deg": list(self.box_half_width_deg),
-                "box_scale": self.box_scale, "box_corner_max_re": self.box_corner_max_re,
-                "box_grid_max_re": self.box_grid_max_re, "geometry": self.geometry.to_dict()}
 
 
 def tolerance_band(design: Any, re_limit: float) -> ToleranceBand:

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any, overload
 
 import numpy as np
@@ -99,10 +99,6 @@ class ExcitationRow:
     inertial_limit_rad_s2: float | None
     torsional_limit_rad_s2: float | None
     within_limits: bool | None
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return asdict(self)
 
 
 @dataclass(frozen=True, eq=False, repr=False)

@@ -28,7 +28,7 @@ cross-and-yoke simulation), of period 180 deg and mean 1 over a period.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -158,12 +158,6 @@ class OnCentreResult(PhasingOutcome):
                              for yoke in yokes])
 
         return objective
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the figures."""
-        return {**self.outcome_dict(), "on_centre_weight": self.on_centre_weight,
-                "feel": asdict(self.feel), "nominal_feel": asdict(self.nominal_feel),
-                "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg)}
 
 
 def speed_ratio(geometry: ColumnGeometry, yoke_phase_deg: Any, input_angle_deg: Any) -> np.ndarray:

@@ -160,27 +160,6 @@ class JointCentresResult(DesignResult):
                 f"phasing, {format_number(self.fun)} at the optimum",
                 points, f"yoke phasing (deg): {format_numbers(self.yoke_phase_deg)}", solvers]
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return {
-            "initial": self.initial.to_dict(),
-            "geometry": self.geometry.to_dict(),
-            "x": list(self.x),
-            "fun": self.fun,
-            "success": self.success,
-            "message": self.message,
-            "points_mm": [list(point) for point in self.points_mm],
-            "yoke_phase_deg": list(self.yoke_phase_deg),
-            "phasing_free": self.phasing_free,
-            "initial_re": self.initial_re,
-            "fixed_points_re": self.fixed_points_re,
-            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
-            "shaft_length_bounds_mm": [list(pair) for pair in self.shaft_length_bounds_mm],
-            "joint_boxes_mm": [[list(corner) for corner in box] for box in self.joint_boxes_mm],
-            "constraint_violation": self.constraint_violation,
-            **self.solver_dict(),
-        }
-
 
 def optimise_joint_centres(
     geometry: ColumnGeometry,

@@ -120,19 +120,6 @@ class PositionsResult(PhasingOutcome):
 
         return objective
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the figures (not the geometries' internals)."""
-        return {
-            **self.outcome_dict(), "positions_objective": self.positions_objective,
-            "weights": dict(self.weights), "position_re": dict(self.position_re),
-            "worst_re": self.worst_re, "active_positions": list(self.active_positions),
-            "single_position": {name: {"yoke_phase_deg": list(single.yoke_phase_deg),
-                                       "position_re": dict(single.position_re),
-                                       "worst_re": single.worst_re}
-                                for name, single in self.single_position.items()},
-            "geometries": {name: geometry.to_dict() for name, geometry in self.geometries.items()},
-        }
-
 
 def optimise_positions(geometries: Mapping[str, ColumnGeometry], *,
                        positions_objective: str = "worst",

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -109,21 +109,6 @@ class RobustResult(PhasingOutcome):
             return np.array([cvar(row, weights, self.level) for row in values])
 
         return objective
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the figures."""
-        return {
-            **self.outcome_dict(), "robust_objective": self.robust_objective,
-            "level": self.level, "nominal_re": self.nominal_re,
-            "nominal_optimum_re": self.nominal_optimum_re,
-            "nominal_optimum_yoke_phase_deg": list(self.nominal.yoke_phase_deg),
-            "nominal_re_given_up": self.nominal_re_given_up,
-            "robust_study": asdict(self.robust_study),
-            "nominal_study": asdict(self.nominal_study),
-            "validation_robust_study": asdict(self.validation_robust_study),
-            "validation_nominal_study": asdict(self.validation_nominal_study),
-            "tolerances": self.tolerances.to_dict(), "geometry": self.geometry.to_dict(),
-        }
 
 
 def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,

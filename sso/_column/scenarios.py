@@ -142,15 +142,6 @@ class PhasingOutcome(Record, Readable, abc.ABC):
                                         continuous_yoke_phase_deg=self.x,
                                         objective_name=self.objective_name)
 
-    def outcome_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of the common figures (not every run)."""
-        return {"yoke_phase_deg": list(self.x), "fun": self.fun, "nit": self.nit,
-                "nfev": self.nfev, "status": self.status, "success": self.success,
-                "message": self.message,
-                "solutions": {name: solution.to_dict()
-                              for name, solution in self.solutions.items()},
-                "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict()}
-
 
 def outcome_fields(solved: ScenarioRun, fun: float, message: str) -> dict[str, Any]:
     """The :class:`PhasingOutcome` fields of a solved problem, as keywords."""

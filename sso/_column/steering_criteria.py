@@ -19,7 +19,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 from sso._column.geometry import ColumnGeometry
 from sso._column.practice import BRINELLING_SOURCE, MAKER_LIMIT_SOURCE, MIN_OPERATING_ANGLE_DEG
@@ -102,10 +101,6 @@ class Criterion:
     source: str
     within: bool | None
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return dict(self.__dict__)
-
 
 @register_record
 @dataclass(frozen=True, eq=False)
@@ -126,12 +121,6 @@ class AssessedDesign:
     yoke_phase_deg: tuple[float, ...]
     range: SteeringRange
     criteria: tuple[Criterion, ...]
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"role": self.role, "label": self.label,
-                "yoke_phase_deg": list(self.yoke_phase_deg), "range": self.range._document_dict(),
-                "criteria": [criterion.to_dict() for criterion in self.criteria]}
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -177,13 +166,6 @@ class SteeringAssessment(Record, Readable):
                            else f"{criterion.sense} {format_number(criterion.limit)}",
                            judged(criterion.within)) for criterion in design.criteria))]
         return [*parts, self.excitation_note]
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary, for a column document."""
-        return {"lock_deg": self.lock_deg, "straight_ahead_deg": self.straight_ahead_deg,
-                "on_centre_deg": self.on_centre_deg, "limits": dict(self.limits.__dict__),
-                "designs": [design.to_dict() for design in self.designs],
-                "excitation_note": self.excitation_note}
 
 
 def assess_steering(geometry: ColumnGeometry,

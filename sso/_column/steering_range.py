@@ -29,7 +29,7 @@ ends. Fluctuations are peak-to-peak in percent of the mean ratio over a turn (1)
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -125,11 +125,6 @@ class SteeringRange(Record, Readable):
         return [f"Steering from lock to lock (+-{format_number(self.lock_deg)} deg of the "
                 f"wheel, straight ahead at {format_number(self.straight_ahead_deg)} deg)",
                 TextTable(("figure", "value"), figures)]
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (tuples as lists), for a column document."""
-        return {name: list(value) if isinstance(value, tuple) else value
-                for name, value in asdict(self).items()}
 
 
 def steering_range(design: Any, *, lock_deg: float = DEFAULT_LOCK_DEG,

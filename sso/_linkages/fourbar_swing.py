@@ -113,22 +113,6 @@ class FourBarDesignResult(DesignResult):
         return [f"Four-bar design, largest rocker swing: {verdict}", designs, band,
                 *self._solver_parts("-swing (rad)", "KKT")]
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        def linkage(fourbar: FourBar) -> dict[str, float]:
-            return {name: getattr(fourbar, name) for name in LINKS}
-
-        return {
-            "initial": linkage(self.initial),
-            "optimum": linkage(self.optimum),
-            "initial_swing_deg": self.initial_swing_deg,
-            "optimum_swing_deg": self.optimum_swing_deg,
-            "optimum_transmission_angle_deg": list(self.optimum_transmission_angle_deg),
-            "transmission_angle_bounds_deg": list(self.transmission_angle_bounds_deg),
-            "link_bounds": {name: list(pair) for name, pair in self.link_bounds.items()},
-            **self.solver_dict(),
-        }
-
 
 def design_fourbar(
     start: FourBar,

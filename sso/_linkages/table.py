@@ -2,13 +2,12 @@
 
 import csv
 import io
-import math
 import os
 import re
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
@@ -118,22 +117,6 @@ class MechanismTable(Record, Readable):
                          else f"{column}_{suffix}")
         return names
 
-    def _document_dict(self) -> dict[str, Any]:
-        """Plain, JSON-ready form: NaN becomes ``None``, arrays become lists.
-
-        Returns
-        -------
-        dict
-            ``{"name": str, "units": {column: unit}, "columns": {column: list}}``.
-        """
-        return {
-            "name": self.name,
-            "units": dict(self.units),
-            "columns": {
-                key: [_plain(value) for value in values] for key, values in self.columns.items()
-            },
-        }
-
     def to_csv(self, path: str | os.PathLike[str]) -> Path:
         """Write the table as CSV, atomically, with a header of column names.
 
@@ -179,28 +162,6 @@ class MechanismTable(Record, Readable):
         for row in zip(*self.columns.values(), strict=True):
             writer.writerow(_csv_cell(value, digits) for value in row)
         return buffer.getvalue()
-
-    @classmethod
-    def _from_document_dict(cls, data: dict[str, Any]) -> "MechanismTable":
-        """The table from its :meth:`_document_dict` form (``None`` becomes NaN).
-
-        Parameters
-        ----------
-        data : dict
-            ``{"name": str, "units": {column: unit}, "columns": {column: list}}``.
-        """
-        columns = {
-            key: np.array(values, dtype=bool if values and isinstance(values[0], bool) else float)
-            for key, values in data["columns"].items()
-        }
-        return cls(name=data["name"], columns=columns, units=data["units"])
-
-
-def _plain(value: np.generic) -> bool | float | None:
-    if isinstance(value, np.bool_):
-        return bool(value)
-    number = float(value)
-    return None if math.isnan(number) else number
 
 
 def _csv_cell(value: np.generic, digits: int = CSV_DIGITS) -> str:

@@ -206,7 +206,7 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
 
 def _phasing_table(run: ColumnRun) -> Table:
     phasing, splines = run.phasing, run.splines
-    as_built = run.assembly("as_built")
+    as_built = run.assemblies[0]  # the assembly as built comes first
     header = ["intermediate shaft", "gamma (deg)", "delta as built (deg)"]
     if phasing is not None:
         header += ["best delta (deg)", "all optimal delta, mod 180 (deg)"]

@@ -101,11 +101,12 @@ def _phase_error(robust: ColumnRobustPart) -> bytes:
     errors = np.asarray(robust.phase_error.errors_deg)
     names = list(next(iter(curves.values())))
     limit = robust.band_re_limit
+    labels = {design.role: design.label for design in robust.designs}
     grid = figure.subplots(1, len(names), sharey=True, squeeze=False)[0]
     for axes, name in zip(grid, names, strict=True):
         for role, by_name in curves.items():
             axes.plot(errors, by_name[name], color=_colour(role), linewidth=1.8,
-                      label=robust.label_of(role))
+                      label=labels[role])
         if limit is not None:
             axes.axhline(limit, color="black", linestyle=":", linewidth=1.2,
                          label=f"band.re_limit {limit:g}")
@@ -123,13 +124,14 @@ def _steering_feel(robust: ColumnRobustPart, feel: FeelPart) -> bytes:
     figure = _new_figure()
     wheel = np.asarray(feel.wheel_deg)
     window, lock = feel.window_deg, feel.lock_deg
+    labels = {design.role: design.label for design in robust.designs}
     panels = (("left lock", -lock), ("on-centre", 0.0), ("right lock", lock))
     grid = figure.subplots(1, 3, sharey=True)
     for axes, (title, middle) in zip(grid, panels, strict=True):
         inside = np.abs(wheel - middle) <= 2.0 * window
         for role, ratio in feel.ratio.items():
             axes.plot(wheel[inside], np.asarray(ratio)[inside], color=_colour(role),
-                      linewidth=1.6, label=robust.label_of(role))
+                      linewidth=1.6, label=labels[role])
         axes.axvspan(middle - window, middle + window, color="#ffdd88", alpha=0.35)
         axes.set_title(f"{title} ({middle:+g} deg)", fontsize=10)
         axes.grid(True, alpha=0.3)

@@ -193,10 +193,9 @@ def _render_column_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
 
 
 def _render_fourbar_design(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    from sso._reports.mechanism_report import mechanism_files
-    from sso._run.mechanism_run import fourbar_design_run
+    from sso._reports.mechanism_report import design_files
 
-    return mechanism_files(fourbar_design_run(result), formats)
+    return design_files(result, formats)
 
 
 def _render_mechanism_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:

@@ -34,6 +34,11 @@ from sso._reports.summary import (
 from sso._run.mechanism_run import LinkageCurves, MechanismRun
 
 TABLE_FILE = "table.csv"
+DESIGN_DESCRIPTION = (
+    "A four-bar design made in Python: the crank-rocker of the largest rocker swing within "
+    "the link and transmission-angle bounds. Its tables over crank angle and its plots are "
+    "in the report of a case of kind fourbar_design (sso run), which holds the drive and "
+    "plot settings.")
 CAPTIONS = {
     "linkage.png": "Link positions at the case's plot angles (plots.crank_angles_deg), with "
                    "the paths of the joints and, for a four-bar, the coupler curve.",
@@ -56,6 +61,43 @@ def mechanism_files(run: MechanismRun, formats: tuple[str, ...]) -> dict[str, by
 
     return report_files(formats, lambda: table_files(run), lambda: render_mechanism_plots(run),
                         lambda images: mechanism_blocks(run, images))
+
+
+def design_files(design: FourBarDesignResult, formats: tuple[str, ...]) -> dict[str, bytes]:
+    """The files of the report of a four-bar design made in Python (``result.json``
+    excepted): ``report.md`` and ``report.html`` from the result alone.
+
+    A design result holds the start and optimum linkages, their swings, the optimum's
+    transmission angles, the bounds and the solvers; it holds no drive or plot
+    settings, so its report has no tables over crank angle and no plots (a case of
+    kind ``fourbar_design`` run with ``sso run`` has them).
+    """
+    return report_files(formats, dict, dict, lambda images: design_blocks(design))
+
+
+def design_blocks(design: FourBarDesignResult) -> list[Block]:
+    """Blocks of the report of a four-bar design result."""
+    low, high = design.optimum_transmission_angle_deg
+    allowed_low, allowed_high = design.transmission_angle_bounds_deg
+    linkages = Table(("linkage", *DESIGN_LINKS, "rocker swing (deg)"), (
+        ("initial", *(number(getattr(design.initial, name), ".6g") for name in DESIGN_LINKS),
+         number(design.initial_swing_deg, ".6g")),
+        (f"optimum ({design.best.solver})",
+         *(number(getattr(design.optimum, name), ".6g") for name in DESIGN_LINKS),
+         number(design.optimum_swing_deg, ".6g"))))
+    bounds = Table(("quantity", "lower", "upper", "optimum"), (
+        *((f"{name} length", number(lower, ".6g"), number(upper, ".6g"),
+           number(getattr(design.optimum, name), ".6g"))
+          for name, (lower, upper) in design.link_bounds.items()),
+        ("transmission angle over a revolution (deg)", number(allowed_low, ".6g"),
+         number(allowed_high, ".6g"), f"{number(low, '.6g')} to {number(high, '.6g')}")))
+    return [*opening_blocks("four-bar design", DESIGN_DESCRIPTION,
+                            Table(("item", "value"), (("made with", "sso.optimise in Python"),
+                                                      ("problem", "largest rocker swing"))),
+                            design.success, design.verdict),
+            Heading(2, "Linkages"), linkages, Heading(2, "Bounds"), bounds,
+            Heading(2, "Solvers"), _solver_table(design), Heading(2, "Cross-check"),
+            Paragraph(_crosscheck_text(design))]
 
 
 def table_files(run: MechanismRun) -> dict[str, str]:

@@ -109,7 +109,7 @@ class ColumnRun(CaseRun):
     cancel : sso.CancelVerdict
         Whether phasing can cancel the fluctuation (:func:`sso.can_cancel`).
     assemblies : tuple of Assembly
-        Every phasing compared (module notes).
+        Every phasing compared (module notes), the one as built first.
     phasing : sso.PhasingResult or None
         The best continuous phasing (:func:`sso.optimise`; ``mode == "optimise"``).
     splines : sso.SplineResult or None
@@ -161,6 +161,9 @@ class ColumnRun(CaseRun):
         if (self.phasing is None) != (self.mode == "evaluate"):
             raise ValueError("an optimise run holds its phasing; an evaluate run none")
         roles = [assembly.role for assembly in self.assemblies]
+        if not roles or roles[0] != "as_built":
+            raise ValueError(f"assemblies[0].role = {roles[0] if roles else None!r}; the "
+                             "assembly as built comes first")
         for name, role in (("recommended", self.recommended),
                            *(("excitation", key) for key in self.excitation)):
             if role not in roles:

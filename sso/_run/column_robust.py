@@ -236,10 +236,6 @@ class ColumnRobustPart:
     feel: FeelPart | None
     band_re_limit: float | None
 
-    def label_of(self, role: str) -> str:
-        """The label of the design of ``role``."""
-        return next(design.label for design in self.designs if design.role == role)
-
 
 @dataclass(frozen=True)
 class RobustOutcome:

@@ -18,7 +18,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from sso._cases.mechanism import DESIGN_KIND, DESIGN_LINKS, MechanismCase, angle_grid
+from sso._cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
 from sso._display import Part, TextTable, format_number
 from sso._linkages.fourbar_swing import FourBarDesignResult
 from sso._linkages.mechanisms import (
@@ -163,8 +163,7 @@ class MechanismRun(CaseRun):
                           rows)]
 
 
-def run_mechanism(case: MechanismCase, optimising: bool,
-                  design: FourBarDesignResult | None = None) -> MechanismRun:
+def run_mechanism(case: MechanismCase, optimising: bool) -> MechanismRun:
     """Analyse (or design, then analyse) a mechanism case.
 
     Parameters
@@ -174,8 +173,6 @@ def run_mechanism(case: MechanismCase, optimising: bool,
     optimising : bool
         For a ``fourbar_design`` case: solve the design problem (``sso run``) or
         only analyse the start linkage (``sso evaluate``). Analysis kinds ignore it.
-    design : sso.FourBarDesignResult, optional
-        The design already solved (its run is wanted, not a new solve).
 
     Raises
     ------
@@ -185,18 +182,18 @@ def run_mechanism(case: MechanismCase, optimising: bool,
     start = case.mechanism()
     caught_messages: list[str] = []
     linkages: dict[str, Mechanism]
+    design = None
     if case.kind != DESIGN_KIND:
         mode, linkages, verdict = "analyse", {"given": start}, _analysis_verdict(case)
-    elif optimising or design is not None:
-        if design is None:
-            from sso._linkages.fourbar_swing import design_fourbar
+    elif optimising:
+        from sso._linkages.fourbar_swing import design_fourbar
 
-            if not isinstance(start, FourBar):
-                raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                design = design_fourbar(start, **case.design_options())
-            caught_messages = [str(warning.message) for warning in caught]
+        if not isinstance(start, FourBar):
+            raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            design = design_fourbar(start, **case.design_options())
+        caught_messages = [str(warning.message) for warning in caught]
         mode, linkages, verdict = "optimise", {"initial": start,
                                                "optimum": design.optimum}, design.verdict
     else:
@@ -213,29 +210,6 @@ def run_mechanism(case: MechanismCase, optimising: bool,
         method_difference=difference, verdict=verdict,
         warnings=tuple(dict.fromkeys([*case.warnings, *caught_messages])),
         versions=package_versions(), created_utc=created_utc())
-
-
-def fourbar_design_run(result: FourBarDesignResult) -> MechanismRun:
-    """The run of a four-bar design made in Python, as ``sso run`` reports it.
-
-    Its case is built from what the result records (start linkage, link and
-    transmission-angle bounds, solvers); the drive and plot settings take their
-    defaults, and so do the solver settings the result does not record.
-    """
-    from sso._cases.schema import parse_case
-
-    start = result.initial
-    case = parse_case({
-        "kind": DESIGN_KIND,
-        "name": "fourbar_design",
-        "description": "A four-bar design made with sso.optimise in Python.",
-        "start": {**{name: getattr(start, name) for name in DESIGN_LINKS},
-                  "branch": start.branch},
-        "bounds": {**{name: list(result.link_bounds[name]) for name in DESIGN_LINKS},
-                   "transmission_angle_deg": list(result.transmission_angle_bounds_deg)},
-        "solver": {"solvers": list(result.solutions)},
-    }, "<sso.optimise>")
-    return run_mechanism(case, True, result)
 
 
 def linkage_curves(role: str, mechanism: Mechanism, case: MechanismCase) -> LinkageCurves:

@@ -40,7 +40,6 @@ from sso._limits import (
 from sso._record import Record
 from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
-    OPTION_NAMES,
     StartMovedWarning,
     build_problem,
     free_angles,
@@ -175,28 +174,6 @@ class BatchResult(Record, Readable):
                 "install pandas or use to_columns() / to_dict()"
             ) from None
         return pandas.DataFrame(self.to_columns())
-
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field (arrays as nested lists)."""
-        return {
-            "option": self.option,
-            "option_name": OPTION_NAMES[self.option],
-            "model": self.model,
-            "input_speed_rpm": self.input_speed_rpm,
-            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
-            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
-            "fun": self.fun.tolist(),
-            "beta_deg": self.beta_deg.tolist(),
-            "phase_deg": self.phase_deg.tolist(),
-            "success": self.success.tolist(),
-            "status": self.status.tolist(),
-            "message": list(self.message),
-            "nit": self.nit.tolist(),
-            "nfev": self.nfev.tolist(),
-            "kkt": self.kkt.tolist(),
-            "speed_min_rpm": self.speed_min_rpm.tolist(),
-            "speed_max_rpm": self.speed_max_rpm.tolist(),
-        }
 
 
 def optimise_batch(

@@ -222,27 +222,6 @@ class OptimisationResult(DesignResult):
         return (self.best.success and (self.crosscheck is None or self.crosscheck.agree)
                 and self.optimum.quadrature_converged)
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return {
-            "option": self.option,
-            "option_name": self.option_name,
-            "model": self.model,
-            "input_speed_rpm": self.input_speed_rpm,
-            "beta_bounds_deg": [list(pair) for pair in self.beta_bounds_deg],
-            "phase_bounds_deg": [list(pair) for pair in self.phase_bounds_deg],
-            "initial_series": self.initial_series.to_dict(),
-            "start_series": self.start_series.to_dict(),
-            "initial": self.initial.to_dict(),
-            "optimum": self.optimum.to_dict(),
-            "samples": self.samples,
-            "quadrature_error": self.quadrature_error,
-            "starts": self.starts,
-            "warnings": list(self.warnings),
-            "exact_optima": None if self.exact_optima is None else self.exact_optima.to_dict(),
-            **self.solver_dict(),
-        }
-
 
 def optimise(
     series: ShaftSeries,

@@ -9,7 +9,6 @@ here.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from sso._display import Part, Readable, TextTable, format_number
 from sso._record import Record
@@ -103,20 +102,6 @@ class DesignResult(Record, Readable):
         if self.crosscheck is None:
             return f"solved by {self.found_by} alone (no cross-check): {self.best.message}"
         return self.crosscheck.message
-
-    def solver_dict(self) -> dict[str, Any]:
-        """JSON-ready solver part: best, solutions, runs, cross-check, minima, success."""
-        return {
-            "best": self.best.to_dict(),
-            "solutions": {name: solution.to_dict() for name, solution in self.solutions.items()},
-            "runs": [run.to_dict() for run in self.runs],
-            "crosscheck": None if self.crosscheck is None else self.crosscheck.to_dict(),
-            "local_minima": list(self.local_minima),
-            "confirmations": {name: solution.to_dict()
-                              for name, solution in self.confirmations.items()},
-            "found_by": self.found_by,
-            "success": self.success,
-        }
 
     def _solver_parts(self, objective: str, kkt: str) -> list[Part]:
         """The solvers table and the cross-check line of a summary.

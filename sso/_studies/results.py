@@ -233,21 +233,6 @@ class SweepResult(Record, Readable):
             parts.append(f"  results: {self.out_dir / CSV_NAME}")
         return parts
 
-    def _document_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return {
-            "axes": [{"path": axis.path, "values": list(axis.values)} for axis in self.axes],
-            "mode": self.mode,
-            "action": self.action,
-            "rows": [dict(row) for row in self.rows],
-            "computed": self.computed,
-            "resumed": self.resumed,
-            "elapsed_s": self.elapsed_s,
-            "out_dir": None if self.out_dir is None else str(self.out_dir),
-            "files": [str(path) for path in self.files],
-            "success": self.success,
-        }
-
 
 class SampledFigures:
     """The samples and percentiles of a Monte Carlo study's figures (its ``_metrics``:

@@ -151,6 +151,16 @@ def finite_difference_port() -> str:
             "angles)")
 
 
+def sweep_chunks() -> str:
+    """How a sweep cuts its points into tasks (sso/_studies/sweep.py's constants)."""
+    from sso._studies import sweep
+
+    return (f"in chunks (about {NUMBER_WORDS[sweep.CHUNKS_PER_WORKER]} per worker, at most "
+            f"{sweep.DEFAULT_CHUNK_CAP} points each; a sweep that runs as arrays, chunks of "
+            f"decreasing size, from at most {sweep.ARRAY_CHUNK_CAP:,} points down to "
+            f"{sweep.ARRAY_CHUNK_FLOOR:,}")
+
+
 def shipped_cases() -> str:
     cases = ROOT / "cases"
     counts = [len(list(cases.glob(pattern))) for pattern in
@@ -200,6 +210,7 @@ FIGURES = {
     "lm's compiled blocks (docs/performance.md)": ("docs/performance.md", lm_kernel_blocks),
     "the paper model's baseline (docs/performance.md)": ("docs/performance.md",
                                                          finite_difference_port),
+    "a sweep's chunks (docs/guide/sweeps.md)": ("docs/guide/sweeps.md", sweep_chunks),
     "lm's compiled Newton steps (docs/architecture.md)": ("docs/architecture.md",
                                                           lm_kernel_newton),
 }

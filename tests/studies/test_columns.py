@@ -62,6 +62,17 @@ def test_concatenate_take_and_mixed_kinds():
     assert joined.csv_text() == reference_text([ROWS[0], {**ROWS[1], "option": "3"}])
 
 
+def test_whole_numbers_beyond_int64_stay_python_ints():
+    # A sweep axis of 2**63 rpm (found by tests/test_fuzz_inputs.py): the row is refused
+    # later, with its reason, but the table holding it must not overflow first.
+    table = RowTable.from_rows(("point", "input_speed_rpm"),
+                               [{"point": 0, "input_speed_rpm": 2**63},
+                                {"point": 1, "input_speed_rpm": -(2**63) - 1}])
+    assert [row["input_speed_rpm"] for row in table.rows()] == [2**63, -(2**63) - 1]
+    assert table.csv_text().splitlines() == ["0,9223372036854775808",
+                                             "1,-9223372036854775809"]
+
+
 def test_a_design_of_one_joint_has_an_empty_phase_list():
     rows = [{"point": 0, "status": "ok", "design_beta_deg": [10.0], "design_phase_deg": []}]
     table = RowTable.from_rows(HEADER, rows)
