@@ -300,6 +300,13 @@ and the residuals (divided by ``sqrt(2 det M)``) by half that (7.1e7; one joint 
 reach 89.9999992 deg)."""
 
 
+def _beyond_resolution(joints: int, log_product: Any, tangent_sum: Any) -> Any:
+    """Whether chains of ``joints`` joints with these sums of ``ln cos beta`` and of
+    ``tan beta`` (floats or arrays) break either bound of :func:`check_chain_conditioning`."""
+    return (log_product < math.log(least_cosine_product(joints))) | (
+        tangent_sum > LARGEST_TANGENT_SUM)
+
+
 def unresolvable_chains(beta_deg: np.ndarray) -> np.ndarray:
     """Which chains (rows of operating angles, deg) float64 cannot resolve RE of.
 
@@ -309,9 +316,9 @@ def unresolvable_chains(beta_deg: np.ndarray) -> np.ndarray:
     :data:`LARGEST_TANGENT_SUM`. Angles must lie in ``[0, 90)`` deg.
     """
     beta_rad = np.radians(np.asarray(beta_deg, dtype=float))
-    log_products = np.sum(np.log(np.cos(beta_rad)), axis=-1)
-    return np.asarray((log_products < math.log(least_cosine_product(beta_rad.shape[-1])))
-                      | (np.sum(np.tan(beta_rad), axis=-1) > LARGEST_TANGENT_SUM), dtype=bool)
+    return np.asarray(_beyond_resolution(beta_rad.shape[-1],
+                                         np.sum(np.log(np.cos(beta_rad)), axis=-1),
+                                         np.sum(np.tan(beta_rad), axis=-1)), dtype=bool)
 
 
 def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
@@ -337,15 +344,17 @@ def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
         the joints may have: the least product of cosines and the largest equal
         angle, or the largest sum of tangents.
     """
-    angles = list(beta_deg)
-    if not unresolvable_chains(np.array(angles))[()]:
-        return
+    angles = [math.radians(beta) for beta in beta_deg]
     joints = len(angles)
-    log10_product = math.fsum(math.log10(math.cos(math.radians(beta))) for beta in angles)
+    log_product = math.fsum(math.log(math.cos(angle)) for angle in angles)
+    tangents = math.fsum(math.tan(angle) for angle in angles)
+    if not _beyond_resolution(joints, log_product, tangents):
+        return
+    log10_product = log_product / math.log(10.0)
     least = least_cosine_product(joints)
     start = (f"{field}: float64 cannot resolve RE of a chain of {joints} "
              f"joint{'s' if joints > 1 else ''}")
-    if log10_product < math.log10(least):
+    if log_product < math.log(least):
         log10_rounding = (math.log10((2 * joints - 1) * ANGLE_SPACING_RAD / math.sqrt(2.0))
                           - 0.5 * log10_product)
         largest_equal_deg = math.degrees(math.acos(least ** (1.0 / joints)))
@@ -357,11 +366,11 @@ def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
             f"{least:.3g} (equal angles up to {largest_equal_deg:.10g} deg): lower the "
             "operating angles or the number of joints"
         )
-    tangents = math.fsum(math.tan(math.radians(beta)) for beta in angles)
     raise ValueError(
-        f"{start}: their tangents sum to {tangents:.3g}, so one rounding of the angles can "
-        f"change sqrt(RE) by up to {0.5 * ANGLE_SPACING_RAD * tangents:.2g} of itself, "
-        f"above the allowed {RESIDUAL_RESOLUTION:.2g}; the tangents may sum to at most "
+        f"{start}: the operating angles' tangents sum to {tangents:.3g}, so one rounding "
+        "of the angles can change sqrt(RE) by up to "
+        f"{0.5 * ANGLE_SPACING_RAD * tangents:.2g} of itself, above the allowed "
+        f"{RESIDUAL_RESOLUTION:.2g}; the tangents may sum to at most "
         f"{LARGEST_TANGENT_SUM:.3g} (one joint up to "
         f"{math.degrees(math.atan(LARGEST_TANGENT_SUM)):.10g} deg): lower the operating "
         "angles nearest 90 deg"
