@@ -25,6 +25,7 @@ does. The warnings of a point are those of its values.
 
 from __future__ import annotations
 
+import math
 import re
 import time
 import warnings
@@ -47,6 +48,9 @@ MOST_CHECKED_VALUES = 20_000
 """Most axis values read as cases beforehand; a sweep with more takes the point path."""
 _DESIGN_PATH = re.compile(r"^design\.(?P<field>beta_deg|phase_deg)\[(?P<index>\d+)\]$")
 SOLVER = "lm"
+FIGURE_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
+                  "max_output_accel_rad_s2")
+"""The figures of a design, each a number per point (:func:`_figures`)."""
 
 
 @dataclass(frozen=True)
@@ -98,8 +102,13 @@ class ArrayPlan:
         return ArrayPlan(**{**self.__dict__, "axes": axes})
 
 
-def array_plan(case: Any, axes: Sequence[Axis], action: str) -> ArrayPlan | None:
-    """The plan of a sweep the engine can run, or None (the point-by-point path)."""
+def array_plan(case: Any, axes: Sequence[Axis], action: str, client: Any = None,
+               workers: int = 1) -> ArrayPlan | None:
+    """The plan of a sweep the engine can run, or None (the point-by-point path).
+
+    The axis values are read as cases where the sweep runs (``client``, ``workers``:
+    see :func:`sso._studies.execution.run_tasks`), each worker a share of them.
+    """
     from sso._shafts.options import build_problem
 
     if (case.kind != "shaft_series" or case.model != "exact"
@@ -134,9 +143,8 @@ def array_plan(case: Any, axes: Sequence[Axis], action: str) -> ArrayPlan | None
         phase_bounds_deg=tuple(problem.phase_bounds_deg), solver_tol=float(case.solver_tol),
         max_iterations=int(case.max_iterations), other_starts_deg=other_starts,
         free=tuple(free), base_notes=(*case.warnings, *base_moved),
-        axes=tuple(_axis_values(document, axis, target, action)
-                   for axis, target in zip(axes, targets, strict=True)
-                   if target is not None))
+        axes=_checked_axes(document, axes, [target for target in targets if target is not None],
+                           action, client, workers))
 
 
 def _target(path: str) -> tuple[str, int] | None:
@@ -146,40 +154,111 @@ def _target(path: str) -> tuple[str, int] | None:
     return None if match is None else (match["field"], int(match["index"]))
 
 
-def _axis_values(document: dict[str, Any], axis: Axis, target: tuple[str, int],
-                 action: str) -> AxisValues:
-    """Read the base case with each of the axis's values set, as a case file is read."""
+@dataclass(frozen=True)
+class ValueCheck:
+    """Values of one axis to read as cases, each set into the base case (a task).
+
+    Attributes
+    ----------
+    document : dict
+        The base case as a complete case-file document.
+    path : str
+        The axis's path.
+    values : tuple
+        The values.
+    target : (str, int)
+        Where the axis's values go (:attr:`AxisValues.target`).
+    action : {"optimise", "evaluate"}
+        The sweep's action (optimising, a value may move the start onto its bounds).
+    """
+
+    document: dict[str, Any]
+    path: str
+    values: tuple[Any, ...]
+    target: tuple[str, int]
+    action: str
+
+
+def _checked_axes(document: dict[str, Any], axes: Sequence[Axis],
+                  targets: Sequence[tuple[str, int]], action: str, client: Any,
+                  workers: int) -> tuple[AxisValues, ...]:
+    """Every axis's values read as cases: each axis cut into one task per worker."""
+    from sso._studies.execution import parallelism, run_tasks
+
+    parts = parallelism(client, workers)
+    tasks, owners = [], []
+    for index, (axis, target) in enumerate(zip(axes, targets, strict=True)):
+        size = max(1, math.ceil(len(axis.values) / parts))
+        for start in range(0, len(axis.values), size):
+            tasks.append(ValueCheck(document, axis.path, axis.values[start:start + size],
+                                    target, action))
+            owners.append(index)
+    checked: list[Any] = [None] * len(tasks)
+    for index, result, error in run_tasks(check_values, tasks, client, workers):
+        if error is not None:
+            raise error
+        checked[index] = result
+    return tuple(AxisValues(
+        target, np.concatenate([checked[task][0] for task in range(len(tasks))
+                                if owners[task] == index]),
+        tuple(note for task in range(len(tasks)) if owners[task] == index
+              for note in checked[task][1]))
+        for index, target in enumerate(targets))
+
+
+def check_values(task: ValueCheck) -> tuple[np.ndarray, tuple[tuple[str, ...], ...]]:
+    """Read the base case with each of the task's values set, as a case file is read:
+    whether the case accepts each value, and the warnings it brings."""
     import copy
 
     from sso._cases.schema import parse_case
     from sso._shafts.options import build_problem
 
-    accepted = np.zeros(len(axis.values), dtype=bool)
+    accepted = np.zeros(len(task.values), dtype=bool)
     notes: list[tuple[str, ...]] = []
-    table = axis.path.split(".", 1)[0].split("[", 1)[0]
-    for position, value in enumerate(axis.values):
+    table = task.path.split(".", 1)[0].split("[", 1)[0]
+    for position, value in enumerate(task.values):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             notes.append(())
             continue
         # A copy of the table the value goes into; the rest is shared (read only).
-        trial = {**document, table: copy.deepcopy(document.get(table))}
+        trial = {**task.document, table: copy.deepcopy(task.document.get(table))}
         try:
-            set_field(trial, axis.path, value)
+            set_field(trial, task.path, value)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 case = parse_case(trial, "axis value")
                 moved = (build_problem(case.beta_deg, case.phase_deg, case.model, case.option,
                                        case.beta_bounds_deg, case.phase_bounds_deg).moved_starts
-                         if action == "optimise" else ())
+                         if task.action == "optimise" else ())
         except ValueError:
             notes.append(())
             continue
         accepted[position] = True
-        field, index = target
+        field, index = task.target
         notes.append((*case.warnings,
                       *(message for message in moved
                         if message.startswith(f"start {field}[{index}] "))))
-    return AxisValues(target, accepted, tuple(notes))
+    return accepted, tuple(notes)
+
+
+def number_columns(plan: ArrayPlan,
+                   axes: Sequence[Axis]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
+    """The number columns of every chunk :func:`run_array_points` makes for a sweep
+    over ``axes``: each one's dtype and the shape of one row (columns of no width,
+    the phases of one joint, left out)."""
+    whole, number = np.dtype(np.int64), np.dtype(float)
+    kinds: dict[str, tuple[np.dtype, tuple[int, ...]]] = {"point": (whole, ())}
+    kinds.update({axis.path: (number, ()) for axis in axes
+                  if all(isinstance(value, float) for value in axis.values)})
+    if plan.action == "optimise":
+        kinds.update({f"{SOLVER}_residual_error": (number, ()), f"{SOLVER}_status": (whole, ()),
+                      f"{SOLVER}_kkt_per_rad": (number, ()), f"{SOLVER}_time_s": (number, ())})
+    kinds.update({name: (number, ()) for name in (*FIGURE_COLUMNS, "time_s")})
+    kinds.update({name: (number, (width,)) for name, width in (
+        ("design_beta_deg", len(plan.beta_deg)), ("design_phase_deg", len(plan.phase_deg)))
+        if width})
+    return kinds
 
 
 def run_array_points(plan: ArrayPlan, header: Sequence[str], paths: Sequence[str],

@@ -189,6 +189,30 @@ def value_positions(axes: Sequence[Axis], mode: str, indices: Any) -> tuple[Any,
     return tuple(np.unravel_index(indices, tuple(len(axis.values) for axis in axes)))
 
 
+def value_ranges(lengths: Sequence[int], mode: str, first: int,
+                 last: int) -> tuple[tuple[int, int], ...]:
+    """Per axis, a range ``(low, high)`` of value positions holding the value of every
+    point from index ``first`` to ``last`` (any of them, or all): found from the two
+    ends alone, with no work per point.
+
+    In ``"product"`` mode axis ``k``'s position is ``(index // stride) % length``:
+    it runs through consecutive values between the ends unless it wraps around
+    (then the range is the whole axis).
+    """
+    if mode == "listed":
+        return tuple((first, last + 1) for _ in lengths)
+    ranges = []
+    stride = math.prod(lengths)
+    for length in lengths:
+        stride //= length
+        low, high = first // stride, last // stride
+        if high - low >= length or low % length > high % length:
+            ranges.append((0, length))
+        else:
+            ranges.append((low % length, high % length + 1))
+    return tuple(ranges)
+
+
 def point_document(document: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:
     """A copy of the case document with the point's axis values set."""
     result = copy.deepcopy(dict(document))

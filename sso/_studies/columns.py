@@ -1,7 +1,7 @@
 """A sweep's rows as columns: one array per column, never one dict per point.
 
 A chunk's rows travel from a worker as a :class:`RowTable` (pickled compactly:
-an object column as codes into its distinct values, see :meth:`RowTable.__reduce__`),
+an object column as codes into its distinct objects, see :meth:`RowTable.__reduce__`),
 the calling process appends its CSV text to ``sweep.csv`` (and its Parquet part)
 and places the table into the sweep's columns as it arrives
 (:class:`TableAssembly`); a row becomes a dict only when a user asks for it. Every cell means what
@@ -14,6 +14,7 @@ empty in every row.
 
 from __future__ import annotations
 
+import ctypes
 import itertools
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -88,11 +89,11 @@ class RowTable:
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         """Pickle compactly: a column of one value as that value, a chunk's point
-        indices as their first, an object column of text or flags as int32 codes into
-        its distinct values. A chunk's status, flags, messages and hash then unpickle
+        indices as their first, an object column as int32 codes into its distinct
+        objects. A chunk's status, flags, messages and hash then unpickle
         in the calling process as one ``take`` (or one fill) instead of one object at
         a time, and its constant numbers (a time per point, a fixed phase) travel once."""
-        return _unpack, (self.header, {name: _packed(column)
+        return _unpack, (self.header, {name: packed(column)
                                        for name, column in self.columns.items()},
                          self.length)
 
@@ -143,6 +144,9 @@ class TableAssembly:
     same columns (names, types and widths) is copied into its place, so the work of
     joining the chunks is spread over the run instead of following it. A chunk of
     other columns (an error row's text, say) is kept as it is and joined at the end.
+    Columns a worker writes in place (``shared``, :mod:`sso._studies.shared_rows`)
+    are the sweep's columns themselves: a chunk written there brings only its other
+    columns, and nothing is copied.
 
     Parameters
     ----------
@@ -150,30 +154,40 @@ class TableAssembly:
         Every column, in order.
     lengths : sequence of int
         Rows of each chunk, in order.
+    shared : mapping of str to numpy.ndarray, optional
+        Columns of every row that workers write into.
     """
 
-    def __init__(self, header: Sequence[str], lengths: Sequence[int]) -> None:
+    def __init__(self, header: Sequence[str], lengths: Sequence[int],
+                 shared: Mapping[str, np.ndarray] | None = None) -> None:
         self.header = tuple(header)
         self.offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).tolist()
+        self.shared = dict(shared or {})
         self.columns: dict[str, np.ndarray] | None = None
         self.placed = [False] * len(lengths)
         self.apart: dict[int, RowTable] = {}
 
-    def place(self, index: int, table: RowTable) -> None:
-        """Put chunk ``index``'s rows (``table``) in their place."""
+    def place(self, index: int, table: RowTable, in_shared: bool = False) -> None:
+        """Put chunk ``index``'s rows (``table``) in their place (``in_shared``: its
+        shared columns are already there, ``table`` holds the others)."""
         start, stop = self.offsets[index], self.offsets[index + 1]
         if table.length != stop - start:
             raise ValueError(f"chunk {index} has {table.length} rows, not {stop - start}")
+        written = self.shared if in_shared else {}
+        if written:
+            table = RowTable(table.header, {**table.columns, **{
+                name: column[start:stop] for name, column in written.items()}}, table.length)
         if self.columns is None:
-            self.columns = {name: np.empty((self.offsets[-1], *column.shape[1:]),
-                                           dtype=column.dtype)
+            self.columns = {name: written[name] if name in written else
+                            np.empty((self.offsets[-1], *column.shape[1:]), dtype=column.dtype)
                             for name, column in table.columns.items()}
         if table.columns.keys() == self.columns.keys() and all(
                 column.dtype == self.columns[name].dtype
                 and column.shape[1:] == self.columns[name].shape[1:]
                 for name, column in table.columns.items()):
             for name, column in table.columns.items():
-                self.columns[name][start:stop] = column
+                if written.get(name) is not self.columns[name]:
+                    self.columns[name][start:stop] = column
             self.placed[index] = True
         else:
             self.apart[index] = table
@@ -199,49 +213,50 @@ class TableAssembly:
             for index in range(len(self.placed))])
 
 
-_CODED_KINDS = ({str, type(None)}, {bool, type(None)})
-"""Kinds of the values an object column may hold to be sent as codes: within each
-set no value equals a value of another type (unlike ``True == 1``)."""
-
-
-def _packed(column: np.ndarray) -> Any:
+def packed(column: np.ndarray) -> Any:
     """A column as it travels: ``("same", first row, rows)`` where every row holds the
-    same bits, ``("range", first, rows)`` for consecutive whole numbers (a chunk's
-    points), ``("codes", codes, distinct values)`` for an object column of text or
-    flags; any other column as it is."""
+    same bits (or, in an object column, the same object), ``("range", first, rows)``
+    for consecutive whole numbers (a chunk's points), ``("codes", codes, distinct
+    objects)`` for any other object column; any other column as it is."""
     if not len(column):
         return column
     if column.dtype != object:
+        if (column.dtype == np.int64 and column.ndim == 1 and len(column) > 1
+                and np.all(np.diff(column) == 1)):
+            return "range", int(column[0]), len(column)
         raw = np.ascontiguousarray(column).view(np.uint8).reshape(len(column), -1)
         if np.array_equal(raw, np.broadcast_to(raw[0], raw.shape)):
             return "same", column[:1].copy(), len(column)
-        if column.dtype == np.int64 and column.ndim == 1 and np.all(np.diff(column) == 1):
-            return "range", int(column[0]), len(column)
         return column
-    values = column.tolist()
-    kinds = set(map(type, values))
-    if not any(kinds <= allowed for allowed in _CODED_KINDS):
+    if column.ndim != 1:
         return column
-    distinct = dict.fromkeys(values)
-    table = np.empty(len(distinct), dtype=object)
-    table[:] = list(distinct)
-    if len(distinct) == 1:
-        return "same", table, len(values)
-    position = {value: index for index, value in enumerate(distinct)}
-    codes = np.fromiter(map(position.__getitem__, values), dtype=np.int32, count=len(values))
-    return "codes", codes, table
+    column = np.ascontiguousarray(column)
+    # An object array holds pointers to its objects: rows of one pointer hold one
+    # object, found without touching an object (a text column of a million rows in a
+    # millisecond; by value, True == 1 would also merge a flag and a number).
+    pointers = np.frombuffer(memoryview(
+        (ctypes.c_char * column.nbytes).from_address(column.ctypes.data)), dtype=np.uintp)
+    if np.all(pointers == pointers[0]):
+        return "same", column[:1].copy(), len(column)
+    _, first, codes = np.unique(pointers, return_index=True, return_inverse=True)
+    return "codes", codes.astype(np.int32).ravel(), column[first]
 
 
 def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> RowTable:
-    return RowTable(header, {name: _unpacked(column) for name, column in columns.items()},
+    return RowTable(header, {name: unpacked(column) for name, column in columns.items()},
                     length)
 
 
-def _unpacked(column: Any) -> np.ndarray:
+def unpacked(column: Any) -> np.ndarray:
+    """The column :func:`packed` made ``column`` of."""
     if not isinstance(column, tuple):
         kept: np.ndarray = column
         return kept
     kind, first, rest = column
+    if kind == "same" and first.dtype == object:
+        same = np.empty(rest, dtype=object)
+        same.fill(first[0])
+        return same
     if kind == "same":
         return np.repeat(first, rest, axis=0)
     if kind == "range":

@@ -10,8 +10,10 @@ starts in milliseconds instead of an interpreter and its imports per worker (abo
 a second of CPU each); elsewhere the workers are spawned. The fork server lives as
 long as the calling process and exits with it.
 
-A local pool never outlives its run: when the run is interrupted (Ctrl-C, or
-SIGTERM, which the ``sso`` command turns into the same interruption) the workers
+A local pool that ends its run normally is kept, idle, for the next run of the
+same process with the same workers and environment (a notebook running sweep after
+sweep starts its workers once). When a run is interrupted (Ctrl-C, or
+SIGTERM, which the ``sso`` command turns into the same interruption) its workers
 are killed rather than awaited, workers ignore SIGINT (the terminal sends it to
 the whole process group; the parent decides), and each worker ends with its
 caller: a forked worker watches the caller and exits the moment it is gone (a
@@ -44,17 +46,18 @@ from sso._limits import NO_WORKER_TIMEOUT_S, NO_WORKER_TIMEOUT_VARIABLE
 DASK_POLL_S = 1.0
 """How often a Dask run checks that its cluster still has a worker, s."""
 DASK_IDLE_S = 0.02
-"""Pause between looks for finished Dask tasks, s."""
+"""Longest wait for a Dask task to end between looks at the cluster's workers, s."""
 CALLER_POLL_S = 0.2
 """How often a forked pool worker looks for its caller where it cannot wait for it, s."""
 MAX_NO_WORKER_TIMEOUT_S = 1e6
 
 WORKER_ENVIRONMENT = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
                       "MKL_NUM_THREADS": "1"}
-WORKER_PRELOAD = ["sso._studies.worker", "sso._studies.parquet_output", "numpy.ma"]
+WORKER_PRELOAD = ["sso._studies.worker", "sso._studies.parquet_output", "sso._cases.schema",
+                  "sso._cases.shaft_series", "numpy.ma"]
 """Modules the fork server imports once, so no pool worker imports them again: a
-sweep's worker, its output, and the part of numpy that ``numpy.unique`` imports on
-its first call."""
+sweep's worker, its output, the case reader that checks a sweep's axis values, and
+the part of numpy that ``numpy.unique`` imports on its first call."""
 
 
 def available_cores() -> int:
@@ -109,7 +112,7 @@ def run_tasks(
     """
     if client is not None:
         yield from _run_on_dask(function, tasks, client)
-    elif workers == 1 or len(tasks) <= 1:
+    elif not runs_in_pool(client, workers, len(tasks)):
         for index, task in enumerate(tasks):
             try:
                 yield index, function(task), None
@@ -117,6 +120,20 @@ def run_tasks(
                 yield index, None, error
     else:
         yield from _run_in_pool(function, tasks, workers)
+
+
+def parallelism(client: Any, workers: int) -> int:
+    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
+    if client is None:
+        return workers
+    threads: int = sum(client.nthreads().values())
+    return max(1, threads)
+
+
+def runs_in_pool(client: Any, workers: int, tasks: int) -> bool:
+    """Whether :func:`run_tasks` runs ``tasks`` tasks in a local pool (not on Dask,
+    not in this process)."""
+    return client is None and workers > 1 and tasks > 1
 
 
 def connect(address: str) -> Any:
@@ -155,15 +172,8 @@ def pool_context() -> Any:
 
 def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
                  workers: int) -> Iterator[tuple[int, Any, BaseException | None]]:
-    context = pool_context()
+    key, executor = _take_pool(workers)
     finished = False
-    # The workers (and the fork server, when the first pool starts it) start while
-    # the first tasks are submitted; each takes this process's environment of now.
-    with _environment(WORKER_ENVIRONMENT):
-        executor = ProcessPoolExecutor(
-            max_workers=min(workers, len(tasks)), mp_context=context,
-            initializer=_start_worker,
-            initargs=(os.getpid(), context.get_start_method() == "spawn", dict(os.environ)))
     try:
         with _environment(WORKER_ENVIRONMENT):
             futures = {executor.submit(function, task): index
@@ -173,9 +183,48 @@ def _run_in_pool(function: Callable[[Any], Any], tasks: Sequence[Any],
             yield futures[future], None if error else future.result(), error
         finished = True
     finally:
-        if not finished:  # interrupted, or the caller stopped early: do not wait for work
+        # The pool's private flag: a worker was lost, the pool takes no more work.
+        if finished and not getattr(executor, "_broken", False):
+            _keep_pool(key, executor)
+        else:  # interrupted, stopped early or broken: do not wait for work
             _kill_workers(executor)
-        executor.shutdown(wait=True, cancel_futures=True)
+            executor.shutdown(wait=True, cancel_futures=True)
+
+
+_IDLE_POOL: dict[tuple[Any, ...], ProcessPoolExecutor] = {}
+"""The local pool of the last run that ended normally, idle, kept for the next run
+of this process that asks for the same (at most one)."""
+
+
+def _take_pool(workers: int) -> tuple[tuple[Any, ...], ProcessPoolExecutor]:
+    """A pool of ``workers`` processes with this process's environment of now, for one
+    run: the idle pool, if it is such a pool, else a new one.
+
+    A pool kept between runs holds idle workers (each waiting for a task, and each
+    ending with this process), so a process running sweep after sweep starts its
+    workers once, and they keep the solvers they built.
+    """
+    context = pool_context()
+    with _environment(WORKER_ENVIRONMENT):
+        environment = dict(os.environ)
+    key = (os.getpid(), workers, context.get_start_method(),
+           tuple(sorted(environment.items())))
+    if key in _IDLE_POOL:
+        return key, _IDLE_POOL.pop(key)
+    # The workers (and the fork server, when the first pool starts it) start while
+    # the first tasks are submitted; each takes this process's environment of now.
+    with _environment(WORKER_ENVIRONMENT):
+        return key, ProcessPoolExecutor(
+            max_workers=workers, mp_context=context, initializer=_start_worker,
+            initargs=(os.getpid(), context.get_start_method() == "spawn", environment))
+
+
+def _keep_pool(key: tuple[Any, ...], executor: ProcessPoolExecutor) -> None:
+    """Keep ``executor`` idle for the next run (shutting down the pool kept before)."""
+    for earlier in _IDLE_POOL.values():
+        earlier.shutdown(wait=True)
+    _IDLE_POOL.clear()
+    _IDLE_POOL[key] = executor
 
 
 def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -> None:
@@ -305,7 +354,7 @@ def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
 
     limit_s = no_worker_timeout_s()
     _quiet_lost_gathers()
-    futures = [client.submit(function, task, pure=False) for task in tasks]
+    futures = client.map(function, tasks, pure=False)  # one graph: cheaper than a submit each
     indices = {future.key: index for index, future in enumerate(futures)}
     # distributed's as_completed has no annotations
     completed: Any = dask_as_completed(futures)  # type: ignore[no-untyped-call]
@@ -340,8 +389,10 @@ def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
                         "done); start workers for it (dask worker ADDRESS) and run the same "
                         f"command with --resume (wait longer: {NO_WORKER_TIMEOUT_VARIABLE}"
                         "=SECONDS)")
-            else:
-                time.sleep(DASK_IDLE_S)
+            else:  # wait for the next task to end (as_completed notifies its condition)
+                with completed.thread_condition:
+                    if not completed.has_ready():
+                        completed.thread_condition.wait(timeout=DASK_IDLE_S)
     finally:
         completed.clear()
         client.cancel([future for future in futures if not future.done()])

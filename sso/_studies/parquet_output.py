@@ -118,15 +118,12 @@ def part_data(table: RowTable, schema: Any) -> bytes:
     return buffer.getvalue()
 
 
-def write_part(folder: Path, table: RowTable, schema: Any, resumed: bool = False,
-               data: bytes | None = None) -> Path:
-    """Write the rows of one chunk as a new part of ``sweep.parquet``, atomically
-    (``data``: the part's bytes, when a worker made them from ``table``)."""
-    points = table.columns["point"]
-    name = (f"part-{int(points.min()):012d}-{table.length:012d}"
-            f"{'-resumed' if resumed else ''}.parquet")
-    return write_bytes_atomic(folder / PARQUET_NAME / name,
-                              part_data(table, schema) if data is None else data)
+def write_part(folder: Path, first_point: int, rows: int, data: bytes,
+               resumed: bool = False) -> Path:
+    """Write a new part of ``sweep.parquet`` atomically: ``data``
+    (:func:`part_data`), the ``rows`` rows from point ``first_point`` on."""
+    name = f"part-{first_point:012d}-{rows:012d}{'-resumed' if resumed else ''}.parquet"
+    return write_bytes_atomic(folder / PARQUET_NAME / name, data)
 
 
 def start_parts(folder: Path) -> None:

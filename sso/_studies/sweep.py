@@ -24,15 +24,29 @@ from sso._shafts.options import build_problem
 from sso._shafts.quadrature import rule_for_bounds
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import ResourceEstimate, check_memory
-from sso._studies.array_engine import ArrayPlan, array_plan
-from sso._studies.axes import Axis, base_case, parse_axes, point_count, value_positions
+from sso._studies.array_engine import ArrayPlan, array_plan, number_columns
+from sso._studies.axes import (
+    Axis,
+    base_case,
+    parse_axes,
+    point_count,
+    value_positions,
+    value_ranges,
+)
 from sso._studies.column_rows import check_axis_values
 from sso._studies.columns import RowTable, TableAssembly
 from sso._studies.estimate import sweep_estimate
-from sso._studies.execution import run_tasks, validate_workers
-from sso._studies.parquet_output import PARQUET_NAME, arrow_schema, start_parts, write_part
+from sso._studies.execution import parallelism, run_tasks, runs_in_pool, validate_workers
+from sso._studies.parquet_output import (
+    PARQUET_NAME,
+    arrow_schema,
+    part_data,
+    start_parts,
+    write_part,
+)
 from sso._studies.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
 from sso._studies.results import SweepResult, SweepRows
+from sso._studies.shared_rows import shared_columns
 from sso._studies.table import (
     CSV_NAME,
     HASH_COLUMN,
@@ -48,6 +62,7 @@ from sso._studies.table import (
 from sso._studies.worker import (
     ACTIONS,
     ChunkTask,
+    GridPositions,
     SweepChunk,
     chunk_output,
     failed_rows,
@@ -59,13 +74,17 @@ from sso._validation import shown
 # most DEFAULT_CHUNK_CAP points (a lost chunk costs little, progress stays live).
 CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
-# An array sweep (sso._studies.array_engine) is cut into about this many tasks per
-# worker (load balance: the last task of a worker waits for no other), each of at
-# most ARRAY_CHUNK_CAP points: 0.05 s (evaluating, about 1 us a point) to 0.5 s
-# (optimising, about 10 us a point) of work, far above a task's cost to the pool
-# or to Dask (a few milliseconds, with the transfer of its rows), and a few tens
-# of MB of arrays at the peak.
+# An array sweep (sso._studies.array_engine) is cut into tasks of decreasing size
+# (guided self-scheduling): each takes 1 / (ARRAY_SHARE x workers) of the points
+# not yet cut, at most ARRAY_CHUNK_CAP points (0.05 s of evaluating, about 1 us a
+# point, to 0.5 s of optimising, about 10 us a point, and a few tens of MB of
+# arrays at the peak) and at least ARRAY_CHUNK_FLOOR (a few ms of work, still
+# above a task's cost to the pool or to Dask), or in a small sweep an
+# ARRAY_CHUNKS_PER_WORKER-th of a worker's share. The first tasks are long and
+# the last ones short, so the workers end within a short task of each other.
+ARRAY_SHARE = 2
 ARRAY_CHUNKS_PER_WORKER = 8
+ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
@@ -126,8 +145,8 @@ def sweep(
         Local processes (default: every available core); 1 runs in this process.
     chunk_size : int, optional
         Points per task, ``1..50000`` (default: about four tasks per worker, at
-        most 25 points each; a sweep run as arrays, about eight per worker, at most
-        50,000 points each).
+        most 25 points each; a sweep run as arrays, tasks of decreasing size, each
+        half a worker's share of the points left, 2,000 to 50,000 points).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -168,7 +187,7 @@ def sweep(
         raise ValueError(f"action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
     worker_count = validate_workers(workers)
-    plan = array_plan(case, parsed_axes, action)
+    plan = array_plan(case, parsed_axes, action, client, worker_count)
     check_memory(_estimate(case, parsed_axes, mode, action,
                            worker_count if client is None else 1, plan is not None),
                  memory_limit_mb)
@@ -224,23 +243,23 @@ class _Job:
                 for axis, position in zip(self.axes, positions, strict=True)]
 
     def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
-        """The tasks of the pending points (each with its slice of every axis)."""
-        size = _chunk_size(self.chunk_size, len(pending), _parallelism(self.client, self.workers),
-                           self.plan is not None)
+        """The tasks of the pending points (sorted), each with the slice of every axis
+        its points take, found from its first and last point alone."""
+        sizes = _chunk_sizes(self.chunk_size, len(pending),
+                             parallelism(self.client, self.workers), self.plan is not None)
+        lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
-        for start in range(0, len(pending), size):
+        for start, size in zip(np.cumsum([0, *sizes]).tolist()[:-1], sizes, strict=True):
             indices = pending[start:start + size]
-            positions = value_positions(self.axes, self.mode, indices)
-            bounds = [(int(position.min()), int(position.max()) + 1) for position in positions]
+            bounds = value_ranges(lengths, self.mode, int(indices[0]), int(indices[-1]))
             chunks.append(SweepChunk(
                 self.document, self.action, tuple(self.header),
                 tuple(axis.path for axis in self.axes), indices,
-                tuple(position - low for position, (low, _) in zip(positions, bounds,
-                                                                   strict=True)),
                 tuple(axis.values[low:high] for axis, (low, high) in zip(self.axes, bounds,
                                                                          strict=True)),
                 None if self.plan is None else self.plan.sliced(bounds),
-                self.identity[HASH_COLUMN]))
+                self.identity[HASH_COLUMN],
+                GridPositions(self.mode, lengths, tuple(low for low, _ in bounds))))
         return chunks
 
     def run(self, earlier: dict[int, dict[str, str]], csv_path: Path | None,
@@ -254,29 +273,39 @@ class _Job:
         chunks = self.chunks(pending)
         resumed = RowTable.from_rows(self.header, typed_rows(earlier.values()))
         if schema is not None and csv_path is not None and resumed.length:
-            write_part(csv_path.parent, resumed, schema, resumed=True)
+            write_part(csv_path.parent, int(resumed.columns["point"].min()), resumed.length,
+                       part_data(resumed, schema), resumed=True)
         # Each chunk's rows go to their place as the chunk ends: the chunks cover the
         # pending points in order, so the rows come out sorted whichever order the
         # chunks finish in, and joining them overlaps the work still running.
-        assembly = TableAssembly(self.header, [len(chunk.indices) for chunk in chunks])
+        lengths = [len(chunk.indices) for chunk in chunks]
+        # Workers of this machine write the number columns in place (shared_rows).
+        elsewhere = self.client is not None or runs_in_pool(None, self.workers, len(chunks))
+        shared = (shared_columns(number_columns(self.plan, self.axes), len(pending))
+                  if self.plan is not None and elsewhere else None)
+        assembly = TableAssembly(self.header, lengths, None if shared is None else shared.arrays)
+        offsets = np.cumsum([0, *lengths]).tolist()
         bar = ProgressBar(len(pending), "points", self.progress)
         try:
-            tasks = [ChunkTask(chunk, csv_path is not None, schema) for chunk in chunks]
+            tasks = [ChunkTask(chunk, csv_path is not None, schema,
+                               None if shared is None else shared.layout, offsets[index])
+                     for index, chunk in enumerate(chunks)]
             for index, output, error in run_tasks(run_chunk_task, tasks, self.client,
                                                    self.workers):
                 if error is not None:
                     output = chunk_output(failed_rows(chunks[index], error),
                                           csv_path is not None, schema)
-                table = output.table
                 if csv_path is not None:
                     append_rows(csv_path, output.csv)
                     if schema is not None:
-                        write_part(csv_path.parent, table, schema, data=output.parquet_part)
-                assembly.place(index, table)
-                status = table.columns["status"]
-                bar.advance(table.length, int(np.count_nonzero(status != "ok")))
+                        write_part(csv_path.parent, int(chunks[index].indices[0]),
+                                   lengths[index], output.parquet_part or b"")
+                assembly.place(index, output.table, output.in_shared)
+                bar.advance(output.table.length, output.failed)
         finally:
             bar.close()
+            if shared is not None:
+                shared.close()
         rows = RowTable.concatenate(self.header, [resumed, assembly.table()])
         points = rows.columns.get("point", np.zeros(0, dtype=np.int64))
         if np.all(points[1:] > points[:-1]):
@@ -337,23 +366,24 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
                           min(count, ARRAY_CHUNK_CAP))
 
 
-def _parallelism(client: Any, workers: int) -> int:
-    """Tasks that can run at once: the Dask cluster's threads, or the local workers."""
-    if client is None:
-        return workers
-    threads: int = sum(client.nthreads().values())
-    return max(1, threads)
-
-
-def _chunk_size(chunk_size: Any, points: int, parallelism: int, arrays: bool = False) -> int:
+def _chunk_sizes(chunk_size: Any, points: int, at_once: int,
+                 arrays: bool = False) -> list[int]:
+    """Points of each task, in order (see the chunking constants above)."""
+    if chunk_size is None and arrays:
+        floor = min(ARRAY_CHUNK_FLOOR, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
+        sizes = []
+        while points > 0:
+            size = min(points, ARRAY_CHUNK_CAP,
+                       max(floor, math.ceil(points / (ARRAY_SHARE * at_once))))
+            sizes.append(size)
+            points -= size
+        return sizes
     if chunk_size is None:
-        if arrays:
-            return max(1, min(ARRAY_CHUNK_CAP,
-                              math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * parallelism))))
-        return max(1, min(DEFAULT_CHUNK_CAP,
-                          math.ceil(points / (CHUNKS_PER_WORKER * parallelism))))
-    if (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
+        size = max(1, min(DEFAULT_CHUNK_CAP, math.ceil(points / (CHUNKS_PER_WORKER * at_once))))
+    elif (isinstance(chunk_size, bool) or not isinstance(chunk_size, int)
             or not 1 <= chunk_size <= MAX_CHUNK_SIZE):
         raise ValueError(f"chunk_size = {chunk_size!r} is outside the allowed range "
                          f"[1, {MAX_CHUNK_SIZE}] (a whole number of points per task)")
-    return chunk_size
+    else:
+        size = chunk_size
+    return [min(size, points - start) for start in range(0, points, size)]

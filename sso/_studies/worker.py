@@ -8,8 +8,8 @@ every point of that shape it is given.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import partial
+from dataclasses import dataclass, fields, replace
+from functools import cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -18,16 +18,47 @@ from sso._studies.array_engine import ArrayPlan, run_array_points
 from sso._studies.axes import point_document
 from sso._studies.batched import BatchedPoints, batchable
 from sso._studies.column_rows import column_row
-from sso._studies.columns import RowTable
+from sso._studies.columns import RowTable, packed, unpacked
 from sso._studies.point_row import PointRow, design_columns, solver_columns
+from sso._studies.shared_rows import SharedLayout, write_rows
 from sso._studies.table import HASH_COLUMN
 
 ACTIONS = ("optimise", "evaluate")
 
 
 @dataclass(frozen=True)
+class GridPositions:
+    """Where the points of a sweep's chunk find their axis values, from their indices.
+
+    Attributes
+    ----------
+    mode : {"product", "listed"}
+        The sweep's mode.
+    lengths : tuple of int
+        Values of each axis of the sweep.
+    lows : tuple of int
+        Per axis, the position in the sweep's axis of the chunk's first value.
+    """
+
+    mode: str
+    lengths: tuple[int, ...]
+    lows: tuple[int, ...]
+
+    def of(self, indices: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Per axis, the position of each point's value among the chunk's values."""
+        if self.mode == "listed":
+            return tuple(indices - low for low in self.lows)
+        return tuple(position - low for position, low in
+                     zip(np.unravel_index(indices, self.lengths), self.lows, strict=True))
+
+
+@dataclass(frozen=True)
 class SweepChunk:
     """A unit of work: some points of one sweep.
+
+    A chunk travels to a worker as its point indices (consecutive ones as their
+    first and count) and the rule that gives each point's axis values
+    (:class:`GridPositions`), so its size does not grow with its points.
 
     Attributes
     ----------
@@ -41,8 +72,6 @@ class SweepChunk:
         The axes' paths.
     indices : numpy.ndarray
         The points' indices.
-    value_indices : tuple of numpy.ndarray
-        Per axis, the position of each point's value in ``values``.
     values : tuple of tuple
         Per axis, the values this chunk's points take (a slice of the axis).
     plan : ArrayPlan or None
@@ -50,6 +79,9 @@ class SweepChunk:
         None where every point is read and solved on its own.
     sweep_hash : str
         The sweep's hash, written into every row.
+    positions : GridPositions or tuple of numpy.ndarray
+        Where each point finds its value in ``values``: the sweep's rule, or per
+        axis the positions themselves.
     """
 
     document: dict[str, Any]
@@ -57,10 +89,10 @@ class SweepChunk:
     header: tuple[str, ...]
     paths: tuple[str, ...]
     indices: np.ndarray
-    value_indices: tuple[np.ndarray, ...]
     values: tuple[tuple[Any, ...], ...]
     plan: ArrayPlan | None
     sweep_hash: str
+    positions: GridPositions | tuple[np.ndarray, ...]
 
     @classmethod
     def listed(cls, document: dict[str, Any], action: str,
@@ -73,9 +105,21 @@ class SweepChunk:
         count = len(points)
         return cls(document, action, tuple(columns(paths)), paths,
                    np.array([index for index, _ in points], dtype=np.int64),
-                   tuple(np.arange(count) for _ in paths),
                    tuple(tuple(point[path] for _, point in points) for path in paths),
-                   plan, sweep_hash)
+                   plan, sweep_hash, tuple(np.arange(count) for _ in paths))
+
+    @cached_property
+    def value_indices(self) -> tuple[np.ndarray, ...]:
+        """Per axis, the position of each point's value in ``values``."""
+        if isinstance(self.positions, GridPositions):
+            return self.positions.of(self.indices)
+        return self.positions
+
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        """Pickle the fields, the point indices packed (:func:`sso._studies.columns.packed`)."""
+        return _unpack_chunk, (packed(self.indices), {
+            field.name: getattr(self, field.name) for field in fields(self)
+            if field.name != "indices"})
 
     def points(self, selected: np.ndarray) -> list[tuple[int, dict[str, Any]]]:
         """``(index, {path: value})`` of the selected points (a boolean mask)."""
@@ -84,6 +128,10 @@ class SweepChunk:
                          for axis, (path, position) in enumerate(zip(self.paths, positions,
                                                                      strict=True))})
                 for row, index in enumerate(self.indices[selected].tolist())]
+
+
+def _unpack_chunk(indices: Any, others: dict[str, Any]) -> SweepChunk:
+    return SweepChunk(indices=unpacked(indices), **others)
 
 
 def run_sweep_chunk(chunk: SweepChunk) -> RowTable:
@@ -126,35 +174,61 @@ class ChunkTask:
         Also make the rows' lines of ``sweep.csv``.
     parquet_schema : pyarrow.Schema or None
         Also make the rows' Parquet part, of this schema.
+    shared : SharedLayout or None
+        Write the rows' number columns into this shared memory
+        (:mod:`sso._studies.shared_rows`), from row ``row_offset`` on.
+    row_offset : int
+        The place of the chunk's first row among the sweep's computed rows.
     """
 
     chunk: SweepChunk
     csv: bool = False
     parquet_schema: Any = None
+    shared: SharedLayout | None = None
+    row_offset: int = 0
 
 
 @dataclass(frozen=True)
 class ChunkOutput:
     """A chunk's rows, with their ``sweep.csv`` lines (UTF-8) and Parquet part when
-    asked for: made in the worker, so the calling process only appends them."""
+    asked for: made in the worker, so the calling process only appends them.
+
+    Attributes
+    ----------
+    table : RowTable
+        The rows (without their number columns when ``in_shared``).
+    csv : bytes
+    parquet_part : bytes or None
+    in_shared : bool
+        The number columns were written into the task's shared memory.
+    failed : int
+        Rows whose status is not ``"ok"``.
+    """
 
     table: RowTable
     csv: bytes = b""
     parquet_part: bytes | None = None
+    in_shared: bool = False
+    failed: int = 0
 
 
 def run_chunk_task(task: ChunkTask) -> ChunkOutput:
     """The rows of the task's chunk (:func:`run_sweep_chunk`) and their output."""
     table = run_sweep_chunk(task.chunk)
-    return chunk_output(table, task.csv, task.parquet_schema)
+    output = chunk_output(table, task.csv, task.parquet_schema)
+    rest = None if task.shared is None else write_rows(task.shared, task.row_offset, table)
+    return output if rest is None else replace(output, table=rest, in_shared=True)
 
 
 def chunk_output(table: RowTable, csv: bool, parquet_schema: Any) -> ChunkOutput:
     """``table`` with its ``sweep.csv`` lines and Parquet part, as asked for."""
     from sso._studies.parquet_output import part_data
 
+    status = table.columns.get("status")
     return ChunkOutput(table, table.csv_text().encode("utf-8") if csv else b"",
-                       None if parquet_schema is None else part_data(table, parquet_schema))
+                       None if parquet_schema is None else part_data(table, parquet_schema),
+                       failed=table.length if status is None
+                       else int(np.count_nonzero(status != "ok")))
 
 
 def _point_rows(chunk: SweepChunk, selected: np.ndarray) -> list[dict[str, Any]]:

@@ -156,9 +156,9 @@ def sweep_chunks() -> str:
     from sso._studies import sweep
 
     return (f"in chunks (about {NUMBER_WORDS[sweep.CHUNKS_PER_WORKER]} per worker, at most "
-            f"{sweep.DEFAULT_CHUNK_CAP} points each; a sweep that runs as arrays, about "
-            f"{NUMBER_WORDS[sweep.ARRAY_CHUNKS_PER_WORKER]} per worker of at most "
-            f"{sweep.ARRAY_CHUNK_CAP:,} points")
+            f"{sweep.DEFAULT_CHUNK_CAP} points each; a sweep that runs as arrays, chunks of "
+            f"decreasing size, from at most {sweep.ARRAY_CHUNK_CAP:,} points down to "
+            f"{sweep.ARRAY_CHUNK_FLOOR:,}")
 
 
 def shipped_cases() -> str:

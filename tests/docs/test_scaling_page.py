@@ -14,11 +14,17 @@ from benchmarks import sweep_throughput
 from doctools import scaling
 from sso._studies.axes import MAX_POINTS
 from sso._studies.report import MOST_DRAWN_POINTS, REPORT_ROWS
-from sso._studies.sweep import ARRAY_CHUNK_CAP, ARRAY_CHUNKS_PER_WORKER
+from sso._studies.sweep import (
+    ARRAY_CHUNK_CAP,
+    ARRAY_CHUNK_FLOOR,
+    ARRAY_CHUNKS_PER_WORKER,
+    ARRAY_SHARE,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "scaling.md"
-NUMBER_WORDS = {8: "eight"}
+NUMBER_WORDS = {8: "eighth"}
+SHARE_WORDS = {2: "half a"}
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +69,9 @@ def test_the_projection_follows_from_the_raw_passes(document, machines):
 def test_the_prose_states_the_package_constants():
     text = " ".join(PAGE.read_text(encoding="utf-8").split())
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
-    assert f"about {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} tasks per worker" in text
+    assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
+    assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
+    assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text
     assert f"(the first {REPORT_ROWS})" in text

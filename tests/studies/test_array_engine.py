@@ -8,14 +8,17 @@ the same success flags, whichever way the sweep runs (one process, the pool).
 
 from __future__ import annotations
 
+import mmap
+import sys
+
 import numpy as np
 import pytest
 
 import sso
-from sso._studies.array_engine import array_plan
+from sso._studies.array_engine import array_plan, number_columns
 from sso._studies.axes import base_case, parse_axes
 from sso._studies.table import TIME_COLUMNS
-from sso._studies.worker import run_point
+from sso._studies.worker import SweepChunk, run_point, run_sweep_chunk
 
 RE_ATOL = 1e-12
 
@@ -86,18 +89,73 @@ def test_a_value_the_case_refuses_is_an_error_row_and_moved_starts_are_warned():
     assert_same_results(list(result.rows[:2]), slow[:2])
 
 
-def test_the_pool_gives_the_rows_of_one_process():
+def strip(rows):
+    return [{key: value for key, value in row.items() if key not in TIME_COLUMNS}
+            for row in rows]
+
+
+def mapped_memory(column):
+    """The object at the end of an array's chain of bases (an mmap: shared memory)."""
+    while isinstance(column, (np.ndarray, memoryview)):
+        column = column.base if isinstance(column, np.ndarray) else column.obj
+    return column
+
+
+@pytest.mark.parametrize("action", ["optimise", "evaluate"])
+def test_the_pool_gives_the_rows_of_one_process(action):
     document = lm_document(3, 1)
     axes = {"design.beta_deg[0]": {"start": 10.0, "stop": 40.0, "num": 30},
             "design.beta_deg[1]": {"start": 10.0, "stop": 40.0, "num": 20}}
-    one = sso.sweep(document, axes, workers=1, progress=False)
-    pool = sso.sweep(document, axes, workers=2, chunk_size=150, progress=False)
-
-    def strip(rows):
-        return [{key: value for key, value in row.items() if key not in TIME_COLUMNS}
-                for row in rows]
-
+    one = sso.sweep(document, axes, action=action, workers=1, progress=False)
+    pool = sso.sweep(document, axes, action=action, workers=2, chunk_size=150,
+                     progress=False)
     assert strip(pool.rows) == strip(one.rows)
+    if sys.platform.startswith("linux"):  # the workers wrote the numbers in place
+        columns = pool.rows.table.columns
+        assert isinstance(mapped_memory(columns["residual_error"]), mmap.mmap)
+        assert isinstance(mapped_memory(columns["design_beta_deg"]), mmap.mmap)
+        assert columns["status"].dtype == object  # text travelled
+
+
+def test_the_pool_gives_the_rows_of_one_process_where_values_are_refused():
+    document = lm_document(3, 2)
+    axes = {"design.beta_deg[2]": [25.0, 50.0, 95.0, 30.0], "design.beta_deg[0]": [20.0, 35.0]}
+    one = sso.sweep(document, axes, workers=1, progress=False)
+    pool = sso.sweep(document, axes, workers=2, chunk_size=3, progress=False)
+    assert [row["status"] for row in one.rows] == ["ok"] * 4 + ["failed"] * 2 + ["ok"] * 2
+    assert strip(pool.rows) == strip(one.rows)
+
+
+def test_axis_values_read_by_two_workers_are_those_read_here():
+    document = lm_document(3, 2)
+    axes = parse_axes({"design.beta_deg[2]": [25.0, 50.0, 95.0, 30.0, 12.0],
+                       "design.beta_deg[0]": [20.0, 91.0, 35.0]}, document)
+    here = array_plan(base_case(document), axes, "optimise")
+    shared = array_plan(base_case(document), axes, "optimise", workers=2)
+    for mine, theirs in zip(shared.axes, here.axes, strict=True):
+        assert mine.target == theirs.target
+        assert mine.accepted.tolist() == theirs.accepted.tolist()
+        assert mine.notes == theirs.notes
+    assert [axis.accepted.tolist() for axis in here.axes] == [
+        [True, True, False, True, True], [True, False, True]]
+    assert any("start beta_deg[2] = 50 deg lies outside its bounds" in note
+               for note in here.axes[0].notes[1])
+
+
+@pytest.mark.parametrize("action", ["optimise", "evaluate"])
+def test_the_number_columns_are_those_the_engine_makes(action):
+    document = lm_document(2, 3, joints=4)
+    axes = parse_axes({"design.beta_deg[1]": [10.0, 20.0], "input_speed_rpm": [10, 20.5],
+                       "design.phase_deg[0]": [45.0, 90.0]}, document)
+    plan = array_plan(base_case(document), axes, action)
+    chunk = SweepChunk.listed(document, action, tuple(
+        (index, {axis.path: axis.values[index] for axis in axes}) for index in range(2)),
+        plan=plan)
+    table = run_sweep_chunk(chunk)
+    made = {name: (column.dtype, column.shape[1:]) for name, column in table.columns.items()
+            if column.dtype != object}
+    assert number_columns(plan, axes) == made
+    assert "input_speed_rpm" not in made  # whole numbers among its values: text
 
 
 def test_a_sweep_that_varies_the_problem_takes_the_point_path():

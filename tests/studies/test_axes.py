@@ -1,8 +1,18 @@
 """Sweep axes: key paths, ranges, point expansion, and the errors for bad input."""
 
+import numpy as np
 import pytest
 
-from sso._studies.axes import base_case, expand_points, parse_axes, point_document
+from sso._studies.axes import (
+    Axis,
+    base_case,
+    expand_points,
+    parse_axes,
+    point_count,
+    point_document,
+    value_positions,
+    value_ranges,
+)
 
 BASE = {"design": {"beta_deg": [30.0, 40.0, 50.0], "phase_deg": [90.0, 90.0]},
         "bounds": {"beta_deg": [10.0, 40.0]}}
@@ -73,3 +83,24 @@ def test_an_invalid_base_case_is_refused_naming_the_key():
     with pytest.raises(ValueError, match=r"design\.beta_deg\[0\] = 95 is outside the allowed "
                                          r"range \[0, 90\) deg"):
         base_case({"design": {"beta_deg": [95.0]}})
+
+
+@pytest.mark.parametrize("lengths", [(5,), (3, 4), (2, 3, 4), (4, 1, 3)])
+@pytest.mark.parametrize("mode", ["product", "listed"])
+def test_value_ranges_hold_every_position_between_two_points(lengths, mode):
+    # Reference: the positions of every point from first to last (value_positions), so
+    # the ranges found from the ends alone must contain them and, where the positions
+    # do not wrap around, be exactly their span.
+    axes = [Axis(f"design.beta_deg[{axis}]", tuple(range(length)))
+            for axis, length in enumerate(lengths)]
+    if mode == "listed":
+        axes = [Axis(axis.path, tuple(range(lengths[0]))) for axis in axes]
+    count = point_count(axes, mode)
+    for first in range(count):
+        for last in range(first, count):
+            ranges = value_ranges([len(axis.values) for axis in axes], mode, first, last)
+            positions = value_positions(axes, mode, np.arange(first, last + 1))
+            for (low, high), column in zip(ranges, positions, strict=True):
+                assert low <= column.min() and column.max() < high
+                if np.all(np.diff(column) >= 0):
+                    assert (low, high) == (column.min(), column.max() + 1)

@@ -90,3 +90,26 @@ def test_an_array_sweep_on_dask_gives_the_rows_of_one_process(client):
     on_dask = sso.sweep(base, axes, client=client, chunk_size=17, progress=False)
     assert _without_times(on_dask.rows) == _without_times(one.rows)
     assert sum(row["status"] == "failed" for row in one.rows) == 40  # beta 95 deg refused
+
+
+def test_dask_workers_on_this_machine_write_the_numbers_in_place(client, tmp_path):
+    # The cluster's workers run here: they write into the calling process's memory file
+    # (sso._studies.shared_rows), and the rows and sweep.csv are those of one process.
+    base = {**BASE, "option": 3, "solver": {"solvers": ["lm"], "starts": 1}}
+    axes = {"design.beta_deg[0]": {"start": 10.0, "stop": 40.0, "num": 30},
+            "design.beta_deg[2]": {"start": 10.0, "stop": 40.0, "num": 7}}
+    one = sso.sweep(base, axes, workers=1, progress=False, out_dir=tmp_path / "one",
+                    plots=False)
+    on_dask = sso.sweep(base, axes, client=client, chunk_size=40, progress=False,
+                        out_dir=tmp_path / "dask", plots=False)
+    assert _without_times(on_dask.rows) == _without_times(one.rows)
+    def written(folder):  # chunks are appended as they end: in point order here
+        return sorted(_without_times(read_rows(tmp_path / folder / "sweep.csv")),
+                      key=lambda row: int(row["point"]))
+
+    assert written("dask") == written("one")
+    if sys.platform.startswith("linux"):
+        column = on_dask.rows.table.columns["residual_error"]
+        while isinstance(column, (np.ndarray, memoryview)):
+            column = column.base if isinstance(column, np.ndarray) else column.obj
+        assert type(column).__name__ == "mmap"

@@ -11,6 +11,7 @@ import math
 import os
 
 import pytest
+from processes import alive
 
 from sso._studies.execution import (
     WORKER_ENVIRONMENT,
@@ -61,3 +62,17 @@ def test_a_pool_reports_a_failing_task_and_finishes_the_others():
     results = sorted(run_tasks(math.sqrt, [9.0, -4.0, 16.0], workers=2), key=lambda r: r[0])
     assert [value for _, value, _ in results] == [3.0, None, 4.0]
     assert isinstance(results[1][2], ValueError)
+
+
+def test_a_pool_is_kept_for_the_next_run_and_replaced_after_an_interruption():
+    first = {pid for _, pid, _ in run_tasks(_pid_task, [0, 1, 2, 3], workers=2)}
+    again = {pid for _, pid, _ in run_tasks(_pid_task, [0, 1, 2, 3], workers=2)}
+    assert again <= first and all(alive(pid) for pid in first)  # the same, idle workers
+    stopped = run_tasks(_pid_task, [0, 1, 2, 3], workers=2)
+    next(stopped)
+    stopped.close()  # the caller stops early: the workers are killed, not kept
+    assert not any(alive(pid) for pid in first)
+    after = {pid for _, pid, _ in run_tasks(_pid_task, [0, 1, 2, 3], workers=2)}
+    assert not after & first
+    other = {pid for _, pid, _ in run_tasks(_pid_task, [0, 1, 2, 3], workers=3)}
+    assert not other & after  # another number of workers: another pool

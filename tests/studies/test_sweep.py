@@ -9,6 +9,13 @@ import numpy as np
 import pytest
 
 import sso
+from sso._studies.sweep import (
+    ARRAY_CHUNK_CAP,
+    ARRAY_CHUNK_FLOOR,
+    ARRAY_CHUNKS_PER_WORKER,
+    ARRAY_SHARE,
+    _chunk_sizes,
+)
 from sso._studies.table import RESULT_COLUMNS
 
 ONE_JOINT = {"design": {"beta_deg": [20.0]}, "input_speed_rpm": 30.0}
@@ -144,3 +151,20 @@ def test_sweep_over_a_shipped_case_file_varies_the_input_speed():
     assert second["max_output_accel_rad_s2"] == pytest.approx(
         4 * first["max_output_accel_rad_s2"], rel=1e-12)
     assert np.isfinite(first["fluctuation"])
+
+
+@pytest.mark.parametrize("points, workers", [(103_823, 2), (1_000_000, 2), (600, 2),
+                                             (5, 3), (0, 2), (250_000, 1)])
+def test_array_tasks_shrink_towards_the_end_of_a_sweep(points, workers):
+    sizes = _chunk_sizes(None, points, workers, arrays=True)
+    assert sum(sizes) == points and all(size >= 1 for size in sizes)
+    assert sizes == sorted(sizes, reverse=True)
+    assert max(sizes, default=0) <= ARRAY_CHUNK_CAP
+    if points >= ARRAY_CHUNK_FLOOR * ARRAY_CHUNKS_PER_WORKER * workers:
+        assert min(sizes[:-1]) >= ARRAY_CHUNK_FLOOR  # never shorter, but the remainder
+    if points:  # each takes half a worker's share of the points left, within the limits
+        assert sizes[0] == min(ARRAY_CHUNK_CAP, max(
+            min(ARRAY_CHUNK_FLOOR, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * workers))),
+            math.ceil(points / (ARRAY_SHARE * workers))), points)
+    assert _chunk_sizes(7, points, workers, arrays=True) == [
+        min(7, points - start) for start in range(0, points, 7)]

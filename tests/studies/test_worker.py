@@ -7,11 +7,21 @@ tests/shafts/test_objective.py); two equal joints at a 90 deg phase cancel (RE 0
 from __future__ import annotations
 
 import math
+import pickle
 
+import numpy as np
 import pytest
 
 from sso._cases.schema import parse_case
-from sso._studies.worker import SweepChunk, failed_rows, run_point, run_sweep_chunk
+from sso._studies.axes import parse_axes, value_positions, value_ranges
+from sso._studies.table import columns
+from sso._studies.worker import (
+    GridPositions,
+    SweepChunk,
+    failed_rows,
+    run_point,
+    run_sweep_chunk,
+)
 
 ONE_JOINT = parse_case({"design": {"beta_deg": [30.0]}, "option": 2}, "one.toml").to_dict()
 TWO_JOINTS = parse_case(
@@ -59,3 +69,31 @@ def test_a_chunk_runs_its_points_in_order_and_lost_chunks_are_marked():
         {"point": 3, "design.beta_deg[0]": 20.0, "status": "lost",
          "error": "MemoryError: worker died", "sweep_hash": "abc"},
     ]
+
+
+def test_a_chunk_travels_as_its_first_point_and_count_whatever_its_size():
+    case = parse_case({"design": {"beta_deg": [30.0, 20.0]}}, "two.toml")
+    axes = parse_axes({"design.beta_deg[0]": {"start": 10.0, "stop": 40.0, "num": 1000},
+                       "design.beta_deg[1]": {"start": 10.0, "stop": 40.0, "num": 1000}},
+                      case.to_dict())
+    sizes = []
+    for points in (1_000, 100_000):
+        indices = np.arange(5, 5 + points)
+        bounds = value_ranges((1000, 1000), "product", 5, 4 + points)
+        chunk = SweepChunk(case.to_dict(), "evaluate", tuple(columns(["a", "b"])),
+                           tuple(axis.path for axis in axes), indices,
+                           tuple(axis.values[low:high] for axis, (low, high)
+                                 in zip(axes, bounds, strict=True)),
+                           None, "hash", GridPositions("product", (1000, 1000),
+                                                       tuple(low for low, _ in bounds)))
+        data = pickle.dumps(chunk)
+        back = pickle.loads(data)
+        assert back.indices.tolist() == indices.tolist()
+        # Reference: the positions value_positions gives for the whole sweep, less the
+        # chunk's first value of each axis.
+        for mine, whole, (low, _) in zip(back.value_indices,
+                                         value_positions(axes, "product", indices), bounds,
+                                         strict=True):
+            assert mine.tolist() == (whole - low).tolist()
+        sizes.append(len(data))
+    assert sizes[1] < sizes[0] + 25_000  # the values of axis 0 it takes, not its points
