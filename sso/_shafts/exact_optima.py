@@ -69,6 +69,8 @@ PROJECTION_STEPS = 8
 SAME_DESIGN_RAD = 1e-6
 ON_BOUND_RAD = 1e-9
 RANK_TOLERANCE = 1e-9
+EXTENT_START_DECIMALS = 9
+"""Decimals (rad) of the chosen design the extent's solves start from (see _extent)."""
 
 Residuals = Callable[[list[float]], tuple[complex, list[complex]]]
 BoxSolve = Callable[[list[float], list[float], list[float], int],
@@ -534,10 +536,19 @@ def _rank_of_two_rows(columns: list[complex]) -> int:
 
 def _extent(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
             upper: np.ndarray) -> tuple[tuple[float, float], ...]:
-    """Least and largest value of each variable on the set, from ``x_rad`` (deg)."""
+    """Least and largest value of each variable on the set, from ``x_rad`` (deg).
+
+    SLSQP starts from ``x_rad`` rounded to :data:`EXTENT_START_DECIMALS` decimals (rad)
+    and put back on the set: SLSQP can stop at a corner of the set inside the bounds,
+    and which corner must not depend on the round-off the chosen design carries (the
+    README example's beta_1 ended at 40 or at 38.93 deg with 1e-14 rad of difference
+    in the design, which differs between solver paths and processes).
+    """
     counts = [0, 0]
     bounds = list(zip(lower.tolist(), upper.tolist(), strict=True))
     constraint = [_constraint(residuals, 0)]
+    start = _project(residuals, np.round(x_rad, EXTENT_START_DECIMALS), lower, upper)
+    start = x_rad if start is None else start
     extent = []
     for index in range(len(x_rad)):
         ends = []
@@ -548,7 +559,7 @@ def _extent(residuals: Residuals, x_rad: np.ndarray, lower: np.ndarray,
             goal = np.zeros(len(x_rad))
             goal[index] = sign
             answer = _slsqp(functools.partial(_linear, goal), functools.partial(_constant, goal),
-                            x_rad, bounds, constraint, counts)
+                            start, bounds, constraint, counts)
             projected = _project(residuals, answer, lower, upper)
             end = float(x_rad[index] if projected is None else projected[index])
             ends.append(_on_bound(end, float(lower[index]), float(upper[index])))

@@ -107,3 +107,23 @@ def test_a_shape_of_more_variables_than_compiled_leaves_the_numpy_path():
     nlp = compiled_nlp(_problem([20.0] * 4, [90.0] * 3, 3), 0)
     assert nlp.symbols["x"].numel() == lm_native.NATIVE_VARIABLES + 2
     assert build_native_solver(nlp) is None
+
+
+def test_a_batch_solved_in_several_calls_of_the_library_ends_bit_for_bit_as_in_one(monkeypatch):
+    # Calls of DESIGNS_PER_CALL designs let Ctrl-C through between them.
+    rng = np.random.default_rng(70)
+    problems = [_problem(rng.uniform(5.0, 35.0, 3), rng.uniform(0.0, 180.0, 2), 3)
+                for _ in range(30)]
+    native = build_native_solver(compiled_nlp(problems[0], 0))
+    assert native is not None
+
+    def solved():
+        run = solve_native(native, np.array([problem.start_rad for problem in problems]),
+                           np.zeros((30, 0)), problems[0].lower_rad, problems[0].upper_rad,
+                           1e-12, 3000)
+        return run.x, run.fun, run.nit, run.nfev, run.status
+
+    whole = solved()
+    monkeypatch.setattr(lm_native, "DESIGNS_PER_CALL", 7)
+    for expected, found in zip(whole, solved(), strict=True):
+        np.testing.assert_array_equal(found, expected)
