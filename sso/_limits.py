@@ -79,16 +79,26 @@ cancelling phasing of a planar column; see docs/model.md for non-planar ones).""
 MAX_JOINTS = 64
 """Most Hooke joints of one shaft series in a case file."""
 
-MIN_CHAIN_COSINE_PRODUCT = 1e-140
-"""Least product of the operating angles' cosines over a chain's joints.
+RESIDUAL_RESOLUTION: float = ROUND_OFF_FLOOR**0.5
+"""How far a rounding of a chain's angles may move its two residuals ``r``
+(``RE = |r|^2``), whatever its phases: 3.2e-8 absolute and 3.2e-8 of ``|r|``, so that
+float64 resolves RE to the round-off floor near zero and sqrt(RE), the rms
+speed-ratio error, to 3.2e-8 (docs/model.md, "Numerical limits").
 
-The product is the chain matrix's determinant: the speed ratio ranges up to about
-1 / product, its slope (the output acceleration per input speed squared) up to about
-1 / product^2, and at the largest input speed (1e6 rpm, 1e10 (rad/s)^2) the peak
-acceleration must stay a float (below 1.8e308). A design or bounds below it are
-refused with this explanation: 64 equal joints reach it at 89.63 deg, 30 at 89.9988
-deg, 12 at 89.9999999999 deg; 8 joints or fewer never do (the largest float below
-90 deg has a cosine of 2.8e-16)."""
+Rounding each of the chain's ``2 n - 1`` angles by :data:`ANGLE_SPACING_RAD` moves
+``r`` by at most ``(2 n - 1) ANGLE_SPACING_RAD / sqrt(2 prod cos beta)`` plus
+``|r| (ANGLE_SPACING_RAD / 2) sum tan beta``. Operating angles, or upper bounds on free
+ones, with either term above this are refused naming the field
+(``sso._validation.check_chain_conditioning``): equal angles are allowed up to 89.9786
+deg for 4 joints, 80.37 deg for 16 and 48.05 deg for 64. One phasing attains a
+(2 n - 1)-th of the first term, so float64 stops resolving RE no later than 83.74 deg
+for 16 joints and 54.93 deg for 64 (tests/test_numerical_limits.py checks both in
+mpmath)."""
+
+ANGLE_SPACING_RAD = 2.0**-50
+"""Spacing of floats from 4 to 8 rad (8.9e-16 rad): one rounding of a phase up to
+360 deg, or of its round trip through degrees, moves it by at most this much (an
+operating angle, below pi / 2, by a quarter of it)."""
 
 NLP_CACHE_SHAPES = 4
 """Built NLPs (CasADi graphs and their IPOPT instances) kept per thread.

@@ -9,7 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from sso._limits import CROSS_CHECK_SOLVERS, MAX_INPUT_SPEED_RPM, MIN_CHAIN_COSINE_PRODUCT
+from sso._limits import (
+    ANGLE_SPACING_RAD,
+    CROSS_CHECK_SOLVERS,
+    MAX_INPUT_SPEED_RPM,
+    RESIDUAL_RESOLUTION,
+)
 
 
 class _ShortRepr(reprlib.Repr):
@@ -264,8 +269,66 @@ def validate_count(field: str, value: Any, lower: int, upper: int) -> int:
     return int(value)
 
 
-def check_chain_cosines(field: str, beta_deg: Iterable[float]) -> None:
-    """Refuse operating angles whose cosines multiply to less than the chain allows.
+def _power_of_ten(log10_value: float, decimals: int) -> str:
+    """``10 ** log10_value`` written as ``m.mme±x`` even beyond the range of floats."""
+    exponent = math.floor(log10_value)
+    mantissa = round(10.0 ** (log10_value - exponent), decimals)
+    if mantissa >= 10.0:
+        mantissa, exponent = mantissa / 10.0, exponent + 1
+    return f"{mantissa:.{decimals}f}e{exponent:+03d}"
+
+
+def least_cosine_product(joints: int) -> float:
+    """Least product of the operating angles' cosines with which float64 resolves RE.
+
+    The bound ``(2 n - 1) ANGLE_SPACING_RAD / sqrt(2 det M)`` on the residuals'
+    rounding (see :data:`sso._limits.RESIDUAL_RESOLUTION`) reaches the allowed
+    resolution at ``det M = ((2 n - 1) ANGLE_SPACING_RAD / RESIDUAL_RESOLUTION)^2 / 2``.
+
+    Parameters
+    ----------
+    joints : int
+        Number of joints ``n >= 1`` of the chain.
+    """
+    return ((2 * joints - 1) * ANGLE_SPACING_RAD / RESIDUAL_RESOLUTION) ** 2 / 2.0
+
+
+LARGEST_TANGENT_SUM = 2.0 * RESIDUAL_RESOLUTION / ANGLE_SPACING_RAD
+"""Largest sum of the operating angles' tangents with which float64 resolves RE: a
+rounding of ``beta_k`` changes ``det M`` by ``tan(beta_k) ANGLE_SPACING_RAD`` of itself,
+and the residuals (divided by ``sqrt(2 det M)``) by half that (7.1e7; one joint may
+reach 89.9999992 deg)."""
+
+
+def _beyond_resolution(joints: int, log_product: Any, tangent_sum: Any) -> Any:
+    """Whether chains of ``joints`` joints with these sums of ``ln cos beta`` and of
+    ``tan beta`` (floats or arrays) break either bound of :func:`check_chain_conditioning`."""
+    return (log_product < math.log(least_cosine_product(joints))) | (
+        tangent_sum > LARGEST_TANGENT_SUM)
+
+
+def unresolvable_chains(beta_deg: np.ndarray) -> np.ndarray:
+    """Which chains (rows of operating angles, deg) float64 cannot resolve RE of.
+
+    Either rounding bound of :func:`check_chain_conditioning` exceeds what
+    :data:`sso._limits.RESIDUAL_RESOLUTION` allows: the product of the cosines is below
+    :func:`least_cosine_product` or the tangents sum to more than
+    :data:`LARGEST_TANGENT_SUM`. Angles must lie in ``[0, 90)`` deg.
+    """
+    beta_rad = np.radians(np.asarray(beta_deg, dtype=float))
+    return np.asarray(_beyond_resolution(beta_rad.shape[-1],
+                                         np.sum(np.log(np.cos(beta_rad)), axis=-1),
+                                         np.sum(np.tan(beta_rad), axis=-1)), dtype=bool)
+
+
+def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
+    """Refuse operating angles with which float64 cannot resolve a chain's RE.
+
+    Whatever the phases (an optimiser may reach any), rounding the chain's ``2 n - 1``
+    angles by a float spacing ``h`` moves its residuals ``r`` (``RE = |r|^2``) by up to
+    ``(2 n - 1) h / sqrt(2 prod cos beta) + |r| (h / 2) sum tan beta``
+    (docs/model.md, "Numerical limits"); both terms, the second relative to ``|r|``,
+    must stay within :data:`sso._limits.RESIDUAL_RESOLUTION`.
 
     Parameters
     ----------
@@ -277,18 +340,38 @@ def check_chain_cosines(field: str, beta_deg: Iterable[float]) -> None:
     Raises
     ------
     ValueError
-        If the product of ``cos(beta)`` is below
-        :data:`sso._limits.MIN_CHAIN_COSINE_PRODUCT`, naming the field, the product
-        (as a power of ten) and what to change.
+        If either bound exceeds the resolution, naming the field, the bound and what
+        the joints may have: the least product of cosines and the largest equal
+        angle, or the largest sum of tangents.
     """
-    angles = list(beta_deg)
-    log10_product = math.fsum(math.log10(math.cos(math.radians(beta))) for beta in angles)
-    if log10_product < math.log10(MIN_CHAIN_COSINE_PRODUCT):
-        exponent = math.floor(log10_product)
+    angles = [math.radians(beta) for beta in beta_deg]
+    joints = len(angles)
+    log_product = math.fsum(math.log(math.cos(angle)) for angle in angles)
+    tangents = math.fsum(math.tan(angle) for angle in angles)
+    if not _beyond_resolution(joints, log_product, tangents):
+        return
+    log10_product = log_product / math.log(10.0)
+    least = least_cosine_product(joints)
+    start = (f"{field}: float64 cannot resolve RE of a chain of {joints} "
+             f"joint{'s' if joints > 1 else ''}")
+    if log_product < math.log(least):
+        log10_rounding = (math.log10((2 * joints - 1) * ANGLE_SPACING_RAD / math.sqrt(2.0))
+                          - 0.5 * log10_product)
+        largest_equal_deg = math.degrees(math.acos(least ** (1.0 / joints)))
         raise ValueError(
-            f"{field}: the product of cos(beta) over the {len(angles)} joints is "
-            f"{10.0 ** (log10_product - exponent):.2f}e{exponent}, below the allowed "
-            f"{MIN_CHAIN_COSINE_PRODUCT:g}: the "
-            "speed ratio (up to about 1/product) and its slope (about 1/product^2) would "
-            "leave floating point; lower the operating angles or the number of joints"
+            f"{start}: the product of cos(beta) is {_power_of_ten(log10_product, 2)}, so "
+            "one rounding of the angles can move sqrt(RE) by up to "
+            f"{_power_of_ten(log10_rounding, 1)}, above the allowed "
+            f"{RESIDUAL_RESOLUTION:.2g}; {joints} joints need a product of at least "
+            f"{least:.3g} (equal angles up to {largest_equal_deg:.10g} deg): lower the "
+            "operating angles or the number of joints"
         )
+    raise ValueError(
+        f"{start}: the operating angles' tangents sum to {tangents:.3g}, so one rounding "
+        "of the angles can change sqrt(RE) by up to "
+        f"{0.5 * ANGLE_SPACING_RAD * tangents:.2g} of itself, above the allowed "
+        f"{RESIDUAL_RESOLUTION:.2g}; the tangents may sum to at most "
+        f"{LARGEST_TANGENT_SUM:.3g} (one joint up to "
+        f"{math.degrees(math.atan(LARGEST_TANGENT_SUM)):.10g} deg): lower the operating "
+        "angles nearest 90 deg"
+    )

@@ -13,12 +13,14 @@ from __future__ import annotations
 import numpy as np
 
 from sso._column.geometry import ROUND_OFF_SINE, ColumnGeometry
+from sso._validation import unresolvable_chains
 
 NEARLY_STRAIGHT_SINE = 1e-9
 """A joint's ``|u_(k-1) x u_k|`` at or below this is left to :class:`ColumnGeometry`."""
 LARGEST_ARRAY_BETA_DEG = 89.0
 """A sample with an operating angle above this is left to :class:`ColumnGeometry` (its
-checks of the 90 deg limit and of the chain's cosines)."""
+checks of the 90 deg limit and of the chain's conditioning; below it, the conditioning
+is checked here, and a sample beyond it goes to :class:`ColumnGeometry` too)."""
 
 
 def built_angles(points_mm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -52,9 +54,11 @@ def built_angles(points_mm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     plane_sines = np.where((plane_cosines < 0.0) & (np.abs(plane_sines) <= ROUND_OFF_SINE),
                            0.0, plane_sines)
     gamma = np.degrees(np.arctan2(plane_sines, plane_cosines))
-    irregular = ~(np.all(np.isfinite(points.reshape(len(points), -1)), axis=1)
-                  & np.all(sines > NEARLY_STRAIGHT_SINE, axis=1)
-                  & np.all(beta <= LARGEST_ARRAY_BETA_DEG, axis=1))
+    regular = (np.all(np.isfinite(points.reshape(len(points), -1)), axis=1)
+               & np.all(sines > NEARLY_STRAIGHT_SINE, axis=1)
+               & np.all(beta <= LARGEST_ARRAY_BETA_DEG, axis=1))
+    # Regular angles may still be too many, too steep, for float64 to resolve RE.
+    irregular = ~regular | unresolvable_chains(np.where(regular[:, None], beta, 0.0))
     for index in np.flatnonzero(irregular).tolist():
         try:
             built = ColumnGeometry(points[index])

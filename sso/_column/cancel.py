@@ -38,7 +38,7 @@ from fractions import Fraction
 from sso._display import Part, Readable, TextTable, format_number
 from sso._limits import BETA_LIMIT_DEG
 from sso._record import Record
-from sso._validation import as_float_tuple, check_chain_cosines, check_in_range
+from sso._validation import as_float_tuple, check_chain_conditioning, check_in_range
 
 RULE_SINGLE = "one joint: the fluctuation cancels only if the joint is straight"
 RULE_PAIR = "two joints: the fluctuation cancels only if both operating angles are equal"
@@ -107,7 +107,9 @@ def can_cancel(beta_deg: Sequence[float]) -> CancelVerdict:
     Raises
     ------
     ValueError
-        If the list is empty or an angle is not finite or out of range.
+        If the list is empty, an angle is not finite or out of range, or the angles
+        are too close to 90 deg for float64 to resolve RE
+        (:func:`sso._validation.check_chain_conditioning`).
     """
     angles = _validated(beta_deg)
     largest = max(range(len(angles)), key=lambda index: angles[index])
@@ -256,5 +258,5 @@ def _validated(beta_deg: Sequence[float]) -> tuple[float, ...]:
         raise ValueError("beta_deg is empty: give the operating angle of at least 1 joint")
     for index, beta in enumerate(angles):
         check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg", upper_open=True)
-    check_chain_cosines("beta_deg", angles)
+    check_chain_conditioning("beta_deg", angles)
     return angles

@@ -35,7 +35,7 @@ from numpy.typing import ArrayLike
 from sso._limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, INPUT_MAGNITUDE_RANGE
 from sso._record import register_record
 from sso._shafts.series import ShaftSeries
-from sso._validation import as_float_tuple, check_chain_cosines, finite_float
+from sso._validation import as_float_tuple, check_chain_conditioning, finite_float
 
 # A joint whose |u_(k-1) x u_k| is at or below this is straight (beta = 0 exactly):
 # its bend plane is not defined by the points to better than round-off.
@@ -67,8 +67,9 @@ class ColumnGeometry:
     ValueError
         If the array is not ``(n + 2) x 3`` with ``n >= 1``, a coordinate is not
         finite or its magnitude exceeds 1e100 mm, two consecutive points coincide,
-        an operating angle reaches the limit of 90 deg, the product of the operating
-        angles' cosines is below :data:`sso._limits.MIN_CHAIN_COSINE_PRODUCT`, or
+        an operating angle reaches the limit of 90 deg, the operating angles are
+        too close to 90 deg for float64 to resolve RE
+        (:func:`sso._validation.check_chain_conditioning`), or
         every joint is straight (input and output collinear, nothing to analyse).
         The message names the point or joint.
     """
@@ -309,7 +310,7 @@ def _operating_angles(directions: np.ndarray) -> tuple[tuple[float, ...], tuple[
     if all(straight):
         raise ValueError("points_mm are collinear: input and output shafts are in line with no "
                          "bend at any joint, so there is no joint angle to analyse")
-    check_chain_cosines("points_mm (the operating angles they give)", beta_deg)
+    check_chain_conditioning("points_mm (the operating angles they give)", beta_deg)
     return tuple(beta_deg), tuple(straight)
 
 

@@ -79,7 +79,7 @@ from sso._solvers.run import RunLimits
 from sso._solvers.solution import ROLE_SELECTION, Solution
 from sso._validation import (
     as_float_tuple,
-    check_chain_cosines,
+    check_chain_conditioning,
     finite_float,
     per_item_bounds,
     validate_count,
@@ -260,7 +260,7 @@ def optimise_joint_centres(
             raise ValueError(f"beta_bounds_deg[{index}] lower = {least_deg:g} is outside the "
                              f"allowed range (0, {BETA_LIMIT_DEG:g}) deg: a straight joint has no "
                              "bend plane, so every joint must stay bent")
-    check_chain_cosines("beta_bounds_deg (their upper bounds)",
+    check_chain_conditioning("beta_bounds_deg (their upper bounds)",
                         [upper for _, upper in beta_bounds])
     length_bounds = _validated_lengths(shaft_length_bounds_mm, geometry)
     phasing_free = yoke_phase_deg is None

@@ -36,7 +36,6 @@ from sso._limits import (
     DEFAULT_PHASE_BOUNDS_DEG,
     DEFAULT_SHAFT_SOLVER_TOL,
     MAX_ITERATIONS,
-    MIN_CHAIN_COSINE_PRODUCT,
 )
 from sso._record import Record
 from sso._shafts.options import (
@@ -63,8 +62,9 @@ from sso._solvers.resources import (
 )
 from sso._solvers.resources import memory_limit_mb as resolve_memory_limit
 from sso._validation import (
-    check_chain_cosines,
+    check_chain_conditioning,
     check_choice,
+    unresolvable_chains,
     validate_count,
     validate_solver_tol,
     validate_speed,
@@ -257,9 +257,8 @@ def optimise_batch(
         option, n_joints, beta_bounds_deg, phase_bounds_deg)
     beta_free, phase_free = free_angles(option_number)
     if not beta_free:  # the given angles are the chain's (else the bounds were checked)
-        log10_products = np.sum(np.log10(np.cos(np.radians(beta))), axis=1)
-        for row in np.flatnonzero(log10_products < np.log10(MIN_CHAIN_COSINE_PRODUCT))[:1]:
-            check_chain_cosines(f"beta_deg[{row}]", beta[row].tolist())
+        for row in np.flatnonzero(unresolvable_chains(beta))[:1]:
+            check_chain_conditioning(f"beta_deg[{row}]", beta[row].tolist())
     if option_number == 2:
         phase = np.full_like(phase, OPTION_FIXED_PHASE_DEG)
 

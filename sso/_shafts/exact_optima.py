@@ -79,6 +79,8 @@ PROJECTION_STEPS = 8
 SAME_DESIGN_RAD = 1e-6
 ON_BOUND_RAD = 1e-9
 RANK_TOLERANCE = 1e-9
+EXTENT_START_DECIMALS = 9
+"""Decimals (rad) of the chosen design the extent's solves start from (see _extent)."""
 
 Residuals = Callable[[list[float]], tuple[complex, list[complex]]]
 BoxSolve = Callable[[list[float], list[float], list[float], int],
@@ -685,11 +687,20 @@ def _rank_of_two_rows(columns: list[complex]) -> int:
 
 def _extent(problem: SetProblem, residuals: Residuals,
             x: np.ndarray) -> tuple[tuple[float, float], ...]:
-    """Least and largest value of each variable on the set, from ``x`` (reported units)."""
+    """Least and largest value of each variable on the set, from ``x`` (reported units).
+
+    SLSQP starts from ``x`` rounded to :data:`EXTENT_START_DECIMALS` decimals (the
+    solver's units) and put back on the set: SLSQP can stop at a corner of the set inside
+    the bounds, and which corner must not depend on the round-off the chosen design
+    carries (the README example's beta_1 ended at 40 or at 38.93 deg with 1e-14 rad of
+    difference in the design, which differs between solver paths and processes).
+    """
     lower, upper = problem.lower, problem.upper
     counts = [0, 0]
     bounds = list(zip(lower.tolist(), upper.tolist(), strict=True))
     constraints = [_constraint(residuals, 0), *problem.constraints]
+    start = _project(residuals, np.round(x, EXTENT_START_DECIMALS), lower, upper)
+    start = x if start is None or not problem.feasible(start) else start
     extent = []
     for index in range(len(x)):
         ends = []
@@ -700,7 +711,7 @@ def _extent(problem: SetProblem, residuals: Residuals,
             goal = np.zeros(len(x))
             goal[index] = sign
             answer = _slsqp(functools.partial(_linear, goal), functools.partial(_constant, goal),
-                            x, bounds, constraints, counts)
+                            start, bounds, constraints, counts)
             projected = _project(residuals, answer, lower, upper)
             usable = projected is not None and problem.feasible(projected)
             end = float(projected[index] if usable and projected is not None else x[index])

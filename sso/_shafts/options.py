@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sso._limits import BETA_LIMIT_DEG
-from sso._validation import check_chain_cosines, per_item_bounds
+from sso._validation import check_chain_conditioning, per_item_bounds
 from sso._warning_origin import user_stacklevel
 
 OPTION_NAMES = {1: "phase", 2: "angle", 3: "both"}
@@ -148,8 +148,8 @@ def validate_option_and_bounds(
     ValueError
         For an unknown option, option 1 with one joint, or bad bounds (naming the
         field, the value and the allowed range), among them upper bounds on free
-        operating angles whose cosines multiply to less than
-        :data:`sso._limits.MIN_CHAIN_COSINE_PRODUCT`.
+        operating angles with which float64 cannot resolve RE
+        (:func:`sso._validation.check_chain_conditioning`).
     """
     option_number = parse_option(option)
     if option_number == 1 and n_joints < 2:
@@ -161,7 +161,7 @@ def validate_option_and_bounds(
     phase_bounds = per_item_bounds("phase_bounds_deg", phase_bounds_deg, n_joints - 1,
                                    -PHASE_LIMIT_DEG, PHASE_LIMIT_DEG, "deg")
     if option_number != 1:  # the operating angles are free: every one may reach its upper bound
-        check_chain_cosines("beta_bounds_deg (their upper bounds)",
+        check_chain_conditioning("beta_bounds_deg (their upper bounds)",
                             [upper for _, upper in beta_bounds])
     return option_number, beta_bounds, phase_bounds
 

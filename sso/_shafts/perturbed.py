@@ -21,7 +21,7 @@ from sso._shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso._shafts.objective import residual_error
 from sso._shafts.series import ShaftSeries
 from sso._solvers.resources import block_samples
-from sso._validation import as_float_tuple, check_in_range
+from sso._validation import as_float_tuple, check_chain_conditioning, check_in_range
 
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")
 DISTRIBUTIONS = ("normal", "uniform")
@@ -61,7 +61,9 @@ def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
     Raises
     ------
     ValueError
-        If a sampled operating angle reaches 90 deg (the joint locks).
+        If a sampled operating angle reaches 90 deg (the joint locks), or the angles
+        the samples may reach are too close to 90 deg for float64 to resolve RE
+        (:func:`sso._validation.check_chain_conditioning`).
     """
     generator = np.random.default_rng(seed)
     joints = series.n_joints
@@ -82,6 +84,8 @@ def draw_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
             f"beta_tolerance_deg[{joint}] = {beta_tolerance_deg[joint]:g} deg lets joint "
             f"{joint} (beta {series.beta_deg[joint]:g} deg) reach 90 deg, where it locks; "
             f"the allowed range is beta + {reach:g} * tolerance < 90 deg")
+    check_chain_conditioning(f"beta_tolerance_deg (the angles beta + {reach:g} * tolerance "
+                             "that samples may reach)", largest.tolist())
     return beta_deg, np.asarray(series.phase_deg) + phase_offsets
 
 

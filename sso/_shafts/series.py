@@ -14,7 +14,7 @@ from sso._kinematics.hooke import MODELS, ChainKinematics, chain_kinematics
 from sso._kinematics.hooke_matrix import speed_ratio as closed_form_speed_ratio
 from sso._limits import BETA_LIMIT_DEG, CONVENTIONAL_PHASE_DEG, DEFAULT_INPUT_SPEED_RPM
 from sso._record import register_record
-from sso._validation import as_float_tuple, check_chain_cosines, check_choice, check_in_range
+from sso._validation import as_float_tuple, check_chain_conditioning, check_choice, check_in_range
 
 if TYPE_CHECKING:
     from sso._shafts.evaluation import Evaluation
@@ -50,8 +50,8 @@ class ShaftSeries:
     ------
     ValueError
         If there are no joints, an angle is NaN, infinite or out of range, the
-        product of the angles' cosines is below
-        :data:`sso._limits.MIN_CHAIN_COSINE_PRODUCT`, the phase list has the wrong
+        angles are too close to 90 deg for float64 to resolve RE
+        (:func:`sso._validation.check_chain_conditioning`), the phase list has the wrong
         length, or the model is unknown.
     """
 
@@ -74,7 +74,7 @@ class ShaftSeries:
             if not 0.0 <= beta < BETA_LIMIT_DEG:  # the message is made only for a bad angle
                 check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg",
                                upper_open=True)
-        check_chain_cosines("beta_deg", beta_deg)
+        check_chain_conditioning("beta_deg", beta_deg)
         expected = len(beta_deg) - 1
         if self.phase_deg is None:
             phase_deg = (CONVENTIONAL_PHASE_DEG,) * expected

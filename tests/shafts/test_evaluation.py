@@ -139,22 +139,23 @@ def _joint_by_joint(beta_rad: list[float], phase_rad: list[float], theta: np.nda
 
 
 def test_exact_acceleration_stays_finite_for_aligned_joints_near_ninety_degrees():
-    # Four aligned joints at 89.99 deg: M = diag(1, k), k = cos^4 89.99 deg ~ 9.3e-16, so
-    # the least |M v|^2 is k^2 ~ 1e-30, a difference the closed form must not take.
-    # The peak is ~1e-15 rad wide, beyond any grid: the reference is the exact slope
-    # of w_out / w_in = k / (cos^2 theta + k^2 sin^2 theta), in t = tan theta
-    # 2 k (1 - k^2) t (1 + t^2) / (1 + k^2 t^2)^2, maximised in 50-digit arithmetic
-    # (its log-derivative's root near t = sqrt(3) / k; the peak is about
-    # 3 sqrt(3) / (8 k^2) ~ 7.5e29 per (rad/s)^2).
+    # Four aligned joints at 89.97 deg (near the largest angle four joints may have,
+    # 89.9786 deg: docs/model.md, "Numerical limits"): M = diag(1, k),
+    # k = cos^4 89.97 deg ~ 7.5e-14, so the least |M v|^2 is k^2 ~ 5.6e-27, a difference
+    # the closed form must not take. The peak is ~1e-13 rad wide, beyond any grid: the
+    # reference is the exact slope of w_out / w_in = k / (cos^2 theta + k^2 sin^2 theta),
+    # in t = tan theta 2 k (1 - k^2) t (1 + t^2) / (1 + k^2 t^2)^2, maximised in 50-digit
+    # arithmetic (its log-derivative's root near t = sqrt(3) / k; the peak is about
+    # 3 sqrt(3) / (8 k^2) ~ 1.2e26 per (rad/s)^2).
     import mpmath
 
     mpmath.mp.dps = 50
-    k = mpmath.cos(mpmath.radians(mpmath.mpf("89.99"))) ** 4
+    k = mpmath.cos(mpmath.radians(mpmath.mpf("89.97"))) ** 4
 
     def log_derivative(t: Any) -> Any:
         return 1 / t + 2 * t / (1 + t**2) - 4 * k**2 * t / (1 + k**2 * t**2)
 
     peak_t = mpmath.findroot(log_derivative, mpmath.sqrt(3) / k)
     reference = 2 * k * (1 - k**2) * peak_t * (1 + peak_t**2) / (1 + k**2 * peak_t**2) ** 2
-    accel = sso.ShaftSeries([89.99] * 4, [0.0] * 3).evaluate(60.0 / (2.0 * np.pi))
+    accel = sso.ShaftSeries([89.97] * 4, [0.0] * 3).evaluate(60.0 / (2.0 * np.pi))
     assert accel.max_output_accel_rad_s2 == pytest.approx(float(reference), rel=1e-9)

@@ -76,6 +76,26 @@ def test_an_end_of_the_set_at_a_bound_is_that_bound_exactly():
     assert _on_bound(1e-8, 0.0, np.pi) == 1e-8
 
 
+def test_round_off_in_the_chosen_design_does_not_move_the_extent():
+    # SLSQP can stop at a corner of the set inside the bounds; designs 1e-14 rad apart
+    # (as solver paths and processes leave them) once ended beta_1 at 40 or at 38.93 deg.
+    from sso._shafts.exact_optima import _extent, series_set_problem
+    from sso._shafts.options import build_problem
+    from sso._shafts.problem import compiled_nlp
+
+    exact = sso.optimise(README_SERIES, **README_CALL).exact_optima
+    problem = build_problem([30, 40, 40], [90, 90], "exact", 3, (10, 40), (0, 180))
+    fixed = problem.parameters_rad.tolist()
+
+    def residuals(x):
+        return compiled_nlp(problem, 0).residuals_and_jacobian(x, fixed)
+
+    chosen = np.radians(exact.chosen)
+    for nudge in (-1e-14, 1e-14, 3e-14):
+        moved = chosen + nudge * np.array([-0.7, 1.0, 1.9, 1.1, 1.1])
+        assert _extent(series_set_problem(problem), residuals, moved) == exact.extent
+
+
 def test_with_tolerances_the_chosen_exact_optimum_has_the_lowest_p95():
     result = sso.optimise(README_SERIES, **README_CALL, **TOLERANCES)
     exact = result.exact_optima

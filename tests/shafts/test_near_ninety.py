@@ -105,24 +105,25 @@ def test_residual_error_is_right_or_flagged(model, top_deg):
 
 @pytest.mark.parametrize("model", ["exact", "paper"])
 def test_aligned_joints_at_the_top_are_never_wrong_and_converged(model):
-    # four joints at 89.99 deg, zero phases: v0.1 gave a mean speed ratio of 1.6e-9
-    # flagged converged
+    # four joints at 89.97 deg (near the largest angle four joints may have, 89.9786 deg:
+    # docs/model.md, "Numerical limits"), zero phases: v0.1 gave a mean speed ratio far
+    # from 1 (1.6e-9 at 89.99 deg) flagged converged
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        result = sso.ShaftSeries([89.99] * 4, [0.0] * 3, model).evaluate()
-    # paper: every peak is 1.7e-4 rad wide, resolved by the grid; exact: one peak
-    # 9e-16 rad wide, which no grid resolves, but the exact model needs none (closed form)
+        result = sso.ShaftSeries([89.97] * 4, [0.0] * 3, model).evaluate()
+    # paper: every peak is 5.2e-4 rad wide, resolved by the grid; exact: one peak
+    # 7.5e-14 rad wide, which no grid resolves, but the exact model needs none (closed form)
     assert result.quadrature_converged and not caught
-    reference = reference_residual_error([89.99] * 4, [0.0] * 3, model)
+    reference = reference_residual_error([89.97] * 4, [0.0] * 3, model)
     assert result.residual_error == pytest.approx(reference, rel=RELATIVE_TOLERANCE)
 
 
 def test_an_optimum_whose_quadrature_did_not_converge_is_not_a_success():
-    # three paper-model joints pinned at 89.9999 deg: peaks 1.7e-6 rad wide need about
+    # two paper-model joints pinned at 89.9999 deg: peaks 1.7e-6 rad wide need about
     # 2.3e6 angles, beyond the cap, so the quadrature cannot vouch for the RE and the
     # run must not claim success however well the solvers agree
     with pytest.warns(sso.QuadratureWarning):  # the optimum is evaluated when first read
-        result = sso.optimise(sso.ShaftSeries([89.9999] * 3, [0.0, 0.0], "paper"), 2,
+        result = sso.optimise(sso.ShaftSeries([89.9999] * 2, [0.0], "paper"), 2,
                               beta_bounds_deg=(89.9999, 89.9999), starts=1)
         assert not result.optimum.quadrature_converged
         assert not result.success

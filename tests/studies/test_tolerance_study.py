@@ -93,6 +93,19 @@ def test_bad_input_is_refused_naming_the_field_and_range(keywords, message):
         sso.tolerance_study(SERIES, **{"samples": 10, **keywords})
 
 
+def test_a_tolerance_reaching_angles_float64_cannot_resolve_is_refused():
+    """30 joints of 40 deg whose samples may reach 40 + 6 * 5 = 70 deg: a product of
+    cosines of 1e-14, below the 1.37e-12 that 30 joints need (equal angles up to
+    66.28 deg: docs/model.md, "Numerical limits"). 4 deg (64 deg) is accepted."""
+    series = sso.ShaftSeries([40.0] * 30, [90.0] * 29)
+    with pytest.raises(ValueError, match=r"^beta_tolerance_deg \(the angles beta \+ 6 \* "
+                                         r"tolerance that samples may reach\): float64 cannot "
+                                         r"resolve RE of a chain of 30 joints: .*equal angles "
+                                         r"up to 66\.2756"):
+        sso.tolerance_study(series, samples=10, beta_tolerance_deg=5.0)
+    assert sso.tolerance_study(series, samples=10, beta_tolerance_deg=4.0).samples == 10
+
+
 def test_a_case_tolerance_table_sets_the_study_and_arguments_override_it():
     case = {"design": {"beta_deg": [20.0, 30.0], "phase_deg": [90.0]},
             "tolerance": {"beta_deg": [0.1, 0.2], "distribution": "uniform", "samples": 30,
