@@ -216,7 +216,10 @@ def _exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
             f"the design reported was chosen within it by {exact.criterion}, from "
             f"{exact.starts} exact optimum(s) found. Margin to the bounds: "
             f"{number(exact.margin_deg, '.4g')} deg (the first found: "
-            f"{number(exact.first_margin_deg, '.4g')} deg).")
+            f"{number(exact.first_margin_deg, '.4g')} deg). The extent below is what SLSQP "
+            f"reaches along the set from the chosen design: each end is an exact optimum, "
+            f"but an end short of its bound may understate the set (SLSQP can stop at a "
+            f"corner of the set inside the bounds).")
     tolerances = exact.tolerances
     if exact.p95_residual_error is not None and tolerances is not None:
         text += (f" p95 RE under the tolerances ({tolerances.distribution}, beta "
