@@ -202,7 +202,8 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
     return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
                       f"{phasing.optimisation.exact_optima.dimension}; the best phasing above "
                       f"is the one {phasing.exact_optimum_criterion}. The set's extent in delta "
-                      f"(from the chosen phasing along the set): {ends}.")]
+                      f"(what SLSQP reaches from the chosen phasing along the set; an end may "
+                      f"understate the set, as SLSQP can stop at a corner of it): {ends}.")]
 
 
 def _phasing_table(run: ColumnRun) -> Table:

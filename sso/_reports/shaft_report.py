@@ -217,7 +217,10 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
             f"the design reported was chosen within it by {exact.criterion}, from "
             f"{exact.starts} exact optimum(s) found. Margin to the bounds: "
             f"{number(exact.margin, '.4g')} {unit} (the first found: "
-            f"{number(exact.first_margin, '.4g')} {unit}).")
+            f"{number(exact.first_margin, '.4g')} {unit}). The extent below is what SLSQP "
+            f"reaches along the set from the chosen design: each end is an exact optimum, "
+            f"but an end short of its bound may understate the set (SLSQP can stop at a "
+            f"corner of the set inside the bounds).")
     tolerances = exact.tolerances
     if exact.p95_residual_error is not None and tolerances is not None:
         text += (f" p95 RE under the tolerances ({tolerances.description}): "

@@ -23,9 +23,11 @@ Both are solved by SciPy's SLSQP with the residuals as equality constraints (and
 problem's other constraints, :class:`SetProblem`), from every distinct exact optimum
 the solvers found; an answer is kept only when it is back at round-off zero (a few
 minimum-norm Gauss-Newton steps put it there), within every constraint, and does not
-worsen the criterion. The set's extent per free variable is the least and the
-largest value that variable takes on the set, each found by SLSQP from the chosen
-design (so it is the extent of the part of the set connected to it).
+worsen the criterion. The set's extent per free variable is the least and the largest
+value SLSQP reaches for that variable along the set from the chosen design. Each end
+is an exact optimum, but SLSQP can stop at a corner of the set inside the bounds, so
+an end short of its bound is a lower estimate of the set's full extent, not a proof
+that the set ends there.
 """
 
 from __future__ import annotations
