@@ -112,23 +112,13 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     OSError, ValueError
         If the report cannot be written into ``folder``.
     """
-    from sso._cases.column import COLUMN_KIND
-    from sso._cases.mechanism import MECHANISM_KINDS
     from sso._files import replace_folder
     from sso._reports.kinds import CASE_REPORT, render_report
-    from sso._run.column import run_column
-    from sso._run.mechanism_run import run_mechanism
-    from sso._run.shaft_series import run_shaft_series
+    from sso._run.run_case import run_parsed_case
 
     say(args, f"{case.name}: {'solving' if optimising else 'evaluating'} {case.source}")
-    result: Any
     try:
-        if case.kind == COLUMN_KIND:
-            result = run_column(case, optimising)
-        elif case.kind in MECHANISM_KINDS:
-            result = run_mechanism(case, optimising)
-        else:
-            result = run_shaft_series(case, optimising)
+        result = run_parsed_case(case, optimising)
     except ValueError as error:
         print_error(f"{case.source}: {error}")
         return Outcome(case.name, "bad input", EXIT_BAD_INPUT)

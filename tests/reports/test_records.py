@@ -4,7 +4,9 @@
 from __future__ import annotations
 
 import json
+import tempfile
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import jsonschema
@@ -36,26 +38,54 @@ def tolerances() -> sso.Tolerances:
     return sso.Tolerances(hardpoint_mm=0.5, yoke_phase_deg=0.5, samples=20, seed=3)
 
 
-def column_run() -> sso.ColumnRun:
-    """What ``sso run`` of a column case returns (the command saves it as result.json):
-    the tilt-down column with its positions, tolerances, band and feel, on splines."""
-    from sso._cases.schema import parse_case
-    from sso._run.column import run_column
+CASES = Path(__file__).resolve().parents[2] / "cases"
 
-    case = parse_case({
-        "kind": "column", "name": "tilt_down", "hardpoints": {
-            "points_mm": [list(point) for point in TILT_DOWN],
-            "positions": {"down": [list(point) for point in TILT_DOWN],
-                          "up": [list(point) for point in TILT_UP]}},
-        "splines": {"teeth": [24, 24]}, "tolerances": {"hardpoint_mm": 0.5,
-                                                        "yoke_phase_deg": 0.5, "samples": 20},
-        "band": {"re_limit": 1e-3}, "feel": {"straight_ahead_deg": 45.0, "lock_deg": 600.0},
-        "solver": {"starts": 2}}, "tilt_down.toml")
-    return run_column(case, optimising=True)
+# The tilt-down column with its positions, tolerances, band and feel, on splines.
+COLUMN_CASE = f"""
+kind = "column"
+name = "tilt_down"
+
+[hardpoints]
+points_mm = {[list(point) for point in TILT_DOWN]}
+
+[hardpoints.positions]
+down = {[list(point) for point in TILT_DOWN]}
+up = {[list(point) for point in TILT_UP]}
+
+[splines]
+teeth = [24, 24]
+
+[tolerances]
+hardpoint_mm = 0.5
+yoke_phase_deg = 0.5
+samples = 20
+
+[band]
+re_limit = 1e-3
+
+[feel]
+straight_ahead_deg = 45.0
+lock_deg = 600.0
+
+[solver]
+starts = 2
+"""
+
+
+def column_run() -> sso.ColumnRun:
+    """What ``sso run`` of a column case returns (the command saves it as result.json)."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "tilt_down.toml"
+        path.write_text(COLUMN_CASE)
+        run = sso.run_case(path)
+    assert isinstance(run, sso.ColumnRun)
+    return run
 
 
 MAKERS: dict[str, Callable[[], Any]] = {
     "ColumnRun": column_run,
+    "ShaftSeriesRun": lambda: sso.run_case(CASES / "paper_option3_exact.toml"),
+    "MechanismRun": lambda: sso.run_case(CASES / "mechanisms" / "fourbar_swing_design.toml"),
     "OptimisationResult": lambda: sso.optimise(SERIES, 1, starts=2),
     "PhasingResult": phasing,
     "SplineResult": lambda: sso.optimise(column(), teeth=24),

@@ -1,0 +1,57 @@
+"""A case file, read and solved (or evaluated) into its result: what ``sso run`` and
+``sso evaluate`` do before they write the report, and :func:`sso.run_case` in Python."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from sso._run.column import ColumnRun
+from sso._run.mechanism_run import MechanismRun
+from sso._run.shaft_series import ShaftSeriesRun
+
+
+def run_case(path: str | Path, *, solve: bool = True
+             ) -> ShaftSeriesRun | MechanismRun | ColumnRun:
+    """Read a case file and solve it, as ``sso run`` does (or evaluate it, as
+    ``sso evaluate`` does), without writing anything.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The case file (TOML, the schema of ``sso validate``).
+    solve : bool, optional
+        True (default): optimise the case's design as ``sso run`` does. False: evaluate
+        the design as given, as ``sso evaluate`` does.
+
+    Returns
+    -------
+    ShaftSeriesRun or MechanismRun or ColumnRun
+        The result of the case's kind; :func:`sso.write_report` writes its report, the
+        same files ``sso run`` writes. Solver failures are recorded in it, not raised.
+
+    Raises
+    ------
+    ValueError
+        If the file cannot be read or breaks the schema (the message names the file, the
+        line where known, the key and the allowed range), or the design it describes is
+        refused (the field and its allowed range).
+    """
+    from sso._cases.schema import load_case
+
+    return run_parsed_case(load_case(path), solve)
+
+
+def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | ColumnRun:
+    """The result of a case already read and checked (see :func:`run_case`)."""
+    from sso._cases.column import COLUMN_KIND
+    from sso._cases.mechanism import MECHANISM_KINDS
+    from sso._run.column import run_column
+    from sso._run.mechanism_run import run_mechanism
+    from sso._run.shaft_series import run_shaft_series
+
+    if case.kind == COLUMN_KIND:
+        return run_column(case, solve)
+    if case.kind in MECHANISM_KINDS:
+        return run_mechanism(case, solve)
+    return run_shaft_series(case, solve)
