@@ -4,11 +4,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from sso._run.column import ColumnRun
-from sso._run.mechanism_run import MechanismRun
-from sso._run.shaft_series import ShaftSeriesRun
+if TYPE_CHECKING:  # each run imports only the module its case's kind needs
+    from sso._run.column import ColumnRun
+    from sso._run.mechanism_run import MechanismRun
+    from sso._run.shaft_series import ShaftSeriesRun
 
 
 def run_case(path: str | Path, *, solve: bool = True
@@ -46,12 +47,15 @@ def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | C
     """The result of a case already read and checked (see :func:`run_case`)."""
     from sso._cases.column import COLUMN_KIND
     from sso._cases.mechanism import MECHANISM_KINDS
-    from sso._run.column import run_column
-    from sso._run.mechanism_run import run_mechanism
-    from sso._run.shaft_series import run_shaft_series
 
     if case.kind == COLUMN_KIND:
+        from sso._run.column import run_column
+
         return run_column(case, solve)
     if case.kind in MECHANISM_KINDS:
+        from sso._run.mechanism_run import run_mechanism
+
         return run_mechanism(case, solve)
+    from sso._run.shaft_series import run_shaft_series
+
     return run_shaft_series(case, solve)
