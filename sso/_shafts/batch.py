@@ -52,6 +52,7 @@ from sso._solvers.lm_batch import solve_batch
 from sso._solvers.lm_native import (
     NativeSolver,
     native_solver_of,
+    rows_of,
     solve_native_leaving_saddles,
 )
 from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE
@@ -402,8 +403,7 @@ def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: b
     # saddle check of a point that has converged).
     restart = np.isin(status[unfinished], (NEWTON, NEWTON_INDEFINITE))
     if unfinished.size:
-        finished = batch_least_squares(lambda x_rad, rows: residual_and_jacobian(
-                                           x_rad, unfinished[rows]),
+        finished = batch_least_squares(rows_of(residual_and_jacobian, unfinished),
                                        np.where(restart[:, None], start[unfinished],
                                                 x[unfinished]), lower, upper,
                                        gtol=tolerance, max_iterations=max_iterations,

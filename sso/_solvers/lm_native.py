@@ -339,7 +339,7 @@ def solve_native_leaving_saddles(solver: NativeSolver, start: np.ndarray,
                                     & (run.fun > zero_level) & (run.nit < max_iterations))
         if candidates.size == 0:
             break
-        moved, points, evaluations = leave_saddles(_rows_of(residual_and_jacobian, candidates),
+        moved, points, evaluations = leave_saddles(rows_of(residual_and_jacobian, candidates),
                                                    run.x[candidates], lower, upper)
         run.nfev[candidates] += evaluations
         rows = candidates[moved]
@@ -357,7 +357,7 @@ def solve_native_leaving_saddles(solver: NativeSolver, start: np.ndarray,
     return run
 
 
-def _rows_of(residual_and_jacobian: ResidualFunction, rows: np.ndarray) -> ResidualFunction:
+def rows_of(residual_and_jacobian: ResidualFunction, rows: np.ndarray) -> ResidualFunction:
     """``residual_and_jacobian`` of the designs ``rows``, indexed from 0."""
     def of_rows(x: np.ndarray, among: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return residual_and_jacobian(x, rows[among])
