@@ -869,6 +869,7 @@ class _ExtentSearch:
     def __init__(self, problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve,
                  chosen: np.ndarray) -> None:
         self.problem = problem
+        self.residuals = residuals
         self.solve_in_box = solve_in_box
         self.chosen: list[float] = chosen.tolist()
         self.chosen_residual_error = abs(residuals(self.chosen)[0]) ** 2
@@ -948,7 +949,10 @@ class _ExtentSearch:
                                        step, EXTENT_GRID)
         if high is None:  # every step of the period lands: half a period each way
             value, witness, fun = self.walk[EXTENT_GRID // 2 - 1]
-            return (value - period, False, witness, fun), (value, False, witness, fun)
+            shifted = list(witness)
+            shifted[index] -= period  # within the bounds, as the centre is
+            return ((value - period, False, shifted, abs(self.residuals(shifted)[0]) ** 2),
+                    (value, False, witness, fun))
         low, _ = self._walked(index, (centre, start, self.chosen_residual_error), -step,
                               EXTENT_GRID - failed_at, closes=False)
         assert low is not None
