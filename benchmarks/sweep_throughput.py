@@ -441,6 +441,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         ARRAY_CHUNK_FLOOR,
         ARRAY_CHUNKS_PER_WORKER,
         ARRAY_SHARE,
+        DASK_ARRAY_SHARE,
         DASK_CHUNK_FLOOR,
         DASK_EVALUATE_CHUNK_CAP,
     )
@@ -471,6 +472,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "chunks": {"most_points": ARRAY_CHUNK_CAP, "fewest_points": ARRAY_CHUNK_FLOOR,
                    "share_of_a_worker": 1 / ARRAY_SHARE,
                    "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER,
+                   "dask_share_of_a_worker": 1 / DASK_ARRAY_SHARE,
                    "dask_fewest_points": DASK_CHUNK_FLOOR,
                    "dask_most_evaluate_points": DASK_EVALUATE_CHUNK_CAP},
     }
