@@ -91,11 +91,14 @@ ARRAY_CHUNK_CAP = 50_000
 # a ms in the local pool, so Dask's tasks are fewer and longer: each takes a whole
 # worker's share of the points not yet cut (DASK_ARRAY_SHARE), at least
 # DASK_CHUNK_FLOOR points of its action (about 12 ms of optimising, 7 ms of
-# evaluating), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 70 ms,
-# and 70 MB at the peak, as an optimise task of ARRAY_CHUNK_CAP points).
+# evaluating), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 35 ms,
+# and 35 MB at the peak: a Dask worker computes in a thread, whose allocator's
+# heaps hold at most 64 MB each, and a chunk that needs two of them gives one back
+# when it ends, to be faulted in again by the next: 10,000 page faults a worker on
+# the evaluate sweep of 200,000-point tasks).
 DASK_ARRAY_SHARE = 1
 DASK_CHUNK_FLOOR = {"optimise": 5_000, "evaluate": 20_000}
-DASK_EVALUATE_CHUNK_CAP = 200_000
+DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
@@ -158,7 +161,7 @@ def sweep(
         most 25 points each; a sweep run as arrays, tasks of decreasing size, each
         half a worker's share of the points left, 2,000 to 50,000 points; on
         Dask a whole worker's share, at least 5,000 optimised or 20,000 evaluated
-        points, an evaluate task up to 200,000).
+        points, an evaluate task up to 100,000).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).

@@ -81,11 +81,11 @@ def test_the_prose_states_the_package_constants():
             f"{DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an evaluate task up to "
             f"{DASK_EVALUATE_CHUNK_CAP:,} points") in text
     for action, points, pool, dask in (("optimise", 103_823, 13, 6),
-                                       ("evaluate", 1_000_000, 32, 9)):
+                                       ("evaluate", 1_000_000, 32, 13)):
         assert len(_chunk_sizes(None, points, 2, True)) == pool
         assert len(_chunk_sizes(None, points, 2, True, *array_chunk_rule(True, action))) == dask
     assert "into 6 tasks on 2 Dask workers, 13 in the pool" in text
-    assert "evaluate sweep into 9 and 32" in text
+    assert "sweep into 13 and 32" in text
     assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text

@@ -175,7 +175,7 @@ def test_array_tasks_shrink_towards_the_end_of_a_sweep(points, workers):
 
 
 @pytest.mark.parametrize("action, points, pool_tasks, dask_tasks",
-                         [("optimise", 103_823, 13, 6), ("evaluate", 1_000_000, 32, 9)])
+                         [("optimise", 103_823, 13, 6), ("evaluate", 1_000_000, 32, 13)])
 def test_dask_tasks_are_fewer_and_longer(action, points, pool_tasks, dask_tasks):
     # A Dask task costs the calling process and the worker about ten times what a
     # pool's does, so a sweep on Dask is cut into fewer, longer tasks.
