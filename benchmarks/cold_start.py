@@ -3,16 +3,25 @@
 Each measurement starts a fresh Python process, so module imports are paid every
 time (the operating system's file cache is warm after the first round). The three
 commands are interleaved round by round, so a slow spell of the machine hits them
-alike; the medians and their ratios are printed.
+alike; the medians of the wall times and of the CPU times, and their ratios, are
+printed.
+
+Every process runs from compiled bytecode, as an installed package does (pip compiles
+it at install time): the timed processes cache it in a temporary folder
+(``PYTHONPYCACHEPREFIX``) even where ``PYTHONDONTWRITEBYTECODE`` is set, and the untimed
+first round writes it. ``--from-source`` measures the other case, sso's modules
+compiled from source in every run (``PYTHONDONTWRITEBYTECODE`` set, no cache folder).
 
 Usage::
 
-    python benchmarks/cold_start.py [--rounds 7]
+    python benchmarks/cold_start.py [--rounds 7] [--from-source]
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -35,32 +44,73 @@ def commands(out: Path) -> dict[str, list[str]]:
     }
 
 
-def wall_time_s(command: list[str]) -> float:
-    """Wall time of one run of ``command`` (s); raises if it fails."""
+def environment(bytecode_folder: Path | None) -> dict[str, str]:
+    """The timed processes' environment: bytecode cached in ``bytecode_folder``, or
+    (None) never written, so that modules without a cached copy compile every run."""
+    variables = dict(os.environ)
+    variables.pop("PYTHONPYCACHEPREFIX", None)
+    if bytecode_folder is None:
+        variables["PYTHONDONTWRITEBYTECODE"] = "1"
+    else:
+        variables.pop("PYTHONDONTWRITEBYTECODE", None)
+        variables["PYTHONPYCACHEPREFIX"] = str(bytecode_folder)
+    return variables
+
+
+def timed_s(command: list[str], variables: dict[str, str] | None = None
+            ) -> tuple[float, float]:
+    """Wall time and CPU time (user + system) of one run of ``command`` (s) in the
+    environment ``variables`` (None: this process's); raises if it fails.
+
+    On a shared machine the CPU time is the steadier figure: it leaves out the time the
+    process waited for a core.
+    """
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
-    subprocess.run(command, check=True, capture_output=True)
-    return time.perf_counter() - started
+    subprocess.run(command, check=True, capture_output=True, env=variables)
+    wall = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def interleaved_times_s(timed: dict[str, list[str]], rounds: int, variables: dict[str, str]
+                        ) -> tuple[dict[str, list[float]], dict[str, list[float]]]:
+    """Wall and CPU times (s) of each command over ``rounds`` rounds, the commands taking
+    turns within each round, after one untimed round that warms the file and bytecode
+    caches."""
+    for command in timed.values():
+        timed_s(command, variables)
+    walls: dict[str, list[float]] = {name: [] for name in timed}
+    cpus: dict[str, list[float]] = {name: [] for name in timed}
+    for _ in range(rounds):
+        for name, command in timed.items():
+            wall, cpu = timed_s(command, variables)
+            walls[name].append(wall)
+            cpus[name].append(cpu)
+    return walls, cpus
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rounds", type=int, default=7, help="timed runs of each command")
-    rounds = parser.parse_args().rounds
+    parser.add_argument("--from-source", action="store_true",
+                        help="write no bytecode: sso's modules compile in every run")
+    arguments = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
-        timed = commands(Path(folder))
-        for command in timed.values():  # warm the file cache once
-            wall_time_s(command)
-        times: dict[str, list[float]] = {name: [] for name in timed}
-        for _ in range(rounds):
-            for name, command in timed.items():
-                times[name].append(wall_time_s(command))
-    baseline_name = next(iter(timed))
-    baseline = statistics.median(times[baseline_name])
-    print(f"median of {rounds} cold runs each ({sys.executable})")
-    print(f"{'command':48s} {'median (s)':>10s} {'min (s)':>8s} {'ratio':>6s}")
-    for name, samples in times.items():
-        median = statistics.median(samples)
-        print(f"{name:48s} {median:10.3f} {min(samples):8.3f} {median / baseline:6.2f}")
+        bytecode = None if arguments.from_source else Path(folder) / "bytecode"
+        walls, cpus = interleaved_times_s(commands(Path(folder) / "out"), arguments.rounds,
+                                          environment(bytecode))
+    wall_baseline = statistics.median(next(iter(walls.values())))
+    cpu_baseline = statistics.median(next(iter(cpus.values())))
+    print(f"median of {arguments.rounds} cold runs each ({sys.executable}; "
+          f"{'compiled from source' if arguments.from_source else 'cached bytecode'})")
+    print(f"{'command':48s} {'wall (s)':>8s} {'min (s)':>8s} {'ratio':>6s} {'CPU (s)':>8s} "
+          f"{'ratio':>6s}")
+    for name, samples in walls.items():
+        wall = statistics.median(samples)
+        cpu = statistics.median(cpus[name])
+        print(f"{name:48s} {wall:8.3f} {min(samples):8.3f} {wall / wall_baseline:6.2f} "
+              f"{cpu:8.3f} {cpu / cpu_baseline:6.2f}")
 
 
 if __name__ == "__main__":
