@@ -7,6 +7,7 @@ command in a fresh process and list what it imported; each module guarded here w
 once on this path and is not needed by it, for the reason given beside it.
 """
 
+import gc
 import json
 import re
 import subprocess
@@ -14,6 +15,9 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from sso._cli import main
+from sso._cli.app import COMMAND_GC_THRESHOLD
 
 CASE = Path(__file__).resolve().parents[2] / "cases" / "paper_option3_exact.toml"
 # Runs the real command in this process and prints every module it imported.
@@ -71,3 +75,53 @@ def test_a_shaft_series_run_imports_no_other_kind_and_no_optional_library(tmp_pa
     assert loaded_from(modules, NEVER_ON_A_SHAFT_SERIES_RUN) == {}
     # matplotlib draws the plots and nothing else: --no-plots never imports it
     assert ("matplotlib" in modules) is plots
+
+
+def test_a_command_run_in_process_gives_back_the_callers_collector_thresholds(tmp_path):
+    # main() raises the youngest generation's threshold while a command runs and must
+    # leave the settings of a caller that runs it in its own process as it found them
+    before = gc.get_threshold()
+    try:
+        gc.set_threshold(1234, 11, 12)
+        assert main(["evaluate", str(CASE), "--out", str(tmp_path), "--quiet",
+                     "--no-plots"]) == 0
+        assert gc.get_threshold() == (1234, 11, 12)
+    finally:
+        gc.set_threshold(*before)
+
+
+COUNTING = """
+import gc, sys
+import sso._cli.app as app
+app.COMMAND_GC_THRESHOLD = int(sys.argv[1])
+collections = [0, 0, 0]
+gc.callbacks.append(lambda phase, info: phase == "start"
+                    and collections.__setitem__(info["generation"],
+                                                collections[info["generation"]] + 1))
+code = app.main(sys.argv[2:])
+print("COLLECTIONS=" + ",".join(map(str, collections)))
+sys.exit(code)
+"""
+
+
+def collections_of_run(threshold: int, folder: Path) -> list[int]:
+    """Collections of each generation while ``sso run --no-plots`` of the case runs
+    in a fresh process, the command's threshold set to ``threshold``."""
+    completed = subprocess.run(
+        [sys.executable, "-c", COUNTING, str(threshold), "run", str(CASE), "--out",
+         str(folder), "--quiet", "--no-plots"],
+        capture_output=True, text=True, timeout=300, cwd=folder)
+    assert completed.returncode == 0, completed.stdout + completed.stderr
+    counted = re.search(r"^COLLECTIONS=(.*)$", completed.stdout, re.MULTILINE)
+    assert counted, completed.stdout
+    return [int(count) for count in counted.group(1).split(",")]
+
+
+def test_a_cold_run_collects_far_less_often_than_at_pythons_default(tmp_path):
+    # benchmarks/cold_start.py: at Python's default of 700 the collections were about
+    # 8% of the run's CPU time, most of them walking the namespaces of modules being
+    # imported
+    default = collections_of_run(700, tmp_path)
+    raised = collections_of_run(COMMAND_GC_THRESHOLD, tmp_path)
+    assert default[0] >= 50  # the imports of CasADi, SciPy and sso allocate that much
+    assert sum(raised) <= sum(default) / 5
