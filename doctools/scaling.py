@@ -155,6 +155,7 @@ def section(document: dict[str, Any]) -> str:
         f"the local pool's fork server and workers (the first pool of a process) "
         f"{document['pool_start_s']:.2f} s.",
     ]
+    lines += _robust_lines(document)
     disk = document.get("on_disk")
     if disk:
         lines += [
@@ -196,6 +197,36 @@ def section(document: dict[str, Any]) -> str:
             f"`sweep.parquet`, in {DESIGNS // POINTS_PER_SWEEP:,} sweeps of "
             f"{POINTS_PER_SWEEP:,} points.")
     return "\n".join(lines) + "\n"
+
+
+def _robust_lines(document: dict[str, Any]) -> list[str]:
+    """The figures other work on the machine moves least, where the run has them: each
+    run's CPU time per point against one process's, and the ceiling (the chunks'
+    compute in two independent processes against one, in the same passes)."""
+    ceiling = document.get("ceiling", {})
+    if not ceiling:
+        return []
+    lines = ["", "| sweep | run | calling process CPU / one process's | workers' CPU / one "
+             "process's | ratio the CPU times allow | ratio over the ceiling |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    for action in ("optimise", "evaluate"):
+        for label in (POOL, DASK):
+            run = document[action]["runs"][label]
+            lines.append(f"| {action} | {label} | "
+                         f"{run['calling_process_cpu_over_one_process']:.2f} | "
+                         f"{run['workers_cpu_over_one_process']:.2f} | "
+                         f"{run['cpu_bound_ratio']:.2f} | "
+                         f"{run['ratio_to_one_process'] / ceiling[action]['ratio']:.2f} |")
+    lines += ["", "The ceiling: the same chunks computed with no engine around them by one "
+              "process alone and by two independent processes at once, in each pass just "
+              "before the sweeps; " + "; ".join(
+                  f"{action}: two processes {ceiling[action]['ratio']:.2f}x one, their CPU "
+                  f"time per point {ceiling[action]['cpu_together_over_alone']:.2f}x"
+                  for action in ("optimise", "evaluate")) + ". On a machine shared with "
+              "other sessions two processes of one session get little more than one (the "
+              "cores are shared between sessions first); the engine's ratios are read "
+              "against this ceiling."]
+    return lines
 
 
 def _autogroup_note(load: dict[str, Any]) -> str:

@@ -4,6 +4,7 @@ states are the package's own constants."""
 
 from __future__ import annotations
 
+import copy
 import re
 import statistics
 from pathlib import Path
@@ -91,3 +92,21 @@ def test_the_prose_states_the_package_constants():
     assert f"the {REPORT_ROWS} points of lowest residual error" in text
     assert f"(the first {REPORT_ROWS})" in text
     assert re.search(r"at most 10\^(\d+) points", text)[1] == str(len(str(MAX_POINTS)) - 1)
+
+
+def test_a_run_with_a_ceiling_shows_the_ratios_over_it(document):
+    # A record of the benchmark as it now runs also holds each run's CPU time over one
+    # process's and the ceiling; the page gives the ratios over the ceiling.
+    run = copy.deepcopy(document)
+    run["ceiling"] = {action: {"ratio": 1.25, "cpu_together_over_alone": 1.02}
+                      for action in ("optimise", "evaluate")}
+    for action in ("optimise", "evaluate"):
+        for label in (scaling.POOL, scaling.DASK):
+            run[action]["runs"][label]["workers_cpu_over_one_process"] = 1.1
+    text = scaling.section(run)
+    pool = run["optimise"]["runs"][scaling.POOL]
+    assert (f"| optimise | {scaling.POOL} | "
+            f"{pool['calling_process_cpu_over_one_process']:.2f} | 1.10 | "
+            f"{pool['cpu_bound_ratio']:.2f} | {pool['ratio_to_one_process'] / 1.25:.2f} |") in text
+    assert "optimise: two processes 1.25x one, their CPU time per point 1.02x" in text
+    assert "ratio over the ceiling" not in scaling.section(document)  # older records: none
