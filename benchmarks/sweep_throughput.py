@@ -26,6 +26,17 @@ one process's (for 1.6x on 2 cores the calling process must take a small fractio
 of the work) and the ratio the CPU times allow on 2 idle cores
 (:func:`cpu_bound_ratio`).
 
+The ceiling (skip with ``--no-ceiling``): the same per-chunk compute with no sso
+engine around it (no pool, no Dask, no shared rows, no assembly): each sweep's
+points cut into chunks of ``ARRAY_CHUNK_CAP`` points and computed
+(``run_sweep_chunk``, what a worker runs) by one process alone, then by two
+independent processes at once, each computing every chunk, in interleaved passes
+(:func:`ceiling`). Its ratio (two processes' points a second over one's) is what
+this machine gives two processes of this work while the run lasts, whatever the
+engine does; its CPU per point, two at once over one alone, is what running
+beside each other costs them (caches, memory bandwidth). The engine's ratios are
+read against it.
+
 Then, against the strongest per-point baseline: the first ``--sample`` points of
 the optimise sweep solved one by one by ``sso.optimise(..., solvers=("lm",))``
 (``run_point``: read the point as a case, solve, evaluate, fill its row), with the
@@ -44,7 +55,7 @@ Usage::
 
     python -m benchmarks.sweep_throughput [--optimise-per-axis 47]
         [--evaluate-per-axis 100] [--passes 3] [--sample 500] [--no-disk]
-        [--json PATH]
+        [--no-ceiling] [--json PATH]
 """
 
 from __future__ import annotations
@@ -231,6 +242,7 @@ def interleaved(actions: dict[str, dict[str, Any]], client: Any,
                             "calling_process_cpu_us_per_point": 1e6 * calling,
                             "workers_cpu_us_per_point": 1e6 * workers,
                             "calling_process_cpu_over_one_process": calling / one_cpu,
+                            "workers_cpu_over_one_process": workers / one_cpu,
                             "cpu_bound_ratio": cpu_bound_ratio(one_cpu, calling, workers),
                             "passes": passes_of}
         figures[action] = {"runs": table, "identical_rows": identical[action]}
@@ -247,6 +259,91 @@ def cpu_bound_ratio(one_process_s: float, calling_s: float, workers_s: float) ->
         return math.nan
     busiest = max(calling_s, (calling_s + workers_s) / WORKERS)
     return one_process_s / busiest if busiest > 0 else math.nan
+
+
+def ceiling(per_axis: dict[str, int], passes: int) -> dict[str, Any]:
+    """The same per-chunk compute in one process alone and in two independent
+    processes at once (see the module): per action, medians over interleaved passes
+    of the points a second (two processes: both runs' points over the longer wall
+    time) and the CPU time per point."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("spawn")
+    links = []
+    for _ in range(WORKERS):
+        mine, theirs = context.Pipe()
+        process = context.Process(target=_chunk_computer, args=(theirs, per_axis),
+                                  daemon=True)
+        process.start()
+        links.append((process, mine))
+    try:
+        for _, link in links:
+            link.recv()  # ready: chunks built and one computed
+        samples: dict[str, dict[str, list[dict[str, float]]]] = {
+            action: {"alone": [], "together": []} for action in per_axis}
+        for _ in range(passes):
+            for action in per_axis:
+                for label, running in (("alone", links[:1]), ("together", links)):
+                    for _, link in running:
+                        link.send(action)
+                    runs = [link.recv() for _, link in running]
+                    samples[action][label].append({
+                        "points_per_s": sum(run["points"] for run in runs)
+                        / max(run["wall_s"] for run in runs),
+                        "cpu_us_per_point": 1e6 * sum(run["cpu_s"] for run in runs)
+                        / sum(run["points"] for run in runs),
+                        "load_average_1min": round(os.getloadavg()[0], 2)})
+    finally:
+        for process, link in links:
+            link.send(None)
+            process.join(timeout=30)
+    figures: dict[str, Any] = {}
+    for action, runs in samples.items():
+        alone = statistics.median(run["points_per_s"] for run in runs["alone"])
+        together = statistics.median(run["points_per_s"] for run in runs["together"])
+        alone_cpu = statistics.median(run["cpu_us_per_point"] for run in runs["alone"])
+        together_cpu = statistics.median(run["cpu_us_per_point"] for run in runs["together"])
+        figures[action] = {"alone_points_per_s": alone, "together_points_per_s": together,
+                           "ratio": together / alone, "alone_cpu_us_per_point": alone_cpu,
+                           "together_cpu_us_per_point": together_cpu,
+                           "cpu_together_over_alone": together_cpu / alone_cpu,
+                           "passes": runs}
+    return figures
+
+
+def _chunk_computer(link: Any, per_axis: dict[str, int]) -> None:
+    """A process of :func:`ceiling`: builds each sweep's chunks, then computes all of
+    them each time it is sent the sweep's action, and sends back its points, wall
+    time and CPU time; ends when sent None. It keeps the memory it frees, as the
+    engine's workers do."""
+    import numpy as np
+
+    from sso._studies.array_engine import array_plan
+    from sso._studies.axes import base_case, parse_axes, point_count
+    from sso._studies.sweep import ARRAY_CHUNK_CAP, _Job
+    from sso._studies.table import columns, manifest
+    from sso._studies.worker import run_sweep_chunk
+    from sso._studies.worker_memory import keep_freed_memory
+
+    keep_freed_memory()
+    chunks = {}
+    for action, count in per_axis.items():
+        case = base_case(base_document())
+        document = case.to_dict()
+        axes = parse_axes(grid(count), document)
+        points = point_count(axes, "product")
+        job = _Job(document, action, axes, "product", points,
+                   columns([axis.path for axis in axes], case.kind),
+                   manifest(document, axes, "product", action, points),
+                   array_plan(case, axes, action), None, 1, ARRAY_CHUNK_CAP, False)
+        chunks[action] = job.chunks(np.arange(points))
+        run_sweep_chunk(chunks[action][0])
+    link.send("ready")
+    while (action := link.recv()) is not None:
+        started, cpu_started = time.perf_counter(), time.process_time()
+        points = sum(run_sweep_chunk(chunk).length for chunk in chunks[action])
+        link.send({"points": points, "wall_s": time.perf_counter() - started,
+                   "cpu_s": time.process_time() - cpu_started})
 
 
 def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
@@ -357,6 +454,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                         help="points solved one by one for the baseline (default 500)")
     parser.add_argument("--no-disk", action="store_true",
                         help="skip the sweep on disk (constant rate, report, output size)")
+    parser.add_argument("--no-ceiling", action="store_true",
+                        help="skip the ceiling (the chunks' compute in 1 and 2 independent "
+                             "processes)")
     parser.add_argument("--json", type=Path, help="also write the figures to this file")
     args = parser.parse_args(argv)
 
@@ -384,6 +484,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                     "evaluate": grid(args.evaluate_per_axis)},
                                    client, args.passes))
     figures["load_after_timed_runs"] = load_now()
+    if not args.no_ceiling:
+        figures["ceiling"] = ceiling({"optimise": args.optimise_per_axis,
+                                      "evaluate": args.evaluate_per_axis}, args.passes)
     figures["point_by_point"] = against_point_by_point(args.sample, args.optimise_per_axis)
     if not args.no_disk:
         figures["on_disk"] = on_disk(args.evaluate_per_axis, PARQUET_PER_AXIS)
@@ -416,15 +519,25 @@ def report(figures: dict[str, Any]) -> None:
                              for one in run["passes"])
             print(f"{label:<34}{run['median_points_per_s']:>12,.0f}"
                   f"{run['ratio_to_one_process']:>15.2f}  {each}")
-        print("CPU per point (us; medians, less the CPU used idle):")
-        print(f"{'run':<34}{'calling':>9}{'workers':>9}{'calling / one process':>23}"
-              f"{'CPU-bound ratio':>17}")
+        print("CPU per point (us; medians, less the CPU used idle), against one process's:")
+        print(f"{'run':<34}{'calling':>9}{'workers':>9}{'calling / one':>15}"
+              f"{'workers / one':>15}{'CPU-bound ratio':>17}")
         for label, run in runs.items():
             print(f"{label:<34}{run['calling_process_cpu_us_per_point']:>9.3f}"
                   f"{run['workers_cpu_us_per_point']:>9.3f}"
-                  f"{run['calling_process_cpu_over_one_process']:>23.2f}"
+                  f"{run['calling_process_cpu_over_one_process']:>15.2f}"
+                  f"{run['workers_cpu_over_one_process']:>15.2f}"
                   f"{run['cpu_bound_ratio']:>17.2f}")
         print(f"identical rows in every run: {figures[action]['identical_rows']}")
+        limit = figures.get("ceiling", {}).get(action)
+        if limit:
+            print(f"ceiling (the chunks' compute, no engine): 2 independent processes "
+                  f"{limit['ratio']:.2f}x one alone (loads "
+                  + ", ".join(f"{one['load_average_1min']:.1f}"
+                              for one in limit["passes"]["together"])
+                  + f"); CPU per point together / alone {limit['cpu_together_over_alone']:.2f} "
+                  f"({limit['together_cpu_us_per_point']:.3f} / "
+                  f"{limit['alone_cpu_us_per_point']:.3f} us)")
     idle = figures["idle_cpu_per_s"]
     print(f"CPU used idle (cluster and pool up, no sweep): calling process "
           f"{idle['calling_process']:.3f} s/s, the processes below it {idle['workers']:.3f} s/s")

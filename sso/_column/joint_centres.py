@@ -486,7 +486,8 @@ def _most_robust(nlp: Any, solved: SolverFields, parameters: np.ndarray, limits:
 def _set_problem(nlp: Any, parameters: np.ndarray, limits: RunLimits, joints: int,
                  phasing_free: bool) -> SetProblem:
     """The joint-centre design as a :class:`SetProblem`: coordinates in m (reported in mm,
-    the margin), yoke phasings in rad (reported in deg), angle and length bounds kept."""
+    the margin), yoke phasings in rad (reported in deg, period 180 deg), angle and length
+    bounds kept."""
     shafts = joints - 1 if phasing_free else 0
     lower_finite = np.isfinite(limits.constraint_lower)
     upper_finite = np.isfinite(limits.constraint_upper)
@@ -511,7 +512,8 @@ def _set_problem(nlp: Any, parameters: np.ndarray, limits: RunLimits, joints: in
         in_margin=np.arange(3 * joints + shafts) < 3 * joints,
         margin_step=1.0 / MM_PER_UNIT, margin_unit="mm", margin_criterion=JOINT_SET_CRITERION,
         solver=BOX_SOLVER,
-        constraints=({"type": "ineq", "fun": constraint_values, "jac": constraint_jacobian},))
+        constraints=({"type": "ineq", "fun": constraint_values, "jac": constraint_jacobian},),
+        period=np.concatenate([np.zeros(3 * joints), np.full(shafts, math.pi)]))
 
 
 def _nlp_units(x: Sequence[float], joints: int) -> np.ndarray:

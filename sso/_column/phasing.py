@@ -41,7 +41,6 @@ TOLERANCE_SET_CRITERION = ("lowest p95 RE over the built columns of the toleranc
                            "seeded sample of the tolerance study)")
 """How it chooses there with tolerances (the shaft series' p95 criterion, on a column's
 hardpoint and yoke-phasing errors)."""
-FULL_TURN_SLACK_DEG = 1e-6
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -116,7 +115,8 @@ class PhasingResult(Record, Readable):
         if extent is not None and self.optimisation.exact_optima is not None:
             parts += [f"exact optima: a set of dimension "
                       f"{self.optimisation.exact_optima.dimension}, chosen "
-                      f"{self.exact_optimum_criterion}",
+                      f"{self.exact_optimum_criterion}; the set's delta about it (each end "
+                      f"the furthest at which an exact optimum was found, a lower estimate)",
                       TextTable(("intermediate shaft", "set from delta (deg)",
                                  "set to delta (deg)"),
                                 tuple((str(shaft + 1), format_number(low), format_number(high))
@@ -141,11 +141,17 @@ class PhasingResult(Record, Readable):
     @property
     def exact_optimum_extent_deg(self) -> tuple[tuple[float, float], ...] | None:
         """Per intermediate shaft, the least and the largest yoke phasing ``delta`` on the
-        set of exact optima connected to the chosen phasing, deg, or None (no such set).
+        set of exact optima about the chosen phasing, deg, or None (no such set).
 
-        The first value lies in ``[-90, 90)``; the second may exceed 90 (the interval
-        wraps). An interval of 180 deg or more: the set holds every phasing of that
-        shaft. Each end is found by SLSQP on the set (2 solves per shaft, on first use).
+        The model phases' bounds span two periods, so each shaft's extent is sought
+        modulo 180 deg (:func:`sso._shafts.exact_optima.set_extent`): walking from the
+        chosen phasing in 5 deg steps each way to the first step where no exact optimum
+        is found, then bisecting. Each end is the furthest phasing at which an exact
+        optimum was found (a lower estimate of the arc), with its witness
+        (:attr:`exact_optimum_extent_witnesses_deg`). The first value lies in
+        ``[-90, 90)``; the second may exceed 90 (the arc wraps). An arc of 180 deg: an
+        exact optimum was found at every step of the period, every phasing of that
+        shaft. Found on first use.
         """
         exact = self.optimisation.exact_optima
         if exact is None:
@@ -153,12 +159,23 @@ class PhasingResult(Record, Readable):
         extents = []
         for (low, high), gamma in zip(exact.extent, self.geometry.plane_angle_deg,
                                       strict=True):
-            width = min(high - low, 180.0)
             start = float(wrap_half_turn(low - CONVENTIONAL_PHASE_DEG + gamma))
-            if width >= 180.0 - FULL_TURN_SLACK_DEG:
-                start, width = -90.0, 180.0
-            extents.append((start, start + width))
+            extents.append((start, start + min(high - low, 180.0)))
         return tuple(extents)
+
+    @property
+    def exact_optimum_extent_witnesses_deg(
+            self) -> tuple[tuple[tuple[float, ...], tuple[float, ...]], ...] | None:
+        """Per intermediate shaft, the exact optima found at the two ends of
+        :attr:`exact_optimum_extent_deg`: each a yoke phasing of every intermediate shaft,
+        deg, in ``[-90, 90)`` (its entry for that shaft is the end, mod 180); None where
+        there is no set."""
+        exact = self.optimisation.exact_optima
+        if exact is None:
+            return None
+        convert = self.geometry.yoke_phase_deg_from_phase
+        return tuple((convert(low.witness), convert(high.witness))
+                     for low, high in exact.extent_search.ends)
 
 
 def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,

@@ -113,8 +113,8 @@ class RobustResult(PhasingOutcome):
 
     @property
     def exact_optimum_extent_deg(self) -> tuple[tuple[float, float], ...] | None:
-        """Per intermediate shaft, the least and largest yoke phasing on the set of exact
-        optima connected to ``x``, deg (as :attr:`PhasingResult.exact_optimum_extent_deg`),
+        """Per intermediate shaft, the arc of yoke phasings about ``x`` on which the set of
+        exact optima was found, deg (as :attr:`PhasingResult.exact_optimum_extent_deg`),
         or None (no such set)."""
         return None if self.exact_choice is None else self.exact_choice.exact_optimum_extent_deg
 

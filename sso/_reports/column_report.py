@@ -29,6 +29,7 @@ from sso._reports.summary import (
     opening_blocks,
 )
 from sso._run.column import ColumnRun
+from sso._shafts.exact_optima import EXTENT_GRID
 
 EXCITATION_FILE = "excitation.csv"
 EXCITATION_COLUMNS = ("input_speed_rpm", "drive_rad_s2", "coast_rad_s2", "torsional_rad_s2",
@@ -193,17 +194,32 @@ def _assembly_table(run: ColumnRun) -> Table:
 def _exact_set_blocks(run: ColumnRun) -> list[Block]:
     phasing = run.phasing
     extent = None if phasing is None else phasing.exact_optimum_extent_deg
-    if phasing is None or extent is None or phasing.optimisation.exact_optima is None:
+    witnesses = None if phasing is None else phasing.exact_optimum_extent_witnesses_deg
+    exact = None if phasing is None else phasing.optimisation.exact_optima
+    if phasing is None or extent is None or witnesses is None or exact is None:
         return []
     ends = "; ".join(f"shaft {shaft + 1}: "
                      + ("every phasing" if high - low >= 180.0 else
                         f"{number(low, '.3f')} to {number(high, '.3f')} deg")
                      for shaft, (low, high) in enumerate(extent))
+    rows = tuple((str(shaft + 1), side, number(value, ".3f"), _angles(witness),
+                  number(end.witness_residual_error, ".3g"))
+                 for shaft, ((low, high), pair, found) in enumerate(
+                     zip(extent, witnesses, exact.extent_search.ends, strict=True))
+                 for side, value, witness, end in zip(("from", "to"), (low, high), pair, found,
+                                                      strict=True))
     return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
-                      f"{phasing.optimisation.exact_optima.dimension}; the best phasing above "
-                      f"is the one {phasing.exact_optimum_criterion}. The set's extent in delta "
-                      f"(what SLSQP reaches from the chosen phasing along the set; an end may "
-                      f"understate the set, as SLSQP can stop at a corner of it): {ends}.")]
+                      f"{exact.dimension}; the best phasing above is the one "
+                      f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
+                      f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
+                      f"steps each way from the chosen phasing to the first where no exact "
+                      f"optimum is found, then "
+                      f"bisection; {exact.extent_search.solves} least-squares solves): "
+                      f"{ends}. Each end is the furthest phasing at which an exact optimum "
+                      f"was found, a lower estimate; its witness below is that exact "
+                      f"optimum (every shaft's delta, deg)."),
+            Table(("intermediate shaft", "end", "delta (deg)", "witness delta (deg)",
+                   "witness RE"), rows)]
 
 
 def _phasing_table(run: ColumnRun) -> Table:

@@ -27,7 +27,7 @@ from sso._reports.summary import (
 )
 from sso._run.shaft_series import ShaftSeriesRun
 from sso._shafts.curves import ComparedDesign
-from sso._shafts.exact_optima import ExactOptimumSet
+from sso._shafts.exact_optima import EXTENT_METHOD, ExactOptimumSet, end_kind
 from sso._shafts.optimise import OptimisationResult
 
 # (evaluation field, row label with unit, format)
@@ -211,26 +211,37 @@ def _runs_table(result: OptimisationResult) -> Table:
 
 
 def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
-    """The set of exact optima: the criterion of the choice, its figures, the set's extent."""
+    """The set of exact optima: the criterion of the choice, its figures, the set's extent
+    with each end's kind and witness."""
     unit = exact.margin_unit
+    search = exact.extent_search
     text = (f"RE is at round-off zero on a set of designs of dimension {exact.dimension}; "
             f"the design reported was chosen within it by {exact.criterion}, from "
             f"{exact.starts} exact optimum(s) found. Margin to the bounds: "
             f"{number(exact.margin, '.4g')} {unit} (the first found: "
-            f"{number(exact.first_margin, '.4g')} {unit}). The extent below is what SLSQP "
-            f"reaches along the set from the chosen design: each end is an exact optimum, "
-            f"but an end short of its bound may understate the set (SLSQP can stop at a "
-            f"corner of the set inside the bounds).")
+            f"{number(exact.first_margin, '.4g')} {unit}).")
     tolerances = exact.tolerances
     if exact.p95_residual_error is not None and tolerances is not None:
         text += (f" p95 RE under the tolerances ({tolerances.description}): "
                  f"{number(exact.p95_residual_error, '.4g')} "
                  f"(the first found: {number(exact.first_p95_residual_error, '.4g')}).")
-    rows = tuple((name, unit, number(low, ".6g"), number(high, ".6g"), number(chosen, ".6g"))
+    method = (f"The extent below is that of the whole set within the bounds: {EXTENT_METHOD} "
+              f"({search.probes} probes per bound, {search.solves} least-squares solves). "
+              f"Each end's witness is the exact optimum found with the variable at that end.")
+    rows = tuple((name, unit, number(low.value, ".6g"), number(high.value, ".6g"),
+                  number(chosen, ".6g"), f"{end_kind(low)} / {end_kind(high)}")
                  for name, unit, (low, high), chosen in zip(exact.variables, exact.units,
-                                                            exact.extent, exact.chosen,
+                                                            search.ends, exact.chosen,
                                                             strict=True))
-    return [Paragraph(text), Table(("variable", "unit", "set from", "set to", "chosen"), rows)]
+    witnesses = tuple((name, side, number(end.value, ".6g"), end_kind(end),
+                       ", ".join(number(value, ".6g") for value in end.witness),
+                       number(end.witness_residual_error, ".3g"))
+                      for name, pair in zip(exact.variables, search.ends, strict=True)
+                      for side, end in zip(("from", "to"), pair, strict=True))
+    return [Paragraph(text), Paragraph(method),
+            Table(("variable", "unit", "set from", "set to", "chosen", "ends"), rows),
+            Table(("variable", "end", "value", "kind",
+                   f"witness ({', '.join(exact.variables)})", "witness RE"), witnesses)]
 
 
 def _crosscheck_text(result: OptimisationResult) -> str:

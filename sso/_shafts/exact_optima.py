@@ -23,11 +23,22 @@ Both are solved by SciPy's SLSQP with the residuals as equality constraints (and
 problem's other constraints, :class:`SetProblem`), from every distinct exact optimum
 the solvers found; an answer is kept only when it is back at round-off zero (a few
 minimum-norm Gauss-Newton steps put it there), within every constraint, and does not
-worsen the criterion. The set's extent per free variable is the least and the largest
-value SLSQP reaches for that variable along the set from the chosen design. Each end
-is an exact optimum, but SLSQP can stop at a corner of the set inside the bounds, so
-an end short of its bound is a lower estimate of the set's full extent, not a proof
-that the set ends there.
+worsen the criterion.
+
+The set's extent per free variable is the least and the largest value of that variable
+over the WHOLE set within the bounds, as a bounded search finds it (:func:`set_extent`):
+for each variable and each side, the variable is pinned at its bound and the problem's
+least-squares solver projects onto RE = 0 over the other variables, from the chosen
+design and then from :data:`EXTENT_PROBES` seeded random probes of them; the first
+that lands is the end's witness (an exact optimum with the variable at the bound, so
+that end is exact). Where none lands, the pinned value is bisected
+(:data:`EXTENT_HALVINGS` halvings) between the chosen design and the bound, and the end
+is the furthest value at which an exact optimum was found: a lower estimate of the
+set's extent. A variable whose bounds span two periods or more (a column's model
+phases, period 180 deg) has no bound the set could end on: its extent is sought modulo
+the period about the chosen value, walking a grid of :data:`EXTENT_GRID` values per
+period outward and bisecting at the first value where no exact optimum is found; every
+such end is a lower estimate. Each end carries its witness.
 """
 
 from __future__ import annotations
@@ -44,7 +55,8 @@ import numpy as np
 from sso._display import Part, Readable, TextTable, format_number
 from sso._kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso._kinematics.hooke_matrix import residuals_and_jacobian_numpy
-from sso._record import NOT_SAVED, register_record
+from sso._limits import DEFAULT_SHAFT_SOLVER_TOL
+from sso._record import NOT_SAVED, encode, register_record
 from sso._shafts.options import DesignProblem
 from sso._shafts.perturbed import (
     DEFAULT_TOLERANCES,
@@ -54,6 +66,7 @@ from sso._shafts.perturbed import (
     per_item_tolerances,
 )
 from sso._shafts.series import checked_series
+from sso._solvers.lm import minimise
 from sso._solvers.multistart import MeasuredRun, measure_run
 from sso._solvers.run import RunLimits, RunOutcome
 from sso._solvers.saddle import ZERO_OBJECTIVE
@@ -62,6 +75,11 @@ from sso._validation import check_choice, validate_count
 
 MARGIN_CRITERION = "largest margin to the bounds"
 P95_CRITERION = "lowest p95 RE under the given tolerances"
+EXTENT_ENDS = ("bound: an exact optimum lies on the bound, the end is exact; reached: the "
+               "furthest value found, a lower estimate")
+EXTENT_METHOD = ("each variable pinned at each bound and projected onto RE = 0 from the "
+                 "chosen design and seeded random probes, else bisected towards the chosen "
+                 f"design; {EXTENT_ENDS}")
 MARGIN_RESOLUTION = 0.1
 """Bracket (in the margin's unit: deg, mm) at which the bisection for the largest margin
 stops."""
@@ -81,8 +99,24 @@ PROJECTION_STEPS = 8
 SAME_DESIGN_RAD = 1e-6
 ON_BOUND_RAD = 1e-9
 RANK_TOLERANCE = 1e-9
-EXTENT_START_DECIMALS = 9
-"""Decimals (rad) of the chosen design the extent's solves start from (see _extent)."""
+EXTENT_PROBES = 32
+"""Seeded random probes of the other variables from which an end is sought at a bound."""
+EXTENT_HALVINGS = 12
+"""Halvings of the pinned value's bracket where no probe lands at the bound."""
+EXTENT_HALVING_PROBES = 4
+"""Random probes tried at each halving, after the furthest witness so far and the chosen
+design."""
+EXTENT_GRID = 36
+"""Values per period at which a periodic variable's extent is walked (5 deg for 180)."""
+EXTENT_SEED = 0
+"""Seed of the probes (one draw per search: the extent is the same in every process)."""
+EXTENT_MAX_ITERATIONS = MARGIN_MAX_ITERATIONS
+"""Iterations of each least-squares solve of the extent's search."""
+EXTENT_SOLVER = "lm"
+"""The solver of the extent's pinned solves (see :func:`set_extent`)."""
+EXTENT_TOLERANCE = DEFAULT_SHAFT_SOLVER_TOL
+"""Projected-gradient tolerance of each of those solves (they stop sooner at round-off
+zero)."""
 
 Residuals = Callable[[list[float]], tuple[complex, list[complex]]]
 BoxSolve = Callable[[list[float], list[float], list[float], int],
@@ -119,6 +153,10 @@ class SetProblem:
         SLSQP inequality constraints (``fun(x) >= 0``, with ``jac``) beyond the bounds.
     design : object
         What a :class:`SpreadMeasure` measures (a shaft series' ``DesignProblem``).
+    period : numpy.ndarray, optional
+        Period of each variable in the solver's units (0: not periodic; a phase's is
+        ``pi``). A variable whose bounds span two periods or more has its extent sought
+        modulo its period (see :func:`set_extent`).
     """
 
     lower: np.ndarray
@@ -133,6 +171,7 @@ class SetProblem:
     solver: str = "lm"
     constraints: tuple[dict[str, Any], ...] = ()
     design: Any = None
+    period: np.ndarray | None = None
 
     def margin(self, x: np.ndarray | list[float]) -> float:
         """Least distance of a margin variable (one its bounds do not pin) to a bound, in
@@ -161,6 +200,15 @@ class SetProblem:
         """``x`` in the reported units."""
         return tuple((np.asarray(x, dtype=float) * self.scale).tolist())
 
+    def wrapping_period(self, index: int) -> float:
+        """The period of variable ``index`` where its bounds span two periods or more
+        (the solver's units), else 0: its extent is then sought modulo the period."""
+        if self.period is None:
+            return 0.0
+        period = float(self.period[index])
+        span = float(self.upper[index] - self.lower[index])
+        return period if period > 0.0 and span >= 2.0 * period * (1.0 - 1e-12) else 0.0
+
 
 def series_set_problem(problem: DesignProblem) -> SetProblem:
     """The :class:`SetProblem` of a shaft series' design problem (every variable an angle)."""
@@ -168,7 +216,9 @@ def series_set_problem(problem: DesignProblem) -> SetProblem:
     return SetProblem(lower=problem.lower_rad, upper=problem.upper_rad,
                       variables=_variable_names(problem), units=("deg",) * count,
                       scale=np.full(count, 180.0 / math.pi), in_margin=np.ones(count, dtype=bool),
-                      design=problem)
+                      design=problem,
+                      period=np.array([math.pi if name.startswith("phase") else 0.0
+                                       for name in _variable_names(problem)]))
 
 
 @runtime_checkable
@@ -285,6 +335,58 @@ def tolerance_settings(joints: int, beta_tolerance_deg: Any, phase_tolerance_deg
 
 
 @register_record
+@dataclass(frozen=True)
+class ExtentEnd:
+    """One end of the extent of a set of exact optima along one free variable.
+
+    Attributes
+    ----------
+    value : float
+        The end, in the variable's unit.
+    at_bound : bool
+        True where ``value`` is the variable's bound and the witness lies on it: the set
+        reaches the bound, the end is exact. False where ``value`` is the furthest value
+        at which the search found an exact optimum: a lower estimate, the set may reach
+        further.
+    witness : tuple of float
+        An exact optimum with the variable at ``value``: every free variable, in the
+        set's ``units`` (build it to check it).
+    witness_residual_error : float
+        RE of the witness, as the least-squares solver left it (round-off zero).
+    """
+
+    value: float
+    at_bound: bool
+    witness: tuple[float, ...]
+    witness_residual_error: float
+
+
+@register_record
+@dataclass(frozen=True)
+class SetExtent:
+    """The extent of a set of exact optima per free variable, as :func:`set_extent` found it.
+
+    Attributes
+    ----------
+    ends : tuple of (ExtentEnd, ExtentEnd)
+        Per free variable, its least and its largest value on the set within the bounds.
+    probes : int
+        Seeded random probes of the other variables tried at each bound
+        (:data:`EXTENT_PROBES`).
+    solves : int
+        Least-squares solves the search made (at most ``2 * variables *
+        (1 + probes + halvings * (2 + halving probes))`` for bounded variables).
+    time_s : float
+        Wall time of the search, s.
+    """
+
+    ends: tuple[tuple[ExtentEnd, ExtentEnd], ...]
+    probes: int
+    solves: int
+    time_s: float
+
+
+@register_record
 @dataclass(frozen=True, repr=False)
 class ExactOptimumSet(Readable):
     """The set of exact optima (RE at round-off zero) and the design chosen within it.
@@ -318,8 +420,8 @@ class ExactOptimumSet(Readable):
     time_s : float
         Wall time of the choice, s.
     extent_of : callable or None
-        Computes :attr:`extent` (on first access: 2 solves per variable). Not
-        saved: a reloaded set holds its saved ``extent`` and no callable.
+        Computes :attr:`extent_search` (on first access; :func:`set_extent`). Not
+        saved: a reloaded set holds its saved ``extent_search`` and no callable.
     """
 
     criterion: str
@@ -336,15 +438,16 @@ class ExactOptimumSet(Readable):
     p95_residual_error: float | None
     first_p95_residual_error: float | None
     time_s: float
-    extent_of: Callable[[], tuple[tuple[float, float], ...]] | None = field(
+    extent_of: Callable[[], SetExtent] | None = field(
         default=None, compare=False, metadata=NOT_SAVED)
 
-    _record_derived: ClassVar[tuple[str, ...]] = ("extent",)
+    _record_derived: ClassVar[tuple[str, ...]] = ("extent_search",)
 
     @functools.cached_property
-    def extent(self) -> tuple[tuple[float, float], ...]:
-        """Least and largest value of each free variable on the set (the part connected
-        to the chosen design), in ``units``; found on first access.
+    def extent_search(self) -> SetExtent:
+        """The extent of the whole set within the bounds per free variable, each end with
+        its witness and whether it is exact (at a bound) or a lower estimate; found on
+        first access (:func:`set_extent`).
 
         Raises
         ------
@@ -355,6 +458,12 @@ class ExactOptimumSet(Readable):
             raise ValueError("this set of exact optima holds no extent and no way to find it")
         return self.extent_of()
 
+    @property
+    def extent(self) -> tuple[tuple[float, float], ...]:
+        """Least and largest value of each free variable on the set, in ``units`` (the
+        values of :attr:`extent_search`'s ends)."""
+        return tuple((low.value, high.value) for low, high in self.extent_search.ends)
+
     def _repr_text(self) -> str:
         figure = (f"p95 RE {format_number(self.p95_residual_error, 4)}"
                   if self.p95_residual_error is not None
@@ -362,10 +471,11 @@ class ExactOptimumSet(Readable):
         return f"{self.criterion}: {figure}, set of dimension {self.dimension}"
 
     def _summary_parts(self) -> list[Part]:
-        rows = tuple((name, unit, format_number(low), format_number(high),
-                      format_number(chosen))
+        rows = tuple((name, unit, format_number(low.value), format_number(high.value),
+                      format_number(chosen), f"{end_kind(low)} / {end_kind(high)}")
                      for name, unit, (low, high), chosen in zip(
-                         self.variables, self.units, self.extent, self.chosen, strict=True))
+                         self.variables, self.units, self.extent_search.ends, self.chosen,
+                         strict=True))
         lines: list[Part] = [
             f"exact optima (RE at round-off zero): a set of dimension {self.dimension}; chosen "
             f"by {self.criterion} from {self.starts} exact optimum(s) found",
@@ -374,27 +484,20 @@ class ExactOptimumSet(Readable):
         if self.p95_residual_error is not None and self.first_p95_residual_error is not None:
             lines.append(f"p95 RE under the tolerances: {format_number(self.p95_residual_error)}"
                          f" (first found {format_number(self.first_p95_residual_error)})")
-        return [*lines, TextTable(("variable", "unit", "set from", "set to", "chosen"), rows)]
+        lines.append(f"extent of the whole set within the bounds ({EXTENT_ENDS})")
+        return [*lines, TextTable(("variable", "unit", "set from", "set to", "chosen", "ends"),
+                                  rows)]
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary of every field."""
-        return {
-            "criterion": self.criterion,
-            "variables": list(self.variables),
-            "units": list(self.units),
-            "dimension": self.dimension,
-            "starts": self.starts,
-            "chosen": list(self.chosen),
-            "first_found": list(self.first_found),
-            "margin": self.margin,
-            "first_margin": self.first_margin,
-            "margin_unit": self.margin_unit,
-            "tolerances": None if self.tolerances is None else self.tolerances.to_dict(),
-            "p95_residual_error": self.p95_residual_error,
-            "first_p95_residual_error": self.first_p95_residual_error,
-            "extent": [list(pair) for pair in self.extent],
-            "time_s": self.time_s,
-        }
+        """JSON-ready dictionary of every field (the extent's search included)."""
+        saved: dict[str, Any] = encode(self)
+        del saved["type"]
+        return saved
+
+
+def end_kind(end: ExtentEnd) -> str:
+    """How an end of the extent was found, in a report's words."""
+    return "bound" if end.at_bound else "reached"
 
 
 @dataclass(frozen=True)
@@ -487,7 +590,7 @@ def choose_exact_optimum(problem: SetProblem, residuals: Residuals, solve_in_box
         p95_residual_error=p95,
         first_p95_residual_error=first_p95,
         time_s=time.perf_counter() - started,
-        extent_of=functools.partial(_extent, problem, residuals, chosen),
+        extent_of=functools.partial(set_extent, problem, residuals, solve_in_box, chosen),
     )
     if solver is not None and float(np.max(np.abs(chosen - first))) <= SAME_DESIGN_RAD:
         solver = None
@@ -687,57 +790,188 @@ def _rank_of_two_rows(columns: list[complex]) -> int:
     return int(largest > floor) + int(wedge / largest > floor)
 
 
-def _extent(problem: SetProblem, residuals: Residuals,
-            x: np.ndarray) -> tuple[tuple[float, float], ...]:
-    """Least and largest value of each variable on the set, from ``x`` (reported units).
+def set_extent(problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve,
+               chosen: np.ndarray) -> SetExtent:
+    """The extent of the whole set of exact optima within the bounds, per free variable.
 
-    SLSQP starts from ``x`` rounded to :data:`EXTENT_START_DECIMALS` decimals (the
-    solver's units) and put back on the set: SLSQP can stop at a corner of the set inside
-    the bounds, and which corner must not depend on the round-off the chosen design
-    carries (the README example's beta_1 ended at 40 or at 38.93 deg with 1e-14 rad of
-    difference in the design, which differs between solver paths and processes).
+    For each variable and each side: the variable is pinned at its bound and the others are
+    solved for RE = 0 by a bounded Levenberg-Marquardt on the two residuals (see
+    ``solve_in_box``) from the chosen
+    design and then from :data:`EXTENT_PROBES` random probes within the bounds (seed
+    :data:`EXTENT_SEED`), stopping at the first that lands at round-off zero within the
+    problem's constraints: the end is that bound, exactly. Where none lands, the pinned
+    value is bisected :data:`EXTENT_HALVINGS` times between the chosen value and the bound
+    (each value tried from the furthest witness so far, the chosen design and
+    :data:`EXTENT_HALVING_PROBES` probes): the end is the furthest value that landed, a
+    lower estimate (the set can reach further, from a part of it no probe found). At most
+    ``1 + EXTENT_PROBES + EXTENT_HALVINGS * (2 + EXTENT_HALVING_PROBES)`` solves per
+    variable and side, each of at most :data:`EXTENT_MAX_ITERATIONS` iterations; most
+    ends land at their bound within a few.
+
+    A variable whose bounds span two periods or more (:meth:`SetProblem.wrapping_period`)
+    is taken about its chosen value moved by whole periods to lie at least half a period
+    inside the bounds, and walked outward on both sides in steps of a period over
+    :data:`EXTENT_GRID` (each step tried as a bisection's value is, then from the other
+    probes), to the first step that does not land, then bisected: the ends are lower
+    estimates of the arc of values about the chosen one (half a period each way where
+    every step lands: the set then holds an exact optimum at every step of the period).
+    Such a variable is pinned at each value modulo its period within its bounds: its
+    witnesses hold the end modulo the period.
+
+    Parameters
+    ----------
+    problem : SetProblem
+    residuals : callable
+        The problem's two residuals (as :func:`choose_exact_optimum` takes them).
+    solve_in_box : callable
+        The problem's least-squares solver in a box, used where it is ``"lm"`` (a shaft
+        series': compiled); any other problem's pinned solves run
+        :func:`sso._solvers.lm.minimise` on ``residuals`` (a few evaluations where a
+        start lands, against some tens for SciPy's trust-region least squares).
+    chosen : numpy.ndarray
+        The chosen design, an exact optimum (the solver's units).
+
+    Returns
+    -------
+    SetExtent
+        Values and witnesses in the reported units.
     """
-    lower, upper = problem.lower, problem.upper
-    counts = [0, 0]
-    bounds = list(zip(lower.tolist(), upper.tolist(), strict=True))
-    constraints = [_constraint(residuals, 0), *problem.constraints]
-    start = _project(residuals, np.round(x, EXTENT_START_DECIMALS), lower, upper)
-    start = x if start is None or not problem.feasible(start) else start
-    extent = []
-    for index in range(len(x)):
-        ends = []
-        for sign in (1.0, -1.0):
-            if upper[index] <= lower[index]:
-                ends.append(float(x[index]))
-                continue
-            goal = np.zeros(len(x))
-            goal[index] = sign
-            answer = _slsqp(functools.partial(_linear, goal), functools.partial(_constant, goal),
-                            start, bounds, constraints, counts)
-            projected = _project(residuals, answer, lower, upper)
-            usable = projected is not None and problem.feasible(projected)
-            end = float(projected[index] if usable and projected is not None else x[index])
-            ends.append(_on_bound(end, float(lower[index]), float(upper[index])))
-        low, high = min(ends[0], float(x[index])), max(ends[1], float(x[index]))
-        extent.append((low * float(problem.scale[index]), high * float(problem.scale[index])))
-    return tuple(extent)
+    started = time.perf_counter()
+    solve = solve_in_box if problem.solver == EXTENT_SOLVER else functools.partial(
+        _minimised, residuals)
+    search = _ExtentSearch(problem, residuals, solve, np.asarray(chosen, dtype=float))
+    ends = []
+    for index in range(len(search.chosen)):
+        period = problem.wrapping_period(index)
+        low, high = (search.periodic_ends(index, period) if period
+                     else (search.bounded_end(index, -1), search.bounded_end(index, 1)))
+        ends.append((search.reported(index, low), search.reported(index, high)))
+    return SetExtent(ends=tuple(ends), probes=EXTENT_PROBES, solves=search.solves,
+                     time_s=time.perf_counter() - started)
 
 
-def _on_bound(value_rad: float, lower_rad: float, upper_rad: float) -> float:
-    """``value_rad``, or the bound it lies within :data:`ON_BOUND_RAD` of: an end the
-    solver stops a round-off step short of its bound is that bound."""
-    for bound in (lower_rad, upper_rad):
-        if abs(value_rad - bound) <= ON_BOUND_RAD:
-            return bound
-    return value_rad
+_Found = tuple[float, bool, list[float], float]
+"""An end in the solver's units: value, at a bound, witness, the witness's RE."""
 
 
-def _linear(goal: np.ndarray, x: np.ndarray) -> float:
-    return float(goal @ x)
+def _minimised(residuals: Residuals, start: list[float], lower: list[float], upper: list[float],
+               max_iterations: int) -> tuple[list[float], float, int, int]:
+    """:func:`sso._solvers.lm.minimise` as a :data:`BoxSolve`."""
+    x, fun, nit, nfev, _ = minimise(residuals, start, lower, upper, EXTENT_TOLERANCE,
+                                    max_iterations)
+    return x, fun, nit, nfev
 
 
-def _constant(goal: np.ndarray, x: np.ndarray) -> np.ndarray:
-    return goal
+class _ExtentSearch:
+    """The pinned-variable solves of :func:`set_extent` (plain float lists: the vectors
+    are short and each solve is cheap)."""
+
+    def __init__(self, problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve,
+                 chosen: np.ndarray) -> None:
+        self.problem = problem
+        self.solve_in_box = solve_in_box
+        self.chosen: list[float] = chosen.tolist()
+        self.chosen_residual_error = abs(residuals(self.chosen)[0]) ** 2
+        self.lower: list[float] = problem.lower.tolist()
+        self.upper: list[float] = problem.upper.tolist()
+        self.walk: list[tuple[float, list[float], float]] = []
+        """Each step a walk landed at: value, witness, its RE."""
+        rng = np.random.default_rng(EXTENT_SEED)
+        self.probes: list[list[float]] = rng.uniform(
+            problem.lower, problem.upper, (EXTENT_PROBES, len(self.chosen))).tolist()
+        self.solves = 0
+
+    def reported(self, index: int, found: _Found) -> ExtentEnd:
+        """An end in the reported units."""
+        value, at_bound, witness, fun = found
+        return ExtentEnd(value=value * float(self.problem.scale[index]), at_bound=at_bound,
+                         witness=self.problem.reported(np.asarray(witness)),
+                         witness_residual_error=fun)
+
+    def landed(self, index: int, value: float, starts: Sequence[list[float]]
+               ) -> tuple[list[float], float] | None:
+        """An exact optimum with variable ``index`` pinned at ``value`` (modulo its period,
+        within its bounds, for a periodic variable), and its RE, from the first of
+        ``starts`` that lands at round-off zero; None if none does."""
+        period = self.problem.wrapping_period(index)
+        if period and not self.lower[index] <= value <= self.upper[index]:
+            # the same value modulo the period, within the bounds
+            value = self.lower[index] + (value - self.lower[index]) % period
+        lower, upper = list(self.lower), list(self.upper)
+        lower[index] = upper[index] = value
+        for start in starts:
+            moved = [min(max(entry, bottom), top)
+                     for entry, bottom, top in zip(start, lower, upper, strict=True)]
+            self.solves += 1
+            x, fun, _, _ = self.solve_in_box(moved, lower, upper, EXTENT_MAX_ITERATIONS)
+            if is_exact(fun) and x[index] == value and self.problem.feasible(np.asarray(x)):
+                return list(x), fun
+        return None
+
+    def bounded_end(self, index: int, side: int) -> _Found:
+        """The end of variable ``index`` towards its lower (``side`` -1) or upper bound."""
+        bound = self.lower[index] if side < 0 else self.upper[index]
+        if bound == self.chosen[index]:
+            return bound, True, self.chosen, self.chosen_residual_error
+        found = self.landed(index, bound, [self.chosen, *self.probes])
+        if found is not None:
+            return bound, True, *found
+        return self.bisected(index, (self.chosen[index], self.chosen,
+                                     self.chosen_residual_error), bound)
+
+    def bisected(self, index: int, inside: tuple[float, list[float], float],
+                 outside: float) -> _Found:
+        """The furthest value found by bisection between ``inside`` (a value, the exact
+        optimum found there and its RE) and ``outside`` (where none was found)."""
+        value, witness, fun = inside
+        for _ in range(EXTENT_HALVINGS):
+            middle = 0.5 * (value + outside)
+            found = self.landed(index, middle, self._nearby(witness))
+            if found is None:
+                outside = middle
+            else:
+                value, (witness, fun) = middle, found
+        return value, False, witness, fun
+
+    def _nearby(self, witness: list[float]) -> list[list[float]]:
+        """The starts of a value tried next to ``witness``'s."""
+        return [witness, self.chosen, *self.probes[:EXTENT_HALVING_PROBES]]
+
+    def periodic_ends(self, index: int, period: float) -> tuple[_Found, _Found]:
+        """Both ends of a variable sought modulo its ``period`` (see :func:`set_extent`)."""
+        centre = self.lower[index] + 0.5 * period + (
+            (self.chosen[index] - self.lower[index] - 0.5 * period) % period)
+        start = list(self.chosen)
+        start[index] = centre
+        step = period / EXTENT_GRID
+        high, failed_at = self._walked(index, (centre, start, self.chosen_residual_error),
+                                       step, EXTENT_GRID)
+        if high is None:  # every step of the period lands: half a period each way
+            value, witness, fun = self.walk[EXTENT_GRID // 2 - 1]
+            return (value - period, False, witness, fun), (value, False, witness, fun)
+        low, _ = self._walked(index, (centre, start, self.chosen_residual_error), -step,
+                              EXTENT_GRID - failed_at, closes=False)
+        assert low is not None
+        return low, high
+
+    def _walked(self, index: int, inside: tuple[float, list[float], float], step: float,
+                last: int, closes: bool = True) -> tuple[_Found | None, int]:
+        """The end reached walking from ``inside`` by ``step`` for ``last - 1`` steps,
+        bisected at the first step that does not land (at step ``last`` unless it
+        ``closes`` the period, where the walk gives None: every step landed)."""
+        centre = inside[0]
+        self.walk = []
+        for count in range(1, last):
+            value = centre + count * step
+            found = (self.landed(index, value, self._nearby(inside[1]))
+                     or self.landed(index, value, self.probes[EXTENT_HALVING_PROBES:]))
+            if found is None:
+                return self.bisected(index, inside, value), count
+            inside = (value, *found)
+            self.walk.append(inside)
+        if closes:
+            return None, last
+        return self.bisected(index, inside, centre + last * step), last
 
 
 def _variable_names(problem: DesignProblem) -> tuple[str, ...]:

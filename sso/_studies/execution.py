@@ -35,9 +35,11 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
+from functools import partial
 from typing import Any
 
 from sso._limits import NO_WORKER_TIMEOUT_S, NO_WORKER_TIMEOUT_VARIABLE
+from sso._studies.worker_memory import keep_freed_memory
 
 # Thread counts of the numeric libraries in a worker process. One thread each, as
 # Dask's nanny sets them: N busy processes with N BLAS threads each would fight
@@ -229,7 +231,8 @@ def _keep_pool(key: tuple[Any, ...], executor: ProcessPoolExecutor) -> None:
 
 def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -> None:
     """Initializer of a pool worker: the caller's environment; leave SIGINT to the
-    caller; die with the caller.
+    caller; die with the caller; keep the memory its tasks free
+    (:func:`sso._studies.worker_memory.keep_freed_memory`).
 
     A spawned worker is the caller's child: the kernel kills it when its parent
     dies. A forked worker is the fork server's child, and the fork server lives as
@@ -239,6 +242,7 @@ def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -
     """
     os.environ.clear()
     os.environ.update(environment)
+    keep_freed_memory()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     parent = os.getppid()
     if sys.platform.startswith("linux"):
@@ -348,13 +352,21 @@ def _quiet_lost_gathers() -> None:
         logger.addFilter(_LostGathers())
 
 
+def _in_dask_worker(function: Callable[[Any], Any], task: Any) -> Any:
+    """``function(task)`` in a Dask worker that keeps the memory its tasks free
+    (:func:`sso._studies.worker_memory.keep_freed_memory`)."""
+    keep_freed_memory()
+    return function(task)
+
+
 def _run_on_dask(function: Callable[[Any], Any], tasks: Sequence[Any],
                  client: Any) -> Iterator[tuple[int, Any, BaseException | None]]:
     from distributed import as_completed as dask_as_completed
 
     limit_s = no_worker_timeout_s()
     _quiet_lost_gathers()
-    futures = client.map(function, tasks, pure=False)  # one graph: cheaper than a submit each
+    # One graph: cheaper than a submit each.
+    futures = client.map(partial(_in_dask_worker, function), tasks, pure=False)
     indices = {future.key: index for index, future in enumerate(futures)}
     # distributed's as_completed has no annotations
     completed: Any = dask_as_completed(futures)  # type: ignore[no-untyped-call]

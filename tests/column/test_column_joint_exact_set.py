@@ -4,9 +4,10 @@ it (the joint centres furthest inside their boxes) and the set's extent per coor
 The shipped truck column (cases/column_truck_three_joints.toml: its 36-tooth phasing held,
 boxes of +-5 mm about P1 .. P3, operating angles within 5 .. 25 deg). Reference: the
 independent 3D cross-and-yoke simulation (tests/column/cross_and_yoke.py), minimised by
-SciPy's least squares over the other coordinates within the boxes: inside the reported
-extent the speed ratio can be made constant, just outside an end that is not a box face
-it cannot (even without the angle bounds, which only remove designs).
+SciPy's least squares over the other coordinates within the boxes: every end's witness is
+an exact optimum, inside the reported extent the speed ratio can be made constant, just
+outside an end that is not a box face it cannot (even without the angle bounds, which
+only remove designs).
 """
 
 from __future__ import annotations
@@ -87,20 +88,36 @@ def test_the_extent_of_the_set_is_the_3d_simulations(truck):
     exact = result.exact_optima
     boxes = np.asarray(options["joint_boxes_mm"])
     faces = boxes.transpose(1, 0, 2).reshape(2, -1)
-    points, yoke = result.points_mm, result.yoke_phase_deg
+    points, yoke = np.asarray(result.points_mm), result.yoke_phase_deg
     inner_ends = 0
-    for index, (low, high) in enumerate(exact.extent):
-        assert faces[0, index] - 1e-6 <= low <= exact.chosen[index] <= high
-        assert high <= faces[1, index] + 1e-6
+    for index, ((low, high), pair) in enumerate(zip(exact.extent, exact.extent_search.ends,
+                                                    strict=True)):
+        assert faces[0, index] <= low <= exact.chosen[index] <= high <= faces[1, index]
+        for end, face, step in zip(pair, faces[:, index], (-0.3, 0.3), strict=True):
+            # every witness: an exact optimum by the 3D simulation, its joint centres in
+            # their boxes, coordinate ``index`` at the end
+            witness = np.asarray(end.witness).reshape(-1, 3)
+            column = points.copy()
+            column[1:-1] = witness
+            assert simulated_residual_error(column, yoke) <= 1e-12, (index, end)
+            assert end.witness[index] == end.value
+            assert np.all(witness >= boxes[:, 0, :]) and np.all(witness <= boxes[:, 1, :])
+            if end.at_bound:
+                assert end.value == face
+            else:
+                # a lower estimate: the furthest value the search reached; here the 3D
+                # simulation's least squares cannot go 0.3 mm further
+                inner_ends += 1
+                assert _least_simulated_re(points, yoke, index, end.value + step, boxes) > 1e-9
         for inside in (low + 0.2, high - 0.2):
             assert _least_simulated_re(points, yoke, index, inside, boxes) <= 1e-12, (index, inside)
-        for end, face, step in ((low, faces[0, index], -0.3), (high, faces[1, index], 0.3)):
-            if abs(end - face) > 0.5:
-                inner_ends += 1
-                assert _least_simulated_re(points, yoke, index, end + step, boxes) > 1e-9, (
-                    index, end)
     # measured: P3 x ends at -1471.12 mm, 1.8 mm inside its box; every other end is a face
     assert inner_ends == 1
+    assert not exact.extent_search.ends[6][0].at_bound
+    assert exact.extent[6][0] == pytest.approx(-1471.12, abs=0.01)
+    # the stated bound on the search: per coordinate and side, 1 + 32 probes at the face
+    # and 12 halvings of 2 + 4 starts (measured: 87 solves)
+    assert exact.extent_search.solves <= 2 * 9 * (1 + 32 + 12 * 6)
 
 
 def test_the_column_run_reports_the_set(truck, tmp_path):
@@ -111,9 +128,9 @@ def test_the_column_run_reports_the_set(truck, tmp_path):
     assert run.joint_centres is not None and run.joint_centres.exact_optima is not None
     saved = run.to_dict()["joint_centres"]["exact_optima"]
     assert saved["criterion"] == "largest margin of the joint centres to their boxes"
-    assert len(saved["extent"]) == 9
-    assert type(run).from_dict(run.to_dict()).joint_centres.exact_optima.extent == (
-        run.joint_centres.exact_optima.extent)
+    assert len(saved["extent_search"]["ends"]) == 9
+    assert type(run).from_dict(run.to_dict()).joint_centres.exact_optima.extent_search == (
+        run.joint_centres.exact_optima.extent_search)
     sso.write_report(run, tmp_path / "report", formats=("md",))
     text = (tmp_path / "report" / "report.md").read_text()
     assert ("chosen within it by largest margin of the joint centres to their boxes" in text)

@@ -113,3 +113,18 @@ def test_dask_workers_on_this_machine_write_the_numbers_in_place(client, tmp_pat
         while isinstance(column, (np.ndarray, memoryview)):
             column = column.base if isinstance(column, np.ndarray) else column.obj
         assert type(column).__name__ == "mmap"
+
+
+def test_a_dask_worker_keeps_what_sweep_tasks_free(client):
+    # Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536 (give memory
+    # back early); a sweep's tasks set the allocator to keep it (sso._studies.worker_memory).
+    from test_worker_memory import PAGES, faults_of_a_chunk_again
+
+    from sso._studies.execution import run_tasks
+    from sso._studies.worker_memory import glibc_allocator
+
+    if not glibc_allocator():
+        pytest.skip("the allocator set is glibc's")
+    faults = [value for _, value, _ in run_tasks(faults_of_a_chunk_again, [0, 1, 2, 3],
+                                                  client=client)]
+    assert len(faults) == 4 and max(faults) < PAGES // 100
