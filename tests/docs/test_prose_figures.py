@@ -177,6 +177,22 @@ def chain_limits() -> str:
             f"{math.degrees(math.atan(LARGEST_TANGENT_SUM)):.7f} deg")
 
 
+def extent_search_column() -> str:
+    """The extent search's probes (sso/_shafts/exact_optima.py's constants)."""
+    from sso._shafts.exact_optima import EXTENT_PROBES
+
+    return f"Levenberg-Marquardt from the chosen design and {EXTENT_PROBES} seeded random probes"
+
+
+def extent_search_api() -> str:
+    from sso._shafts.exact_optima import EXTENT_HALVINGS, EXTENT_PROBES
+
+    return (f"from the chosen design and then from {EXTENT_PROBES} seeded random probes: the "
+            "first that lands is the end's witness, an exact optimum on the bound, and the end "
+            "(`at_bound`, \"bound\" in the table) is exact. Where none lands, the pinned value "
+            f"is bisected {EXTENT_HALVINGS} times towards the chosen design")
+
+
 def shipped_cases() -> str:
     cases = ROOT / "cases"
     counts = [len(list(cases.glob(pattern))) for pattern in
@@ -215,6 +231,9 @@ FIGURES = {
     "truck lock to lock (docs/column.md)": ("docs/column.md", truck_lock_to_lock),
     "paper trials (docs/model.md)": ("docs/model.md", paper_trials),
     "chain limits (docs/model.md)": ("docs/model.md", chain_limits),
+    "extent search (docs/column.md)": ("docs/column.md", extent_search_column),
+    "extent search (docs/guide/python-api.md)": ("docs/guide/python-api.md",
+                                                 extent_search_api),
     "option-1 trial (docs/model.md)": ("docs/model.md", lambda: option_one_trial(
         "model gives {low} to {high} rpm")),
     "option-1 trial (docs/guide/limits.md)": ("docs/guide/limits.md", lambda: option_one_trial(
