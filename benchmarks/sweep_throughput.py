@@ -441,6 +441,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         ARRAY_CHUNK_FLOOR,
         ARRAY_CHUNKS_PER_WORKER,
         ARRAY_SHARE,
+        DASK_CHUNK_FLOOR,
+        DASK_EVALUATE_CHUNK_CAP,
     )
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -468,7 +470,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "load_before": load_now(),
         "chunks": {"most_points": ARRAY_CHUNK_CAP, "fewest_points": ARRAY_CHUNK_FLOOR,
                    "share_of_a_worker": 1 / ARRAY_SHARE,
-                   "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER},
+                   "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER,
+                   "dask_fewest_points": DASK_CHUNK_FLOOR,
+                   "dask_most_evaluate_points": DASK_EVALUATE_CHUNK_CAP},
     }
     cluster_started = time.perf_counter()
     with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True,

@@ -111,6 +111,8 @@ def finite_in_range(
         If ``value`` is not a real number, is NaN or infinite, or lies outside the
         interval; the message names the field, the value and the interval.
     """
+    if type(value) is float and lower < value < upper:  # inside either kind of interval
+        return value
     return check_in_range(field, finite_float(field, value), lower, upper, unit,
                           upper_open=upper_open, lower_open=lower_open)
 

@@ -45,7 +45,7 @@ from sso._shafts.options import (
     free_angles,
     validate_option_and_bounds,
 )
-from sso._shafts.problem import compiled_nlp
+from sso._shafts.problem import compiled_nlp, native_shape
 from sso._solvers import round_off_stops
 from sso._solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
 from sso._solvers.lm_batch import solve_batch
@@ -274,7 +274,7 @@ def optimise_batch(
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
     native = native_solver_of(
-        (n_joints, option_number), len(free),
+        native_shape(n_joints, option_number), len(free),
         lambda: compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model,
                                            option_number, beta_bounds, phase_bounds), 0))
     parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,

@@ -103,9 +103,6 @@ EXTENT_PROBES = 32
 """Seeded random probes of the other variables from which an end is sought at a bound."""
 EXTENT_HALVINGS = 12
 """Halvings of the pinned value's bracket where no probe lands at the bound."""
-EXTENT_HALVING_PROBES = 4
-"""Random probes tried at each halving, after the furthest witness so far and the chosen
-design."""
 EXTENT_GRID = 36
 """Values per period at which a periodic variable's extent is walked (5 deg for 180)."""
 EXTENT_SEED = 0
@@ -375,7 +372,7 @@ class SetExtent:
         (:data:`EXTENT_PROBES`).
     solves : int
         Least-squares solves the search made (at most ``2 * variables *
-        (1 + probes + halvings * (2 + halving probes))`` for bounded variables).
+        (1 + probes + 2 * halvings)`` for bounded variables).
     time_s : float
         Wall time of the search, s.
     """
@@ -796,22 +793,21 @@ def set_extent(problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve
 
     For each variable and each side: the variable is pinned at its bound and the others are
     solved for RE = 0 by a bounded Levenberg-Marquardt on the two residuals (see
-    ``solve_in_box``) from the chosen
-    design and then from :data:`EXTENT_PROBES` random probes within the bounds (seed
-    :data:`EXTENT_SEED`), stopping at the first that lands at round-off zero within the
-    problem's constraints: the end is that bound, exactly. Where none lands, the pinned
-    value is bisected :data:`EXTENT_HALVINGS` times between the chosen value and the bound
-    (each value tried from the furthest witness so far, the chosen design and
-    :data:`EXTENT_HALVING_PROBES` probes): the end is the furthest value that landed, a
-    lower estimate (the set can reach further, from a part of it no probe found). At most
-    ``1 + EXTENT_PROBES + EXTENT_HALVINGS * (2 + EXTENT_HALVING_PROBES)`` solves per
-    variable and side, each of at most :data:`EXTENT_MAX_ITERATIONS` iterations; most
-    ends land at their bound within a few.
+    ``solve_in_box``) from the chosen design and then from :data:`EXTENT_PROBES` random
+    probes within the bounds (seed :data:`EXTENT_SEED`), stopping at the first that lands
+    at round-off zero within the problem's constraints: the end is that bound, exactly.
+    Where none lands, the pinned value is bisected :data:`EXTENT_HALVINGS` times between
+    the chosen value and the bound (each value tried from the furthest witness so far,
+    then the chosen design): the end is the furthest value that landed, a lower estimate
+    (the set can reach further, from a part of it no probe found). At most
+    ``1 + EXTENT_PROBES + 2 * EXTENT_HALVINGS`` solves per variable and side, each of at
+    most :data:`EXTENT_MAX_ITERATIONS` iterations; most ends land at their bound within a
+    few.
 
     A variable whose bounds span two periods or more (:meth:`SetProblem.wrapping_period`)
     is taken about its chosen value moved by whole periods to lie at least half a period
     inside the bounds, and walked outward on both sides in steps of a period over
-    :data:`EXTENT_GRID` (each step tried as a bisection's value is, then from the other
+    :data:`EXTENT_GRID` (each step tried as a bisection's value is, then from the
     probes), to the first step that does not land, then bisected: the ends are lower
     estimates of the arc of values about the chosen one (half a period each way where
     every step lands: the set then holds an exact optimum at every step of the period).
@@ -869,6 +865,7 @@ class _ExtentSearch:
     def __init__(self, problem: SetProblem, residuals: Residuals, solve_in_box: BoxSolve,
                  chosen: np.ndarray) -> None:
         self.problem = problem
+        self.residuals = residuals
         self.solve_in_box = solve_in_box
         self.chosen: list[float] = chosen.tolist()
         self.chosen_residual_error = abs(residuals(self.chosen)[0]) ** 2
@@ -935,7 +932,7 @@ class _ExtentSearch:
 
     def _nearby(self, witness: list[float]) -> list[list[float]]:
         """The starts of a value tried next to ``witness``'s."""
-        return [witness, self.chosen, *self.probes[:EXTENT_HALVING_PROBES]]
+        return [witness, self.chosen]
 
     def periodic_ends(self, index: int, period: float) -> tuple[_Found, _Found]:
         """Both ends of a variable sought modulo its ``period`` (see :func:`set_extent`)."""
@@ -948,7 +945,10 @@ class _ExtentSearch:
                                        step, EXTENT_GRID)
         if high is None:  # every step of the period lands: half a period each way
             value, witness, fun = self.walk[EXTENT_GRID // 2 - 1]
-            return (value - period, False, witness, fun), (value, False, witness, fun)
+            shifted = list(witness)
+            shifted[index] -= period  # within the bounds, as the centre is
+            return ((value - period, False, shifted, abs(self.residuals(shifted)[0]) ** 2),
+                    (value, False, witness, fun))
         low, _ = self._walked(index, (centre, start, self.chosen_residual_error), -step,
                               EXTENT_GRID - failed_at, closes=False)
         assert low is not None
@@ -964,7 +964,7 @@ class _ExtentSearch:
         for count in range(1, last):
             value = centre + count * step
             found = (self.landed(index, value, self._nearby(inside[1]))
-                     or self.landed(index, value, self.probes[EXTENT_HALVING_PROBES:]))
+                     or self.landed(index, value, self.probes))
             if found is None:
                 return self.bisected(index, inside, value), count
             inside = (value, *found)

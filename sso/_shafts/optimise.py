@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 import time
 import warnings
 from collections.abc import Iterable, Sequence
@@ -56,6 +57,8 @@ from sso._solvers.lm_kernel import flat_outcome, kernel_of, run_kernel_flat
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
+    distinct_minima,
+    measure_on_bounds,
     solution_from_run,
     solve_from_starts,
 )
@@ -63,6 +66,7 @@ from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory, multistart_estimate
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
+from sso._solvers.saddle import saddle_direction
 from sso._solvers.solution import ROLE_SELECTION, Solution
 from sso._validation import (
     validate_count,
@@ -383,6 +387,12 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...],
            tolerances: SpreadMeasure | None) -> OptimisationResult:
+    if solver_names == ("lm",) and starts == 1 and tolerances is None:
+        alone = _solve_alone(problem, series, speed_rpm, solver_tol, max_iterations,
+                             quadrature_rtol, quadrature_atol, objective_rtol, objective_atol,
+                             setup_warnings)
+        if alone is not None:
+            return alone
     screened = _screened(series, solver_names, starts, screen_starts)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
@@ -403,11 +413,6 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         if bar is not None:
             bar.close()
 
-    initial_series = (checked_series(series.beta_deg,
-                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
-                                     series.model)
-                      if problem.option == 2 else series)
-    start_beta, start_phase = problem.design_deg(problem.start_deg)
     exact_optima = None
     # The choice is made where solvers are cross-checked, or tolerances ask for it; one
     # solver's runs report what it reached, as optimise_batch and batched sweeps do.
@@ -417,6 +422,57 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
         chosen, exact_optima = _most_robust(problem, nlp, solved, series.model, tolerances)
         if chosen is not solved["best"]:
             solved["best"], solved["runs"] = chosen, (*solved["runs"], chosen)
+    return _result(problem, rule, series, starts, speed_rpm, quadrature_rtol, quadrature_atol,
+                   setup_warnings, exact_optima, solved)
+
+
+def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
+                 solver_tol: float, max_iterations: int, quadrature_rtol: float,
+                 quadrature_atol: float, objective_rtol: float, objective_atol: float,
+                 setup_warnings: tuple[str, ...]) -> OptimisationResult | None:
+    """``"lm"`` alone from the user's start: the record :func:`solve_from_starts` gives for one
+    solver and one start (the run, its look for a saddle point, its measure), made on
+    plain floats without the multi-start layers. None where the run stopped on a saddle
+    point: the general path leaves it (and makes the record) then.
+    """
+    nlp = compiled_nlp(problem, 0)
+    started = time.perf_counter()
+    fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                           problem.upper_rad.tolist())
+    x, solver_fun, nit, nfev, status = lm.solve_floats(nlp, problem.start_rad.tolist(), fixed,
+                                                       lower, upper, solver_tol, max_iterations)
+    success = status > 0
+    if saddle_direction(nlp, success, solver_fun, x, problem.parameters_rad,
+                        lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:
+        return None
+    time_s = time.perf_counter() - started
+    point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+    x_deg = [math.degrees(angle) for angle in point]
+    beta_deg, phase_deg = problem.design_deg(x_deg)
+    solution = Solution(solver="lm", series=checked_series(beta_deg, phase_deg, series.model),
+                        x=tuple(x_deg), fun=fun, nit=nit, nfev=nfev, status=status,
+                        success=success, message=lm.MESSAGES[status], kkt=kkt, time_s=time_s,
+                        start_index=0, total_nfev=nfev, constraint_violation=0.0)
+    return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
+                   quadrature_atol, setup_warnings, None,
+                   SolverFields(best=solution, solutions={"lm": solution}, runs=(solution,),
+                                crosscheck=None,
+                                local_minima=distinct_minima((solution,), objective_rtol,
+                                                             objective_atol),
+                                confirmations={}))
+
+
+def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
+            speed_rpm: float, quadrature_rtol: float, quadrature_atol: float,
+            setup_warnings: tuple[str, ...], exact_optima: ExactOptimumSet | None,
+            solved: SolverFields) -> OptimisationResult:
+    """The result of a run: the problem's layout, the designs as given and as started, and
+    the solvers' fields."""
+    initial_series = (checked_series(series.beta_deg,
+                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
+                                     series.model)
+                      if problem.option == 2 else series)
+    start_beta, start_phase = problem.design_deg(problem.start_deg)
     return OptimisationResult(
         option=problem.option,
         option_name=problem.option_name,

@@ -68,6 +68,12 @@ def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
     return nlp
 
 
+def native_shape(n_joints: int, option: int) -> tuple[int, int]:
+    """The key of the exact model's ``"lm"`` library for a shape (:mod:`sso._solvers.lm_native`):
+    one library serves :func:`sso.optimise_batch` and the single solve."""
+    return (n_joints, option)
+
+
 def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
     import casadi
 
@@ -88,6 +94,7 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp.residuals = residual
         nlp.objective_hessian = _float_hessian(problem)
         nlp.batch_residuals_and_jacobian = _array_residuals(problem)
+        nlp.lm_shape = native_shape(key.n_joints, key.option)
     nlp.nonnegative_objective = True
     return nlp
 
@@ -223,7 +230,8 @@ def _float_objective(float_residual: Any) -> Any:
 
     def evaluate(x: Any, parameters: Any) -> tuple[float, np.ndarray]:
         point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
-        rho, jacobian = float_residual(point, np.asarray(parameters, dtype=float).tolist())
+        rho, jacobian = float_residual(point, parameters if type(parameters) is list
+                                       else np.asarray(parameters, dtype=float).tolist())
         r1, r2 = 2.0 * rho.real, 2.0 * rho.imag
         return (rho.real * rho.real + rho.imag * rho.imag,
                 np.array([r1 * entry.real + r2 * entry.imag for entry in jacobian]))

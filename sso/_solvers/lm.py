@@ -18,7 +18,10 @@ residual); :mod:`sso._solvers.lm_rules` states it.
 Where the problem gives its residuals as a CasADi expression (``nlp.residuals``),
 the iterations run compiled, in blocks (:mod:`sso._solvers.lm_kernel`): in Python
 every operation costs the interpreter tens of nanoseconds, and an iteration cost
-more than the whole block does in CasADi's virtual machine. The loop below runs the
+more than the whole block does in CasADi's virtual machine. A shape solved
+:data:`NATIVE_AFTER` times in a process runs the same instructions compiled to machine
+code (:mod:`sso._solvers.lm_native`, one call per solve, Newton steps included), which
+ends every solve bit for bit where the kernels end it. The loop below runs the
 same rules in plain Python numbers; it takes the Newton steps the kernel does not
 take (with the problem's closed-form Hessian, ``nlp.objective_hessian``, or
 differences of the gradient) and runs alone for a problem without the expression.
@@ -30,6 +33,7 @@ gradient, of ``f``, per unit of ``x``.
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from typing import Any
@@ -38,6 +42,8 @@ import numpy as np
 
 from sso._solvers import round_off_stops
 from sso._solvers.lm_kernel import (
+    NEWTON_KERNEL_VARIABLES,
+    SWITCH_VARIABLE,
     flat_outcome,
     kernel_of,
     newton_kernel_of,
@@ -84,6 +90,12 @@ PROBE_STEPS = (1e-9, 1e-6, 1e-3)
 """Moves of one variable (NLP units, rad for a shaft series) tried at a round-off stop."""
 PROBE_DECREASE = 1e-6
 """A probe that lowers the sum of squares by more than this fraction refutes the stop."""
+NATIVE_AFTER = 64
+"""Solves of one shape (in one thread) after which it runs compiled to machine code: the
+library's build (1 to 3 s, once per machine and version of the code, kept in a cache
+folder) or its load (the hash of the package, about 50 ms) costs more than a few dozen
+solves gain, so a shape solved once or by one default call (eight screened starts) never
+pays it."""
 # Forward differences: truncation ~ step, round-off ~ eps / step; 1e-7 balances them
 # well enough for Newton's superlinear convergence.
 _HESSIAN_STEP = 1e-7
@@ -114,38 +126,91 @@ def solve(
         Trial steps, at most.
     """
     started = time.perf_counter()
-    residual = getattr(nlp, "residuals_and_jacobian", None)
-    if residual is None or limits.constrained:
+    if getattr(nlp, "residuals_and_jacobian", None) is None or limits.constrained:
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0, -3, False,
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
-    fixed = parameters.tolist()
-    lower, upper = limits.lower.tolist(), limits.upper.tolist()
+    x, fun, nit, nfev, status = solve_floats(nlp, start.tolist(), parameters.tolist(),
+                                             limits.lower.tolist(), limits.upper.tolist(),
+                                             solver_tol, max_iterations)
+    return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
+                      time.perf_counter() - started)
+
+
+def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
+                 upper: list[float], solver_tol: float, max_iterations: int
+                 ) -> tuple[list[float], float, int, int, int]:
+    """:func:`solve` on lists of floats, for a problem with residuals and bounds only.
+
+    Returns
+    -------
+    x, fun, nit, nfev, status
+        Final point, sum of squares, trial steps, residual evaluations and a key of
+        :data:`MESSAGES` (the run succeeded where it is positive).
+    """
+    residual = nlp.residuals_and_jacobian
     kernel = kernel_of(nlp)
     state = None
-    if kernel is not None:
-        values = run_kernel_flat(kernel, start.tolist(), fixed, lower, upper, solver_tol,
+    native = native_of(nlp) if kernel is not None else None
+    if native is not None:
+        values = native.solve_one(start, [*fixed, *lower, *upper, solver_tol,
+                                          float(max_iterations)])
+        x, fun, nit, nfev, status = flat_outcome(values, len(lower))
+        if status != NEWTON_INDEFINITE:
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
+        state = unpack(values, len(lower))
+    elif kernel is not None:
+        values = run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol,
                                  max_iterations)
         x, fun, nit, nfev, status = flat_outcome(values, len(lower))
         if status not in (RUNNING, NEWTON):
-            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
         state = unpack(values, len(lower))
     objective_hessian = getattr(nlp, "objective_hessian", None)
-    newton_kernel = (newton_kernel_of(nlp) if state is not None and state["status"] == NEWTON
+    newton_kernel = (newton_kernel_of(nlp)
+                     if state is not None and state["status"] in (NEWTON, NEWTON_INDEFINITE)
                      else None)
     x, fun, nit, nfev, status = minimise(
-        lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
+        lambda point: residual(point, fixed), start, lower, upper, solver_tol,
         max_iterations,
         None if objective_hessian is None else lambda point: objective_hessian(point, fixed),
         state,
         None if newton_kernel is None else lambda given: run_newton_kernel(
             newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
-    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper, started)
+    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
+
+
+def native_of(nlp: Any) -> Any:
+    """The shape's library compiled to machine code (:mod:`sso._solvers.lm_native`), once
+    this thread has solved the shape :data:`NATIVE_AFTER` times; None before, for a
+    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and with
+    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) in the
+    environment.
+
+    Each design ends there bit for bit where the compiled kernels end it (the Newton
+    kernel built); only a shape's first solves, whose Newton steps the Python loop takes
+    before that kernel is built, may end differently in the last digits.
+    """
+    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
+        return None
+    native = nlp.lm_native
+    if native is None:
+        if nlp.lm_shape is None:
+            return None
+        nlp.lm_solves += 1
+        if nlp.lm_solves < NATIVE_AFTER:
+            return None
+        from sso._solvers.lm_native import native_solver_of
+
+        native = nlp.lm_native = native_solver_of(
+            nlp.lm_shape, int(nlp.symbols["x"].numel()), lambda: nlp,
+            NEWTON_KERNEL_VARIABLES) or False
+    return native or None
 
 
 def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit: int,
-             nfev: int, status: int, lower: list[float], upper: list[float],
-             started: float) -> RunOutcome:
+             nfev: int, status: int, lower: list[float], upper: list[float]
+             ) -> tuple[list[float], float, int, int, int]:
     """The outcome of a solve, a stop at round-off tested first: a minimum, or only a
     vanished step (:mod:`sso._solvers.round_off_stops`)?"""
     if status in round_off_stops.ROUND_OFF_STOPS:
@@ -153,8 +218,7 @@ def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit:
                                               list(x), fun, lower, upper)
         nfev += probes
         status = status if holds else round_off_stops.REFUTED
-    return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
-                      time.perf_counter() - started)
+    return x, fun, nit, nfev, status
 
 
 def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],

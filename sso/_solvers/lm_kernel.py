@@ -44,6 +44,11 @@ from sso._solvers.lm_rules import (
 )
 from sso._solvers.nlp import BufferedFunction
 
+SWITCH_VARIABLE = "SSO_NATIVE_LM"
+"""Environment variable: ``0`` keeps the ``"lm"`` iterations on CasADi's virtual machine (the
+single solve) and on numpy (:func:`sso.optimise_batch`) instead of the library compiled to
+machine code (:mod:`sso._solvers.lm_native`)."""
+
 KERNEL_ITERATIONS = 6
 """Iterations chained in one block of the kernel, which runs block after block until
 the solve ends. Most exact-model solves of 3 to 6 joints take 4 or 5 steps and the

@@ -24,6 +24,11 @@ with
 ``SSO_NATIVE_LM=0`` in the environment, the numpy path runs: the same rules, whose
 answers differ from these in the last digits (and, for a design that turns to Newton
 steps, by the batched least squares' finish).
+
+The single solve (:func:`sso._solvers.lm.solve`) runs a shape it has solved often in
+this process through the same library, one design per call (:meth:`NativeSolver.solve_one`), up to
+:data:`sso._solvers.lm_kernel.NEWTON_KERNEL_VARIABLES` variables (11 variables, 6
+joints of option 3, built in about 6 s on 2 busy cores).
 """
 
 from __future__ import annotations
@@ -49,7 +54,8 @@ from sso._solvers.least_squares import (
     leave_saddles,
 )
 from sso._solvers.lm_batch import BatchRun
-from sso._solvers.lm_kernel import iteration_functions
+from sso._solvers.lm_kernel import NEWTON_KERNEL_VARIABLES, iteration_functions
+from sso._solvers.lm_kernel import SWITCH_VARIABLE as SWITCH_VARIABLE
 from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING, SCALARS
 
 NATIVE_VARIABLES = 5
@@ -59,9 +65,6 @@ the source with the square and the cube of the count, and the compiler's time fa
 measured on 2 busy cores, 2 to 4.5 s up to 5 variables, 5.5 s for 7 (4 joints of
 option 3), 34 s for 11 (6 joints of option 3), a first call's cost no batch of a few
 thousand designs repays."""
-
-SWITCH_VARIABLE = "SSO_NATIVE_LM"
-"""Environment variable: ``0`` keeps ``sso.optimise_batch`` on the numpy path."""
 
 CACHE_VARIABLE = "SSO_CACHE_DIR"
 """Environment variable naming the folder of compiled libraries (see :func:`cache_folder`)."""
@@ -82,6 +85,7 @@ COMPILE_TIMEOUT_S = 300.0
 """A compiler still running after this long is stopped and the numpy path kept."""
 
 _FUNCTIONS = ("sso_lm_start", "sso_lm_gauss_newton", "sso_lm_newton", "sso_lm_shifted")
+_STATUS = SCALARS.index("status")
 _DRIVER = """
 #include <stdlib.h>
 #include <string.h>
@@ -159,16 +163,39 @@ class NativeSolver:
         """Entries of one design's state (:func:`sso._solvers.lm_kernel.pack`)."""
         return 3 * self.size + 2 + len(SCALARS)
 
+    def solve_one(self, start: list[float], problem: list[float]) -> list[float]:
+        """One design from ``start`` to its end, as the flat state of
+        :func:`sso._solvers.lm_kernel.pack` (what the compiled kernels end with).
+
+        ``problem`` is the flat problem of :func:`sso._solvers.lm_kernel.run_kernel_flat`:
+        the fixed parameters, the lower and upper bounds, the tolerance and the iteration
+        limit. Plain ctypes arrays: for one design numpy's cost more than the solve.
+
+        Raises
+        ------
+        MemoryError
+            If the library could not allocate its working memory.
+        """
+        state_size = 3 * self.size + 2 + len(SCALARS)
+        state = (ctypes.c_double * state_size)(*start)
+        given = (ctypes.c_double * len(problem))(*problem)
+        if self.solve(1, given, len(problem), state, state_size, 3 * self.size + 2 + _STATUS):
+            raise MemoryError("the compiled lm solver could not allocate its working memory")
+        return state[:]
+
 
 _solvers: dict[Hashable, NativeSolver | None] = {}
 
 
-def native_solver_of(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
-                     ) -> NativeSolver | None:
+def native_solver_of(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any],
+                     most_variables: int = NATIVE_VARIABLES) -> NativeSolver | None:
     """The compiled solver of ``shape`` (``size`` free variables), loaded from the cache or
     built from ``nlp_of_shape()`` on the shape's first call in this process and kept;
-    None where it cannot be had (tried once) or ``SSO_NATIVE_LM=0``."""
-    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
+    None for more than ``most_variables`` variables (the batch's
+    :data:`NATIVE_VARIABLES`; the single solve's
+    :data:`sso._solvers.lm_kernel.NEWTON_KERNEL_VARIABLES`), where it cannot be had
+    (tried once) or with ``SSO_NATIVE_LM=0``."""
+    if size > most_variables or os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
         return None
     if shape not in _solvers:
         _solvers[shape] = _load_or_build(shape, size, nlp_of_shape)
@@ -190,7 +217,7 @@ def build_native_solver(nlp: Any) -> NativeSolver | None:
     has no residuals or more than :data:`NATIVE_VARIABLES` variables, or the compiler is
     missing or fails."""
     size = int(nlp.symbols["x"].numel()) if nlp.residuals is not None else 0
-    return _load_or_build(nlp.name, size, lambda: nlp)
+    return _load_or_build(nlp.name, size, lambda: nlp) if size <= NATIVE_VARIABLES else None
 
 
 def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
@@ -203,7 +230,7 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
     package, :func:`_code_fingerprint`), the compiler command and the machine: a load
     from the cache needs neither the NLP nor the source.
     """
-    if not 0 < size <= NATIVE_VARIABLES:
+    if not 0 < size <= NEWTON_KERNEL_VARIABLES:
         return None
     command = [os.environ.get("CC") or "cc", *COMPILER_FLAGS]
     key = hashlib.sha256("\0".join([repr(shape), str(size), _code_fingerprint(), *command,

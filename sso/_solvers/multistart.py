@@ -128,6 +128,10 @@ def solve_from_starts(
     SolverFields
         The fields every :class:`sso._solvers.result.DesignResult` carries.
     """
+    if starts == 1 and len(solver_names) == 1:
+        return _solve_alone(nlp, user_start, limits, parameters, solver_names[0], solver_tol,
+                            max_iterations, to_solution, objective_rtol, objective_atol,
+                            progress)
     points = start_points(user_start, limits.lower, limits.upper, starts, seed)
     if (screen_starts and nlp.residuals_and_jacobian is not None
             and (len(points) > 1 or len(solver_names) > 1)):
@@ -158,6 +162,26 @@ def solve_from_starts(
         local_minima=distinct_minima(all_runs, objective_rtol, objective_atol),
         confirmations={},
     )
+
+
+def _solve_alone(nlp: Any, start: np.ndarray, limits: RunLimits, parameters: np.ndarray,
+                 solver_name: str, solver_tol: float, max_iterations: int,
+                 to_solution: Callable[[MeasuredRun, list[MeasuredRun]], Solution],
+                 objective_rtol: float, objective_atol: float,
+                 progress: Callable[[], None] | None) -> SolverFields:
+    """One solver from the user's start: the fields the multi-start path gives for one
+    solver and one start (its run, measured, is its answer and the best; no screen, no
+    cross-check), without laying out starts or grouping runs by solver."""
+    run = _run_one(nlp, np.asarray(start, dtype=float), 0, parameters, limits,
+                   _backend(solver_name), solver_name, solver_tol, max_iterations, True, True)
+    if progress is not None:
+        progress()
+    solution = _with_role(to_solution(run, [run]), ROLE_SOLVE)
+    return SolverFields(best=solution, solutions={solver_name: solution}, runs=(solution,),
+                        crosscheck=None,
+                        local_minima=distinct_minima((solution,), objective_rtol,
+                                                     objective_atol),
+                        confirmations={})
 
 
 def _screen_then_cross_check(
@@ -389,21 +413,27 @@ def run_starts(
     runs: dict[str, list[MeasuredRun]] = {}
     for name in solver_names:
         backend = _backend(name)
-
-        def solve(start: np.ndarray, backend: _Backend = backend) -> RunOutcome:
-            return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
-
         runs[name] = []
         for index, point in enumerate(points):
-            outcome = (solve_with_second_order_care(solve, nlp, point, parameters, limits,
-                                                    solver_tol,
-                                                    check_start=(check_start and not
-                                                                 backend.TESTS_ITS_START))
-                       if second_order else solve(point))
-            runs[name].append(measure_run(name, index, outcome, nlp, parameters, limits))
+            runs[name].append(_run_one(nlp, point, index, parameters, limits, backend, name,
+                                       solver_tol, max_iterations, second_order, check_start))
             if progress is not None:
                 progress()
     return runs
+
+
+def _run_one(nlp: Any, point: np.ndarray, index: int, parameters: np.ndarray,
+             limits: RunLimits, backend: _Backend, name: str, solver_tol: float,
+             max_iterations: int, second_order: bool, check_start: bool) -> MeasuredRun:
+    """One run of :func:`run_starts`, measured."""
+    def solve(start: np.ndarray) -> RunOutcome:
+        return backend.solve(nlp, start, parameters, limits, solver_tol, max_iterations)
+
+    outcome = (solve_with_second_order_care(solve, nlp, point, parameters, limits, solver_tol,
+                                            check_start=(check_start and not
+                                                         backend.TESTS_ITS_START))
+               if second_order else solve(point))
+    return measure_run(name, index, outcome, nlp, parameters, limits)
 
 
 def best_solution(solutions: Iterable[Solution]) -> Solution:
@@ -483,28 +513,42 @@ def _backend(name: str) -> _Backend:
 def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
                 parameters: np.ndarray, limits: RunLimits) -> MeasuredRun:
     """``outcome`` re-measured on the problem's graph: objective, stationarity, violation."""
-    # NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as
-    # the vectors are short.
     lower, upper = limits.lower.tolist(), limits.upper.tolist()
     given = outcome.x.tolist() if type(outcome.x) is np.ndarray else np.asarray(
         outcome.x, dtype=float).tolist()
-    point = [low if value < low else high if value > high else value if value == value else
-             (0.0 if low <= 0.0 <= high else low if 0.0 < low else high)
-             for value, low, high in zip(given, lower, upper, strict=True)]
-    x = np.array(point, dtype=float)
-    value, gradient = nlp.objective_and_gradient(point, parameters)
     if limits.constrained:
+        point = _onto_bounds(given, lower, upper)
+        x = np.array(point, dtype=float)
+        value, gradient = nlp.objective_and_gradient(point, parameters)
         constraint_values, constraint_jacobian = nlp.constraints_and_jacobian(x, parameters)
         constraint_values = np.array(constraint_values, dtype=float).ravel()
         kkt = kkt_residual(x, gradient, limits, constraint_values,
                            np.array(constraint_jacobian, dtype=float))
         violation = constraint_violation(x, limits, constraint_values)
     else:
-        # x was just put onto the bounds: it violates nothing.
-        kkt = projected_gradient_norm_floats(point, np.ravel(gradient).tolist(), lower, upper)
-        violation = 0.0
+        point, value, kkt = measure_on_bounds(nlp, given, parameters, lower, upper)
+        x = np.array(point, dtype=float)
+        violation = 0.0  # x was just put onto the bounds: it violates nothing
     return MeasuredRun(name, start_index,
                        RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
                                   outcome.status, outcome.success, outcome.message,
                                   outcome.time_s),
                        float(value), kkt, violation)
+
+
+def measure_on_bounds(nlp: Any, given: list[float], parameters: Any, lower: list[float],
+                      upper: list[float]) -> tuple[list[float], float, float]:
+    """The measure of a point of a bound-only problem: the point put onto the bounds, the
+    objective and the projected gradient's norm there (plain floats)."""
+    point = _onto_bounds(given, lower, upper)
+    value, gradient = nlp.objective_and_gradient(point, parameters)
+    slopes = (gradient.ravel() if type(gradient) is np.ndarray else np.ravel(gradient)).tolist()
+    return point, float(value), projected_gradient_norm_floats(point, slopes, lower, upper)
+
+
+def _onto_bounds(given: list[float], lower: list[float], upper: list[float]) -> list[float]:
+    """NaN to 0, then onto the bounds (IPOPT relaxes them slightly); plain floats, as the
+    vectors are short."""
+    return [low if value < low else high if value > high else value if value == value else
+            (0.0 if low <= 0.0 <= high else low if 0.0 < low else high)
+            for value, low, high in zip(given, lower, upper, strict=True)]

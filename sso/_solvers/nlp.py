@@ -65,6 +65,15 @@ class CompiledNLP:
         enough (:func:`sso._solvers.lm_kernel.newton_kernel_of`).
     lm_newton_requests : int
         Runs that asked for the Newton kernel before it was built.
+    lm_shape : hashable or None
+        The key of the shape's ``"lm"`` library compiled to machine code
+        (:mod:`sso._solvers.lm_native`, shared with :func:`sso.optimise_batch`); None
+        for a problem without one.
+    lm_solves : int
+        ``"lm"`` solves of the shape before it turned to that library
+        (:func:`sso._solvers.lm.native_of`).
+    lm_native : NativeSolver, False or None
+        The library once loaded (False where it cannot be had; None before).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -89,6 +98,9 @@ class CompiledNLP:
     lm_kernel: Any = None
     lm_newton_kernel: Any = None
     lm_newton_requests: int = 0
+    lm_shape: Hashable | None = None
+    lm_solves: int = 0
+    lm_native: Any = None
 
     def ipopt(self, options: dict[str, Any]) -> BufferedSolver:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""

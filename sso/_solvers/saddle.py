@@ -98,7 +98,7 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
     gradients the difference Hessian uses as ``njev``."""
     counts = _Counts()
     start = np.minimum(np.maximum(np.asarray(start, dtype=float), limits.lower), limits.upper)
-    global_floor = ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -np.inf
+    global_floor = _global_floor(nlp)
     if check_start:
         at_minimum = _minimum_at_start(nlp, start, parameters, limits, solver_tol, global_floor,
                                        counts)
@@ -106,18 +106,43 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
             return counts.add_to(at_minimum)
     outcome = solve(start)
     for _ in range(MAX_ESCAPES):
-        if (not outcome.success or outcome.fun <= global_floor
-                or not math.isfinite(sum(outcome.x.tolist()))):
+        found = saddle_direction(nlp, outcome.success, outcome.fun, outcome.x.tolist(),
+                                 parameters, limits, counts)
+        if found is None:
             break
-        x = np.clip(outcome.x, limits.lower, limits.upper)
-        direction = _negative_curvature(nlp, x, parameters, limits, counts)
-        if direction is None:
-            break
+        x, direction = found
         escaped = _descend_along(nlp, x, direction, parameters, limits, counts)
         if escaped is None:
             break
         outcome = _combine(outcome, solve(escaped))
     return counts.add_to(outcome)
+
+
+def saddle_direction(nlp: Any, success: bool, fun: float, x: list[float],
+                     parameters: np.ndarray, limits: RunLimits | Callable[[], RunLimits],
+                     counts: _Counts | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+    """Where a run that succeeded stopped on a saddle point: the point (on the bounds) and
+    the direction of most negative curvature there; None after a failure, at a nonnegative
+    objective's global minimum (round-off zero), at a point that is not finite, or where
+    no variable that may move has negative curvature.
+
+    ``limits`` may be a function that gives them: it is called only for the curvature,
+    which a run that stops at round-off zero never needs. The checks' gradient calls are
+    added to ``counts``.
+    """
+    if not success or fun <= _global_floor(nlp) or not math.isfinite(sum(x)):
+        return None
+    bounds = limits if isinstance(limits, RunLimits) else limits()
+    point = np.clip(np.array(x, dtype=float), bounds.lower, bounds.upper)
+    direction = _negative_curvature(nlp, point, parameters, bounds,
+                                    _Counts() if counts is None else counts)
+    return None if direction is None else (point, direction)
+
+
+def _global_floor(nlp: Any) -> float:
+    """The objective at which a run is a global minimum without a look: round-off zero for
+    a nonnegative objective, none (minus infinity) otherwise."""
+    return ZERO_OBJECTIVE if getattr(nlp, "nonnegative_objective", False) else -math.inf
 
 
 def _minimum_at_start(nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,

@@ -87,6 +87,14 @@ ARRAY_SHARE = 2
 ARRAY_CHUNKS_PER_WORKER = 8
 ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
+# On Dask a task costs about 5 ms of CPU (the scheduler's and the client's work in
+# the calling process of a LocalCluster, and the worker's), against a few tenths of
+# a ms in the local pool, so Dask's tasks are longer: each at least DASK_CHUNK_FLOOR
+# points of its action (about 12 ms of optimising, 7 ms of evaluating), and an
+# evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 70 ms, and 70 MB at the
+# peak, as an optimise task of ARRAY_CHUNK_CAP points).
+DASK_CHUNK_FLOOR = {"optimise": 5_000, "evaluate": 20_000}
+DASK_EVALUATE_CHUNK_CAP = 200_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
@@ -147,7 +155,9 @@ def sweep(
     chunk_size : int, optional
         Points per task, ``1..50000`` (default: about four tasks per worker, at
         most 25 points each; a sweep run as arrays, tasks of decreasing size, each
-        half a worker's share of the points left, 2,000 to 50,000 points).
+        half a worker's share of the points left, 2,000 to 50,000 points; on
+        Dask at least 5,000 optimised or 20,000 evaluated points, an evaluate task
+        up to 200,000).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -191,7 +201,8 @@ def sweep(
     worker_count = validate_workers(workers)
     plan = array_plan(case, parsed_axes, action, client, worker_count)
     check_memory(_estimate(case, parsed_axes, mode, action,
-                           worker_count if client is None else 1, plan is not None),
+                           worker_count if client is None else 1, plan is not None,
+                           client is not None),
                  memory_limit_mb)
     count = point_count(parsed_axes, mode)
     header = columns([axis.path for axis in parsed_axes], case.kind)
@@ -248,7 +259,8 @@ class _Job:
         """The tasks of the pending points (sorted), each with the slice of every axis
         its points take, found from its first and last point alone."""
         sizes = _chunk_sizes(self.chunk_size, len(pending),
-                             parallelism(self.client, self.workers), self.plan is not None)
+                             parallelism(self.client, self.workers), self.plan is not None,
+                             *array_chunk_limits(self.client is not None, self.action))
         lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
         for start, size in zip(np.cumsum([0, *sizes]).tolist()[:-1], sizes, strict=True):
@@ -349,7 +361,7 @@ def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: RowTable, resume
 
 
 def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
-              workers: int, arrays: bool) -> ResourceEstimate:
+              workers: int, arrays: bool, on_dask: bool) -> ResourceEstimate:
     """Memory and solves of the sweep, from the base case's shape."""
     count = (math.prod(len(axis.values) for axis in axes) if mode != "listed"
              else max(len(axis.values) for axis in axes))
@@ -365,17 +377,27 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
         joints, free = problem.n_joints, problem.n_free
     return sweep_estimate(count, joints, free, samples, per_point, workers,
                           optimising and case.kind == "shaft_series", arrays,
-                          min(count, ARRAY_CHUNK_CAP))
+                          min(count, array_chunk_limits(on_dask, action)[1]))
 
 
-def _chunk_sizes(chunk_size: Any, points: int, at_once: int,
-                 arrays: bool = False) -> list[int]:
-    """Points of each task, in order (see the chunking constants above)."""
+def array_chunk_limits(on_dask: bool, action: str) -> tuple[int, int]:
+    """The fewest and the most points of an array sweep's task (see the chunking
+    constants above)."""
+    if not on_dask:
+        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP
+    return (DASK_CHUNK_FLOOR[action],
+            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP)
+
+
+def _chunk_sizes(chunk_size: Any, points: int, at_once: int, arrays: bool = False,
+                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP) -> list[int]:
+    """Points of each task, in order (see the chunking constants above); an array
+    sweep's tasks of ``fewest`` to ``most`` points."""
     if chunk_size is None and arrays:
-        floor = min(ARRAY_CHUNK_FLOOR, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
+        floor = min(fewest, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
         sizes = []
         while points > 0:
-            size = min(points, ARRAY_CHUNK_CAP,
+            size = min(points, most,
                        max(floor, math.ceil(points / (ARRAY_SHARE * at_once))))
             sizes.append(size)
             points -= size

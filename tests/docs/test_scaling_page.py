@@ -19,6 +19,8 @@ from sso._studies.sweep import (
     ARRAY_CHUNK_FLOOR,
     ARRAY_CHUNKS_PER_WORKER,
     ARRAY_SHARE,
+    DASK_CHUNK_FLOOR,
+    DASK_EVALUATE_CHUNK_CAP,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -115,6 +117,9 @@ def test_the_prose_states_the_package_constants():
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
+    assert (f"at least {DASK_CHUNK_FLOOR['optimise']:,} optimised points or "
+            f"{DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an evaluate task up to "
+            f"{DASK_EVALUATE_CHUNK_CAP:,} points") in text
     assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text

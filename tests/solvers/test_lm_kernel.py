@@ -14,6 +14,7 @@ from sso._solvers import lm
 from sso._solvers.lm_kernel import (
     KERNEL_ITERATIONS,
     NEWTON_KERNEL_AFTER,
+    SWITCH_VARIABLE,
     kernel_of,
     newton_kernel_of,
     pack,
@@ -33,6 +34,14 @@ from sso._solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
+
+
+@pytest.fixture(autouse=True)
+def _kernels_not_the_library(monkeypatch):
+    # These tests hold the kernels (CasADi's virtual machine) to the Python loop: a shape
+    # solved often would run the compiled library instead (tests/solvers/test_lm_native.py
+    # holds that to the kernels).
+    monkeypatch.setenv(SWITCH_VARIABLE, "0")
 
 
 def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0, 180.0)):

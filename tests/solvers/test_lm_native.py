@@ -39,9 +39,12 @@ def _problem(beta_deg, phase_deg, option):
 
 @needs_compiler
 @pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])  # 5, 3, 5 variables
-def test_each_design_ends_bit_for_bit_where_the_single_solve_s_kernels_end(joints, option):
+def test_each_design_ends_bit_for_bit_where_the_single_solve_s_kernels_end(joints, option,
+                                                                           monkeypatch):
     # Random starts of the shape, zero and nonzero minima, Newton steps through
-    # indefinite Hessians (option 3 turns to Newton steps far from its zeros).
+    # indefinite Hessians (option 3 turns to Newton steps far from its zeros). The
+    # single solve runs its kernels (the switch keeps it off the library).
+    monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
     rng = np.random.default_rng(60 + joints)
     beta_deg, phase_deg = rng.uniform(5.0, 35.0, (40, joints)), rng.uniform(0.0, 180.0,
                                                                            (40, joints - 1))
@@ -61,6 +64,41 @@ def test_each_design_ends_bit_for_bit_where_the_single_solve_s_kernels_end(joint
         assert (run.fun[row], run.nit[row], run.status[row]) == (single.fun, single.nit,
                                                                  single.status)
         np.testing.assert_array_equal(run.x[row], single.x)
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(4, 3), (5, 1)])  # 7 and 4 variables
+def test_a_shape_solved_often_turns_to_the_library_and_ends_where_the_kernels_end(
+        joints, option, monkeypatch):
+    # 4 joints of option 3 have more variables than the batch compiles (NATIVE_VARIABLES):
+    # the single solve compiles them too. Reference: the same solves on the kernels
+    # (CasADi's virtual machine, the Newton kernel built), bit for bit.
+    rng = np.random.default_rng(80 + joints)
+    problems = [_problem(rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1),
+                         option) for _ in range(30)]
+    nlp = compiled_nlp(problems[0], 0)
+    for _ in range(NEWTON_KERNEL_AFTER):
+        newton_kernel_of(nlp)
+
+    def solve(problem):
+        return lm.solve(nlp, problem.start_rad, problem.parameters_rad,
+                        RunLimits(problem.lower_rad, problem.upper_rad), 1e-12, 3000)
+
+    monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
+    on_kernels = [solve(problem) for problem in problems]
+    monkeypatch.delenv(lm_native.SWITCH_VARIABLE)
+    nlp.lm_native, nlp.lm_solves = None, 0
+    for _ in range(lm.NATIVE_AFTER - 1):
+        solve(problems[0])
+    assert nlp.lm_native is None  # not before NATIVE_AFTER solves of the shape
+    compiled = [solve(problem) for problem in problems]
+    assert isinstance(nlp.lm_native, lm_native.NativeSolver)
+    assert nlp.lm_native.size == nlp.symbols["x"].numel()
+    for kernel, library in zip(on_kernels, compiled, strict=True):
+        assert ((library.fun, library.nit, library.nfev, library.status, library.message)
+                == (kernel.fun, kernel.nit, kernel.nfev, kernel.status, kernel.message))
+        np.testing.assert_array_equal(library.x, kernel.x)
+    assert {kernel.status for kernel in on_kernels} & {1, 4}  # converged solves among them
 
 
 def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):

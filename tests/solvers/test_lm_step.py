@@ -20,7 +20,15 @@ from sso._kinematics import hooke_matrix
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
 from sso._solvers import lm
+from sso._solvers.lm_kernel import SWITCH_VARIABLE
 from sso._solvers.run import RunLimits
+
+
+@pytest.fixture(autouse=True)
+def _kernels_not_the_library(monkeypatch):
+    # The kernel's copy of the step (CasADi's virtual machine), not the library a shape
+    # solved often runs (the same instructions compiled: tests/solvers/test_lm_native.py).
+    monkeypatch.setenv(SWITCH_VARIABLE, "0")
 
 # Interior starts near, but not at, an exact optimum: the first step is accepted and
 # touches no bound (both checked below).
