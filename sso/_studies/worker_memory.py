@@ -28,10 +28,10 @@ M_MMAP_THRESHOLD = -3
 MAPPED_ABOVE_BYTES = 32 * 2**20
 """Allocations above this are mapped apart and unmapped when freed (glibc's largest
 setting): a chunk's arrays, at most a few MB each, stay on the heap."""
-KEPT_FREE_BYTES = 128 * 2**20
+KEPT_FREE_BYTES = 64 * 2**20
 """Free memory at the top of the heap kept rather than given back: above a chunk's
 peak (measured with tracemalloc on three joints: 38 MB optimising 50,000 points,
-17 MB evaluating 50,000 and about 70 MB evaluating the 200,000 of a Dask task)."""
+17 MB evaluating 50,000, 35 MB evaluating the 100,000 of a Dask task)."""
 
 _kept = False
 
