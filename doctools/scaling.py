@@ -154,6 +154,8 @@ def section(document: dict[str, Any]) -> str:
         f"Start-ups, not counted above: the Dask cluster {document['dask_cluster_start_s']:.1f} s, "
         f"the local pool's fork server and workers (the first pool of a process) "
         f"{document['pool_start_s']:.2f} s.",
+        "",
+        task_times(document),
     ]
     lines += _robust_lines(document)
     disk = document.get("on_disk")
@@ -166,7 +168,9 @@ def section(document: dict[str, Any]) -> str:
             f"the rate stays constant within 20%: "
             f"{'yes' if disk['constant_rate'] else 'NO'}); the report after the last row "
             f"took {disk['after_last_row_s']:.2f} s, of a wall time of {disk['wall_s']:.1f} s. "
-            f"A point takes {disk['csv_bytes_per_point']:.0f} bytes of `sweep.csv` and "
+            f"Written to `sweep.csv`, it ran at {written_rate(document):,.0f} points/s, "
+            f"against {document['evaluate']['runs'][ONE]['median_points_per_s']:,.0f} in "
+            f"memory. A point takes {disk['csv_bytes_per_point']:.0f} bytes of `sweep.csv` and "
             f"{disk['parquet_bytes_per_point']:.0f} bytes of `sweep.parquet`.",
         ]
     lines += ["", "### 10^9 designs on a cluster", ""]
@@ -236,6 +240,21 @@ def _autogroup_note(load: dict[str, Any]) -> str:
             "while other sessions keep both cores busy a sweep's second process adds little "
             "to its session's share: a parallel ratio measured under such load is a lower "
             "bound of what an idle machine gives.")
+
+
+def task_times(document: dict[str, Any]) -> str:
+    """What a task of the most and of the fewest points takes at one process's rates."""
+    per_point_s = {action: 1.0 / document[action]["runs"][ONE]["median_points_per_s"]
+                   for action in ("evaluate", "optimise")}
+    chunks = document["chunks"]
+    most, fewest = chunks["most_points"], chunks["fewest_points"]
+    return (f"At one process's rates in this run ({per_point_s['evaluate'] * 1e6:.2f} us a "
+            f"point evaluating, {per_point_s['optimise'] * 1e6:.2f} us optimising), a task of "
+            f"the most points ({most:,}) takes {most * per_point_s['evaluate']:.2f} s of "
+            f"evaluating or {most * per_point_s['optimise']:.2f} s of optimising, and one of "
+            f"the fewest ({fewest:,}) {fewest * per_point_s['evaluate'] * 1e3:.1f} ms or "
+            f"{fewest * per_point_s['optimise'] * 1e3:.1f} ms; Dask puts its scheduler's cost "
+            f"at up to {TASK_OVERHEAD_S * 1e3:g} ms a task.")
 
 
 def page_with_section(markdown: str, document: dict[str, Any]) -> str:

@@ -76,10 +76,11 @@ CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
 # An array sweep (sso._studies.array_engine) is cut into tasks of decreasing size
 # (guided self-scheduling): each takes 1 / (ARRAY_SHARE x workers) of the points
-# not yet cut, at most ARRAY_CHUNK_CAP points (0.05 s of evaluating, about 1 us a
-# point, to 0.5 s of optimising, about 10 us a point, and a few tens of MB of
-# arrays at the peak) and at least ARRAY_CHUNK_FLOOR (a few ms of work, still
-# above a task's cost to the pool or to Dask), or in a small sweep an
+# not yet cut, at most ARRAY_CHUNK_CAP points (hundredths of a second of evaluating
+# to tenths of optimising at the rates docs/scaling.md records, which gives them,
+# and ARRAY_CHUNK_CAP x estimate.ARRAY_CHUNK_BYTES_PER_POINT at the peak) and at
+# least ARRAY_CHUNK_FLOOR (milliseconds of work, above a task's cost to the pool or
+# to Dask), or in a small sweep an
 # ARRAY_CHUNKS_PER_WORKER-th of a worker's share. The first tasks are long and
 # the last ones short, so the workers end within a short task of each other.
 ARRAY_SHARE = 2

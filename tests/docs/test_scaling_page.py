@@ -72,8 +72,52 @@ def test_the_projection_follows_from_the_raw_passes(document, machines):
         assert figures["tasks"] == 1e9 / ARRAY_CHUNK_CAP
 
 
+def test_the_page_gives_what_a_task_takes_at_the_recorded_rates(document):
+    # Recomputed here from the recorded one-process rates and the recorded chunk sizes.
+    evaluate_s = 1.0 / document["evaluate"]["runs"][scaling.ONE]["median_points_per_s"]
+    optimise_s = 1.0 / document["optimise"]["runs"][scaling.ONE]["median_points_per_s"]
+    assert (document["chunks"]["most_points"], document["chunks"]["fewest_points"]) == (
+        ARRAY_CHUNK_CAP, ARRAY_CHUNK_FLOOR)
+    page = " ".join(scaling.page_with_section(PAGE.read_text(encoding="utf-8"),
+                                              document).split())
+    assert (f"({evaluate_s * 1e6:.2f} us a point evaluating, {optimise_s * 1e6:.2f} us "
+            f"optimising), a task of the most points ({ARRAY_CHUNK_CAP:,}) takes "
+            f"{ARRAY_CHUNK_CAP * evaluate_s:.2f} s of evaluating or "
+            f"{ARRAY_CHUNK_CAP * optimise_s:.2f} s of optimising, and one of the fewest "
+            f"({ARRAY_CHUNK_FLOOR:,}) {ARRAY_CHUNK_FLOOR * evaluate_s * 1e3:.1f} ms or "
+            f"{ARRAY_CHUNK_FLOOR * optimise_s * 1e3:.1f} ms") in page
+    assert "what a task of either size takes at the rates of the latest run" in page
+
+
+def test_writing_sweep_csv_is_slower_than_evaluating_in_the_recorded_run(document):
+    # The prose says so; the recorded run must show it (and the page gives both rates).
+    in_memory = document["evaluate"]["runs"][scaling.ONE]["median_points_per_s"]
+    assert scaling.written_rate(document) < in_memory
+    page = scaling.page_with_section(PAGE.read_text(encoding="utf-8"), document)
+    assert (f"it ran at {scaling.written_rate(document):,.0f} points/s, against "
+            f"{in_memory:,.0f} in memory") in " ".join(page.split())
+
+
+def test_a_sweep_holds_the_bytes_a_point_the_page_states():
+    # The rows a sweep's process holds are its columns: their bytes per point, on small
+    # sweeps of the benchmark's case ("lm", one start), are those of any sweep of it.
+    import sso
+
+    held = {}
+    for action in ("optimise", "evaluate"):
+        result = sso.sweep(sweep_throughput.base_document(), sweep_throughput.grid(4),
+                           action=action, workers=1, progress=False)
+        table = result.rows.table
+        held[action] = sum(column.nbytes for column in table.columns.values()) / table.length
+    text = " ".join(PAGE.read_text(encoding="utf-8").split())
+    assert (f"as columns of {held['optimise']:.0f} bytes a point optimising the shipped case "
+            f"({held['evaluate']:.0f} evaluating), so a sweep of 10^6 points holds "
+            f"{held['optimise'] * 1e6 / 1e9:.1f} GB") in text
+
+
 def test_the_prose_states_the_package_constants():
     text = " ".join(PAGE.read_text(encoding="utf-8").split())
+    assert f"up to about {scaling.TASK_OVERHEAD_S * 1e3:g} ms a task" in text
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
