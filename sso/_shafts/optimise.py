@@ -53,7 +53,7 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso._shafts.series import ShaftSeries, checked_series
 from sso._solvers import lm
-from sso._solvers.lm_kernel import flat_outcome, kernel_of, run_kernel_flat
+from sso._solvers.lm_kernel import flat_outcome, kernel_of
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
@@ -505,7 +505,7 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
 
     def solve_in_box(start: list[float], lower: list[float], upper: list[float],
                      max_iterations: int) -> tuple[list[float], float, int, int]:
-        # Gauss-Newton blocks only: a margin is feasible where they reach round-off zero,
+        # Gauss-Newton steps only: a margin is feasible where they reach round-off zero,
         # and the same compiled steps give the same design in every process (the Newton
         # steps after them run compiled or in Python depending on the session's history).
         if kernel is None:
@@ -514,8 +514,8 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
                                DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
             return outcome.x.tolist(), outcome.fun, outcome.nit, outcome.nfev
         x, fun, nit, nfev, _ = flat_outcome(
-            run_kernel_flat(kernel, start, fixed, lower, upper, DEFAULT_SHAFT_SOLVER_TOL,
-                            max_iterations), len(start))
+            lm.gauss_newton_flat(nlp, kernel, start, fixed, lower, upper,
+                                 DEFAULT_SHAFT_SOLVER_TOL, max_iterations), len(start))
         return x, fun, nit, nfev
 
     choice = choose_exact_optimum(series_set_problem(problem),

@@ -208,6 +208,23 @@ def native_of(nlp: Any) -> Any:
     return native or None
 
 
+def gauss_newton_flat(nlp: Any, kernel: Any, start: list[float], fixed: list[float],
+                      lower: list[float], upper: list[float], solver_tol: float,
+                      max_iterations: int) -> list[float]:
+    """The start and Gauss-Newton steps of the rules from ``start``, as the flat state of
+    :func:`sso._solvers.lm_kernel.run_kernel_flat` (read with
+    :func:`sso._solvers.lm_kernel.flat_outcome`): by the shape's library compiled to machine
+    code once :func:`native_of` has loaded it, else by ``kernel``'s blocks (``kernel_of(nlp)``);
+    the same bits either way, whatever ran before."""
+    native = nlp.lm_native
+    if native:
+        ended: list[float] = native.solve_one(
+            start, [*fixed, *lower, *upper, solver_tol, float(max_iterations)],
+            gauss_newton_only=True)
+        return ended
+    return run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol, max_iterations)
+
+
 def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit: int,
              nfev: int, status: int, lower: list[float], upper: list[float]
              ) -> tuple[list[float], float, int, int, int]:

@@ -103,11 +103,12 @@ static void sso_step(sso_step_t step, casadi_real* state, const casadi_real* pro
   memcpy(state, next, (size_t)state_size * sizeof(casadi_real));
 }
 
-/* Each design from its start (state with nfev = 0) to its end; returns 0, or 1 when
-   memory ran out (no design touched). */
-CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* problems,
-                                      casadi_int problem_size, casadi_real* states,
-                                      casadi_int state_size, casadi_int status_index) {
+/* Each design from its start (state with nfev = 0) to its end, or with
+   gauss_newton_only to the end of its Gauss-Newton steps; returns 0, or 1 when memory
+   ran out (no design touched). */
+static int sso_lm_run(casadi_int count, const casadi_real* problems, casadi_int problem_size,
+                      casadi_real* states, casadi_int state_size, casadi_int status_index,
+                      int gauss_newton_only) {
   sso_work_t works[4] = {sso_lm_start_work, sso_lm_gauss_newton_work, sso_lm_newton_work,
                          sso_lm_shifted_work};
   casadi_int most[4] = {0, 0, 0, 0}, sizes[4], function, entry, design;
@@ -133,6 +134,8 @@ CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* probl
       casadi_real status = state[status_index];
       if (status == SSO_RUNNING) {
         sso_step(sso_lm_gauss_newton, state, problem, next, state_size, arg, res, iw, w);
+      } else if (gauss_newton_only) {
+        break;
       } else if (status == SSO_NEWTON) {
         sso_step(sso_lm_newton, state, problem, next, state_size, arg, res, iw, w);
       } else if (status == SSO_NEWTON_INDEFINITE) {
@@ -147,15 +150,34 @@ CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* probl
   free(arg); free(res); free(iw); free(w);
   return 0;
 }
+
+CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* problems,
+                                      casadi_int problem_size, casadi_real* states,
+                                      casadi_int state_size, casadi_int status_index) {
+  return sso_lm_run(count, problems, problem_size, states, state_size, status_index, 0);
+}
+
+CASADI_SYMBOL_EXPORT int sso_lm_solve_gauss_newton(casadi_int count,
+                                                   const casadi_real* problems,
+                                                   casadi_int problem_size,
+                                                   casadi_real* states,
+                                                   casadi_int state_size,
+                                                   casadi_int status_index) {
+  return sso_lm_run(count, problems, problem_size, states, state_size, status_index, 1);
+}
 """
 
 
 @dataclass(frozen=True)
 class NativeSolver:
     """A shape's compiled iterations: ``solve(count, problems, problem_size, states,
-    state_size, status_index)`` (the library's ``sso_lm_solve``) for ``size`` variables."""
+    state_size, status_index)`` (the library's ``sso_lm_solve``) for ``size`` variables,
+    and ``solve_gauss_newton`` with the same arguments (``sso_lm_solve_gauss_newton``:
+    each design's start and Gauss-Newton steps only, the kernel's blocks of
+    :func:`sso._solvers.lm_kernel.run_kernel_flat`)."""
 
     solve: Any
+    solve_gauss_newton: Any
     size: int
 
     @property
@@ -163,9 +185,12 @@ class NativeSolver:
         """Entries of one design's state (:func:`sso._solvers.lm_kernel.pack`)."""
         return 3 * self.size + 2 + len(SCALARS)
 
-    def solve_one(self, start: list[float], problem: list[float]) -> list[float]:
+    def solve_one(self, start: list[float], problem: list[float],
+                  gauss_newton_only: bool = False) -> list[float]:
         """One design from ``start`` to its end, as the flat state of
-        :func:`sso._solvers.lm_kernel.pack` (what the compiled kernels end with).
+        :func:`sso._solvers.lm_kernel.pack` (what the compiled kernels end with); with
+        ``gauss_newton_only`` to the end of its Gauss-Newton steps (what
+        :func:`sso._solvers.lm_kernel.run_kernel_flat` ends with).
 
         ``problem`` is the flat problem of :func:`sso._solvers.lm_kernel.run_kernel_flat`:
         the fixed parameters, the lower and upper bounds, the tolerance and the iteration
@@ -179,7 +204,8 @@ class NativeSolver:
         state_size = 3 * self.size + 2 + len(SCALARS)
         state = (ctypes.c_double * state_size)(*start)
         given = (ctypes.c_double * len(problem))(*problem)
-        if self.solve(1, given, len(problem), state, state_size, 3 * self.size + 2 + _STATUS):
+        solve = self.solve_gauss_newton if gauss_newton_only else self.solve
+        if solve(1, given, len(problem), state, state_size, 3 * self.size + 2 + _STATUS):
             raise MemoryError("the compiled lm solver could not allocate its working memory")
         return state[:]
 
@@ -250,11 +276,12 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
                 loaded = ctypes.CDLL(str(library))
         except (OSError, subprocess.SubprocessError):
             return None
-    solve = loaded.sso_lm_solve
-    solve.restype = ctypes.c_int
-    solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
-                      ctypes.c_longlong, ctypes.c_longlong]
-    return NativeSolver(solve, size)
+    entries = (loaded.sso_lm_solve, loaded.sso_lm_solve_gauss_newton)
+    for entry in entries:
+        entry.restype = ctypes.c_int
+        entry.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong,
+                          ctypes.c_void_p, ctypes.c_longlong, ctypes.c_longlong]
+    return NativeSolver(*entries, size)
 
 
 @cache

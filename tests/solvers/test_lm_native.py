@@ -16,12 +16,19 @@ import pytest
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
 from sso._solvers import lm, lm_native
-from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER, newton_kernel_of
+from sso._solvers.lm_kernel import (
+    NEWTON_KERNEL_AFTER,
+    flat_outcome,
+    kernel_of,
+    newton_kernel_of,
+    run_kernel_flat,
+)
 from sso._solvers.lm_native import (
     build_native_solver,
     native_solver_of,
     solve_native,
 )
+from sso._solvers.lm_rules import NEWTON
 from sso._solvers.run import RunLimits
 
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
@@ -99,6 +106,36 @@ def test_a_shape_solved_often_turns_to_the_library_and_ends_where_the_kernels_en
                 == (kernel.fun, kernel.nit, kernel.nfev, kernel.status, kernel.message))
         np.testing.assert_array_equal(library.x, kernel.x)
     assert {kernel.status for kernel in on_kernels} & {1, 4}  # converged solves among them
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1)])  # 5 and 4 variables
+def test_the_gauss_newton_entry_ends_bit_for_bit_where_the_kernel_s_blocks_end(joints, option):
+    # The exact-optimum choice's margin probes (Gauss-Newton steps only, in bounds shrunk
+    # by a margin, 50 iterations at most) through the library once it is loaded.
+    # Reference: the Gauss-Newton kernel's blocks on CasADi's virtual machine
+    # (run_kernel_flat), the whole flat state, bit for bit; among the starts some hand
+    # over to Newton steps (where both must stop) and some end by Gauss-Newton steps.
+    rng = np.random.default_rng(90 + joints)
+    problems = [_problem(rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1),
+                         option) for _ in range(40)]
+    nlp = compiled_nlp(problems[0], 0)
+    kernel = kernel_of(nlp)
+    native = build_native_solver(nlp)
+    assert kernel is not None and native is not None
+    statuses = set()
+    for index, problem in enumerate(problems):
+        margin = 0.05 * (index % 4)
+        lower, upper = (problem.lower_rad + margin).tolist(), (problem.upper_rad - margin).tolist()
+        arguments = (problem.start_rad.tolist(), problem.parameters_rad.tolist(), lower, upper,
+                     1e-12, 50)
+        nlp.lm_native = None
+        on_kernel = lm.gauss_newton_flat(nlp, kernel, *arguments)
+        nlp.lm_native = native
+        compiled = lm.gauss_newton_flat(nlp, kernel, *arguments)
+        assert compiled == on_kernel == run_kernel_flat(kernel, *arguments)
+        statuses.add(flat_outcome(compiled, len(lower))[4])
+    assert NEWTON in statuses and statuses - {NEWTON}, statuses
 
 
 def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
