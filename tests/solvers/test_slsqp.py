@@ -39,3 +39,62 @@ def test_iteration_limit_is_reported_not_raised():
     assert not outcome.success
     assert outcome.status == 9  # SciPy's SLSQP exit mode 9: iteration limit
     assert outcome.message == "Iteration limit reached"
+
+
+def _minimize_reference(nlp, limits, start, tolerance, max_iterations):
+    """The same solve through ``scipy.optimize.minimize(method="SLSQP")``, the constraints
+    as one dictionary per row (equalities ``g - lbg = 0``, then ``g - lbg >= 0`` and
+    ``ubg - g >= 0``), written here independently of :mod:`sso._solvers.slsqp`."""
+    from scipy.optimize import Bounds, minimize
+
+    def fun(x):
+        value, gradient = nlp.objective_and_gradient(x, PARAMETERS)
+        return float(value), np.array(gradient, dtype=float).ravel()
+
+    def row(index, sign, bound):
+        def value(x):
+            return sign * (np.ravel(nlp.constraints_and_jacobian(x, PARAMETERS)[0])[index]
+                           - bound)
+
+        def jacobian(x):
+            return sign * np.array(nlp.constraints_and_jacobian(x, PARAMETERS)[1],
+                                   dtype=float)[index]
+
+        return value, jacobian
+
+    equalities, inequalities = [], []
+    if limits.constrained:
+        for index, (lower, upper) in enumerate(zip(limits.constraint_lower,
+                                                   limits.constraint_upper, strict=True)):
+            if lower == upper:
+                equalities.append(("eq", *row(index, 1.0, lower)))
+            elif np.isfinite(lower):
+                inequalities.append(("ineq", *row(index, 1.0, lower)))
+        for index, (lower, upper) in enumerate(zip(limits.constraint_lower,
+                                                   limits.constraint_upper, strict=True)):
+            if lower != upper and np.isfinite(upper):
+                inequalities.append(("ineq", *row(index, -1.0, upper)))
+    constraints = [{"type": kind, "fun": value, "jac": jacobian}
+                   for kind, value, jacobian in equalities + inequalities]
+    ftol = max(tolerance * abs(fun(start)[0]), tolerance * tolerance * np.finfo(float).eps)
+    return minimize(fun, start, jac=True, method="SLSQP",
+                    bounds=Bounds(limits.lower, limits.upper), constraints=constraints,
+                    options={"ftol": ftol, "maxiter": max_iterations})
+
+
+@pytest.mark.parametrize("max_iterations", [500, 3])
+@pytest.mark.parametrize("case", CLOSED_FORM_CASES, ids=lambda case: case.name)
+def test_each_run_is_scipy_minimize_s_slsqp_step_for_step(case, max_iterations):
+    # The run calls scipy.optimize.fmin_slsqp, the plain entry to the solver that
+    # scipy.optimize.minimize(method="SLSQP") runs after its checks. Reference: minimize
+    # itself on the same problem: the same point, objective, iterations, evaluations
+    # (the start's evaluation for ftol on top), exit mode and message, bit for bit.
+    nlp, limits = case.build()
+    start = np.array(case.start)
+    outcome = slsqp.solve(nlp, start, PARAMETERS, limits, 1e-12, max_iterations)
+    reference = _minimize_reference(nlp, limits, start, 1e-12, max_iterations)
+    np.testing.assert_array_equal(outcome.x, reference.x)
+    assert ((outcome.fun, outcome.nit, outcome.nfev, outcome.njev, outcome.status,
+             outcome.success, outcome.message)
+            == (reference.fun, reference.nit, reference.nfev + 1, reference.njev + 1,
+                reference.status, reference.success, reference.message))
