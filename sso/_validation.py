@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import reprlib
 from collections.abc import Iterable
@@ -305,8 +306,15 @@ reach 89.9999992 deg)."""
 def _beyond_resolution(joints: int, log_product: Any, tangent_sum: Any) -> Any:
     """Whether chains of ``joints`` joints with these sums of ``ln cos beta`` and of
     ``tan beta`` (floats or arrays) break either bound of :func:`check_chain_conditioning`."""
-    return (log_product < math.log(least_cosine_product(joints))) | (
+    return (log_product < _least_log_cosine_product(joints)) | (
         tangent_sum > LARGEST_TANGENT_SUM)
+
+
+@functools.cache
+def _least_log_cosine_product(joints: int) -> float:
+    """``ln`` of :func:`least_cosine_product`, kept per chain length (every series made
+    checks it)."""
+    return math.log(least_cosine_product(joints))
 
 
 def unresolvable_chains(beta_deg: np.ndarray) -> np.ndarray:

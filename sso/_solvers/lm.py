@@ -183,22 +183,20 @@ def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[f
 def native_of(nlp: Any) -> Any:
     """The shape's library compiled to machine code (:mod:`sso._solvers.lm_native`), once
     this thread has solved the shape :data:`NATIVE_AFTER` times; None before, for a
-    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and with
-    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) in the
-    environment.
+    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and while
+    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) is in the
+    environment (read until the library is loaded; a shape loaded keeps it).
 
     Each design ends there bit for bit where the compiled kernels end it (the Newton
     kernel built); only a shape's first solves, whose Newton steps the Python loop takes
     before that kernel is built, may end differently in the last digits.
     """
-    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
-        return None
     native = nlp.lm_native
     if native is None:
         if nlp.lm_shape is None:
             return None
         nlp.lm_solves += 1
-        if nlp.lm_solves < NATIVE_AFTER:
+        if nlp.lm_solves < NATIVE_AFTER or os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
             return None
         from sso._solvers.lm_native import native_solver_of
 

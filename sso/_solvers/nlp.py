@@ -38,6 +38,9 @@ class CompiledNLP:
         ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
         by the optimality measures: the CasADi function of ``f``, or a closed form
         given to :func:`compile_nlp`.
+    objective_and_gradient_floats : callable or None
+        The same numbers with the gradient as a list of floats (the measures work on
+        plain floats), where the problem has them in closed form; None otherwise.
     constraints_and_jacobian : BufferedFunction or None
         ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
         constraint functions.
@@ -87,6 +90,7 @@ class CompiledNLP:
     symbols: dict[str, Any]
     objective_and_gradient: Any
     constraints_and_jacobian: Any = None
+    objective_and_gradient_floats: Any = None
     ipopt_solvers: dict[tuple[tuple[str, Any], ...], Any] = field(default_factory=dict)
     residuals_and_jacobian: Any = None
     batch_residuals_and_jacobian: Any = None
