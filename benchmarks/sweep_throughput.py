@@ -30,12 +30,14 @@ The ceiling (skip with ``--no-ceiling``): the same per-chunk compute with no sso
 engine around it (no pool, no Dask, no shared rows, no assembly): each sweep's
 points cut into chunks of ``ARRAY_CHUNK_CAP`` points and computed
 (``run_sweep_chunk``, what a worker runs) by one process alone, then by two
-independent processes at once, each computing every chunk, in interleaved passes
-(:func:`ceiling`). Its ratio (two processes' points a second over one's) is what
-this machine gives two processes of this work while the run lasts, whatever the
-engine does; its CPU per point, two at once over one alone, is what running
-beside each other costs them (caches, memory bandwidth). The engine's ratios are
-read against it.
+independent processes at once, each computing every chunk, in each pass just
+before the action's sweeps (:class:`Ceiling`). Its ratio (two processes' points a
+second over one's) is what this machine gives two processes of this work at that
+moment, whatever the engine does (on a machine shared with other work, the cores
+are shared between sessions first: two processes of one session get little more
+than one); its CPU per point, two at once over one alone, is what running beside
+each other costs them (caches, memory bandwidth). The summary gives the engine's
+ratios over it.
 
 Then, against the strongest per-point baseline: the first ``--sample`` points of
 the optimise sweep solved one by one by ``sso.optimise(..., solvers=("lm",))``
@@ -207,14 +209,18 @@ def busy_cpu_s(run: dict[str, Any], idle: dict[str, float]) -> tuple[float, floa
 
 
 def interleaved(actions: dict[str, dict[str, Any]], client: Any,
-                passes: int) -> dict[str, Any]:
-    """Every action run every way in each pass; medians, ratios, same rows."""
+                passes: int, ceiling: Ceiling | None = None) -> dict[str, Any]:
+    """Every action run every way in each pass (and, given a :class:`Ceiling`, its
+    chunks computed alone and by two processes, in the same pass); medians, ratios,
+    same rows."""
     samples: dict[str, dict[str, list[dict[str, Any]]]] = {
         action: {label: [] for label in modes(client)} for action in actions}
     reference: dict[str, Any] = {}
     identical = {action: True for action in actions}
     for _ in range(passes):
         for action, axes in actions.items():
+            if ceiling is not None:
+                ceiling.measure(action)
             for label, options in modes(client).items():
                 run, result = timed(action, axes, **options)
                 run["load_average_1min"] = round(os.getloadavg()[0], 2)
@@ -261,54 +267,66 @@ def cpu_bound_ratio(one_process_s: float, calling_s: float, workers_s: float) ->
     return one_process_s / busiest if busiest > 0 else math.nan
 
 
-def ceiling(per_axis: dict[str, int], passes: int) -> dict[str, Any]:
+class Ceiling:
     """The same per-chunk compute in one process alone and in two independent
-    processes at once (see the module): per action, medians over interleaved passes
-    of the points a second (two processes: both runs' points over the longer wall
-    time) and the CPU time per point."""
-    import multiprocessing
+    processes at once (see the module), measured pass by pass (:meth:`measure`);
+    :meth:`figures` gives per action the medians of the points a second (two
+    processes: both runs' points over the longer wall time) and of the CPU time per
+    point."""
 
-    context = multiprocessing.get_context("spawn")
-    links = []
-    for _ in range(WORKERS):
-        mine, theirs = context.Pipe()
-        process = context.Process(target=_chunk_computer, args=(theirs, per_axis),
-                                  daemon=True)
-        process.start()
-        links.append((process, mine))
-    try:
-        for _, link in links:
+    def __init__(self, per_axis: dict[str, int]) -> None:
+        import multiprocessing
+
+        context = multiprocessing.get_context("spawn")
+        self.links = []
+        for _ in range(WORKERS):
+            mine, theirs = context.Pipe()
+            process = context.Process(target=_chunk_computer, args=(theirs, per_axis),
+                                      daemon=True)
+            process.start()
+            self.links.append((process, mine))
+        for _, link in self.links:
             link.recv()  # ready: chunks built and one computed
-        samples: dict[str, dict[str, list[dict[str, float]]]] = {
+        self.samples: dict[str, dict[str, list[dict[str, float]]]] = {
             action: {"alone": [], "together": []} for action in per_axis}
-        for _ in range(passes):
-            for action in per_axis:
-                for label, running in (("alone", links[:1]), ("together", links)):
-                    for _, link in running:
-                        link.send(action)
-                    runs = [link.recv() for _, link in running]
-                    samples[action][label].append({
-                        "points_per_s": sum(run["points"] for run in runs)
-                        / max(run["wall_s"] for run in runs),
-                        "cpu_us_per_point": 1e6 * sum(run["cpu_s"] for run in runs)
-                        / sum(run["points"] for run in runs),
-                        "load_average_1min": round(os.getloadavg()[0], 2)})
-    finally:
-        for process, link in links:
+
+    def measure(self, action: str) -> None:
+        """One pass of ``action``: its chunks computed alone, then by two at once."""
+        for label, running in (("alone", self.links[:1]), ("together", self.links)):
+            for _, link in running:
+                link.send(action)
+            runs = [link.recv() for _, link in running]
+            self.samples[action][label].append({
+                "points_per_s": sum(run["points"] for run in runs)
+                / max(run["wall_s"] for run in runs),
+                "cpu_us_per_point": 1e6 * sum(run["cpu_s"] for run in runs)
+                / sum(run["points"] for run in runs),
+                "load_average_1min": round(os.getloadavg()[0], 2)})
+
+    def close(self) -> None:
+        """End the processes."""
+        for process, link in self.links:
             link.send(None)
             process.join(timeout=30)
-    figures: dict[str, Any] = {}
-    for action, runs in samples.items():
-        alone = statistics.median(run["points_per_s"] for run in runs["alone"])
-        together = statistics.median(run["points_per_s"] for run in runs["together"])
-        alone_cpu = statistics.median(run["cpu_us_per_point"] for run in runs["alone"])
-        together_cpu = statistics.median(run["cpu_us_per_point"] for run in runs["together"])
-        figures[action] = {"alone_points_per_s": alone, "together_points_per_s": together,
-                           "ratio": together / alone, "alone_cpu_us_per_point": alone_cpu,
-                           "together_cpu_us_per_point": together_cpu,
-                           "cpu_together_over_alone": together_cpu / alone_cpu,
-                           "passes": runs}
-    return figures
+
+    def figures(self) -> dict[str, Any]:
+        """Per action: medians, the ratio, the CPU per point together over alone."""
+        figures: dict[str, Any] = {}
+        for action, runs in self.samples.items():
+            if not runs["alone"]:
+                continue
+            alone = statistics.median(run["points_per_s"] for run in runs["alone"])
+            together = statistics.median(run["points_per_s"] for run in runs["together"])
+            alone_cpu = statistics.median(run["cpu_us_per_point"] for run in runs["alone"])
+            together_cpu = statistics.median(run["cpu_us_per_point"]
+                                             for run in runs["together"])
+            figures[action] = {"alone_points_per_s": alone,
+                               "together_points_per_s": together,
+                               "ratio": together / alone, "alone_cpu_us_per_point": alone_cpu,
+                               "together_cpu_us_per_point": together_cpu,
+                               "cpu_together_over_alone": together_cpu / alone_cpu,
+                               "passes": runs}
+        return figures
 
 
 def _chunk_computer(link: Any, per_axis: dict[str, int]) -> None:
@@ -441,6 +459,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         ARRAY_CHUNK_FLOOR,
         ARRAY_CHUNKS_PER_WORKER,
         ARRAY_SHARE,
+        DASK_ARRAY_SHARE,
+        DASK_CHUNK_FLOOR,
+        DASK_EVALUATE_CHUNK_CAP,
     )
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -468,7 +489,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "load_before": load_now(),
         "chunks": {"most_points": ARRAY_CHUNK_CAP, "fewest_points": ARRAY_CHUNK_FLOOR,
                    "share_of_a_worker": 1 / ARRAY_SHARE,
-                   "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER},
+                   "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER,
+                   "dask_share_of_a_worker": 1 / DASK_ARRAY_SHARE,
+                   "dask_fewest_points": DASK_CHUNK_FLOOR,
+                   "dask_most_evaluate_points": DASK_EVALUATE_CHUNK_CAP},
     }
     cluster_started = time.perf_counter()
     with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True,
@@ -480,13 +504,18 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         sso.sweep(base_document(), grid(3), action="evaluate", workers=WORKERS, progress=False)
         figures["pool_start_s"] = time.perf_counter() - pool_started
         sso.sweep(base_document(), grid(3), action="evaluate", client=client, progress=False)
-        figures.update(interleaved({"optimise": grid(args.optimise_per_axis),
-                                    "evaluate": grid(args.evaluate_per_axis)},
-                                   client, args.passes))
+        ceiling = None if args.no_ceiling else Ceiling({"optimise": args.optimise_per_axis,
+                                                        "evaluate": args.evaluate_per_axis})
+        try:
+            figures.update(interleaved({"optimise": grid(args.optimise_per_axis),
+                                        "evaluate": grid(args.evaluate_per_axis)},
+                                       client, args.passes, ceiling))
+        finally:
+            if ceiling is not None:
+                ceiling.close()
+        if ceiling is not None:
+            figures["ceiling"] = ceiling.figures()
     figures["load_after_timed_runs"] = load_now()
-    if not args.no_ceiling:
-        figures["ceiling"] = ceiling({"optimise": args.optimise_per_axis,
-                                      "evaluate": args.evaluate_per_axis}, args.passes)
     figures["point_by_point"] = against_point_by_point(args.sample, args.optimise_per_axis)
     if not args.no_disk:
         figures["on_disk"] = on_disk(args.evaluate_per_axis, PARQUET_PER_AXIS)
@@ -537,7 +566,9 @@ def report(figures: dict[str, Any]) -> None:
                               for one in limit["passes"]["together"])
                   + f"); CPU per point together / alone {limit['cpu_together_over_alone']:.2f} "
                   f"({limit['together_cpu_us_per_point']:.3f} / "
-                  f"{limit['alone_cpu_us_per_point']:.3f} us)")
+                  f"{limit['alone_cpu_us_per_point']:.3f} us); the engine's ratios over it: "
+                  + ", ".join(f"{label} {run['ratio_to_one_process'] / limit['ratio']:.2f}"
+                              for label, run in runs.items() if label != "one process"))
     idle = figures["idle_cpu_per_s"]
     print(f"CPU used idle (cluster and pool up, no sweep): calling process "
           f"{idle['calling_process']:.3f} s/s, the processes below it {idle['workers']:.3f} s/s")

@@ -395,14 +395,13 @@ def issue_12_targets(quick: bool) -> dict[str, Any]:
         batch = batch_throughput.batch_figures(2000, 1 if quick else 3)
     first_calls = scaling.measure([3, 30], 1 if quick else 3)
     with tempfile.TemporaryDirectory() as folder:
-        commands = cold_module.commands(Path(folder))
+        commands = cold_module.commands(Path(folder) / "out")
         bare_name = next(iter(commands))
         no_plots_name = next(name for name in commands if name.endswith("--no-plots"))
-        for command in commands.values():
-            cold_module.wall_time_s(command)
-        cold = {name: statistics.median(cold_module.wall_time_s(commands[name])
-                                        for _ in range(3 if quick else 7))
-                for name in (bare_name, no_plots_name)}
+        cold_times, _ = cold_module.interleaved_times_s(
+            {name: commands[name] for name in (bare_name, no_plots_name)}, 3 if quick else 7,
+            cold_module.environment(Path(folder) / "bytecode"))
+        cold = {name: statistics.median(samples) for name, samples in cold_times.items()}
     fastest = {option: case[case["fastest_sso_solver"]]["baseline_over_method"]
                for option, case in latency.items()}
     fastest_reached = {option: case[case["fastest_sso_solver"]]["fun"]
@@ -453,7 +452,7 @@ def issue_12_targets(quick: bool) -> dict[str, Any]:
         "sso run --no-plots cold start <= 1.5x bare casadi + scipy.optimize imports": {
             "met": cold_ratio <= 1.5,
             "measured": f"{cold_ratio:.2f}x ({cold[no_plots_name]:.2f} s against "
-                        f"{cold[bare_name]:.2f} s)"},
+                        f"{cold[bare_name]:.2f} s; bytecode cached, as installed)"},
     }
     return {"targets": targets, "latency": latency, "random_cases": random_cases,
             "batch": batch, "first_calls": first_calls, "cold_start_s": cold}

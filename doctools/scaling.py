@@ -154,7 +154,10 @@ def section(document: dict[str, Any]) -> str:
         f"Start-ups, not counted above: the Dask cluster {document['dask_cluster_start_s']:.1f} s, "
         f"the local pool's fork server and workers (the first pool of a process) "
         f"{document['pool_start_s']:.2f} s.",
+        "",
+        task_times(document),
     ]
+    lines += _robust_lines(document)
     disk = document.get("on_disk")
     if disk:
         lines += [
@@ -165,7 +168,9 @@ def section(document: dict[str, Any]) -> str:
             f"the rate stays constant within 20%: "
             f"{'yes' if disk['constant_rate'] else 'NO'}); the report after the last row "
             f"took {disk['after_last_row_s']:.2f} s, of a wall time of {disk['wall_s']:.1f} s. "
-            f"A point takes {disk['csv_bytes_per_point']:.0f} bytes of `sweep.csv` and "
+            f"Written to `sweep.csv`, it ran at {written_rate(document):,.0f} points/s, "
+            f"against {document['evaluate']['runs'][ONE]['median_points_per_s']:,.0f} in "
+            f"memory. A point takes {disk['csv_bytes_per_point']:.0f} bytes of `sweep.csv` and "
             f"{disk['parquet_bytes_per_point']:.0f} bytes of `sweep.parquet`.",
         ]
     lines += ["", "### 10^9 designs on a cluster", ""]
@@ -198,6 +203,36 @@ def section(document: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _robust_lines(document: dict[str, Any]) -> list[str]:
+    """The figures other work on the machine moves least, where the run has them: each
+    run's CPU time per point against one process's, and the ceiling (the chunks'
+    compute in two independent processes against one, in the same passes)."""
+    ceiling = document.get("ceiling", {})
+    if not ceiling:
+        return []
+    lines = ["", "| sweep | run | calling process CPU / one process's | workers' CPU / one "
+             "process's | ratio the CPU times allow | ratio over the ceiling |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    for action in ("optimise", "evaluate"):
+        for label in (POOL, DASK):
+            run = document[action]["runs"][label]
+            lines.append(f"| {action} | {label} | "
+                         f"{run['calling_process_cpu_over_one_process']:.2f} | "
+                         f"{run['workers_cpu_over_one_process']:.2f} | "
+                         f"{run['cpu_bound_ratio']:.2f} | "
+                         f"{run['ratio_to_one_process'] / ceiling[action]['ratio']:.2f} |")
+    lines += ["", "The ceiling: the same chunks computed with no engine around them by one "
+              "process alone and by two independent processes at once, in each pass just "
+              "before the sweeps; " + "; ".join(
+                  f"{action}: two processes {ceiling[action]['ratio']:.2f}x one, their CPU "
+                  f"time per point {ceiling[action]['cpu_together_over_alone']:.2f}x"
+                  for action in ("optimise", "evaluate")) + ". On a machine shared with "
+              "other sessions two processes of one session get little more than one (the "
+              "cores are shared between sessions first); the engine's ratios are read "
+              "against this ceiling."]
+    return lines
+
+
 def _autogroup_note(load: dict[str, Any]) -> str:
     if load.get("sched_autogroup") != "1":
         return ""
@@ -205,6 +240,21 @@ def _autogroup_note(load: dict[str, Any]) -> str:
             "while other sessions keep both cores busy a sweep's second process adds little "
             "to its session's share: a parallel ratio measured under such load is a lower "
             "bound of what an idle machine gives.")
+
+
+def task_times(document: dict[str, Any]) -> str:
+    """What a task of the most and of the fewest points takes at one process's rates."""
+    per_point_s = {action: 1.0 / document[action]["runs"][ONE]["median_points_per_s"]
+                   for action in ("evaluate", "optimise")}
+    chunks = document["chunks"]
+    most, fewest = chunks["most_points"], chunks["fewest_points"]
+    return (f"At one process's rates in this run ({per_point_s['evaluate'] * 1e6:.2f} us a "
+            f"point evaluating, {per_point_s['optimise'] * 1e6:.2f} us optimising), a task of "
+            f"the most points ({most:,}) takes {most * per_point_s['evaluate']:.2f} s of "
+            f"evaluating or {most * per_point_s['optimise']:.2f} s of optimising, and one of "
+            f"the fewest ({fewest:,}) {fewest * per_point_s['evaluate'] * 1e3:.1f} ms or "
+            f"{fewest * per_point_s['optimise'] * 1e3:.1f} ms; Dask puts its scheduler's cost "
+            f"at up to {TASK_OVERHEAD_S * 1e3:g} ms a task.")
 
 
 def page_with_section(markdown: str, document: dict[str, Any]) -> str:

@@ -38,8 +38,9 @@ def raised_after_native_call() -> Iterator[None]:
     ------
     BaseException
         The first exception a handler raised during the block (``KeyboardInterrupt``
-        for Ctrl-C, and for SIGTERM under the ``sso`` command), if the block itself
-        ended normally.
+        for Ctrl-C, and for SIGTERM under the ``sso`` command), whether the block
+        ended normally or in an error (which the native call may make of the
+        interruption).
     """
     if not _on_main_thread():
         yield
@@ -63,6 +64,13 @@ def raised_after_native_call() -> Iterator[None]:
             signal.signal(number, keeping(handler))
     try:
         yield
+    except Exception:
+        # A native call can end in an error of its own once a handler has raised inside
+        # it (CasADi's buffered call returns with the exception set: SystemError); the
+        # signal is what happened.
+        if raised:
+            raise raised[0] from None
+        raise
     finally:
         for number, handler in previous.items():
             if callable(handler):

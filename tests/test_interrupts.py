@@ -69,6 +69,27 @@ def test_ctrl_c_during_ipopt_is_raised_when_the_solve_returns():
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
 
 
+def test_ctrl_c_during_ipopt_through_its_buffers_is_raised_when_the_solve_returns():
+    # sso calls IPOPT through numpy buffers (BufferedSolver): there CasADi returns with the
+    # handler's exception set, which Python turns into a SystemError; the Ctrl-C wins.
+    from sso._solvers.nlp import BufferedSolver
+
+    solver = BufferedSolver(slow_ipopt())
+    timer = signalled_in(SIGNAL_AFTER_S)
+    with pytest.raises(KeyboardInterrupt) as caught, raised_after_native_call():
+        solver(x0=start())
+    timer.join()
+    assert caught.type is KeyboardInterrupt
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+    other = np.array([1.0, 1.0] * (VARIABLES // 2)) + 0.5  # the solver still works
+    assert solver(x0=other, lbx=other, ubx=other)["x"] == pytest.approx(other)
+
+
+def test_an_error_of_the_block_without_a_signal_is_raised_as_it_is():
+    with pytest.raises(ZeroDivisionError), raised_after_native_call():
+        1 / 0  # noqa: B018
+
+
 @pytest.mark.parametrize("number", [signal.SIGTERM, signal.SIGINT])
 def test_a_signal_during_ipopt_under_the_sso_command_s_handler_is_raised(number):
     previous = interrupt_on_signals()

@@ -7,7 +7,7 @@ from importlib import metadata
 from pathlib import Path
 
 import sso
-from sso._distribution import DISTRIBUTION_NAME, installed_version
+from sso._distribution import DISTRIBUTION_NAME, distribution_version, installed_version
 
 ROOT = Path(__file__).resolve().parents[1]
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
@@ -28,6 +28,15 @@ def test_installed_version_is_the_package_version():
     except metadata.PackageNotFoundError:
         recorded = None  # running from a source tree that is not installed
     assert installed_version() == (recorded or sso.__version__) == sso.__version__
+
+
+def test_the_version_read_from_the_metadata_headers_is_the_full_parses():
+    # reference: importlib.metadata's own e-mail parse of each installed distribution
+    names = {distribution.metadata["Name"] for distribution in metadata.distributions()}
+    assert len(names) > 20
+    for name in sorted(names):
+        assert distribution_version(name) == metadata.version(name), name
+    assert distribution_version("no-such-distribution-sso-test") is None
 
 
 def test_licence_type_marker_and_urls_ship():

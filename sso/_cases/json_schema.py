@@ -36,12 +36,12 @@ from typing import Any
 from sso._cases.column_points import MAX_POINTS
 from sso._cases.column_robust import MAX_POSITIONS
 from sso._cases.schema import (
-    CASE_KINDS,
     COMMON_KEYS,
     DEFAULT_KIND,
     NAME_PATTERN,
     REQUIRED,
     Key,
+    case_kinds,
 )
 from sso._column.splines import MAX_TEETH
 from sso._files import write_text_atomic
@@ -87,14 +87,14 @@ def case_json_schema() -> JsonSchema:
 
 def ordered_kinds() -> list[str]:
     """Registered kinds, the default first, then alphabetical (independent of import order)."""
-    return [DEFAULT_KIND, *sorted(kind for kind in CASE_KINDS if kind != DEFAULT_KIND)]
+    return [DEFAULT_KIND, *sorted(kind for kind in case_kinds() if kind != DEFAULT_KIND)]
 
 
 def opaque_keys(kind: str) -> list[str]:
     """Labels of the keys of ``kind`` whose parser this module cannot translate."""
     return [
         key.label
-        for key in COMMON_KEYS + CASE_KINDS[kind].keys
+        for key in COMMON_KEYS + case_kinds()[kind].keys
         if key.label != KIND_KEY and _value_schema(key.parse) is None
     ]
 
@@ -125,7 +125,7 @@ def _kind_key_schema(kinds: Sequence[str]) -> JsonSchema:
 
 
 def _kind_schema(kind: str) -> JsonSchema:
-    case_kind = CASE_KINDS[kind]
+    case_kind = case_kinds()[kind]
     keys = COMMON_KEYS + case_kind.keys
     top: JsonSchema = {
         "type": "object",

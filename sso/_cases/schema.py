@@ -10,11 +10,12 @@ checks every key against the schema of its ``kind``:
 
 Adding a kind
 -------------
-The schema is a table of :class:`Key` entries per kind, registered in
-:data:`CASE_KINDS` with a function that builds the kind's case object from the
-checked values. A new kind (a planar mechanism, say) registers its own keys and
-builder with :func:`register_case_kind`; a new table shared by every kind (a sweep,
-say) adds its keys to :data:`COMMON_KEYS`.
+The schema is a table of :class:`Key` entries per kind, registered with a function
+that builds the kind's case object from the checked values. A new kind (a planar
+mechanism, say) registers its own keys and builder with :func:`register_case_kind`
+when its module is imported, and a shipped kind names that module in
+:data:`KIND_MODULES` (a case file imports its own kind's module only); a new table
+shared by every kind (a sweep, say) adds its keys to :data:`COMMON_KEYS`.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import re
 import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
 from typing import Any
 
@@ -291,9 +293,19 @@ COMMON_KEYS: tuple[Key, ...] = (
 )
 
 
-# Kind -> its keys and builder; each kind's module registers itself
-# (:mod:`sso._cases.shaft_series`, :mod:`sso._cases.mechanism`).
-CASE_KINDS: dict[str, CaseKind] = {}
+# Kind -> its keys and builder; each kind's module registers itself when imported
+# (:mod:`sso._cases.shaft_series`, :mod:`sso._cases.column`, :mod:`sso._cases.mechanism`).
+_REGISTERED: dict[str, CaseKind] = {}
+
+# The module that registers each shipped kind, in the order kinds are listed. A case
+# file's kind imports its own module only: a shaft-series run does not load the
+# column's geometry, tolerances and spline modules, nor the linkages.
+KIND_MODULES: dict[str, str] = {
+    "shaft_series": "sso._cases.shaft_series",
+    "column": "sso._cases.column",
+    **{kind: "sso._cases.mechanism"
+       for kind in ("fourbar", "slider_crank", "quick_return", "fourbar_design")},
+}
 
 
 def register_case_kind(kind: str, keys: tuple[Key, ...],
@@ -306,18 +318,48 @@ def register_case_kind(kind: str, keys: tuple[Key, ...],
     ValueError
         If the kind is already registered or a key repeats a common key.
     """
-    if kind in CASE_KINDS:
+    if kind in _REGISTERED:
         raise ValueError(f"case kind {shown(kind)} is already registered")
     common = {key.label for key in COMMON_KEYS}
     clashes = [key.label for key in keys if key.label in common]
     if clashes:
         raise ValueError(f"keys {clashes} of kind {shown(kind)} repeat common keys")
-    CASE_KINDS[kind] = CaseKind(tuple(keys), frozenset(optional_tables), build)
+    _REGISTERED[kind] = CaseKind(tuple(keys), frozenset(optional_tables), build)
+
+
+def case_kind(kind: str) -> CaseKind | None:
+    """The kind called ``kind``, importing the module that registers it (only that one
+    for a shipped kind, every kind module otherwise); None if no kind has that name."""
+    if kind not in _REGISTERED:
+        if kind in KIND_MODULES:
+            import_module(KIND_MODULES[kind])
+        else:
+            case_kinds()
+    return _REGISTERED.get(kind)
+
+
+def case_kinds() -> dict[str, CaseKind]:
+    """Every registered kind, the shipped ones first in the order of
+    :data:`KIND_MODULES` (whatever order their modules were imported in)."""
+    for module in dict.fromkeys(KIND_MODULES.values()):
+        import_module(module)
+    order = list(KIND_MODULES)
+    return {kind: _REGISTERED[kind] for kind in sorted(
+        _REGISTERED, key=lambda kind: order.index(kind) if kind in order else len(order))}
 
 
 def schema(kind: str = DEFAULT_KIND) -> tuple[Key, ...]:
-    """Every key a case of ``kind`` accepts (common keys first)."""
-    return COMMON_KEYS + CASE_KINDS[kind].keys
+    """Every key a case of ``kind`` accepts (common keys first).
+
+    Raises
+    ------
+    KeyError
+        If no kind is called ``kind``.
+    """
+    found = case_kind(kind)
+    if found is None:
+        raise KeyError(kind)
+    return COMMON_KEYS + found.keys
 
 
 # ---------------------------------------------------------------- reading
@@ -427,12 +469,12 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
         If a key is unknown, has the wrong type or lies out of range.
     """
     kind_value = document.get("kind", DEFAULT_KIND)
-    if not isinstance(kind_value, str) or kind_value not in CASE_KINDS:
+    found = case_kind(kind_value) if isinstance(kind_value, str) else None
+    if found is None:
         raise CaseError(path, f"kind = {shown(kind_value)} is not one of "
-                        f"{_quoted(tuple(CASE_KINDS))}",
+                        f"{_quoted(tuple(case_kinds()))}",
                         _line_of_key(source, "", "kind"))
-    case_kind = CASE_KINDS[kind_value]
-    keys = COMMON_KEYS + case_kind.keys
+    keys = COMMON_KEYS + found.keys
     _refuse_unknown_keys(document, keys, path, source)
 
     values: dict[str, Any] = {}
@@ -449,7 +491,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
                                 f"allowed: give {key.allowed}",
                                 _line_of_key(source, key.table, key.name)) from None
         elif key.default is REQUIRED:
-            if key.table in case_kind.optional_tables and key.table not in document:
+            if key.table in found.optional_tables and key.table not in document:
                 continue
             raise CaseError(path, f"{key.label} is missing: give {key.allowed}")
     try:
@@ -457,7 +499,7 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
             if key.label not in values and key.default is not REQUIRED:
                 values[key.label] = (key.default(values, path) if callable(key.default)
                                      else key.default)
-        case = case_kind.build(values, path)
+        case = found.build(values, path)
     except ValueError as error:
         raise CaseError(path, str(error), _line_of_first_label(source, str(error), keys)) from None
     except (TypeError, ArithmeticError, RecursionError) as error:

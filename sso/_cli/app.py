@@ -15,6 +15,7 @@ CasADi nor SciPy.
 from __future__ import annotations
 
 import argparse
+import gc
 from collections.abc import Sequence
 
 from sso._cli import report, solve, studies, validate
@@ -48,10 +49,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+COMMAND_GC_THRESHOLD = 20_000
+"""Allocations between two collections of the youngest generation while a command runs
+(Python's default: 700). Most of the objects a command creates are those of the
+modules it imports (CasADi's and SciPy's bindings, sso's own), which live as long as
+the process; each young collection during an import walks the module's growing
+namespace again: at the default threshold, collecting took about 8% of the CPU time of
+``sso run --no-plots`` on the paper's case (40 ms of 0.51 s; no collection at all saves
+no more). Cycles are still collected, and the peak memory of the shipped cases' runs
+is the same (within 0.3 MB)."""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
     args = build_parser().parse_args(argv)
     previous = interrupt_on_signals()
+    thresholds = gc.get_threshold()
+    gc.set_threshold(COMMAND_GC_THRESHOLD, *thresholds[1:])
     try:
         code: int = args.handle(args)
         return code
@@ -59,5 +73,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         print_error("interrupted; files already written are complete, none is half-written")
         return EXIT_INTERRUPTED
     finally:
+        gc.set_threshold(*thresholds)
         restore_handlers(previous)
 

@@ -160,8 +160,8 @@ class _Told:
 
 def _told(result: Any) -> _Told:
     """What to tell of a case run's result."""
-    from sso._run.column import ColumnRun
-    from sso._run.mechanism_run import MechanismRun
+    # Each kind's run module is imported only when the result is not of an earlier
+    # kind: the run of a shaft series loads neither the column's nor the linkages'.
     from sso._run.shaft_series import ShaftSeriesRun
 
     if isinstance(result, ShaftSeriesRun):
@@ -169,9 +169,13 @@ def _told(result: Any) -> _Told:
         errors = tuple(None if design is None else design.evaluation.residual_error
                        for design in designs)
         return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
+    from sso._run.mechanism_run import MechanismRun
+
     if isinstance(result, MechanismRun):
         return _Told(result.mode, result.success, result.verdict, result.warnings,
                      (None, None, None))
+    from sso._run.column import ColumnRun
+
     if not isinstance(result, ColumnRun):
         raise TypeError(f"no case run gives a {type(result).__name__}")
     optimum = result.optimum

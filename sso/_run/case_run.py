@@ -3,7 +3,6 @@ and when (:class:`CaseRun`, the base of every case run's result)."""
 
 from __future__ import annotations
 
-import importlib.metadata
 import importlib.util
 import platform
 import re
@@ -12,7 +11,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from sso._display import Readable
-from sso._distribution import installed_version
+from sso._distribution import distribution_version, installed_version
 from sso._record import Record
 
 VERSIONED_PACKAGES = ("casadi", "scipy", "numpy", "matplotlib")
@@ -44,10 +43,7 @@ def package_versions() -> dict[str, str]:
     """
     versions = {"python": platform.python_version(), "sso": installed_version()}
     for package in VERSIONED_PACKAGES:
-        try:
-            versions[package] = importlib.metadata.version(package)
-        except importlib.metadata.PackageNotFoundError:
-            versions[package] = "not installed"
+        versions[package] = distribution_version(package) or "not installed"
     versions["ipopt"] = bundled_ipopt_version()
     return versions
 

@@ -45,17 +45,22 @@ def run_case(path: str | Path, *, solve: bool = True
 
 def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | ColumnRun:
     """The result of a case already read and checked (see :func:`run_case`)."""
+    from sso._cases.shaft_series import KIND as SHAFT_SERIES_KIND
+
+    if case.kind == SHAFT_SERIES_KIND:
+        from sso._run.shaft_series import run_shaft_series
+
+        return run_shaft_series(case, solve)
     from sso._cases.column import COLUMN_KIND
-    from sso._cases.mechanism import MECHANISM_KINDS
 
     if case.kind == COLUMN_KIND:
         from sso._run.column import run_column
 
         return run_column(case, solve)
-    if case.kind in MECHANISM_KINDS:
-        from sso._run.mechanism_run import run_mechanism
+    from sso._cases.mechanism import MECHANISM_KINDS
 
-        return run_mechanism(case, solve)
-    from sso._run.shaft_series import run_shaft_series
+    if case.kind not in MECHANISM_KINDS:
+        raise TypeError(f"no case run solves a case of kind {case.kind!r}")
+    from sso._run.mechanism_run import run_mechanism
 
-    return run_shaft_series(case, solve)
+    return run_mechanism(case, solve)

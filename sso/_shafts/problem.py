@@ -173,12 +173,21 @@ def _float_hessian(problem: DesignProblem) -> Any:
     """
     split = problem.split
     beta_free, phase_free = problem.beta_free, problem.phase_free
+    # The last point and its Hessian: a solver's answer is checked for negative
+    # curvature after its run and for an isolated minimum in the cross-check. Callers
+    # copy what they keep and never change it, so the answer is handed out uncopied.
+    last: list[Any] = [None, None, None]
 
     def evaluate(x: Any, fixed: Any) -> list[list[float]]:
         point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
         parameters = fixed if type(fixed) is list else np.asarray(fixed, dtype=float).tolist()
-        return residual_hessian_complex(*split(point, parameters), beta_free=beta_free,
-                                        phase_free=phase_free)[2]
+        if point == last[0] and parameters == last[1]:
+            hessian: list[list[float]] = last[2]
+            return hessian
+        hessian = residual_hessian_complex(*split(point, parameters), beta_free=beta_free,
+                                           phase_free=phase_free)[2]
+        last[0], last[1], last[2] = list(point), list(parameters), hessian
+        return hessian
 
     return evaluate
 

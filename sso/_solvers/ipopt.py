@@ -79,12 +79,9 @@ def solve(
     else:
         options.update(BOUND_ONLY_OPTIONS)
     solver = nlp.ipopt(options)
-    # Lists of floats: CasADi converts them to its matrices faster than numpy arrays.
-    arguments = {"x0": np.asarray(start, dtype=float).tolist(), "p": parameters.tolist(),
-                 "lbx": limits.lower.tolist(), "ubx": limits.upper.tolist()}
+    arguments = {"x0": start, "p": parameters, "lbx": limits.lower, "ubx": limits.upper}
     if limits.constrained:
-        arguments.update(lbg=limits.constraint_lower.tolist(),
-                         ubg=limits.constraint_upper.tolist())
+        arguments.update(lbg=limits.constraint_lower, ubg=limits.constraint_upper)
     started = time.perf_counter()
     try:
         with raised_after_native_call():  # CasADi would end the solve and drop Ctrl-C
@@ -95,13 +92,13 @@ def solve(
                           time.perf_counter() - started)
     stats = solver.stats()
     return_status = str(stats.get("return_status", "unknown"))
-    x = np.array(answer["x"], dtype=float).ravel()
-    fun = float(answer["f"])
+    x = answer["x"]
+    fun = float(answer["f"][0])
     iterations, evaluations = int(stats.get("iter_count", 0)), int(stats.get("n_call_nlp_f", 0))
     gradients = int(stats.get("n_call_nlp_grad_f", 0))
     if not limits.constrained:
         x, fun, more = _onto_active_bounds(nlp, solver, x, fun,
-                                           np.array(answer["lam_x"], dtype=float).ravel(),
+                                           answer["lam_x"],
                                            parameters, limits)
         iterations, evaluations, gradients = (iterations + more[0], evaluations + more[1],
                                               gradients + more[2])
@@ -160,7 +157,7 @@ def _onto_active_bounds(
     stats = solver.stats()
     cost = (int(stats.get("iter_count", 0)), 1 + int(stats.get("n_call_nlp_f", 0)),
             int(stats.get("n_call_nlp_grad_f", 0)))
-    polished = np.clip(np.array(answer["x"], dtype=float).ravel(), lower, upper)
+    polished = np.clip(answer["x"], lower, upper)
     polished_fun = float(nlp.objective_and_gradient(polished, parameters)[0])
     if stats.get("success", False) and polished_fun <= fun:
         return polished, polished_fun, cost

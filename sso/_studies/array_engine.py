@@ -182,28 +182,45 @@ class ValueCheck:
 def _checked_axes(document: dict[str, Any], axes: Sequence[Axis],
                   targets: Sequence[tuple[str, int]], action: str, client: Any,
                   workers: int) -> tuple[AxisValues, ...]:
-    """Every axis's values read as cases: each axis cut into one task per worker."""
+    """Every axis's values read as cases: one task per worker, each an even share of
+    all the values (a task costs a round trip to the pool or the cluster; the chunks
+    wait for the last one)."""
     from sso._studies.execution import parallelism, run_tasks
 
     parts = parallelism(client, workers)
-    tasks, owners = [], []
+    share = max(1, math.ceil(sum(len(axis.values) for axis in axes) / parts))
+    groups: list[list[ValueCheck]] = [[]]
+    owners: list[list[int]] = [[]]
     for index, (axis, target) in enumerate(zip(axes, targets, strict=True)):
-        size = max(1, math.ceil(len(axis.values) / parts))
-        for start in range(0, len(axis.values), size):
-            tasks.append(ValueCheck(document, axis.path, axis.values[start:start + size],
-                                    target, action))
-            owners.append(index)
-    checked: list[Any] = [None] * len(tasks)
-    for index, result, error in run_tasks(check_values, tasks, client, workers):
+        start = 0
+        while start < len(axis.values):
+            room = share - sum(len(check.values) for check in groups[-1])
+            if room == 0:
+                groups.append([])
+                owners.append([])
+                continue
+            groups[-1].append(ValueCheck(document, axis.path,
+                                         axis.values[start:start + room], target, action))
+            owners[-1].append(index)
+            start += room
+    checked: list[Any] = [None] * len(groups)
+    for task, result, error in run_tasks(check_value_groups, [tuple(group) for group in groups],
+                                         client, workers):
         if error is not None:
             raise error
-        checked[index] = result
+        checked[task] = result
+    pieces = [(owner, piece) for task in range(len(groups))
+              for owner, piece in zip(owners[task], checked[task], strict=True)]
     return tuple(AxisValues(
-        target, np.concatenate([checked[task][0] for task in range(len(tasks))
-                                if owners[task] == index]),
-        tuple(note for task in range(len(tasks)) if owners[task] == index
-              for note in checked[task][1]))
+        target, np.concatenate([piece[0] for owner, piece in pieces if owner == index]),
+        tuple(note for owner, piece in pieces if owner == index for note in piece[1]))
         for index, target in enumerate(targets))
+
+
+def check_value_groups(group: tuple[ValueCheck, ...]
+                       ) -> tuple[tuple[np.ndarray, tuple[tuple[str, ...], ...]], ...]:
+    """:func:`check_values` of each of a task's parts, in order."""
+    return tuple(check_values(task) for task in group)
 
 
 def check_values(task: ValueCheck) -> tuple[np.ndarray, tuple[tuple[str, ...], ...]]:

@@ -248,17 +248,14 @@ def _unpack(header: tuple[str, ...], columns: dict[str, Any], length: int) -> Ro
 
 
 def unpacked(column: Any) -> np.ndarray:
-    """The column :func:`packed` made ``column`` of."""
+    """The column :func:`packed` made ``column`` of (a column of one value as a
+    read-only view of it)."""
     if not isinstance(column, tuple):
         kept: np.ndarray = column
         return kept
     kind, first, rest = column
-    if kind == "same" and first.dtype == object:
-        same = np.empty(rest, dtype=object)
-        same.fill(first[0])
-        return same
-    if kind == "same":
-        return np.repeat(first, rest, axis=0)
+    if kind == "same":  # read-only, one row seen ``rest`` times: nothing copied
+        return np.broadcast_to(first, (rest, *first.shape[1:]))
     if kind == "range":
         return np.arange(first, first + rest, dtype=np.int64)
     taken: np.ndarray = rest[first]

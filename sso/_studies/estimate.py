@@ -25,9 +25,10 @@ CSV_BYTES_PER_NUMBER = 25
 # tracemalloc for two axes), its formatted CSV row (1.5 KB for 29 columns, measured)
 # and its typed row in the result (about as much again), rounded up.
 SWEEP_BYTES_PER_POINT = 4096
-# A point of an array sweep (sso._studies.array_engine), held as columns: 196 bytes
-# held and 508 at the peak (a chunk's arrays and CSV text on top), measured with
-# tracemalloc on a 216,000-point evaluate sweep of three joints; rounded up.
+# A point of an array sweep (sso._studies.array_engine), held as columns: 200 bytes
+# optimising three joints and 136 evaluating (tests/docs/test_scaling_page.py), about
+# 530 and 320 at the peak (a chunk's arrays and CSV text on top, measured with
+# tracemalloc on sweeps of 8,000 and 27,000 points); rounded up.
 ARRAY_SWEEP_BYTES_PER_POINT = 1024
 # A point of a chunk being computed (sso._studies.array_engine) with its CSV text: 1.3 KB
 # evaluating and 1.8 KB optimising at the peak, measured with tracemalloc on chunks of

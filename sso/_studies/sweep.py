@@ -76,16 +76,30 @@ CHUNKS_PER_WORKER = 4
 DEFAULT_CHUNK_CAP = 25
 # An array sweep (sso._studies.array_engine) is cut into tasks of decreasing size
 # (guided self-scheduling): each takes 1 / (ARRAY_SHARE x workers) of the points
-# not yet cut, at most ARRAY_CHUNK_CAP points (0.05 s of evaluating, about 1 us a
-# point, to 0.5 s of optimising, about 10 us a point, and a few tens of MB of
-# arrays at the peak) and at least ARRAY_CHUNK_FLOOR (a few ms of work, still
-# above a task's cost to the pool or to Dask), or in a small sweep an
+# not yet cut, at most ARRAY_CHUNK_CAP points (hundredths of a second of evaluating
+# to tenths of optimising at the rates docs/scaling.md records, which gives them,
+# and ARRAY_CHUNK_CAP x estimate.ARRAY_CHUNK_BYTES_PER_POINT at the peak) and at
+# least ARRAY_CHUNK_FLOOR (milliseconds of work, above a task's cost to the pool or
+# to Dask), or in a small sweep an
 # ARRAY_CHUNKS_PER_WORKER-th of a worker's share. The first tasks are long and
 # the last ones short, so the workers end within a short task of each other.
 ARRAY_SHARE = 2
 ARRAY_CHUNKS_PER_WORKER = 8
 ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
+# On Dask a task costs about 5 ms of CPU (the scheduler's and the client's work in
+# the calling process of a LocalCluster, and the worker's), against a few tenths of
+# a ms in the local pool, so Dask's tasks are fewer and longer: each takes a whole
+# worker's share of the points not yet cut (DASK_ARRAY_SHARE), at least
+# DASK_CHUNK_FLOOR points of its action (about 12 ms of optimising, 7 ms of
+# evaluating), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 35 ms,
+# and 35 MB at the peak: a Dask worker computes in a thread, whose allocator's
+# heaps hold at most 64 MB each, and a chunk that needs two of them gives one back
+# when it ends, to be faulted in again by the next: 10,000 page faults a worker on
+# the evaluate sweep of 200,000-point tasks).
+DASK_ARRAY_SHARE = 1
+DASK_CHUNK_FLOOR = {"optimise": 5_000, "evaluate": 20_000}
+DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
 SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
@@ -146,7 +160,9 @@ def sweep(
     chunk_size : int, optional
         Points per task, ``1..50000`` (default: about four tasks per worker, at
         most 25 points each; a sweep run as arrays, tasks of decreasing size, each
-        half a worker's share of the points left, 2,000 to 50,000 points).
+        half a worker's share of the points left, 2,000 to 50,000 points; on
+        Dask a whole worker's share, at least 5,000 optimised or 20,000 evaluated
+        points, an evaluate task up to 100,000).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -190,7 +206,8 @@ def sweep(
     worker_count = validate_workers(workers)
     plan = array_plan(case, parsed_axes, action, client, worker_count)
     check_memory(_estimate(case, parsed_axes, mode, action,
-                           worker_count if client is None else 1, plan is not None),
+                           worker_count if client is None else 1, plan is not None,
+                           client is not None),
                  memory_limit_mb)
     count = point_count(parsed_axes, mode)
     header = columns([axis.path for axis in parsed_axes], case.kind)
@@ -247,7 +264,8 @@ class _Job:
         """The tasks of the pending points (sorted), each with the slice of every axis
         its points take, found from its first and last point alone."""
         sizes = _chunk_sizes(self.chunk_size, len(pending),
-                             parallelism(self.client, self.workers), self.plan is not None)
+                             parallelism(self.client, self.workers), self.plan is not None,
+                             *array_chunk_rule(self.client is not None, self.action))
         lengths = tuple(len(axis.values) for axis in self.axes)
         chunks = []
         for start, size in zip(np.cumsum([0, *sizes]).tolist()[:-1], sizes, strict=True):
@@ -348,7 +366,7 @@ def _result(job: _Job, axes: tuple[Axis, ...], mode: str, rows: RowTable, resume
 
 
 def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
-              workers: int, arrays: bool) -> ResourceEstimate:
+              workers: int, arrays: bool, on_dask: bool) -> ResourceEstimate:
     """Memory and solves of the sweep, from the base case's shape."""
     count = (math.prod(len(axis.values) for axis in axes) if mode != "listed"
              else max(len(axis.values) for axis in axes))
@@ -364,18 +382,31 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
         joints, free = problem.n_joints, problem.n_free
     return sweep_estimate(count, joints, free, samples, per_point, workers,
                           optimising and case.kind == "shaft_series", arrays,
-                          min(count, ARRAY_CHUNK_CAP))
+                          min(count, array_chunk_rule(on_dask, action)[1]))
 
 
-def _chunk_sizes(chunk_size: Any, points: int, at_once: int,
-                 arrays: bool = False) -> list[int]:
-    """Points of each task, in order (see the chunking constants above)."""
+def array_chunk_rule(on_dask: bool, action: str) -> tuple[int, int, int]:
+    """The fewest and the most points of an array sweep's task, and the parts of a
+    worker's share of the points left it takes (see the chunking constants above)."""
+    if not on_dask:
+        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP, ARRAY_SHARE
+    return (DASK_CHUNK_FLOOR[action],
+            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP,
+            DASK_ARRAY_SHARE)
+
+
+def _chunk_sizes(chunk_size: Any, points: int, at_once: int, arrays: bool = False,
+                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP,
+                 share: int = ARRAY_SHARE) -> list[int]:
+    """Points of each task, in order (see the chunking constants above); an array
+    sweep's tasks of ``fewest`` to ``most`` points, each ``1 / share`` of a worker's
+    share of the points left."""
     if chunk_size is None and arrays:
-        floor = min(ARRAY_CHUNK_FLOOR, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
+        floor = min(fewest, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
         sizes = []
         while points > 0:
-            size = min(points, ARRAY_CHUNK_CAP,
-                       max(floor, math.ceil(points / (ARRAY_SHARE * at_once))))
+            size = min(points, most,
+                       max(floor, math.ceil(points / (share * at_once))))
             sizes.append(size)
             points -= size
         return sizes

@@ -1,10 +1,12 @@
 """Case files: shipped cases load, defaults fill in, bad files fail with clear messages."""
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-from sso._cases.schema import CASE_KINDS, CaseError, load_case, parse_case, schema
+from sso._cases.schema import KIND_MODULES, CaseError, case_kinds, load_case, parse_case, schema
 from sso._cases.shaft_series import Case
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
@@ -170,7 +172,7 @@ def test_case_strings_are_data_not_code(tmp_path):
 
 
 def test_every_kind_lists_unique_keys():
-    for kind in CASE_KINDS:
+    for kind in case_kinds():
         labels = [key.label for key in schema(kind)]
         assert len(labels) == len(set(labels))
 
@@ -236,3 +238,27 @@ def test_kinds_without_a_residual_form_keep_ipopt_and_slsqp(kind):
         parse_case({**document, "solver": {"solvers": ["lm"]}}, f"{kind}.toml")
     with pytest.raises(ValueError, match=r"solver.solvers\[0\] = 'lm' is not one of"):
         case.with_overrides(solvers=("lm",))
+
+
+def test_each_shipped_kind_is_registered_by_the_module_that_reading_it_imports():
+    # parse_case imports KIND_MODULES[kind] alone for a case of that kind (a shaft-series
+    # run loads no column or linkage module); a kind registered elsewhere would be unknown
+    for kind, case_kind in case_kinds().items():
+        assert case_kind.build.__module__ == KIND_MODULES[kind], kind
+    assert list(case_kinds()) == list(KIND_MODULES)
+
+
+def test_an_unknown_kind_lists_every_kind_whichever_were_imported_first():
+    # a fresh process that reads a mechanism case first registers its kinds before the
+    # column's; the message still lists the kinds in the order of KIND_MODULES
+    code = ("import sso._cases.mechanism\n"
+            "from sso._cases.schema import CaseError, parse_case\n"
+            "try:\n"
+            "    parse_case({'kind': 'gearbox'})\n"
+            "except CaseError as error:\n"
+            "    print(error.reason)\n")
+    completed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                               check=True, timeout=120)
+    assert completed.stdout.strip() == (
+        "kind = 'gearbox' is not one of 'shaft_series', 'column', 'fourbar', 'slider_crank', "
+        "'quick_return', 'fourbar_design'")

@@ -161,6 +161,38 @@ def sweep_chunks() -> str:
             f"{sweep.ARRAY_CHUNK_FLOOR:,}")
 
 
+def chain_limits() -> str:
+    """The largest equal operating angles and tangent sum sso accepts (sso/_validation.py)."""
+    import math
+
+    from sso._validation import LARGEST_TANGENT_SUM, least_cosine_product
+
+    def equal_deg(joints: int, decimals: int) -> str:
+        cosine = least_cosine_product(joints) ** (1.0 / joints)
+        return f"{math.degrees(math.acos(cosine)):.{decimals}f}"
+
+    return (f"equal angles up to {equal_deg(2, 8)} deg for 2 joints, {equal_deg(4, 4)} for 4, "
+            f"{equal_deg(8, 2)} for 8, {equal_deg(16, 2)} for 16 and {equal_deg(64, 2)} for 64; "
+            f"and tangents summing to at most {short_e(LARGEST_TANGENT_SUM, 2)} (one joint up to "
+            f"{math.degrees(math.atan(LARGEST_TANGENT_SUM)):.7f} deg")
+
+
+def extent_search_column() -> str:
+    """The extent search's probes (sso/_shafts/exact_optima.py's constants)."""
+    from sso._shafts.exact_optima import EXTENT_PROBES
+
+    return f"Levenberg-Marquardt from the chosen design and {EXTENT_PROBES} seeded random probes"
+
+
+def extent_search_api() -> str:
+    from sso._shafts.exact_optima import EXTENT_HALVINGS, EXTENT_PROBES
+
+    return (f"from the chosen design and then from {EXTENT_PROBES} seeded random probes: the "
+            "first that lands is the end's witness, an exact optimum on the bound, and the end "
+            "(`at_bound`, \"bound\" in the table) is exact. Where none lands, the pinned value "
+            f"is bisected {EXTENT_HALVINGS} times towards the chosen design")
+
+
 def shipped_cases() -> str:
     cases = ROOT / "cases"
     counts = [len(list(cases.glob(pattern))) for pattern in
@@ -198,6 +230,10 @@ FIGURES = {
     "exact calibration amplitude (docs/column.md)": ("docs/column.md", calibration_amplitude),
     "truck lock to lock (docs/column.md)": ("docs/column.md", truck_lock_to_lock),
     "paper trials (docs/model.md)": ("docs/model.md", paper_trials),
+    "chain limits (docs/model.md)": ("docs/model.md", chain_limits),
+    "extent search (docs/column.md)": ("docs/column.md", extent_search_column),
+    "extent search (docs/guide/python-api.md)": ("docs/guide/python-api.md",
+                                                 extent_search_api),
     "option-1 trial (docs/model.md)": ("docs/model.md", lambda: option_one_trial(
         "model gives {low} to {high} rpm")),
     "option-1 trial (docs/guide/limits.md)": ("docs/guide/limits.md", lambda: option_one_trial(
@@ -222,6 +258,26 @@ def test_a_figure_in_prose_is_what_the_code_gives(name):
     expected = " ".join(figures().split())
     text = page_text(page)
     assert expected in text, f"{page} should say: {expected}"
+
+
+def test_the_column_solver_tolerance_keeps_slsqp_within_the_cross_check():
+    # docs/robust.md: SLSQP's stationarity error at the default column tolerance, on the
+    # shipped three-position column with 200 samples, both robust objectives.
+    from sso._limits import DEFAULT_COLUMN_SOLVER_TOL, DEFAULT_KKT_TOLERANCE
+
+    positions = load("truck_three_positions")["positions"]
+    tolerances = sso.Tolerances(hardpoint_mm=1.0, yoke_phase_deg=1.0, samples=200, seed=1)
+    stationarity = [sso.optimise(ColumnGeometry(position["points_mm"]), tolerances=tolerances,
+                                 robust_objective=objective).solutions["slsqp"].kkt
+                    for position in positions.values() for objective in ("mean", "p95")]
+    assert len(stationarity) == 6
+    assert max(stationarity) < 0.1 * DEFAULT_KKT_TOLERANCE
+    text = page_text("docs/robust.md")
+    solver_tol = short_e(DEFAULT_COLUMN_SOLVER_TOL, 1)
+    assert f"The default solver tolerance is `{solver_tol}`" in text
+    assert ("(200 samples, seed 1, the mean and the p95 objective) SLSQP's stationarity error "
+            f"at `{solver_tol}` stays below {short_e(0.1 * DEFAULT_KKT_TOLERANCE, 1)}, a "
+            f"tenth of the cross-check's {short_e(DEFAULT_KKT_TOLERANCE, 1)}.") in text
 
 
 def test_no_timing_in_the_performance_page_s_prose():

@@ -4,6 +4,7 @@ states are the package's own constants."""
 
 from __future__ import annotations
 
+import copy
 import re
 import statistics
 from pathlib import Path
@@ -19,12 +20,17 @@ from sso._studies.sweep import (
     ARRAY_CHUNK_FLOOR,
     ARRAY_CHUNKS_PER_WORKER,
     ARRAY_SHARE,
+    DASK_ARRAY_SHARE,
+    DASK_CHUNK_FLOOR,
+    DASK_EVALUATE_CHUNK_CAP,
+    _chunk_sizes,
+    array_chunk_rule,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "scaling.md"
 NUMBER_WORDS = {8: "eighth"}
-SHARE_WORDS = {2: "half a"}
+SHARE_WORDS = {1: "a whole", 2: "half a"}
 
 
 @pytest.fixture(scope="module")
@@ -66,13 +72,85 @@ def test_the_projection_follows_from_the_raw_passes(document, machines):
         assert figures["tasks"] == 1e9 / ARRAY_CHUNK_CAP
 
 
+def test_the_page_gives_what_a_task_takes_at_the_recorded_rates(document):
+    # Recomputed here from the recorded one-process rates and the recorded chunk sizes.
+    evaluate_s = 1.0 / document["evaluate"]["runs"][scaling.ONE]["median_points_per_s"]
+    optimise_s = 1.0 / document["optimise"]["runs"][scaling.ONE]["median_points_per_s"]
+    assert (document["chunks"]["most_points"], document["chunks"]["fewest_points"]) == (
+        ARRAY_CHUNK_CAP, ARRAY_CHUNK_FLOOR)
+    page = " ".join(scaling.page_with_section(PAGE.read_text(encoding="utf-8"),
+                                              document).split())
+    assert (f"({evaluate_s * 1e6:.2f} us a point evaluating, {optimise_s * 1e6:.2f} us "
+            f"optimising), a task of the most points ({ARRAY_CHUNK_CAP:,}) takes "
+            f"{ARRAY_CHUNK_CAP * evaluate_s:.2f} s of evaluating or "
+            f"{ARRAY_CHUNK_CAP * optimise_s:.2f} s of optimising, and one of the fewest "
+            f"({ARRAY_CHUNK_FLOOR:,}) {ARRAY_CHUNK_FLOOR * evaluate_s * 1e3:.1f} ms or "
+            f"{ARRAY_CHUNK_FLOOR * optimise_s * 1e3:.1f} ms") in page
+    assert "what a task of either size takes at the rates of the latest run" in page
+
+
+def test_writing_sweep_csv_is_slower_than_evaluating_in_the_recorded_run(document):
+    # The prose says so; the recorded run must show it (and the page gives both rates).
+    in_memory = document["evaluate"]["runs"][scaling.ONE]["median_points_per_s"]
+    assert scaling.written_rate(document) < in_memory
+    page = scaling.page_with_section(PAGE.read_text(encoding="utf-8"), document)
+    assert (f"it ran at {scaling.written_rate(document):,.0f} points/s, against "
+            f"{in_memory:,.0f} in memory") in " ".join(page.split())
+
+
+def test_a_sweep_holds_the_bytes_a_point_the_page_states():
+    # The rows a sweep's process holds are its columns: their bytes per point, on small
+    # sweeps of the benchmark's case ("lm", one start), are those of any sweep of it.
+    import sso
+
+    held = {}
+    for action in ("optimise", "evaluate"):
+        result = sso.sweep(sweep_throughput.base_document(), sweep_throughput.grid(4),
+                           action=action, workers=1, progress=False)
+        table = result.rows.table
+        held[action] = sum(column.nbytes for column in table.columns.values()) / table.length
+    text = " ".join(PAGE.read_text(encoding="utf-8").split())
+    assert (f"as columns of {held['optimise']:.0f} bytes a point optimising the shipped case "
+            f"({held['evaluate']:.0f} evaluating), so a sweep of 10^6 points holds "
+            f"{held['optimise'] * 1e6 / 1e9:.1f} GB") in text
+
+
 def test_the_prose_states_the_package_constants():
     text = " ".join(PAGE.read_text(encoding="utf-8").split())
+    assert f"up to about {scaling.TASK_OVERHEAD_S * 1e3:g} ms a task" in text
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
+    assert (f"each takes {SHARE_WORDS[DASK_ARRAY_SHARE]} worker's share of the points not "
+            f"yet cut, at least {DASK_CHUNK_FLOOR['optimise']:,} optimised points or "
+            f"{DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an evaluate task up to "
+            f"{DASK_EVALUATE_CHUNK_CAP:,} points") in text
+    for action, points, pool, dask in (("optimise", 103_823, 13, 6),
+                                       ("evaluate", 1_000_000, 32, 13)):
+        assert len(_chunk_sizes(None, points, 2, True)) == pool
+        assert len(_chunk_sizes(None, points, 2, True, *array_chunk_rule(True, action))) == dask
+    assert "into 6 tasks on 2 Dask workers, 13 in the pool" in text
+    assert "sweep into 13 and 32" in text
     assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text
     assert f"(the first {REPORT_ROWS})" in text
     assert re.search(r"at most 10\^(\d+) points", text)[1] == str(len(str(MAX_POINTS)) - 1)
+
+
+def test_a_run_with_a_ceiling_shows_the_ratios_over_it(document):
+    # A record of the benchmark as it now runs also holds each run's CPU time over one
+    # process's and the ceiling; the page gives the ratios over the ceiling.
+    run = copy.deepcopy(document)
+    run["ceiling"] = {action: {"ratio": 1.25, "cpu_together_over_alone": 1.02}
+                      for action in ("optimise", "evaluate")}
+    for action in ("optimise", "evaluate"):
+        for label in (scaling.POOL, scaling.DASK):
+            run[action]["runs"][label]["workers_cpu_over_one_process"] = 1.1
+    text = scaling.section(run)
+    pool = run["optimise"]["runs"][scaling.POOL]
+    assert (f"| optimise | {scaling.POOL} | "
+            f"{pool['calling_process_cpu_over_one_process']:.2f} | 1.10 | "
+            f"{pool['cpu_bound_ratio']:.2f} | {pool['ratio_to_one_process'] / 1.25:.2f} |") in text
+    assert "optimise: two processes 1.25x one, their CPU time per point 1.02x" in text
+    assert "ratio over the ceiling" not in scaling.section(document)  # older records: none

@@ -68,18 +68,45 @@ def test_beats_the_papers_optimum_and_solvers_agree(option, model):
 
 
 class _ShiftedAnswer:
-    """A real IPOPT (CasADi's nlpsol) whose answer is returned moved by 0.05 rad."""
+    """A real IPOPT (CasADi's nlpsol) whose answer is returned moved by 0.05 rad, however
+    it is called: plainly, or through its buffers (as sso calls it)."""
 
     def __init__(self, solver):
         self._solver = solver
+
+    def __getattr__(self, name):
+        return getattr(self._solver, name)
 
     def __call__(self, **arguments):
         answer = dict(self._solver(**arguments))
         answer["x"] = answer["x"] + 0.05
         return answer
 
-    def stats(self):
-        return self._solver.stats()
+    def buffer(self):
+        buffer, evaluate = self._solver.buffer()
+        shifted = _ShiftedBuffer(buffer)
+
+        def evaluate_and_shift():
+            evaluate()
+            shifted.answer += 0.05
+
+        return shifted, evaluate_and_shift
+
+
+class _ShiftedBuffer:
+    """The real solver's buffer; the array it writes the answer ``x`` into is kept."""
+
+    def __init__(self, buffer):
+        self._buffer = buffer
+        self.answer = None
+
+    def __getattr__(self, name):
+        return getattr(self._buffer, name)
+
+    def set_res(self, index, view):
+        self._buffer.set_res(index, view)
+        if index == 0:  # nlpsol's first output is x
+            self.answer = np.asarray(view)
 
 
 @pytest.fixture

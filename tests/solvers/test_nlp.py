@@ -55,6 +55,40 @@ def test_ipopt_solver_is_built_once_per_option_set():
     assert len(nlp.ipopt_solvers) == 2
 
 
+def test_buffered_ipopt_answers_and_counts_each_solve_as_the_plain_call():
+    # The reference is CasADi's own call of the same nlpsol (inputs and outputs as
+    # CasADi matrices). The buffer's memory adds its evaluation counts over its solves;
+    # each solve must report its own, as the plain call does, the second as the first.
+    import casadi
+
+    nlp = rosenbrock()
+    solver = nlp.ipopt({"tol": 1e-10, "max_iter": 100})
+    plain = casadi.nlpsol("plain", "ipopt", nlp.symbols,
+                          {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes",
+                                                          "tol": 1e-10, "max_iter": 100}})
+    arguments = {"x0": [-1.2, 1.0], "p": PARAMETERS.tolist(), "lbx": [-2.0, -2.0],
+                 "ubx": [2.0, 2.0]}
+    expected = plain(**arguments)
+    counted = ("iter_count", "n_call_nlp_f", "n_call_nlp_grad_f", "n_call_nlp_hess_l")
+    for _ in range(2):
+        answer = solver(**arguments)
+        np.testing.assert_array_equal(answer["x"], expected["x"].full().ravel())
+        assert answer["f"][0] == float(expected["f"])
+        np.testing.assert_array_equal(answer["lam_x"], expected["lam_x"].full().ravel())
+        assert solver.stats()["return_status"] == plain.stats()["return_status"]
+        assert [solver.stats()[name] for name in counted] == [plain.stats()[name]
+                                                               for name in counted]
+        assert solver.stats()["n_call_nlp_f"] > 0
+
+
+def test_buffered_ipopt_refuses_unknown_inputs_and_raises_what_casadi_raises():
+    solver = rosenbrock().ipopt({"max_iter": 10})
+    with pytest.raises(TypeError, match=r"unknown solver inputs \['x_start'\]"):
+        solver(x_start=[0.0, 0.0])
+    with pytest.raises(RuntimeError, match="LBX"):  # crossed bounds: CasADi's own check
+        solver(x0=[0.0, 0.0], p=PARAMETERS, lbx=[1.0, 1.0], ubx=[0.0, 0.0])
+
+
 def test_cache_builds_once_per_key_and_per_thread():
     builds: list[str] = []
 
