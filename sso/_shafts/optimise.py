@@ -438,10 +438,12 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     """
     nlp = compiled_nlp(problem, 0)
     started = time.perf_counter()
-    fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
-                           problem.upper_rad.tolist())
-    x, solver_fun, nit, nfev, status = lm.solve_floats(nlp, problem.start_rad.tolist(), fixed,
-                                                       lower, upper, solver_tol, max_iterations)
+    # math.radians rounds as numpy's radians does (the problem's start_rad, parameters_rad).
+    fixed = list(map(math.radians, problem.parameters_deg.tolist()))
+    lower, upper = problem.lower_rad.tolist(), problem.upper_rad.tolist()
+    x, solver_fun, nit, nfev, status = lm.solve_floats(
+        nlp, list(map(math.radians, problem.start_deg.tolist())), fixed, lower, upper,
+        solver_tol, max_iterations)
     success = status > 0
     if saddle_direction(nlp, success, solver_fun, x, problem.parameters_rad,
                         lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:

@@ -75,8 +75,9 @@ class CompiledNLP:
     lm_solves : int
         ``"lm"`` solves of the shape before it turned to that library
         (:func:`sso._solvers.lm.native_of`).
-    lm_native : NativeSolver, False or None
-        The library once loaded (False where it cannot be had; None before).
+    lm_native : OneDesign, False or None
+        The library once loaded, called one design at a time (False where it cannot be
+        had; None before).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the

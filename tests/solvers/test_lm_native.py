@@ -96,8 +96,8 @@ def test_a_shape_solved_often_turns_to_the_library_and_ends_where_the_kernels_en
         solve(problems[0])
     assert nlp.lm_native is None  # not before NATIVE_AFTER solves of the shape
     compiled = [solve(problem) for problem in problems]
-    assert isinstance(nlp.lm_native, lm_native.NativeSolver)
-    assert nlp.lm_native.size == nlp.symbols["x"].numel()
+    assert isinstance(nlp.lm_native, lm_native.OneDesign)
+    assert nlp.lm_native.solver.size == nlp.symbols["x"].numel()
     for kernel, library in zip(on_kernels, compiled, strict=True):
         assert ((library.fun, library.nit, library.nfev, library.status, library.message)
                 == (kernel.fun, kernel.nit, kernel.nfev, kernel.status, kernel.message))
