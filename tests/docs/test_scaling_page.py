@@ -26,6 +26,7 @@ from sso._studies.sweep import (
     _chunk_sizes,
     array_chunk_rule,
 )
+from sso._studies.worker_memory import KEPT_FREE_BYTES
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "scaling.md"
@@ -118,6 +119,7 @@ def test_a_sweep_holds_the_bytes_a_point_the_page_states():
 def test_the_prose_states_the_package_constants():
     text = " ".join(PAGE.read_text(encoding="utf-8").split())
     assert f"up to about {scaling.TASK_OVERHEAD_S * 1e3:g} ms a task" in text
+    assert f"keep up to {KEPT_FREE_BYTES // 2**20} MB it frees" in text
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
