@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sso._limits import BETA_LIMIT_DEG
+from sso._record import built
 from sso._validation import check_chain_conditioning, per_item_bounds
 from sso._warning_origin import user_stacklevel
 
@@ -118,7 +119,8 @@ class DesignProblem:
     def design_deg(self, x_deg: Sequence[float] | NDArray[np.float64]
                    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
-        beta, phase = self.split(np.asarray(x_deg, dtype=float).tolist(),
+        beta, phase = self.split(x_deg if type(x_deg) is list
+                                 else np.asarray(x_deg, dtype=float).tolist(),
                                  self.parameters_deg.tolist())
         return tuple(beta), tuple(phase)
 
@@ -307,7 +309,8 @@ def build_problem(
     moved_starts: tuple[str, ...] = ()
     if start != given:
         moved_starts = tuple(_moved_messages(given, start, layout, n_joints))
-    return DesignProblem(
+    return built(
+        DesignProblem,
         n_joints=n_joints,
         option=layout.option,
         model=model,
