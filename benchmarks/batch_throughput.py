@@ -49,6 +49,7 @@ import sso
 from benchmarks.skilled_baseline import solve as baseline_solve
 from sso._files import write_text_atomic
 from sso._shafts.batch import optimise_batch
+from sso._solvers.lm import NATIVE_AFTER
 
 REACHED = 1e-10
 BETA_BOUNDS_DEG = (10.0, 40.0)
@@ -239,14 +240,17 @@ def shape_figures(count: int) -> list[dict[str, Any]]:
 def _interleaved_medians(methods: dict[str, Callable[[], float]]
                          ) -> dict[str, tuple[float, float, float]]:
     """Median wall time (s) and median CPU time of this process (s) of one call of each
-    method, and the RE it returns: after one warm-up call each, :data:`LATENCY_REPEATS`
+    method, and the RE it returns: after a warm-up of :data:`sso._solvers.lm.NATIVE_AFTER`
+    calls each (a shape solved that often runs its "lm" iterations compiled to machine
+    code, as in a run of many designs), :data:`LATENCY_REPEATS`
     rounds in which every method in turn makes a pass of :data:`LATENCY_CALLS_PER_PASS`
     calls (a method's time is its pass's over the calls), so a burst of the machine's
     other work falls on every method alike and each is timed warm, as in a run of many
     designs. On a machine shared with other work the CPU time is the work the call did;
     the wall time adds the time it waited for a core (more for a longer call: it
     outlasts more scheduler slices)."""
-    funs = {name: call() for name, call in methods.items()}
+    for _ in range(NATIVE_AFTER):
+        funs = {name: call() for name, call in methods.items()}
     walls: dict[str, list[float]] = {name: [] for name in methods}
     cpus: dict[str, list[float]] = {name: [] for name in methods}
     for _ in range(LATENCY_REPEATS):

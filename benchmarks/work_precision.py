@@ -63,6 +63,7 @@ from benchmarks.cases import (
 )
 from benchmarks.machine import machine_description
 from benchmarks.skilled_baseline import solve as skilled_solve
+from sso._solvers.lm import NATIVE_AFTER
 from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER
 
 METHODS = ("sso-ipopt", "sso-slsqp", "sso-lm", "skilled", "baseline")
@@ -326,9 +327,10 @@ def random_single_solves(per_shape: int, passes: int) -> dict[str, Any]:
     ``per_shape`` random starts for each option and each of 3 to 6 joints (beta in
     [5, 35] deg, phase in [0, 180] deg; option 1 keeps the start's angles, option 2
     its phases at 90 deg). After a warm-up per shape (for sso, as many rounds as a
-    shape's Newton kernel waits for, so no timed pass builds one), both solve every
-    start once per pass, the two methods' passes interleaved; each method's time is the median
-    of ``passes`` passes (one pass is a few milliseconds, which one burst of the
+    shape's Newton kernel waits for and at least :data:`sso._solvers.lm.NATIVE_AFTER`
+    solves, after which a shape runs compiled: no timed pass builds either), both solve
+    every start once per pass, the two methods' passes interleaved; each method's time is
+    the median of ``passes`` passes (one pass is a few milliseconds, which one burst of the
     machine's other work can double), in wall time and in this process's CPU time (on a
     shared machine the work itself; the wall time adds the waits for a core). Also
     counted: sso answers with a higher RE than the skilled baseline's (above round-off
@@ -354,9 +356,11 @@ def random_single_solves(per_shape: int, passes: int) -> dict[str, Any]:
             pass_cpu: dict[str, list[float]] = {name: [] for name in methods}
             results: dict[str, list[float]] = {}
             # Warm-up: every start, as often as a shape needs Newton steps before its
-            # Newton kernel is built (NEWTON_KERNEL_AFTER), so no pass pays a build.
+            # Newton kernel is built (NEWTON_KERNEL_AFTER) and solves before it runs
+            # compiled (NATIVE_AFTER), so no pass pays a build.
+            warm_rounds = max(NEWTON_KERNEL_AFTER, -(-NATIVE_AFTER // per_shape))
             for name, call in methods.items():
-                for _ in range(NEWTON_KERNEL_AFTER if name == "sso-lm" else 1):
+                for _ in range(warm_rounds if name == "sso-lm" else 1):
                     for beta, phase in starts:
                         call(beta, phase)
             for _ in range(passes):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import reprlib
 from collections.abc import Iterable
@@ -61,6 +62,8 @@ def as_float_tuple(field: str, values: Any) -> tuple[float, ...]:
         raise ValueError(f"{field} = {shown(values)} must be a number or a list of numbers")
     if type(values) is np.ndarray and values.ndim == 1 and values.dtype.kind == "f":
         items = values.tolist()  # Python floats: the checks below take their fast path
+        if math.isfinite(sum(items)):  # no entry is NaN or infinite
+            return tuple(items)
     else:
         try:
             items = list(values)
@@ -305,8 +308,15 @@ reach 89.9999992 deg)."""
 def _beyond_resolution(joints: int, log_product: Any, tangent_sum: Any) -> Any:
     """Whether chains of ``joints`` joints with these sums of ``ln cos beta`` and of
     ``tan beta`` (floats or arrays) break either bound of :func:`check_chain_conditioning`."""
-    return (log_product < math.log(least_cosine_product(joints))) | (
+    return (log_product < _least_log_cosine_product(joints)) | (
         tangent_sum > LARGEST_TANGENT_SUM)
+
+
+@functools.cache
+def _least_log_cosine_product(joints: int) -> float:
+    """``ln`` of :func:`least_cosine_product`, kept per chain length (every series made
+    checks it)."""
+    return math.log(least_cosine_product(joints))
 
 
 def unresolvable_chains(beta_deg: np.ndarray) -> np.ndarray:
@@ -346,10 +356,10 @@ def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
         the joints may have: the least product of cosines and the largest equal
         angle, or the largest sum of tangents.
     """
-    angles = [math.radians(beta) for beta in beta_deg]
+    angles = list(map(math.radians, beta_deg))
     joints = len(angles)
-    log_product = math.fsum(math.log(math.cos(angle)) for angle in angles)
-    tangents = math.fsum(math.tan(angle) for angle in angles)
+    log_product = math.fsum(map(math.log, map(math.cos, angles)))
+    tangents = math.fsum(map(math.tan, angles))
     if not _beyond_resolution(joints, log_product, tangents):
         return
     log10_product = log_product / math.log(10.0)

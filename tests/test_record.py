@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import sso
-from sso._record import Record, RecordError, decode, encode
+from sso._record import Record, RecordError, built, decode, encode
 
 SERIES = sso.ShaftSeries([10.0, 15.0, 12.0], [80.0, 95.0])
 
@@ -92,3 +92,14 @@ def test_from_dict_checks_values_as_strictly_as_case_files(path, value, message)
     target[path[-1]] = value
     with pytest.raises(RecordError, match=message):
         sso.OptimisationResult.from_dict(edited)
+
+
+def test_built_makes_the_record_the_dataclass_init_makes():
+    fields = {"count": 3, "value": 0.5, "flags": (True,), "table": np.zeros((1, 2)),
+              "named": {"a": 1.0}, "series": SERIES}
+    made = built(Sample, **fields)
+    assert type(made) is Sample and made == Sample(**fields)
+    assert made.to_dict() == Sample(**fields).to_dict()
+    with pytest.raises(TypeError, match=r"missing \['value'\], unknown \['valu'\]"):
+        built(Sample, **{**{key: item for key, item in fields.items() if key != "value"},
+                         "valu": 0.5})

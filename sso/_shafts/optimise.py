@@ -32,6 +32,7 @@ from sso._limits import (
     MAX_STARTS,
     SOLVERS,
 )
+from sso._record import built
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso._shafts.exact_optima import (
@@ -67,7 +68,7 @@ from sso._solvers.resources import check_memory, multistart_estimate
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._solvers.saddle import saddle_direction
-from sso._solvers.solution import ROLE_SELECTION, Solution
+from sso._solvers.solution import ROLE_SELECTION, ROLE_SOLVE, Solution
 from sso._validation import (
     validate_count,
     validate_solver_tol,
@@ -437,10 +438,12 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     """
     nlp = compiled_nlp(problem, 0)
     started = time.perf_counter()
-    fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
-                           problem.upper_rad.tolist())
-    x, solver_fun, nit, nfev, status = lm.solve_floats(nlp, problem.start_rad.tolist(), fixed,
-                                                       lower, upper, solver_tol, max_iterations)
+    # math.radians rounds as numpy's radians does (the problem's start_rad, parameters_rad).
+    fixed = list(map(math.radians, problem.parameters_deg.tolist()))
+    lower, upper = problem.lower_rad.tolist(), problem.upper_rad.tolist()
+    x, solver_fun, nit, nfev, status = lm.solve_floats(
+        nlp, list(map(math.radians, problem.start_deg.tolist())), fixed, lower, upper,
+        solver_tol, max_iterations)
     success = status > 0
     if saddle_direction(nlp, success, solver_fun, x, problem.parameters_rad,
                         lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:
@@ -449,10 +452,11 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
     x_deg = [math.degrees(angle) for angle in point]
     beta_deg, phase_deg = problem.design_deg(x_deg)
-    solution = Solution(solver="lm", series=checked_series(beta_deg, phase_deg, series.model),
-                        x=tuple(x_deg), fun=fun, nit=nit, nfev=nfev, status=status,
-                        success=success, message=lm.MESSAGES[status], kkt=kkt, time_s=time_s,
-                        start_index=0, total_nfev=nfev, constraint_violation=0.0)
+    solution = built(Solution, solver="lm",
+                     series=checked_series(beta_deg, phase_deg, series.model), x=tuple(x_deg),
+                     fun=fun, nit=nit, nfev=nfev, status=status, success=success,
+                     message=lm.MESSAGES[status], kkt=kkt, time_s=time_s, start_index=0,
+                     total_nfev=nfev, constraint_violation=0.0, role=ROLE_SOLVE)
     return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
                    quadrature_atol, setup_warnings, None,
                    SolverFields(best=solution, solutions={"lm": solution}, runs=(solution,),
@@ -472,8 +476,11 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
                                      (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
                                      series.model)
                       if problem.option == 2 else series)
-    start_beta, start_phase = problem.design_deg(problem.start_deg)
-    return OptimisationResult(
+    # A start that was not moved onto the bounds is the initial design.
+    start_series = (initial_series if not problem.moved_starts
+                    else checked_series(*problem.design_deg(problem.start_deg), series.model))
+    return built(
+        OptimisationResult,
         option=problem.option,
         option_name=problem.option_name,
         model=series.model,
@@ -481,7 +488,7 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
         beta_bounds_deg=problem.beta_bounds_deg,
         phase_bounds_deg=problem.phase_bounds_deg,
         initial_series=initial_series,
-        start_series=checked_series(start_beta, start_phase, series.model),
+        start_series=start_series,
         samples=rule.samples,
         quadrature_error=rule.error_estimate,
         starts=starts,

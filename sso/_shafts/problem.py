@@ -88,8 +88,10 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         first, second = residuals(casadi, beta, phase)
         residual = casadi.vertcat(first, second)
         float_residual = _float_residuals(problem)
+        objective, objective_floats = _float_objective(float_residual)
         nlp = compile_nlp(name, x, p, casadi.dot(residual, residual),
-                          objective_and_gradient=_float_objective(float_residual))
+                          objective_and_gradient=objective)
+        nlp.objective_and_gradient_floats = objective_floats
         nlp.residuals_and_jacobian = float_residual
         nlp.residuals = residual
         nlp.objective_hessian = _float_hessian(problem)
@@ -218,8 +220,9 @@ def _array_residuals(problem: DesignProblem) -> Any:
     return evaluate
 
 
-def _float_objective(float_residual: Any) -> Any:
-    """``(x, p) -> (RE, dRE/dx)`` from the closed form in Python floats.
+def _float_objective(float_residual: Any) -> tuple[Any, Any]:
+    """``(x, p) -> (RE, dRE/dx)`` from the closed form in Python floats: the gradient as a
+    numpy array, and as a list of floats.
 
     The exact model's measure of every answer (objective and projected gradient,
     the same for every solver), its saddle checks and SLSQP's objective use it: for
@@ -228,12 +231,16 @@ def _float_objective(float_residual: Any) -> Any:
     two against each other.
     """
 
-    def evaluate(x: Any, parameters: Any) -> tuple[float, np.ndarray]:
+    def floats(x: Any, parameters: Any) -> tuple[float, list[float]]:
         point = x if type(x) is list else np.asarray(x, dtype=float).tolist()
         rho, jacobian = float_residual(point, parameters if type(parameters) is list
                                        else np.asarray(parameters, dtype=float).tolist())
         r1, r2 = 2.0 * rho.real, 2.0 * rho.imag
         return (rho.real * rho.real + rho.imag * rho.imag,
-                np.array([r1 * entry.real + r2 * entry.imag for entry in jacobian]))
+                [r1 * entry.real + r2 * entry.imag for entry in jacobian])
 
-    return evaluate
+    def evaluate(x: Any, parameters: Any) -> tuple[float, np.ndarray]:
+        value, gradient = floats(x, parameters)
+        return value, np.array(gradient)
+
+    return evaluate, floats

@@ -61,42 +61,11 @@ class ShaftSeries:
 
     def __init__(self, beta_deg: Sequence[float], phase_deg: Sequence[float] | None = None,
                  model: str = "exact") -> None:
-        object.__setattr__(self, "beta_deg", beta_deg)
-        object.__setattr__(self, "phase_deg", phase_deg)
-        object.__setattr__(self, "model", model)
-        self.__post_init__()
-
-    def __post_init__(self) -> None:
-        beta_deg = as_float_tuple("beta_deg", self.beta_deg)
-        if not beta_deg:
-            raise ValueError("beta_deg is empty: a shaft series needs at least 1 joint")
-        for index, beta in enumerate(beta_deg):
-            if not 0.0 <= beta < BETA_LIMIT_DEG:  # the message is made only for a bad angle
-                check_in_range(f"beta_deg[{index}]", beta, 0.0, BETA_LIMIT_DEG, "deg",
-                               upper_open=True)
-        check_chain_conditioning("beta_deg", beta_deg)
-        expected = len(beta_deg) - 1
-        if self.phase_deg is None:
-            phase_deg = (CONVENTIONAL_PHASE_DEG,) * expected
-        else:
-            phase_deg = as_float_tuple("phase_deg", self.phase_deg)
-            if len(phase_deg) == expected + 1 and expected >= 1:
-                warnings.warn(
-                    f"phase_deg has {len(phase_deg)} entries for {len(beta_deg)} joints; "
-                    f"the last ({phase_deg[-1]:g} deg, the paper's phi_{expected + 1}) "
-                    "enters no equation and is ignored",
-                    InertPhaseWarning,
-                    stacklevel=3,
-                )
-                phase_deg = phase_deg[:expected]
-            elif len(phase_deg) != expected:
-                raise ValueError(
-                    f"phase_deg has {len(phase_deg)} entries; {len(beta_deg)} joints "
-                    f"need {expected} (phase of each joint relative to the one before)"
-                )
-        check_choice("model", self.model, MODELS)
-        object.__setattr__(self, "beta_deg", beta_deg)
-        object.__setattr__(self, "phase_deg", phase_deg)
+        beta, phase = _checked_angles(beta_deg, phase_deg)
+        check_choice("model", model, MODELS)
+        # One update of the instance's dictionary: a frozen dataclass's object.__setattr__
+        # per field costs a single solve more than the checks above.
+        self.__dict__.update(beta_deg=beta, phase_deg=phase, model=model)
 
     @property
     def n_joints(self) -> int:
@@ -196,6 +165,40 @@ class ShaftSeries:
         phase_rad = list(self.phase_rad)
         return chain_kinematics(np, np.cos(theta_rad), np.sin(theta_rad), beta_rad,
                                 phase_rad, self.model)
+
+
+def _checked_angles(beta_deg: Sequence[float], phase_deg: Sequence[float] | None
+                    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """A series' operating angles and phases as checked tuples of floats (see
+    :class:`ShaftSeries` for what is refused); the paper's inert extra phase is dropped
+    with an :class:`InertPhaseWarning` at the line that made the series."""
+    beta = as_float_tuple("beta_deg", beta_deg)
+    if not beta:
+        raise ValueError("beta_deg is empty: a shaft series needs at least 1 joint")
+    for index, angle in enumerate(beta):
+        if not 0.0 <= angle < BETA_LIMIT_DEG:  # the message is made only for a bad angle
+            check_in_range(f"beta_deg[{index}]", angle, 0.0, BETA_LIMIT_DEG, "deg",
+                           upper_open=True)
+    check_chain_conditioning("beta_deg", beta)
+    expected = len(beta) - 1
+    if phase_deg is None:
+        return beta, (CONVENTIONAL_PHASE_DEG,) * expected
+    phase = as_float_tuple("phase_deg", phase_deg)
+    if len(phase) == expected + 1 and expected >= 1:
+        warnings.warn(
+            f"phase_deg has {len(phase)} entries for {len(beta)} joints; "
+            f"the last ({phase[-1]:g} deg, the paper's phi_{expected + 1}) "
+            "enters no equation and is ignored",
+            InertPhaseWarning,
+            stacklevel=3,
+        )
+        return beta, phase[:expected]
+    if len(phase) != expected:
+        raise ValueError(
+            f"phase_deg has {len(phase)} entries; {len(beta)} joints "
+            f"need {expected} (phase of each joint relative to the one before)"
+        )
+    return beta, phase
 
 
 def checked_series(beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],

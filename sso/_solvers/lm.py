@@ -149,12 +149,12 @@ def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[f
         :data:`MESSAGES` (the run succeeded where it is positive).
     """
     residual = nlp.residuals_and_jacobian
-    kernel = kernel_of(nlp)
     state = None
-    native = native_of(nlp) if kernel is not None else None
+    native = native_of(nlp)
+    kernel = None if native is not None else kernel_of(nlp)
     if native is not None:
-        values = native.solve_one(start, [*fixed, *lower, *upper, solver_tol,
-                                          float(max_iterations)])
+        values = native.solve(start, [*fixed, *lower, *upper, solver_tol,
+                                      float(max_iterations)])
         x, fun, nit, nfev, status = flat_outcome(values, len(lower))
         if status != NEWTON_INDEFINITE:
             return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
@@ -181,30 +181,29 @@ def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[f
 
 
 def native_of(nlp: Any) -> Any:
-    """The shape's library compiled to machine code (:mod:`sso._solvers.lm_native`), once
+    """The shape's library compiled to machine code (:mod:`sso._solvers.lm_native`), called
+    one design at a time in this thread (:class:`sso._solvers.lm_native.OneDesign`), once
     this thread has solved the shape :data:`NATIVE_AFTER` times; None before, for a
-    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and with
-    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) in the
-    environment.
+    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and while
+    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) is in the
+    environment (read until the library is loaded; a shape loaded keeps it).
 
     Each design ends there bit for bit where the compiled kernels end it (the Newton
     kernel built); only a shape's first solves, whose Newton steps the Python loop takes
     before that kernel is built, may end differently in the last digits.
     """
-    if os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
-        return None
     native = nlp.lm_native
     if native is None:
         if nlp.lm_shape is None:
             return None
         nlp.lm_solves += 1
-        if nlp.lm_solves < NATIVE_AFTER:
+        if nlp.lm_solves < NATIVE_AFTER or os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
             return None
-        from sso._solvers.lm_native import native_solver_of
+        from sso._solvers.lm_native import OneDesign, native_solver_of
 
-        native = nlp.lm_native = native_solver_of(
-            nlp.lm_shape, int(nlp.symbols["x"].numel()), lambda: nlp,
-            NEWTON_KERNEL_VARIABLES) or False
+        solver = native_solver_of(nlp.lm_shape, int(nlp.symbols["x"].numel()), lambda: nlp,
+                                  NEWTON_KERNEL_VARIABLES)
+        native = nlp.lm_native = False if solver is None else OneDesign(solver)
     return native or None
 
 

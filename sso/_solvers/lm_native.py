@@ -26,7 +26,7 @@ answers differ from these in the last digits (and, for a design that turns to Ne
 steps, by the batched least squares' finish).
 
 The single solve (:func:`sso._solvers.lm.solve`) runs a shape it has solved often in
-this process through the same library, one design per call (:meth:`NativeSolver.solve_one`), up to
+this process through the same library, one design per call (:class:`OneDesign`), up to
 :data:`sso._solvers.lm_kernel.NEWTON_KERNEL_VARIABLES` variables (11 variables, 6
 joints of option 3, built in about 6 s on 2 busy cores).
 """
@@ -157,31 +157,62 @@ class NativeSolver:
 
     solve: Any
     size: int
+    solve_unchecked: Any = None
+    """The same function without ctypes' argument conversions, for :class:`OneDesign`."""
 
     @property
     def state_size(self) -> int:
         """Entries of one design's state (:func:`sso._solvers.lm_kernel.pack`)."""
         return 3 * self.size + 2 + len(SCALARS)
 
-    def solve_one(self, start: list[float], problem: list[float]) -> list[float]:
+
+
+class OneDesign:
+    """A shape's library called for one design at a time, in one thread (the single solve):
+    its ctypes buffers and arguments made once, so a call costs the copy of the start and
+    the problem in, the call, and the state out (for one design ctypes' conversions and
+    new arrays cost more than the solve).
+
+    Parameters
+    ----------
+    solver : NativeSolver
+    """
+
+    def __init__(self, solver: NativeSolver) -> None:
+        self.solver = solver
+        size = solver.size
+        self._size = size
+        self._state: Any = (ctypes.c_double * solver.state_size)()
+        self._tail = [0.0] * (solver.state_size - size)
+        self._given: Any = None
+        self._fixed = (ctypes.c_longlong(1), ctypes.c_longlong(solver.state_size),
+                       ctypes.c_longlong(3 * size + 2 + _STATUS))
+
+    def solve(self, start: list[float], problem: list[float]) -> list[float]:
         """One design from ``start`` to its end, as the flat state of
         :func:`sso._solvers.lm_kernel.pack` (what the compiled kernels end with).
 
         ``problem`` is the flat problem of :func:`sso._solvers.lm_kernel.run_kernel_flat`:
         the fixed parameters, the lower and upper bounds, the tolerance and the iteration
-        limit. Plain ctypes arrays: for one design numpy's cost more than the solve.
+        limit (of one length for a shape).
 
         Raises
         ------
         MemoryError
             If the library could not allocate its working memory.
         """
-        state_size = 3 * self.size + 2 + len(SCALARS)
-        state = (ctypes.c_double * state_size)(*start)
-        given = (ctypes.c_double * len(problem))(*problem)
-        if self.solve(1, given, len(problem), state, state_size, 3 * self.size + 2 + _STATUS):
+        if self._given is None:
+            self._given = ((ctypes.c_double * len(problem))(), ctypes.c_longlong(len(problem)))
+        given, given_size = self._given
+        state = self._state
+        state[:] = start + self._tail
+        given[:] = problem
+        count, state_size, status_index = self._fixed
+        if self.solver.solve_unchecked(count, given, given_size, state, state_size,
+                                       status_index):
             raise MemoryError("the compiled lm solver could not allocate its working memory")
-        return state[:]
+        values: list[float] = state[:]
+        return values
 
 
 _solvers: dict[Hashable, NativeSolver | None] = {}
@@ -254,7 +285,9 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
     solve.restype = ctypes.c_int
     solve.argtypes = [ctypes.c_longlong, ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p,
                       ctypes.c_longlong, ctypes.c_longlong]
-    return NativeSolver(solve, size)
+    unchecked = loaded["sso_lm_solve"]  # a second function object, without argtypes
+    unchecked.restype = ctypes.c_int
+    return NativeSolver(solve, size, unchecked)
 
 
 @cache

@@ -541,8 +541,12 @@ def measure_on_bounds(nlp: Any, given: list[float], parameters: Any, lower: list
     """The measure of a point of a bound-only problem: the point put onto the bounds, the
     objective and the projected gradient's norm there (plain floats)."""
     point = _onto_bounds(given, lower, upper)
-    value, gradient = nlp.objective_and_gradient(point, parameters)
-    slopes = (gradient.ravel() if type(gradient) is np.ndarray else np.ravel(gradient)).tolist()
+    floats = getattr(nlp, "objective_and_gradient_floats", None)
+    if floats is not None:
+        value, slopes = floats(point, parameters)
+    else:
+        value, gradient = nlp.objective_and_gradient(point, parameters)
+        slopes = np.ravel(gradient).tolist()
     return point, float(value), projected_gradient_norm_floats(point, slopes, lower, upper)
 
 

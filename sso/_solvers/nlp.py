@@ -38,6 +38,9 @@ class CompiledNLP:
         ``(x, p) -> (f, df/dx)`` as ``(float, numpy.ndarray)``, used by SLSQP and
         by the optimality measures: the CasADi function of ``f``, or a closed form
         given to :func:`compile_nlp`.
+    objective_and_gradient_floats : callable or None
+        The same numbers with the gradient as a list of floats (the measures work on
+        plain floats), where the problem has them in closed form; None otherwise.
     constraints_and_jacobian : BufferedFunction or None
         ``(x, p) -> (g, dg/dx)`` as numpy arrays, when the problem has
         constraint functions.
@@ -72,8 +75,9 @@ class CompiledNLP:
     lm_solves : int
         ``"lm"`` solves of the shape before it turned to that library
         (:func:`sso._solvers.lm.native_of`).
-    lm_native : NativeSolver, False or None
-        The library once loaded (False where it cannot be had; None before).
+    lm_native : OneDesign, False or None
+        The library once loaded, called one design at a time (False where it cannot be
+        had; None before).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -88,6 +92,7 @@ class CompiledNLP:
     symbols: dict[str, Any]
     objective_and_gradient: Any
     constraints_and_jacobian: Any = None
+    objective_and_gradient_floats: Any = None
     ipopt_solvers: dict[tuple[tuple[str, Any], ...], BufferedSolver] = field(
         default_factory=dict)
     residuals_and_jacobian: Any = None

@@ -182,9 +182,13 @@ class _Counts:
 def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: np.ndarray,
                         counts: _Counts, use: str = "both") -> tuple[float, list[float]]:
     """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
-    value, gradient = nlp.objective_and_gradient(x, parameters)
     counts.objective += use in ("both", "objective")
     counts.gradient += use in ("both", "gradient")
+    floats = getattr(nlp, "objective_and_gradient_floats", None)
+    if floats is not None:
+        value, slopes = floats(x, parameters)
+        return float(value), slopes
+    value, gradient = nlp.objective_and_gradient(x, parameters)
     return float(value), np.ravel(gradient).tolist()
 
 

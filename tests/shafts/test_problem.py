@@ -79,3 +79,6 @@ def test_the_exact_models_three_evaluators_agree(option):
         assert value == pytest.approx(float(graph_value), rel=1e-12, abs=1e-15)
         np.testing.assert_allclose(gradient, np.array(graph_gradient).ravel(), rtol=1e-10,
                                    atol=1e-14)
+        # The measures' plain-float form gives the same numbers, bit for bit.
+        assert nlp.objective_and_gradient_floats(point.tolist(), parameters.tolist()) == (
+            value, gradient.tolist())

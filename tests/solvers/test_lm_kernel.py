@@ -30,6 +30,7 @@ from sso._solvers.lm_rules import (
     SCALARS,
     newton_iteration,
 )
+from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
@@ -42,6 +43,7 @@ def _kernels_not_the_library(monkeypatch):
     # solved often would run the compiled library instead (tests/solvers/test_lm_native.py
     # holds that to the kernels).
     monkeypatch.setenv(SWITCH_VARIABLE, "0")
+    cached_shapes().clear()  # no shape that earlier tests turned to the library
 
 
 def _problem(beta_deg, phase_deg, option, beta_bounds_deg, phase_bounds_deg=(0.0, 180.0)):

@@ -22,6 +22,7 @@ from sso._solvers.lm_native import (
     native_solver_of,
     solve_native,
 )
+from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
 
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
@@ -43,8 +44,10 @@ def test_each_design_ends_bit_for_bit_where_the_single_solve_s_kernels_end(joint
                                                                            monkeypatch):
     # Random starts of the shape, zero and nonzero minima, Newton steps through
     # indefinite Hessians (option 3 turns to Newton steps far from its zeros). The
-    # single solve runs its kernels (the switch keeps it off the library).
+    # single solve runs its kernels (the switch keeps it off the library; no shape that
+    # earlier tests turned to it is kept).
     monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
+    cached_shapes().clear()
     rng = np.random.default_rng(60 + joints)
     beta_deg, phase_deg = rng.uniform(5.0, 35.0, (40, joints)), rng.uniform(0.0, 180.0,
                                                                            (40, joints - 1))
@@ -84,16 +87,17 @@ def test_a_shape_solved_often_turns_to_the_library_and_ends_where_the_kernels_en
         return lm.solve(nlp, problem.start_rad, problem.parameters_rad,
                         RunLimits(problem.lower_rad, problem.upper_rad), 1e-12, 3000)
 
+    nlp.lm_native, nlp.lm_solves = None, 0  # as if no earlier test had solved the shape
     monkeypatch.setenv(lm_native.SWITCH_VARIABLE, "0")
     on_kernels = [solve(problem) for problem in problems]
     monkeypatch.delenv(lm_native.SWITCH_VARIABLE)
-    nlp.lm_native, nlp.lm_solves = None, 0
+    nlp.lm_solves = 0
     for _ in range(lm.NATIVE_AFTER - 1):
         solve(problems[0])
     assert nlp.lm_native is None  # not before NATIVE_AFTER solves of the shape
     compiled = [solve(problem) for problem in problems]
-    assert isinstance(nlp.lm_native, lm_native.NativeSolver)
-    assert nlp.lm_native.size == nlp.symbols["x"].numel()
+    assert isinstance(nlp.lm_native, lm_native.OneDesign)
+    assert nlp.lm_native.solver.size == nlp.symbols["x"].numel()
     for kernel, library in zip(on_kernels, compiled, strict=True):
         assert ((library.fun, library.nit, library.nfev, library.status, library.message)
                 == (kernel.fun, kernel.nit, kernel.nfev, kernel.status, kernel.message))

@@ -21,6 +21,7 @@ from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
 from sso._solvers import lm
 from sso._solvers.lm_kernel import SWITCH_VARIABLE
+from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
 
 
@@ -29,6 +30,7 @@ def _kernels_not_the_library(monkeypatch):
     # The kernel's copy of the step (CasADi's virtual machine), not the library a shape
     # solved often runs (the same instructions compiled: tests/solvers/test_lm_native.py).
     monkeypatch.setenv(SWITCH_VARIABLE, "0")
+    cached_shapes().clear()  # no shape that earlier tests turned to the library
 
 # Interior starts near, but not at, an exact optimum: the first step is accepted and
 # touches no bound (both checked below).
