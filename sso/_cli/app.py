@@ -54,8 +54,8 @@ COMMAND_GC_THRESHOLD = 20_000
 (Python's default: 700). Most of the objects a command creates are those of the
 modules it imports (CasADi's and SciPy's bindings, sso's own), which live as long as
 the process; each young collection during an import walks the module's growing
-namespace again: at the default threshold, collecting took about 8% of the CPU time of
-``sso run --no-plots`` on the paper's case (40 ms of 0.51 s; no collection at all saves
+namespace again: at the default threshold, collecting took about 6% of the CPU time of
+``sso run --no-plots`` on the paper's case (30 ms of 0.49 s; no collection at all saves
 no more). Cycles are still collected, and the peak memory of the shipped cases' runs
 is the same (within 0.3 MB)."""
 

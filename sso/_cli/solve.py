@@ -80,9 +80,38 @@ def _solve_cases(args: argparse.Namespace, optimising: bool) -> int:
             outcomes.append(Outcome(path, "bad input", EXIT_BAD_INPUT))
             continue
         folder = Path(args.out or DEFAULT_OUT) / case.name
+        _import_solvers(case, optimising)
         outcomes.append(_solve_one(args, case, folder, optimising, started))
     _print_summary(outcomes, optimising)
     return max(outcome.exit_code for outcome in outcomes)
+
+
+def _import_solvers(case: Any, optimising: bool) -> None:
+    """Import the solvers' libraries the case's run needs here, near the top of the
+    stack (:func:`sso._run.run_case.import_solvers_for`). A library that fails to import
+    is left to the run, which reports it as the case's failure."""
+    from sso._run.run_case import import_solvers_for
+
+    try:
+        import_solvers_for(case, optimising)
+    except ImportError as error:
+        interruption = _interruption_behind(error)
+        if interruption is not None:
+            raise interruption from None
+
+
+def _interruption_behind(error: BaseException) -> KeyboardInterrupt | None:
+    """The Ctrl-C or SIGTERM that caused ``error``, if one did: a signal that arrives
+    while an extension module initialises becomes that module's ``ImportError:
+    initialization failed`` (SciPy's HiGHS bindings), the interruption its cause."""
+    seen: set[int] = set()
+    current: BaseException | None = error
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return current
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return None
 
 
 def _solve_one(args: argparse.Namespace, case: Any, folder: Path, optimising: bool,
@@ -122,7 +151,10 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     except ValueError as error:
         print_error(f"{case.source}: {error}")
         return Outcome(case.name, "bad input", EXIT_BAD_INPUT)
-    except Exception:
+    except Exception as error:
+        interruption = _interruption_behind(error)
+        if interruption is not None:
+            raise interruption from None
         print_error(f"{case.source}: internal error while solving; please report it:\n"
                     + traceback.format_exc())
         return Outcome(case.name, "internal error", EXIT_FAILED)

@@ -64,3 +64,33 @@ def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | C
     from sso._run.mechanism_run import run_mechanism
 
     return run_mechanism(case, solve)
+
+
+def import_solvers_for(case: Any, solve: bool) -> None:
+    """Import SciPy's optimiser now if running ``case`` will: solving any case but a
+    mechanism's analysis (which runs no solver). ``sso run`` calls this near the top of
+    its stack, before the run.
+
+    Imported deep inside the solve instead, SciPy's import (its docstring parsing, whose
+    call depth goes up and down across the end of one of CPython 3.11's 16 KiB chunks of
+    frame stack) made the interpreter free that chunk and map it again about 15,000
+    times: 14,000 page faults, about a tenth of the CPU time of ``sso run --no-plots``
+    on the paper's case (CPython issue gh-142183; 3.13 and 3.14 keep the chunk).
+
+    Raises
+    ------
+    ImportError
+        If SciPy cannot be imported (or a signal arrived while one of its extension
+        modules initialised: the interruption is the error's cause).
+    """
+    from sso._cases.schema import KIND_MODULES
+
+    if not solve:
+        return
+    if KIND_MODULES.get(case.kind) == "sso._cases.mechanism":
+        from sso._cases.mechanism import DESIGN_KIND  # loaded with the case
+
+        if case.kind != DESIGN_KIND:
+            return
+    import scipy.optimize  # noqa: F401
+

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -182,6 +182,9 @@ class BoundsLayout:
         Bounds of the design vector (deg).
     lower_rad, upper_rad : numpy.ndarray
         The same in rad, read-only (shared by every problem of the layout).
+    moved_messages : dict
+        The messages of starts given again with values outside these bounds
+        (:func:`build_problem`), by the values given.
     """
 
     option: int
@@ -193,6 +196,8 @@ class BoundsLayout:
     upper_deg: tuple[float, ...]
     lower_rad: np.ndarray
     upper_rad: np.ndarray
+    moved_messages: dict[tuple[float, ...], tuple[str, ...]] = field(
+        default_factory=dict, compare=False, repr=False)
 
 
 LAYOUT_CACHE_SIZE = 64
@@ -308,7 +313,7 @@ def build_problem(
              for value, low, high in zip(given, layout.lower_deg, layout.upper_deg, strict=True)]
     moved_starts: tuple[str, ...] = ()
     if start != given:
-        moved_starts = tuple(_moved_messages(given, start, layout, n_joints))
+        moved_starts = _moved_starts(given, start, layout, n_joints)
     return built(
         DesignProblem,
         n_joints=n_joints,
@@ -326,19 +331,40 @@ def build_problem(
     )
 
 
+MOVED_MESSAGES_KEPT = 256
+"""Starts outside their bounds whose messages a layout keeps (the oldest go first)."""
+
+
+def _moved_starts(given: list[float], start: list[float], layout: BoundsLayout,
+                  n_joints: int) -> tuple[str, ...]:
+    """The messages of the start values moved onto the bounds, kept by the layout for a
+    start given again (formatting them costs a single solve more than its arithmetic).
+    A start holding a zero is formatted anew: 0 and -0 are one key and print apart."""
+    key = tuple(given)
+    messages = layout.moved_messages.get(key)
+    if messages is None:
+        messages = tuple(_moved_messages(given, start, layout, n_joints))
+        if 0.0 not in key:
+            if len(layout.moved_messages) >= MOVED_MESSAGES_KEPT:
+                del layout.moved_messages[next(iter(layout.moved_messages))]
+            layout.moved_messages[key] = messages
+    return messages
+
+
 def _moved_messages(given: list[float], start: list[float], layout: BoundsLayout,
                     n_joints: int) -> list[str]:
     """One message for each start value moved onto its bounds."""
-    fields = ((["beta_deg"] * n_joints if layout.beta_free else [])
-              + (["phase_deg"] * (n_joints - 1) if layout.phase_free else []))
     first_phase = n_joints if layout.beta_free else 0
-    return [f"start {field}[{index - (first_phase if field == 'phase_deg' else 0)}] = "
-            f"{value:g} deg lies outside its bounds [{low:g}, {high:g}] deg; moved onto "
-            f"{moved:g} deg"
-            for index, (field, value, moved, low, high)
-            in enumerate(zip(fields, given, start, layout.lower_deg, layout.upper_deg,
-                             strict=True))
-            if moved != value]
+    messages = []
+    for index, (value, moved) in enumerate(zip(given, start, strict=True)):
+        if moved != value:
+            field, number = (("phase_deg", index - first_phase)
+                             if layout.phase_free and index >= first_phase
+                             else ("beta_deg", index))
+            messages.append(f"start {field}[{number}] = {value:g} deg lies outside its bounds "
+                            f"[{layout.lower_deg[index]:g}, {layout.upper_deg[index]:g}] deg; "
+                            f"moved onto {moved:g} deg")
+    return messages
 
 
 def warn_moved_starts(problem: DesignProblem) -> None:

@@ -18,8 +18,12 @@ import pytest
 
 from sso._cli import main
 from sso._cli.app import COMMAND_GC_THRESHOLD
+from sso._cli.solve import _interruption_behind
+from sso._interrupts import Interrupted
 
-CASE = Path(__file__).resolve().parents[2] / "cases" / "paper_option3_exact.toml"
+CASES = Path(__file__).resolve().parents[2] / "cases"
+CASE = CASES / "paper_option3_exact.toml"
+MECHANISM_ANALYSIS = CASES / "mechanisms" / "fourbar_crank2.toml"
 # Runs the real command in this process and prints every module it imported.
 WRAPPER = """
 import json, sys
@@ -119,9 +123,72 @@ def collections_of_run(threshold: int, folder: Path) -> list[int]:
 
 def test_a_cold_run_collects_far_less_often_than_at_pythons_default(tmp_path):
     # benchmarks/cold_start.py: at Python's default of 700 the collections were about
-    # 8% of the run's CPU time, most of them walking the namespaces of modules being
+    # 6% of the run's CPU time, most of them walking the namespaces of modules being
     # imported
     default = collections_of_run(700, tmp_path)
     raised = collections_of_run(COMMAND_GC_THRESHOLD, tmp_path)
     assert default[0] >= 50  # the imports of CasADi, SciPy and sso allocate that much
     assert sum(raised) <= sum(default) / 5
+
+
+IMPORT_STACK = """
+import json, sys, traceback
+from sso._cli import main
+stacks = []
+
+
+def hook(event, arguments):
+    if event == "import" and arguments[0] == "scipy.optimize" \
+            and "scipy.optimize" not in sys.modules:
+        stacks.append([frame.name for frame in traceback.extract_stack()])
+
+
+sys.addaudithook(hook)
+code = main(sys.argv[1:])
+print("STACKS=" + json.dumps(stacks))
+sys.exit(code)
+"""
+
+
+def test_scipy_is_imported_before_the_solve_near_the_top_of_the_stack(tmp_path):
+    # Imported inside the solve (sso/_solvers/slsqp.py), SciPy's import made CPython 3.11
+    # free and map again one 16 KiB chunk of its frame stack about 15,000 times (strace:
+    # 15,094 munmap calls of 16384 bytes; 14,000 page faults, a tenth of the run's CPU
+    # time; CPython issue gh-142183): sso run imports it first, a few calls below main()
+    completed = subprocess.run(
+        [sys.executable, "-c", IMPORT_STACK, "run", str(CASE), "--out", str(tmp_path),
+         "--quiet", "--no-plots"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert completed.returncode == 0, completed.stdout + completed.stderr
+    stacks = json.loads(re.search(r"^STACKS=(.*)$", completed.stdout, re.MULTILINE).group(1))
+    (stack,) = stacks
+    assert "import_solvers_for" in stack
+    assert "solve" not in stack and "run_parsed_case" not in stack
+
+
+def test_a_mechanism_analysis_imports_no_solver_library(tmp_path):
+    # an analysis runs no solver: sso run must not import SciPy or CasADi for it
+    completed = subprocess.run(
+        [sys.executable, "-c", WRAPPER, "run", str(MECHANISM_ANALYSIS), "--out", str(tmp_path),
+         "--quiet", "--no-plots"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert completed.returncode == 0, completed.stdout + completed.stderr
+    modules = set(json.loads(re.search(r"^MODULES=(.*)$", completed.stdout,
+                                       re.MULTILINE).group(1)))
+    assert "sso._run.mechanism_run" in modules
+    assert not {"scipy", "casadi"} & modules
+
+
+def test_an_interruption_behind_an_extension_modules_import_error_is_found():
+    # pybind11 turns an exception raised while a module initialises (a signal's
+    # Interrupted during SciPy's HiGHS bindings) into ImportError("initialization failed")
+    try:
+        try:
+            raise Interrupted("signal 15")
+        except Interrupted as interrupted:
+            raise ImportError("initialization failed") from interrupted
+    except ImportError as error:
+        found = _interruption_behind(error)
+    assert isinstance(found, Interrupted) and str(found) == "signal 15"
+    looped = ImportError("no interruption")
+    looped.__context__ = ValueError("its context")
+    looped.__context__.__context__ = looped
+    assert _interruption_behind(looped) is None

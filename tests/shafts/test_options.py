@@ -115,3 +115,19 @@ def test_kept_layout_gives_each_start_its_own_moves_and_read_only_bounds():
     assert first.lower_rad is second.lower_rad
     with pytest.raises(ValueError, match="read-only"):
         first.upper_rad[0] = 0.0
+
+
+def test_a_start_given_again_is_told_the_same_moves_and_a_zero_keeps_its_sign():
+    # The layout keeps the messages of a start given again; 0 and -0 are equal keys but
+    # print apart, so a start holding a zero is told its own.
+    first = build_problem(BETA, PHASE, "exact", 3, (25, 36), (0, 90))
+    again = build_problem(list(BETA), list(PHASE), "exact", 3, (25, 36), (0, 90))
+    assert again.moved_starts == first.moved_starts == (
+        "start beta_deg[1] = 40 deg lies outside its bounds [25, 36] deg; moved onto 36 deg",
+        "start beta_deg[2] = 20 deg lies outside its bounds [25, 36] deg; moved onto 25 deg",
+        "start phase_deg[1] = 100 deg lies outside its bounds [0, 90] deg; moved onto 90 deg")
+    for zero, shown in ((0.0, "0"), (-0.0, "-0"), (0.0, "0")):
+        problem = build_problem([zero, 30.0, 30.0], [10.0, 20.0], "exact", 3, (25, 36), (0, 90))
+        assert problem.moved_starts == (
+            f"start beta_deg[0] = {shown} deg lies outside its bounds [25, 36] deg; moved onto "
+            "25 deg",)
