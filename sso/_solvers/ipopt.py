@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from sso._interrupts import raised_after_native_call
+from sso._record import built
 from sso._solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
@@ -103,7 +104,8 @@ def solve(
         iterations, evaluations, gradients = (iterations + more[0], evaluations + more[1],
                                               gradients + more[2])
     elapsed = time.perf_counter() - started
-    return RunOutcome(
+    return built(
+        RunOutcome,
         x=x,
         fun=fun,
         nit=iterations,

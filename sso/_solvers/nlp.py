@@ -297,11 +297,15 @@ class BufferedSolver:
         times (``n_call_*``, ``t_proc_*``, ``t_wall_*``) add up over every solve of the
         buffer, where the plain call gives each solve's own; the rest is the last
         solve's."""
-        previous = self._totals
-        self._totals = {name: value for name, value in cumulative.items()
-                        if name.startswith(("n_call_", "t_proc_", "t_wall_"))}
-        for name, value in self._totals.items():
-            cumulative[name] = value - previous.get(name, 0)
+        totals = self._totals
+        if not totals:
+            totals.update((name, 0) for name in cumulative
+                          if name.startswith(("n_call_", "t_proc_", "t_wall_")))
+        for name, previous in totals.items():
+            value = cumulative.get(name)
+            if value is not None:
+                totals[name] = value
+                cumulative[name] = value - previous
         return cumulative
 
 
