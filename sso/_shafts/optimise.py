@@ -441,7 +441,7 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     # math.radians rounds as numpy's radians does (the problem's start_rad, parameters_rad).
     fixed = list(map(math.radians, problem.parameters_deg.tolist()))
     lower, upper = problem.lower_rad.tolist(), problem.upper_rad.tolist()
-    x, solver_fun, nit, nfev, status = lm.solve_floats(
+    (x, solver_fun, nit, nfev, status), measured = lm.solve_floats_measured(
         nlp, list(map(math.radians, problem.start_deg.tolist())), fixed, lower, upper,
         solver_tol, max_iterations)
     success = status > 0
@@ -449,7 +449,10 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                         lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:
         return None
     time_s = time.perf_counter() - started
-    point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+    if measured is None:
+        point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+    else:  # the library measured it in the solve's call
+        point, fun, kkt = measured[:-2], measured[-2], measured[-1]
     x_deg = [math.degrees(angle) for angle in point]
     beta_deg, phase_deg = problem.design_deg(x_deg)
     solution = built(Solution, solver="lm",
