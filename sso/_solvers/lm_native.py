@@ -86,6 +86,7 @@ COMPILE_TIMEOUT_S = 300.0
 
 _FUNCTIONS = ("sso_lm_start", "sso_lm_gauss_newton", "sso_lm_newton", "sso_lm_shifted")
 _STATUS = SCALARS.index("status")
+_NFEV = SCALARS.index("nfev")
 _DRIVER = """
 #include <math.h>
 #include <stdlib.h>
@@ -327,8 +328,9 @@ class OneDesign:
         self._size = size
         self._state: Any = (ctypes.c_double * solver.state_size)()
         self._measure: Any = (ctypes.c_double * (size + 2))()
-        self._tail = [0.0] * (solver.state_size - size)
+        self._nfev = 3 * size + 2 + _NFEV
         self._given: Any = None
+        self._problem: list[float] = []
         self._fixed = (ctypes.c_longlong(1), ctypes.c_longlong(solver.state_size),
                        ctypes.c_longlong(3 * size + 2 + _STATUS))
         self._shape = (ctypes.c_longlong(joints), ctypes.c_longlong(option))
@@ -386,12 +388,22 @@ class OneDesign:
 
     def _load(self, start: list[float], problem: list[float]) -> tuple[Any, Any]:
         """The start into the state, the problem into its buffer (made on the first call:
-        a shape's problems are of one length); that buffer and its length."""
+        a shape's problems are of one length, and written only when it changed); that
+        buffer and its length.
+
+        Of the state only the start and a zero count of evaluations are written: a state
+        whose count is zero is a start, whose other entries the library's first step
+        replaces without reading them (:func:`sso._solvers.lm_kernel.iteration_functions`).
+        """
         if self._given is None:
             self._given = ((ctypes.c_double * len(problem))(), ctypes.c_longlong(len(problem)))
         given, given_size = self._given
-        self._state[:] = start + self._tail
-        given[:] = problem
+        state = self._state
+        state[:self._size] = start
+        state[self._nfev] = 0.0
+        if problem != self._problem:
+            given[:] = problem
+            self._problem = list(problem)
         return given, given_size
 
 
