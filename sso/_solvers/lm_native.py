@@ -48,11 +48,13 @@ from typing import Any
 
 import numpy as np
 
+from sso._limits import COMPILED_CACHE_BYTES
 from sso._solvers.least_squares import (
     SUCCESS_STATUSES,
     ResidualFunction,
     leave_saddles,
 )
+from sso._solvers.library_cache import mark_used, prune
 from sso._solvers.lm_batch import BatchRun
 from sso._solvers.lm_kernel import NEWTON_KERNEL_VARIABLES, iteration_functions
 from sso._solvers.lm_kernel import SWITCH_VARIABLE as SWITCH_VARIABLE
@@ -462,8 +464,11 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
     source = cache(lambda: _source(nlp_of_shape()))  # made once, and only for a build
     try:
         library = cache_folder() / name
-        if not library.is_file():
+        if library.is_file():
+            mark_used(library)
+        else:
             _compile(source(), command, library)
+            prune(library.parent, library, COMPILED_CACHE_BYTES)
         loaded = ctypes.CDLL(str(library))
     except (OSError, subprocess.SubprocessError):
         try:  # no cache folder to write: a private build for this process

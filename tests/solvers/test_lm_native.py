@@ -208,7 +208,29 @@ def test_the_library_is_kept_in_the_cache_folder_and_loaded_from_it(monkeypatch,
     monkeypatch.setattr(lm_native, "_solvers", {})
     assert native_solver_of(nlp.name, 1, lambda: pytest.fail("no source is made")) is not None
     assert list(tmp_path.iterdir()) == libraries
-    assert libraries[0].stat().st_mtime_ns == written.st_mtime_ns
+    # The same file (a build would have replaced it), its time marking the load.
+    assert libraries[0].stat().st_ino == written.st_ino
+    assert libraries[0].stat().st_mtime_ns >= written.st_mtime_ns
+
+
+@needs_compiler
+def test_a_build_holds_the_cache_folder_to_its_bound(monkeypatch, tmp_path):
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(tmp_path))
+    limit = 300 * 1024
+    monkeypatch.setattr(lm_native, "COMPILED_CACHE_BYTES", limit)
+    # Five libraries of earlier versions, 100 kB each, the first the least recently used.
+    stale = []
+    for index in range(5):
+        path = tmp_path / f"sso-lm-{index:032x}.so"
+        path.write_bytes(b"\0" * 100 * 1024)
+        os.utime(path, (1e9 + index, 1e9 + index))
+        stale.append(path)
+    assert build_native_solver(compiled_nlp(_problem([20.0] * 2, [90.0], 1), 0)) is not None
+    built = [path for path in tmp_path.iterdir() if path not in stale]
+    assert len(built) == 1 and built[0].name.startswith("sso-lm-")
+    # The build plus the most recently used stale libraries that fit beside it.
+    kept = (limit - built[0].stat().st_size) // (100 * 1024)
+    assert [path.exists() for path in stale] == [False] * (5 - kept) + [True] * kept
 
 
 @needs_compiler
