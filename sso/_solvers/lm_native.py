@@ -194,6 +194,19 @@ static sso_complex sso_scaled(sso_complex a, double value) { return sso_mul(a, s
    operations; a variable may move as sso._solvers.saddle._free_variables says, from the
    measure's gradient. Returns 0 when it has none, 1 when only the eigendecomposition can
    tell. */
+/* (a, c) through one factor of the chain: a bend (p, q) or a turn (e^(i phi), e^(-i phi)). */
+static void sso_factor(int bend, sso_complex first, sso_complex second, sso_complex* a,
+                       sso_complex* c) {
+  if (bend) {
+    sso_complex next_a = sso_add(sso_mul(first, *a), sso_mul(second, *c));
+    *c = sso_add(sso_mul(second, *a), sso_mul(first, *c));
+    *a = next_a;
+  } else {
+    *a = sso_mul(first, *a);
+    *c = sso_mul(second, *c);
+  }
+}
+
 static int sso_curvature(casadi_int joints, int beta_free, int phase_free, casadi_int size,
                          const double* point, const double* fixed, const double* lower,
                          const double* upper, const double* slopes) {
@@ -237,14 +250,7 @@ static int sso_curvature(casadi_int joints, int beta_free, int phase_free, casad
   for (t = 0; t < count; ++t) {
     before_a[t] = a;
     before_c[t] = c;
-    if (t % 2 == 0) {
-      sso_complex next_a = sso_add(sso_mul(first[t], a), sso_mul(second[t], c));
-      c = sso_add(sso_mul(second[t], a), sso_mul(first[t], c));
-      a = next_a;
-    } else {
-      a = sso_mul(first[t], a);
-      c = sso_mul(second[t], c);
-    }
+    sso_factor(t % 2 == 0, first[t], second[t], &a, &c);
   }
   sso_complex final_c = c, e = sso_c(0.0, 0.0), f = sso_c(1.0, 0.0);
   for (t = count - 1; t >= 0; --t) {
@@ -296,14 +302,7 @@ static int sso_curvature(casadi_int joints, int beta_free, int phase_free, casad
             : sso_mul(i_unit, sso_sub(sso_mul(sso_mul(e, first[later]), a),
                                       sso_mul(sso_mul(f, second[later]), c)));
       }
-      if (later % 2 == 0) {
-        sso_complex next_a = sso_add(sso_mul(first[later], a), sso_mul(second[later], c));
-        c = sso_add(sso_mul(second[later], a), sso_mul(first[later], c));
-        a = next_a;
-      } else {
-        a = sso_mul(first[later], a);
-        c = sso_mul(second[later], c);
-      }
+      sso_factor(later % 2 == 0, first[later], second[later], &a, &c);
     }
   }
   double product = 1.0;

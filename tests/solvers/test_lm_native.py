@@ -143,6 +143,14 @@ def test_the_gauss_newton_entry_ends_bit_for_bit_where_the_kernel_s_blocks_end(j
     assert NEWTON in statuses and statuses - {NEWTON}, statuses
 
 
+def _one_design(joints, option):
+    """The shape's NLP and its library called one design at a time."""
+    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
+    native = build_native_solver(nlp)
+    assert native is not None
+    return nlp, lm_native.OneDesign(native, joints, option)
+
+
 @needs_compiler
 @pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])
 def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_bounds(joints,
@@ -153,10 +161,7 @@ def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_boun
     # to the bit (float.hex tells -0.0 from 0.0). Ends inside the bounds and on them (wide
     # and narrow bounds), at zero and nonzero minima and after 1 or 2 iterations.
     rng = np.random.default_rng(100 + joints)
-    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
-    native = build_native_solver(nlp)
-    assert native is not None
-    one = lm_native.OneDesign(native, joints, option)
+    nlp, one = _one_design(joints, option)
     ends = set()
     for index in range(120):
         beta_bounds = (5.0, 35.0) if index % 2 else (15.0, 20.0)
@@ -188,10 +193,7 @@ def test_the_library_s_look_for_negative_curvature_decides_as_saddle_py(joints, 
     # saddle_direction finds no saddle point. Symmetric starts (phases at 0, 90 or 180 deg,
     # equal angles) stop on saddle points; narrow bounds leave variables on them.
     rng = np.random.default_rng(110 + joints)
-    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
-    native = build_native_solver(nlp)
-    assert native is not None
-    one = lm_native.OneDesign(native, joints, option)
+    nlp, one = _one_design(joints, option)
     verdicts = set()
     for index in range(150):
         beta_deg, phase_deg = rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1)
