@@ -15,7 +15,7 @@ import pytest
 
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
-from sso._solvers import lm, lm_native
+from sso._solvers import lm, lm_native, saddle
 from sso._solvers.lm_kernel import (
     NEWTON_KERNEL_AFTER,
     flat_outcome,
@@ -28,7 +28,8 @@ from sso._solvers.lm_native import (
     native_solver_of,
     solve_native,
 )
-from sso._solvers.lm_rules import NEWTON
+from sso._solvers.lm_rules import NEWTON, PYTHON, cholesky
+from sso._solvers.multistart import measure_on_bounds
 from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
 
@@ -135,11 +136,94 @@ def test_the_gauss_newton_entry_ends_bit_for_bit_where_the_kernel_s_blocks_end(j
                      1e-12, 50)
         nlp.lm_native = None
         on_kernel = lm.gauss_newton_flat(nlp, kernel, *arguments)
-        nlp.lm_native = lm_native.OneDesign(native)
+        nlp.lm_native = lm_native.OneDesign(native, joints, option)
         compiled = lm.gauss_newton_flat(nlp, kernel, *arguments)
         assert compiled == on_kernel == run_kernel_flat(kernel, *arguments)
         statuses.add(flat_outcome(compiled, len(lower))[4])
     assert NEWTON in statuses and statuses - {NEWTON}, statuses
+
+
+def _one_design(joints, option):
+    """The shape's NLP and its library called one design at a time."""
+    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
+    native = build_native_solver(nlp)
+    assert native is not None
+    return nlp, lm_native.OneDesign(native, joints, option)
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])
+def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_bounds(joints,
+                                                                                   option):
+    # The direct path of "lm" alone takes the measure of its answer from the library's
+    # call (OneDesign.solve_measured). Reference: measure_on_bounds (the closed form in
+    # Python complex numbers, as every solver's answer is measured), every float the same
+    # to the bit (float.hex tells -0.0 from 0.0). Ends inside the bounds and on them (wide
+    # and narrow bounds), at zero and nonzero minima and after 1 or 2 iterations.
+    rng = np.random.default_rng(100 + joints)
+    nlp, one = _one_design(joints, option)
+    ends = set()
+    for index in range(120):
+        beta_bounds = (5.0, 35.0) if index % 2 else (15.0, 20.0)
+        problem = build_problem(list(rng.uniform(5.0, 35.0, joints)),
+                                list(rng.uniform(0.0, 180.0, joints - 1)), "exact", option,
+                                beta_bounds, (0.0, 180.0) if index % 2 else (60.0, 80.0))
+        fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                               problem.upper_rad.tolist())
+        flat = [*fixed, *lower, *upper, 1e-12, (1.0, 2.0, 500.0)[index % 3]]
+        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
+        x = values[:len(lower)]
+        point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+        assert [value.hex() for value in measured[:-1]] == [value.hex() for value in
+                                                           (*point, fun, kkt)]
+        assert values == one.solve(problem.start_rad.tolist(), flat)
+        ends.add((fun <= 1e-20, any(value in (low, high)
+                                    for value, low, high in zip(x, lower, upper, strict=True))))
+    assert len(ends) >= 3, ends
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(3, 1), (4, 1)])  # minima above zero
+def test_the_library_s_look_for_negative_curvature_decides_as_saddle_py(joints, option):
+    # Where a design succeeds above round-off zero, the library tells (the measure's last
+    # entry) whether the Hessian over the variables that may move has no negative
+    # curvature by the test saddle.py makes before its eigendecomposition. Reference: that
+    # test in Python (_free_hessian, the closed-form Hessian, then lm_rules.cholesky with
+    # the same shift), the same verdict on every design; where the library finds none,
+    # saddle_direction finds no saddle point. Symmetric starts (phases at 0, 90 or 180 deg,
+    # equal angles) stop on saddle points; narrow bounds leave variables on them.
+    rng = np.random.default_rng(110 + joints)
+    nlp, one = _one_design(joints, option)
+    verdicts = set()
+    for index in range(150):
+        beta_deg, phase_deg = rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1)
+        if index % 5 == 0:
+            beta_deg = rng.choice([10.0, 20.0, 30.0], joints)
+            phase_deg = rng.choice([0.0, 90.0, 180.0], joints - 1)
+        problem = build_problem(beta_deg.tolist(), phase_deg.tolist(), "exact", option,
+                                ((5.0, 35.0), (15.0, 20.0))[index % 2],
+                                ((0.0, 180.0), (60.0, 80.0))[index % 2])
+        limits = RunLimits(problem.lower_rad, problem.upper_rad)
+        fixed = problem.parameters_rad.tolist()
+        flat = [*fixed, *limits.lower.tolist(), *limits.upper.tolist(), 1e-12,
+                (500.0, 5.0)[index % 2]]
+        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
+        x, fun, _, _, status = flat_outcome(values, problem.n_free)
+        if not (status > 0 and fun > saddle.ZERO_OBJECTIVE):
+            assert measured[-1] == 1.0  # no look: saddle_direction returns at once
+            continue
+        free, hessian = saddle._free_hessian(nlp, np.clip(np.array(x), limits.lower,
+                                                          limits.upper), fixed, limits,
+                                             saddle._Counts())
+        none_in_python = (not free or not np.all(np.isfinite(hessian)) or cholesky(
+            PYTHON, hessian, max(saddle.RELATIVE_CURVATURE * max(
+                abs(hessian[entry][entry]) for entry in range(len(free))),
+                saddle.ABSOLUTE_CURVATURE))[1])
+        assert measured[-1] == (0.0 if none_in_python else 1.0)
+        found = saddle.saddle_direction(nlp, True, fun, x, fixed, limits)
+        assert found is None or not none_in_python
+        verdicts.add((bool(none_in_python), found is not None))
+    assert verdicts >= {(True, False), (False, True)}, verdicts
 
 
 def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
@@ -173,7 +257,29 @@ def test_the_library_is_kept_in_the_cache_folder_and_loaded_from_it(monkeypatch,
     monkeypatch.setattr(lm_native, "_solvers", {})
     assert native_solver_of(nlp.name, 1, lambda: pytest.fail("no source is made")) is not None
     assert list(tmp_path.iterdir()) == libraries
-    assert libraries[0].stat().st_mtime_ns == written.st_mtime_ns
+    # The same file (a build would have replaced it), its time marking the load.
+    assert libraries[0].stat().st_ino == written.st_ino
+    assert libraries[0].stat().st_mtime_ns >= written.st_mtime_ns
+
+
+@needs_compiler
+def test_a_build_holds_the_cache_folder_to_its_bound(monkeypatch, tmp_path):
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(tmp_path))
+    limit = 300 * 1024
+    monkeypatch.setattr(lm_native, "COMPILED_CACHE_BYTES", limit)
+    # Five libraries of earlier versions, 100 kB each, the first the least recently used.
+    stale = []
+    for index in range(5):
+        path = tmp_path / f"sso-lm-{index:032x}.so"
+        path.write_bytes(b"\0" * 100 * 1024)
+        os.utime(path, (1e9 + index, 1e9 + index))
+        stale.append(path)
+    assert build_native_solver(compiled_nlp(_problem([20.0] * 2, [90.0], 1), 0)) is not None
+    built = [path for path in tmp_path.iterdir() if path not in stale]
+    assert len(built) == 1 and built[0].name.startswith("sso-lm-")
+    # The build plus the most recently used stale libraries that fit beside it.
+    kept = (limit - built[0].stat().st_size) // (100 * 1024)
+    assert [path.exists() for path in stale] == [False] * (5 - kept) + [True] * kept
 
 
 @needs_compiler
