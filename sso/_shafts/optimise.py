@@ -58,7 +58,6 @@ from sso._solvers.lm_kernel import flat_outcome, kernel_of
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
-    distinct_minima,
     measure_on_bounds,
     solution_from_run,
     solve_from_starts,
@@ -390,8 +389,7 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            tolerances: SpreadMeasure | None) -> OptimisationResult:
     if solver_names == ("lm",) and starts == 1 and tolerances is None:
         alone = _solve_alone(problem, series, speed_rpm, solver_tol, max_iterations,
-                             quadrature_rtol, quadrature_atol, objective_rtol, objective_atol,
-                             setup_warnings)
+                             quadrature_rtol, quadrature_atol, setup_warnings)
         if alone is not None:
             return alone
     screened = _screened(series, solver_names, starts, screen_starts)
@@ -429,8 +427,8 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
 
 def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                  solver_tol: float, max_iterations: int, quadrature_rtol: float,
-                 quadrature_atol: float, objective_rtol: float, objective_atol: float,
-                 setup_warnings: tuple[str, ...]) -> OptimisationResult | None:
+                 quadrature_atol: float, setup_warnings: tuple[str, ...]
+                 ) -> OptimisationResult | None:
     """``"lm"`` alone from the user's start: the record :func:`solve_from_starts` gives for one
     solver and one start (the run, its look for a saddle point, its measure), made on
     plain floats without the multi-start layers. None where the run stopped on a saddle
@@ -439,17 +437,20 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     nlp = compiled_nlp(problem, 0)
     started = time.perf_counter()
     # math.radians rounds as numpy's radians does (the problem's start_rad, parameters_rad).
-    fixed = list(map(math.radians, problem.parameters_deg.tolist()))
+    fixed = list(map(math.radians, problem.parameter_values_deg))
     lower, upper = problem.lower_rad.tolist(), problem.upper_rad.tolist()
-    x, solver_fun, nit, nfev, status = lm.solve_floats(
-        nlp, list(map(math.radians, problem.start_deg.tolist())), fixed, lower, upper,
+    (x, solver_fun, nit, nfev, status), measured = lm.solve_floats_measured(
+        nlp, list(map(math.radians, problem.start_values_deg)), fixed, lower, upper,
         solver_tol, max_iterations)
     success = status > 0
-    if saddle_direction(nlp, success, solver_fun, x, problem.parameters_rad,
+    if saddle_direction(nlp, success, solver_fun, x, fixed,
                         lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:
         return None
     time_s = time.perf_counter() - started
-    point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+    if measured is None:
+        point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+    else:  # the library measured it in the solve's call
+        point, fun, kkt = measured[:-2], measured[-2], measured[-1]
     x_deg = [math.degrees(angle) for angle in point]
     beta_deg, phase_deg = problem.design_deg(x_deg)
     solution = built(Solution, solver="lm",
@@ -461,8 +462,8 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                    quadrature_atol, setup_warnings, None,
                    SolverFields(best=solution, solutions={"lm": solution}, runs=(solution,),
                                 crosscheck=None,
-                                local_minima=distinct_minima((solution,), objective_rtol,
-                                                             objective_atol),
+                                # distinct_minima of one run: its value where it succeeded
+                                local_minima=(fun,) if success else (),
                                 confirmations={}))
 
 
@@ -478,7 +479,8 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
                       if problem.option == 2 else series)
     # A start that was not moved onto the bounds is the initial design.
     start_series = (initial_series if not problem.moved_starts
-                    else checked_series(*problem.design_deg(problem.start_deg), series.model))
+                    else checked_series(*problem.design_deg(list(problem.start_values_deg)),
+                                        series.model))
     return built(
         OptimisationResult,
         option=problem.option,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -60,10 +61,12 @@ class DesignProblem:
         Whether the operating angles / phases are design variables.
     lower_rad, upper_rad : numpy.ndarray
         Bounds of ``x``.
-    start_deg : numpy.ndarray
-        The user's start (deg), moved onto the bounds where it lay outside.
-    parameters_deg : numpy.ndarray
-        The fixed angles (deg), kept in degrees so they come back exactly.
+    start_values_deg : tuple of float
+        The user's start (deg), moved onto the bounds where it lay outside
+        (``start_deg`` as an array).
+    parameter_values_deg : tuple of float
+        The fixed angles (deg), kept in degrees so they come back exactly
+        (``parameters_deg`` as an array).
     beta_bounds_deg, phase_bounds_deg : tuple of (float, float)
         Per-joint / per-phase bounds as given (deg).
     moved_starts : tuple of str
@@ -78,11 +81,22 @@ class DesignProblem:
     phase_free: bool
     lower_rad: np.ndarray
     upper_rad: np.ndarray
-    start_deg: NDArray[np.float64]
-    parameters_deg: NDArray[np.float64]
+    start_values_deg: tuple[float, ...]
+    parameter_values_deg: tuple[float, ...]
     beta_bounds_deg: tuple[tuple[float, float], ...]
     phase_bounds_deg: tuple[tuple[float, float], ...]
     moved_starts: tuple[str, ...] = ()
+
+    # Arrays made on first use: the direct path of "lm" alone reads the plain floats only.
+    @functools.cached_property
+    def start_deg(self) -> NDArray[np.float64]:
+        """The start of the design vector, deg."""
+        return np.array(self.start_values_deg, dtype=float)
+
+    @functools.cached_property
+    def parameters_deg(self) -> NDArray[np.float64]:
+        """The fixed angles, deg."""
+        return np.array(self.parameter_values_deg, dtype=float)
 
     @property
     def option_name(self) -> str:
@@ -121,7 +135,7 @@ class DesignProblem:
         """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
         beta, phase = self.split(x_deg if type(x_deg) is list
                                  else np.asarray(x_deg, dtype=float).tolist(),
-                                 self.parameters_deg.tolist())
+                                 self.parameter_values_deg)
         return tuple(beta), tuple(phase)
 
     @property
@@ -323,8 +337,8 @@ def build_problem(
         phase_free=phase_free,
         lower_rad=layout.lower_rad,
         upper_rad=layout.upper_rad,
-        start_deg=np.array(start, dtype=float),
-        parameters_deg=np.array(parameters, dtype=float),
+        start_values_deg=tuple(start),
+        parameter_values_deg=tuple(parameters),
         beta_bounds_deg=layout.beta_bounds_deg,
         phase_bounds_deg=layout.phase_bounds_deg,
         moved_starts=moved_starts,

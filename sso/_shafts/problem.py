@@ -46,8 +46,8 @@ from sso._solvers.nlp import CompiledNLP, cached_nlp, compile_nlp
 class ShapeKey(NamedTuple):
     """What fixes the structure of the NLP graph (``samples`` is 0 for the exact model).
 
-    A named tuple: it is built and hashed on every solve, and a tuple does both
-    fastest.
+    The cache is looked up with the plain tuple of the same values (equal, with the same
+    hash): a named tuple's constructor is a Python function, which every solve would pay.
     """
 
     n_joints: int
@@ -62,10 +62,9 @@ def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
     ``samples`` (quadrature angles) counts for the paper model only; the exact
     model's closed form needs none, so its shape ignores it.
     """
-    key = ShapeKey(problem.n_joints, problem.option, problem.model,
-                   samples if problem.model == "paper" else 0)
-    nlp = cached_nlp(key, lambda: _build(problem, key))
-    return nlp
+    key = (problem.n_joints, problem.option, problem.model,
+           samples if problem.model == "paper" else 0)
+    return cached_nlp(key, lambda: _build(problem, ShapeKey(*key)))
 
 
 def native_shape(n_joints: int, option: int) -> tuple[int, int]:

@@ -210,9 +210,7 @@ def checked_series(beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],
     solve. Never for input from outside the package.
     """
     series = object.__new__(ShaftSeries)
-    object.__setattr__(series, "beta_deg", beta_deg)
-    object.__setattr__(series, "phase_deg", phase_deg)
-    object.__setattr__(series, "model", model)
+    series.__dict__.update(beta_deg=beta_deg, phase_deg=phase_deg, model=model)
     return series
 
 

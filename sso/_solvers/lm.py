@@ -148,23 +148,44 @@ def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[f
         Final point, sum of squares, trial steps, residual evaluations and a key of
         :data:`MESSAGES` (the run succeeded where it is positive).
     """
+    return _solve_floats(nlp, start, fixed, lower, upper, solver_tol, max_iterations, False)[0]
+
+
+def solve_floats_measured(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
+                          upper: list[float], solver_tol: float, max_iterations: int
+                          ) -> tuple[tuple[list[float], float, int, int, int], list[float] | None]:
+    """:func:`solve_floats`, and where the shape's library compiled to machine code ran the
+    whole solve (:func:`native_of`), its measure of the end in the same call: the point
+    put onto the bounds, the objective and the projected gradient's norm there, one list
+    (bit for bit :func:`sso._solvers.multistart.measure_on_bounds`); None where it did not.
+    """
+    return _solve_floats(nlp, start, fixed, lower, upper, solver_tol, max_iterations, True)
+
+
+def _solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
+                  upper: list[float], solver_tol: float, max_iterations: int, measured: bool
+                  ) -> tuple[tuple[list[float], float, int, int, int], list[float] | None]:
     residual = nlp.residuals_and_jacobian
     state = None
     native = native_of(nlp)
     kernel = None if native is not None else kernel_of(nlp)
     if native is not None:
-        values = native.solve(start, [*fixed, *lower, *upper, solver_tol,
-                                      float(max_iterations)])
+        problem = [*fixed, *lower, *upper, solver_tol, float(max_iterations)]
+        measure = None
+        if measured:
+            values, measure = native.solve_measured(start, problem)
+        else:
+            values = native.solve(start, problem)
         x, fun, nit, nfev, status = flat_outcome(values, len(lower))
         if status != NEWTON_INDEFINITE:
-            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), measure
         state = unpack(values, len(lower))
     elif kernel is not None:
         values = run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol,
                                  max_iterations)
         x, fun, nit, nfev, status = flat_outcome(values, len(lower))
         if status not in (RUNNING, NEWTON):
-            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
+            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), None
         state = unpack(values, len(lower))
     objective_hessian = getattr(nlp, "objective_hessian", None)
     newton_kernel = (newton_kernel_of(nlp)
@@ -177,7 +198,7 @@ def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[f
         state,
         None if newton_kernel is None else lambda given: run_newton_kernel(
             newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
-    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper)
+    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), None
 
 
 def native_of(nlp: Any) -> Any:
@@ -203,7 +224,7 @@ def native_of(nlp: Any) -> Any:
 
         solver = native_solver_of(nlp.lm_shape, int(nlp.symbols["x"].numel()), lambda: nlp,
                                   NEWTON_KERNEL_VARIABLES)
-        native = nlp.lm_native = False if solver is None else OneDesign(solver)
+        native = nlp.lm_native = False if solver is None else OneDesign(solver, *nlp.lm_shape)
     return native or None
 
 

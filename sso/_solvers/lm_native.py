@@ -48,11 +48,13 @@ from typing import Any
 
 import numpy as np
 
+from sso._limits import COMPILED_CACHE_BYTES
 from sso._solvers.least_squares import (
     SUCCESS_STATUSES,
     ResidualFunction,
     leave_saddles,
 )
+from sso._solvers.library_cache import mark_used, prune
 from sso._solvers.lm_batch import BatchRun
 from sso._solvers.lm_kernel import NEWTON_KERNEL_VARIABLES, iteration_functions
 from sso._solvers.lm_kernel import SWITCH_VARIABLE as SWITCH_VARIABLE
@@ -86,7 +88,9 @@ COMPILE_TIMEOUT_S = 300.0
 
 _FUNCTIONS = ("sso_lm_start", "sso_lm_gauss_newton", "sso_lm_newton", "sso_lm_shifted")
 _STATUS = SCALARS.index("status")
+_NFEV = SCALARS.index("nfev")
 _DRIVER = """
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -151,6 +155,120 @@ static int sso_lm_run(casadi_int count, const casadi_real* problems, casadi_int 
   return 0;
 }
 
+/* The measure of sso._solvers.multistart.measure_on_bounds of the exact model's closed
+   form, bit for bit: CPython's complex arithmetic (a float operand taken as (value, 0),
+   every product in full), sso._kinematics.hooke_matrix.residual_and_jacobian_complex's
+   order of operations, then the point onto the bounds, RE, its gradient and the
+   projected gradient's norm. cos and sin are called through pointers the compiler cannot
+   see through, so they stay the library's own calls (never one fused sincos). */
+typedef struct { double re, im; } sso_complex;
+static double (*volatile sso_cos)(double) = cos;
+static double (*volatile sso_sin)(double) = sin;
+
+static sso_complex sso_c(double re, double im) {
+  sso_complex z;
+  z.re = re;
+  z.im = im;
+  return z;
+}
+static sso_complex sso_add(sso_complex a, sso_complex b) { return sso_c(a.re + b.re, a.im + b.im); }
+static sso_complex sso_sub(sso_complex a, sso_complex b) { return sso_c(a.re - b.re, a.im - b.im); }
+static sso_complex sso_mul(sso_complex a, sso_complex b) {
+  return sso_c(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+}
+static sso_complex sso_scaled(sso_complex a, double value) { return sso_mul(a, sso_c(value, 0.0)); }
+
+static void sso_measure(casadi_int joints, int beta_free, int phase_free, casadi_int size,
+                        const casadi_real* given, const casadi_real* fixed,
+                        const casadi_real* lower, const casadi_real* upper,
+                        casadi_real* measure) {
+  double point[size], cos_beta[joints];
+  sso_complex turns[joints], before_a[joints], before_c[joints], jacobian[size];
+  casadi_int k, i, last = joints - 1;
+  for (i = 0; i < size; ++i) {
+    double value = given[i], low = lower[i], high = upper[i];
+    point[i] = value < low ? low : value > high ? high : value == value ? value
+               : (low <= 0.0 && 0.0 <= high ? 0.0 : 0.0 < low ? low : high);
+  }
+  const double* beta = beta_free ? point : fixed;
+  const double* phase = beta_free && phase_free ? point + joints : phase_free ? point : fixed;
+  for (k = 0; k < joints; ++k) cos_beta[k] = sso_cos(beta[k]);
+  for (k = 0; k < last; ++k) turns[k] = sso_c(sso_cos(phase[k]), sso_sin(phase[k]));
+  sso_complex a = sso_c(1.0, 0.0), c = sso_c(0.0, 0.0);
+  double determinant = 1.0;
+  for (k = 0; k < joints; ++k) {
+    double cosine = cos_beta[k];
+    before_a[k] = a;
+    before_c[k] = c;
+    determinant *= cosine;
+    double p = 0.5 + 0.5 * cosine, q = 0.5 - 0.5 * cosine;
+    sso_complex next_a = sso_add(sso_scaled(a, p), sso_scaled(c, q));
+    c = sso_add(sso_scaled(c, p), sso_scaled(a, q));
+    a = next_a;
+    if (k < last) {
+      a = sso_mul(a, turns[k]);
+      c = sso_mul(c, sso_c(turns[k].re, -turns[k].im));
+    }
+  }
+  double scale = sqrt(2.0 / determinant);
+  sso_complex rho = sso_scaled(c, scale);
+  casadi_int phase_offset = beta_free ? joints : 0;
+  sso_complex e = sso_c(1.0, 0.0), f = sso_c(0.0, 0.0);
+  sso_complex minus_i_scale = sso_scaled(sso_c(-0.0, -1.0), scale);
+  for (k = last; k >= 0; --k) {
+    double cosine = cos_beta[k];
+    if (beta_free) {
+      double half_sine = 0.5 * sso_sin(beta[k]);
+      jacobian[k] = sso_add(
+          sso_mul(sso_scaled(sso_sub(e, f), -half_sine * scale),
+                  sso_sub(before_c[k], before_a[k])),
+          sso_scaled(rho, half_sine / cosine));
+    }
+    double p = 0.5 + 0.5 * cosine, q = 0.5 - 0.5 * cosine;
+    sso_complex next_e = sso_add(sso_scaled(e, p), sso_scaled(f, q));
+    f = sso_add(sso_scaled(e, q), sso_scaled(f, p));
+    e = next_e;
+    if (k) {
+      if (phase_free)
+        jacobian[phase_offset + k - 1] = sso_mul(
+            minus_i_scale, sso_sub(sso_mul(e, before_c[k]), sso_mul(f, before_a[k])));
+      e = sso_mul(e, sso_c(turns[k - 1].re, -turns[k - 1].im));
+      f = sso_mul(f, turns[k - 1]);
+    }
+  }
+  double r1 = 2.0 * rho.re, r2 = 2.0 * rho.im, norm = 0.0;
+  for (i = 0; i < size; ++i) {
+    double slope = r1 * jacobian[i].re + r2 * jacobian[i].im;
+    double projected = point[i] - slope;
+    if (projected != projected) {
+      norm = NAN;
+      break;
+    }
+    double distance = fabs(point[i] - (projected < lower[i] ? lower[i]
+                                       : projected > upper[i] ? upper[i] : projected));
+    if (distance > norm) norm = distance;
+  }
+  for (i = 0; i < size; ++i) measure[i] = point[i];
+  measure[size] = rho.re * rho.re + rho.im * rho.im;
+  measure[size + 1] = norm;
+}
+
+/* One design from its start to its end (sso_lm_solve), then the measure of where it
+   ended: the point onto the bounds, RE and the projected gradient's norm there into
+   measure (size + 2 entries). Returns as sso_lm_solve. */
+CASADI_SYMBOL_EXPORT int sso_lm_solve_measured(const casadi_real* problem,
+                                               casadi_int problem_size, casadi_real* state,
+                                               casadi_int state_size, casadi_int status_index,
+                                               casadi_int joints, casadi_int option,
+                                               casadi_real* measure) {
+  casadi_int size = (state_size - 2 - SSO_SCALARS) / 3;
+  casadi_int fixed_size = problem_size - 2 * size - 2;
+  if (sso_lm_run(1, problem, problem_size, state, state_size, status_index, 0)) return 1;
+  sso_measure(joints, option != 1, option != 2, size, state, problem,
+              problem + fixed_size, problem + fixed_size + size, measure);
+  return 0;
+}
+
 CASADI_SYMBOL_EXPORT int sso_lm_solve(casadi_int count, const casadi_real* problems,
                                       casadi_int problem_size, casadi_real* states,
                                       casadi_int state_size, casadi_int status_index) {
@@ -181,6 +299,10 @@ class NativeSolver:
     """The library's ``sso_lm_solve_gauss_newton``, the same arguments without ctypes'
     conversions: each design's start and Gauss-Newton steps only (where the kernel's blocks
     of :func:`sso._solvers.lm_kernel.run_kernel_flat` end it), for :class:`OneDesign`."""
+    solve_measured: Any = None
+    """The library's ``sso_lm_solve_measured``, without ctypes' conversions: one design
+    solved, then measured where it ended as
+    :func:`sso._solvers.multistart.measure_on_bounds` measures it, for :class:`OneDesign`."""
 
     @property
     def state_size(self) -> int:
@@ -198,17 +320,22 @@ class OneDesign:
     Parameters
     ----------
     solver : NativeSolver
+    joints, option : int
+        The shape's chain length and option (1, 2 or 3), for :meth:`solve_measured`.
     """
 
-    def __init__(self, solver: NativeSolver) -> None:
+    def __init__(self, solver: NativeSolver, joints: int, option: int) -> None:
         self.solver = solver
         size = solver.size
         self._size = size
         self._state: Any = (ctypes.c_double * solver.state_size)()
-        self._tail = [0.0] * (solver.state_size - size)
+        self._measure: Any = (ctypes.c_double * (size + 2))()
+        self._nfev = 3 * size + 2 + _NFEV
         self._given: Any = None
+        self._problem: list[float] = []
         self._fixed = (ctypes.c_longlong(1), ctypes.c_longlong(solver.state_size),
                        ctypes.c_longlong(3 * size + 2 + _STATUS))
+        self._shape = (ctypes.c_longlong(joints), ctypes.c_longlong(option))
 
     def solve(self, start: list[float], problem: list[float],
               gauss_newton_only: bool = False) -> list[float]:
@@ -226,12 +353,8 @@ class OneDesign:
         MemoryError
             If the library could not allocate its working memory.
         """
-        if self._given is None:
-            self._given = ((ctypes.c_double * len(problem))(), ctypes.c_longlong(len(problem)))
-        given, given_size = self._given
+        given, given_size = self._load(start, problem)
         state = self._state
-        state[:] = start + self._tail
-        given[:] = problem
         count, state_size, status_index = self._fixed
         solve = (self.solver.gauss_newton_unchecked if gauss_newton_only
                  else self.solver.solve_unchecked)
@@ -239,6 +362,51 @@ class OneDesign:
             raise MemoryError("the compiled lm solver could not allocate its working memory")
         values: list[float] = state[:]
         return values
+
+    def solve_measured(self, start: list[float], problem: list[float]
+                       ) -> tuple[list[float], list[float]]:
+        """:meth:`solve`, and the measure of where the design ended, in the same call of
+        the library: the point put onto the bounds, RE and the projected gradient's norm
+        there (``size + 2`` floats), bit for bit what
+        :func:`sso._solvers.multistart.measure_on_bounds` gives for the exact model's closed
+        form. The measure is of no use where the state ends with
+        :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (the solve goes on in Python).
+
+        Raises
+        ------
+        MemoryError
+            If the library could not allocate its working memory.
+        """
+        given, given_size = self._load(start, problem)
+        state, measure = self._state, self._measure
+        _, state_size, status_index = self._fixed
+        joints, option = self._shape
+        if self.solver.solve_measured(given, given_size, state, state_size, status_index,
+                                      joints, option, measure):
+            raise MemoryError("the compiled lm solver could not allocate its working memory")
+        values: list[float] = state[:]
+        measured: list[float] = measure[:]
+        return values, measured
+
+    def _load(self, start: list[float], problem: list[float]) -> tuple[Any, Any]:
+        """The start into the state, the problem into its buffer (made on the first call:
+        a shape's problems are of one length, and written only when it changed); that
+        buffer and its length.
+
+        Of the state only the start and a zero count of evaluations are written: a state
+        whose count is zero is a start, whose other entries the library's first step
+        replaces without reading them (:func:`sso._solvers.lm_kernel.iteration_functions`).
+        """
+        if self._given is None:
+            self._given = ((ctypes.c_double * len(problem))(), ctypes.c_longlong(len(problem)))
+        given, given_size = self._given
+        state = self._state
+        state[:self._size] = start
+        state[self._nfev] = 0.0
+        if problem != self._problem:
+            given[:] = problem
+            self._problem = list(problem)
+        return given, given_size
 
 
 _solvers: dict[Hashable, NativeSolver | None] = {}
@@ -296,8 +464,11 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
     source = cache(lambda: _source(nlp_of_shape()))  # made once, and only for a build
     try:
         library = cache_folder() / name
-        if not library.is_file():
+        if library.is_file():
+            mark_used(library)
+        else:
             _compile(source(), command, library)
+            prune(library.parent, library, COMPILED_CACHE_BYTES)
         loaded = ctypes.CDLL(str(library))
     except (OSError, subprocess.SubprocessError):
         try:  # no cache folder to write: a private build for this process
@@ -313,8 +484,9 @@ def _load_or_build(shape: Hashable, size: int, nlp_of_shape: Callable[[], Any]
                       ctypes.c_longlong, ctypes.c_longlong]
     # second function objects, without argtypes
     unchecked, gauss_newton = loaded["sso_lm_solve"], loaded["sso_lm_solve_gauss_newton"]
-    unchecked.restype = gauss_newton.restype = ctypes.c_int
-    return NativeSolver(solve, size, unchecked, gauss_newton)
+    measured = loaded["sso_lm_solve_measured"]
+    unchecked.restype = gauss_newton.restype = measured.restype = ctypes.c_int
+    return NativeSolver(solve, size, unchecked, gauss_newton, measured)
 
 
 @cache
@@ -342,7 +514,8 @@ def _source(nlp: Any) -> str:
         inputs = function.sx_in()
         generator.add(casadi.Function(name, inputs, function.call(inputs), {"cse": True}))
     statuses = (f"#define SSO_RUNNING {RUNNING}\n#define SSO_NEWTON {NEWTON}\n"
-                f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n")
+                f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n"
+                f"#define SSO_SCALARS {len(SCALARS)}\n")
     return str(generator.dump()) + statuses + _DRIVER
 
 

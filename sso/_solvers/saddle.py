@@ -30,6 +30,9 @@ from sso._solvers.kkt import projected_gradient_norm_floats
 from sso._solvers.lm_rules import PYTHON, cholesky
 from sso._solvers.run import RunLimits, RunOutcome
 
+Parameters = np.ndarray | list[float]
+"""The fixed parameters (NLP units): an array, or the same values as a list of floats."""
+
 MAX_ESCAPES = 3
 # Negative curvature counts when the smallest eigenvalue is below -RELATIVE_CURVATURE
 # times the largest magnitude, and below -ABSOLUTE_CURVATURE (the difference
@@ -119,7 +122,7 @@ def _solve_with_checks(solve: Callable[[np.ndarray], RunOutcome], nlp: Any, star
 
 
 def saddle_direction(nlp: Any, success: bool, fun: float, x: list[float],
-                     parameters: np.ndarray, limits: RunLimits | Callable[[], RunLimits],
+                     parameters: Parameters, limits: RunLimits | Callable[[], RunLimits],
                      counts: _Counts | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """Where a run that succeeded stopped on a saddle point: the point (on the bounds) and
     the direction of most negative curvature there; None after a failure, at a nonnegative
@@ -179,7 +182,7 @@ class _Counts:
                           outcome.message, outcome.time_s)
 
 
-def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: np.ndarray,
+def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: Parameters,
                         counts: _Counts, use: str = "both") -> tuple[float, list[float]]:
     """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
     counts.objective += use in ("both", "objective")
@@ -192,7 +195,7 @@ def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: np.nd
     return float(value), np.ravel(gradient).tolist()
 
 
-def _hessian(nlp: Any, point: list[float], parameters: np.ndarray, counts: _Counts,
+def _hessian(nlp: Any, point: list[float], parameters: Parameters, counts: _Counts,
              free: list[int]) -> list[list[float]]:
     """Hessian of the objective over the variables ``free``: the problem's own closed form
     (``nlp.objective_hessian``, counted as one gradient call) where it has one, else
@@ -224,7 +227,7 @@ def _hessian(nlp: Any, point: list[float], parameters: np.ndarray, counts: _Coun
             for row in range(size)]
 
 
-def _free_hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+def _free_hessian(nlp: Any, x: np.ndarray, parameters: Parameters, limits: RunLimits,
                   counts: _Counts) -> tuple[list[int], list[list[float]]]:
     """The variables that may move and the Hessian over them."""
     point = x.tolist()
@@ -232,7 +235,7 @@ def _free_hessian(nlp: Any, x: np.ndarray, parameters: np.ndarray, limits: RunLi
     return free, (_hessian(nlp, point, parameters, counts, free) if free else [])
 
 
-def _free_variables(nlp: Any, point: list[float], parameters: np.ndarray, limits: RunLimits,
+def _free_variables(nlp: Any, point: list[float], parameters: Parameters, limits: RunLimits,
                     counts: _Counts) -> tuple[float, list[int]]:
     """The objective at ``point`` and the variables that may move there.
 
@@ -250,7 +253,7 @@ def _free_variables(nlp: Any, point: list[float], parameters: np.ndarray, limits
     return value, free
 
 
-def _negative_curvature(nlp: Any, x: np.ndarray, parameters: np.ndarray,
+def _negative_curvature(nlp: Any, x: np.ndarray, parameters: Parameters,
                         limits: RunLimits, counts: _Counts) -> np.ndarray | None:
     """Unit direction of most negative curvature over the variables that may move."""
     free, hessian = _free_hessian(nlp, x, parameters, limits, counts)

@@ -9,8 +9,12 @@ Problems: the paper's three options (the cases of benchmarks/batch_throughput.py
 random starts of 3 to 6 joints of every option (the work-precision benchmark's
 ranges), a start outside its bounds (moved, with a warning) and symmetric starts on
 which "lm" stops on a saddle point (the direct path hands those to the general path,
-which leaves it).
+which leaves it). The same again with each shape run in its library compiled to machine
+code (as a shape solved often runs), which measures the answer in the solve's own call.
 """
+
+import os
+import shutil
 
 import numpy as np
 import pytest
@@ -19,7 +23,9 @@ import sso
 from sso._shafts import optimise as optimise_module
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
+from sso._solvers.lm import NATIVE_AFTER
 from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER, newton_kernel_of
+from sso._solvers.lm_native import OneDesign
 
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
 
@@ -32,6 +38,12 @@ PAPER = [((15.0, 20.0, 9.0), (30.0, 40.0), 1, (0.0, 40.0)),
 SADDLES = [((20.0, 20.0, 20.0), (0.0, 0.0), 1, (5.0, 35.0)),
            ((20.0, 30.0, 20.0), (0.0, 0.0), 1, (5.0, 35.0)),
            ((20.0, 30.0, 20.0), (0.0, 0.0), 3, (5.0, 35.0))]
+# Shapes (joints, option) of the random cases also solved in their compiled library (each
+# built once per machine and version of the code, 1 to 5 s).
+COMPILED_SHAPES = {(4, 1), (5, 2), (4, 3)}
+needs_compiler = pytest.mark.skipif(
+    shutil.which(os.environ.get("CC") or "cc") is None,
+    reason="no C compiler ($CC or cc) on this machine: no shape runs compiled")
 
 
 def _random_cases():
@@ -49,7 +61,7 @@ def _without_times(value):
     return value
 
 
-def _solve(case, general, monkeypatch):
+def _solve(case, general, monkeypatch, compiled=False):
     beta_deg, phase_deg, option, beta_bounds = case
     # The Newton steps of a shape run compiled once it has asked for them often enough;
     # built first, both paths take them the same way whatever ran before.
@@ -57,6 +69,8 @@ def _solve(case, general, monkeypatch):
                                      (0.0, 180.0)), 0)
     for _ in range(NEWTON_KERNEL_AFTER):
         newton_kernel_of(nlp)
+    if compiled and nlp.lm_native is None:  # solved as often as NATIVE_AFTER asks
+        nlp.lm_solves = max(nlp.lm_solves, NATIVE_AFTER)
     with monkeypatch.context() as patch:
         if general:
             patch.setattr(optimise_module, "_solve_alone", lambda *arguments: None)
@@ -81,6 +95,21 @@ def test_the_direct_path_gives_the_general_path_s_record(case, monkeypatch):
     general = _solve(case, True, monkeypatch)
     assert _without_times(lean.to_dict()) == _without_times(general.to_dict())
     assert lean.fun == general.fun and lean.x == general.x
+
+
+@needs_compiler
+@pytest.mark.parametrize("case", PAPER + [case for case in _random_cases()
+                                          if (len(case[0]), case[2]) in COMPILED_SHAPES])
+def test_the_direct_path_on_the_compiled_library_gives_the_general_path_s_record(case,
+                                                                                monkeypatch):
+    # A shape solved often runs in its library, which measures the answer in the solve's
+    # call (the direct path); the general path measures it in Python (measure_on_bounds).
+    lean = _solve(case, False, monkeypatch, compiled=True)
+    nlp = compiled_nlp(build_problem(*case[:2], "exact", case[2], case[3], (0.0, 180.0)), 0)
+    assert isinstance(nlp.lm_native, OneDesign)
+    general = _solve(case, True, monkeypatch, compiled=True)
+    assert _without_times(lean.to_dict()) == _without_times(general.to_dict())
+    assert (lean.fun, lean.x, lean.best.kkt) == (general.fun, general.x, general.best.kkt)
 
 
 def test_a_run_that_stops_on_a_saddle_point_is_left_by_the_general_path(monkeypatch):

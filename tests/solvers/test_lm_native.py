@@ -29,6 +29,7 @@ from sso._solvers.lm_native import (
     solve_native,
 )
 from sso._solvers.lm_rules import NEWTON
+from sso._solvers.multistart import measure_on_bounds
 from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
 
@@ -135,11 +136,45 @@ def test_the_gauss_newton_entry_ends_bit_for_bit_where_the_kernel_s_blocks_end(j
                      1e-12, 50)
         nlp.lm_native = None
         on_kernel = lm.gauss_newton_flat(nlp, kernel, *arguments)
-        nlp.lm_native = lm_native.OneDesign(native)
+        nlp.lm_native = lm_native.OneDesign(native, joints, option)
         compiled = lm.gauss_newton_flat(nlp, kernel, *arguments)
         assert compiled == on_kernel == run_kernel_flat(kernel, *arguments)
         statuses.add(flat_outcome(compiled, len(lower))[4])
     assert NEWTON in statuses and statuses - {NEWTON}, statuses
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])
+def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_bounds(joints,
+                                                                                   option):
+    # The direct path of "lm" alone takes the measure of its answer from the library's
+    # call (OneDesign.solve_measured). Reference: measure_on_bounds (the closed form in
+    # Python complex numbers, as every solver's answer is measured), every float the same
+    # to the bit (float.hex tells -0.0 from 0.0). Ends inside the bounds and on them (wide
+    # and narrow bounds), at zero and nonzero minima and after 1 or 2 iterations.
+    rng = np.random.default_rng(100 + joints)
+    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
+    native = build_native_solver(nlp)
+    assert native is not None
+    one = lm_native.OneDesign(native, joints, option)
+    ends = set()
+    for index in range(120):
+        beta_bounds = (5.0, 35.0) if index % 2 else (15.0, 20.0)
+        problem = build_problem(list(rng.uniform(5.0, 35.0, joints)),
+                                list(rng.uniform(0.0, 180.0, joints - 1)), "exact", option,
+                                beta_bounds, (0.0, 180.0) if index % 2 else (60.0, 80.0))
+        fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
+                               problem.upper_rad.tolist())
+        flat = [*fixed, *lower, *upper, 1e-12, (1.0, 2.0, 500.0)[index % 3]]
+        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
+        x = values[:len(lower)]
+        point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
+        assert [value.hex() for value in measured] == [value.hex() for value in
+                                                      (*point, fun, kkt)]
+        assert values == one.solve(problem.start_rad.tolist(), flat)
+        ends.add((fun <= 1e-20, any(value in (low, high)
+                                    for value, low, high in zip(x, lower, upper, strict=True))))
+    assert len(ends) >= 3, ends
 
 
 def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
@@ -173,7 +208,29 @@ def test_the_library_is_kept_in_the_cache_folder_and_loaded_from_it(monkeypatch,
     monkeypatch.setattr(lm_native, "_solvers", {})
     assert native_solver_of(nlp.name, 1, lambda: pytest.fail("no source is made")) is not None
     assert list(tmp_path.iterdir()) == libraries
-    assert libraries[0].stat().st_mtime_ns == written.st_mtime_ns
+    # The same file (a build would have replaced it), its time marking the load.
+    assert libraries[0].stat().st_ino == written.st_ino
+    assert libraries[0].stat().st_mtime_ns >= written.st_mtime_ns
+
+
+@needs_compiler
+def test_a_build_holds_the_cache_folder_to_its_bound(monkeypatch, tmp_path):
+    monkeypatch.setenv(lm_native.CACHE_VARIABLE, str(tmp_path))
+    limit = 300 * 1024
+    monkeypatch.setattr(lm_native, "COMPILED_CACHE_BYTES", limit)
+    # Five libraries of earlier versions, 100 kB each, the first the least recently used.
+    stale = []
+    for index in range(5):
+        path = tmp_path / f"sso-lm-{index:032x}.so"
+        path.write_bytes(b"\0" * 100 * 1024)
+        os.utime(path, (1e9 + index, 1e9 + index))
+        stale.append(path)
+    assert build_native_solver(compiled_nlp(_problem([20.0] * 2, [90.0], 1), 0)) is not None
+    built = [path for path in tmp_path.iterdir() if path not in stale]
+    assert len(built) == 1 and built[0].name.startswith("sso-lm-")
+    # The build plus the most recently used stale libraries that fit beside it.
+    kept = (limit - built[0].stat().st_size) // (100 * 1024)
+    assert [path.exists() for path in stale] == [False] * (5 - kept) + [True] * kept
 
 
 @needs_compiler
