@@ -443,14 +443,17 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
         nlp, list(map(math.radians, problem.start_values_deg)), fixed, lower, upper,
         solver_tol, max_iterations)
     success = status > 0
-    if saddle_direction(nlp, success, solver_fun, x, fixed,
-                        lambda: RunLimits(problem.lower_rad, problem.upper_rad)) is not None:
+    # The library looked for negative curvature where it measured (0.0: none there).
+    if ((measured is None or measured[-1])
+            and saddle_direction(nlp, success, solver_fun, x, fixed,
+                                 lambda: RunLimits(problem.lower_rad, problem.upper_rad))
+            is not None):
         return None
     time_s = time.perf_counter() - started
     if measured is None:
         point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
     else:  # the library measured it in the solve's call
-        point, fun, kkt = measured[:-2], measured[-2], measured[-1]
+        point, fun, kkt = measured[:-3], measured[-3], measured[-2]
     x_deg = [math.degrees(angle) for angle in point]
     beta_deg, phase_deg = problem.design_deg(x_deg)
     solution = built(Solution, solver="lm",

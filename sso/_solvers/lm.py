@@ -156,8 +156,11 @@ def solve_floats_measured(nlp: Any, start: list[float], fixed: list[float], lowe
                           ) -> tuple[tuple[list[float], float, int, int, int], list[float] | None]:
     """:func:`solve_floats`, and where the shape's library compiled to machine code ran the
     whole solve (:func:`native_of`), its measure of the end in the same call: the point
-    put onto the bounds, the objective and the projected gradient's norm there, one list
-    (bit for bit :func:`sso._solvers.multistart.measure_on_bounds`); None where it did not.
+    put onto the bounds, the objective and the projected gradient's norm there (bit for
+    bit :func:`sso._solvers.multistart.measure_on_bounds`), and 0.0 where it found no
+    negative curvature there as :func:`sso._solvers.saddle.saddle_direction` would, else
+    1.0, one list (:meth:`sso._solvers.lm_native.OneDesign.solve_measured`); None where it
+    did not run the whole solve.
     """
     return _solve_floats(nlp, start, fixed, lower, upper, solver_tol, max_iterations, True)
 

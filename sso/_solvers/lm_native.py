@@ -59,6 +59,13 @@ from sso._solvers.lm_batch import BatchRun
 from sso._solvers.lm_kernel import NEWTON_KERNEL_VARIABLES, iteration_functions
 from sso._solvers.lm_kernel import SWITCH_VARIABLE as SWITCH_VARIABLE
 from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE, RUNNING, SCALARS
+from sso._solvers.saddle import (
+    ABSOLUTE_CURVATURE,
+    ON_BOUND,
+    RELATIVE_CURVATURE,
+    STATIONARY_START,
+    ZERO_OBJECTIVE,
+)
 
 NATIVE_VARIABLES = 5
 """Shapes of at most this many free variables are compiled (3 joints of option 3, up to 6
@@ -178,10 +185,180 @@ static sso_complex sso_mul(sso_complex a, sso_complex b) {
 }
 static sso_complex sso_scaled(sso_complex a, double value) { return sso_mul(a, sso_c(value, 0.0)); }
 
+/* Whether the Hessian of RE over the variables that may move at the measured point has
+   no negative curvature by the test of sso._solvers.saddle._negative_curvature before its
+   eigendecomposition, bit for bit: no variable may move, an entry is not finite, or the
+   Cholesky factor of the Hessian shifted by max(SSO_RELATIVE_CURVATURE x its largest
+   diagonal magnitude, SSO_ABSOLUTE_CURVATURE) exists (sso._solvers.lm_rules.cholesky).
+   The Hessian is sso._kinematics.hooke_matrix.residual_hessian_complex's, in its order of
+   operations; a variable may move as sso._solvers.saddle._free_variables says, from the
+   measure's gradient. Returns 0 when it has none, 1 when only the eigendecomposition can
+   tell. */
+/* (a, c) through one factor of the chain: a bend (p, q) or a turn (e^(i phi), e^(-i phi)). */
+static void sso_factor(int bend, sso_complex first, sso_complex second, sso_complex* a,
+                       sso_complex* c) {
+  if (bend) {
+    sso_complex next_a = sso_add(sso_mul(first, *a), sso_mul(second, *c));
+    *c = sso_add(sso_mul(second, *a), sso_mul(first, *c));
+    *a = next_a;
+  } else {
+    *a = sso_mul(first, *a);
+    *c = sso_mul(second, *c);
+  }
+}
+
+static int sso_curvature(casadi_int joints, int beta_free, int phase_free, casadi_int size,
+                         const double* point, const double* fixed, const double* lower,
+                         const double* upper, const double* slopes) {
+  casadi_int free_index[size], free_count = 0, i, j, k, t, later;
+  for (i = 0; i < size; ++i) {
+    double entry = point[i], low = lower[i], high = upper[i], slope = slopes[i];
+    if (!(high - low <= SSO_ON_BOUND || (entry - low <= SSO_ON_BOUND && slope > SSO_STATIONARY)
+          || (high - entry <= SSO_ON_BOUND && slope < -SSO_STATIONARY)))
+      free_index[free_count++] = i;
+  }
+  if (!free_count) return 0;
+  const double* beta = beta_free ? point : fixed;
+  const double* phase = beta_free && phase_free ? point + joints : phase_free ? point : fixed;
+  casadi_int phase_offset = beta_free ? joints : 0, count = 2 * joints - 1;
+  double cos_beta[joints], sin_beta[joints];
+  for (k = 0; k < joints; ++k) {
+    cos_beta[k] = sso_cos(beta[k]);
+    sin_beta[k] = sso_sin(beta[k]);
+  }
+  /* The factors in the order they act: bends at even t, turns at odd t. */
+  casadi_int variable[count];
+  sso_complex first[count], second[count], before_a[count], before_c[count], after_e[count],
+      after_f[count];
+  double half_sine[count], half_cosine[count];
+  for (k = 0; k < joints; ++k) {
+    t = 2 * k;
+    variable[t] = beta_free ? k : -1;
+    first[t] = sso_c(0.5 + 0.5 * cos_beta[k], 0.0);
+    second[t] = sso_c(0.5 - 0.5 * cos_beta[k], 0.0);
+    half_sine[t] = 0.5 * sin_beta[k];
+    half_cosine[t] = 0.5 * cos_beta[k];
+    if (k < joints - 1) {
+      sso_complex turn = sso_c(sso_cos(phase[k]), sso_sin(phase[k]));
+      variable[t + 1] = phase_free ? phase_offset + k : -1;
+      first[t + 1] = turn;
+      second[t + 1] = sso_c(turn.re, -turn.im);
+      half_sine[t + 1] = half_cosine[t + 1] = 0.0;
+    }
+  }
+  sso_complex a = sso_c(1.0, 0.0), c = sso_c(0.0, 0.0);
+  for (t = 0; t < count; ++t) {
+    before_a[t] = a;
+    before_c[t] = c;
+    sso_factor(t % 2 == 0, first[t], second[t], &a, &c);
+  }
+  sso_complex final_c = c, e = sso_c(0.0, 0.0), f = sso_c(1.0, 0.0);
+  for (t = count - 1; t >= 0; --t) {
+    after_e[t] = e;
+    after_f[t] = f;
+    if (t % 2 == 0) {
+      sso_complex next_e = sso_add(sso_mul(e, first[t]), sso_mul(f, second[t]));
+      f = sso_add(sso_mul(e, second[t]), sso_mul(f, first[t]));
+      e = next_e;
+    } else {
+      e = sso_mul(e, first[t]);
+      f = sso_mul(f, second[t]);
+    }
+  }
+  const sso_complex zero = sso_c(0.0, 0.0), i_unit = sso_c(0.0, 1.0),
+      minus_i_unit = sso_c(-0.0, -1.0);
+  sso_complex c_first[size], c_second[size][size];
+  for (i = 0; i < size; ++i) {
+    c_first[i] = zero;
+    for (j = 0; j < size; ++j) c_second[i][j] = zero;
+  }
+  for (t = 0; t < count; ++t) {
+    casadi_int own = variable[t];
+    if (own < 0) continue;
+    e = after_e[t];
+    f = after_f[t];
+    a = before_a[t];
+    c = before_c[t];
+    if (t % 2 == 0) {
+      c_second[own][own] = sso_mul(sso_scaled(sso_sub(c, a), half_cosine[t]), sso_sub(e, f));
+      sso_complex next_a = sso_scaled(sso_sub(c, a), half_sine[t]);
+      c = sso_scaled(sso_sub(a, c), half_sine[t]);
+      a = next_a;
+    } else {
+      sso_complex sum = sso_add(sso_mul(sso_mul(e, first[t]), a),
+                                sso_mul(sso_mul(f, second[t]), c));
+      c_second[own][own] = sso_c(-sum.re, -sum.im);
+      a = sso_mul(sso_mul(i_unit, first[t]), a);
+      c = sso_mul(sso_mul(minus_i_unit, second[t]), c);
+    }
+    c_first[own] = sso_add(sso_mul(e, a), sso_mul(f, c));
+    for (later = t + 1; later < count; ++later) {
+      casadi_int other = variable[later];
+      if (other >= 0) {
+        e = after_e[later];
+        f = after_f[later];
+        c_second[own][other] = c_second[other][own] = later % 2 == 0
+            ? sso_mul(sso_scaled(sso_sub(c, a), half_sine[later]), sso_sub(e, f))
+            : sso_mul(i_unit, sso_sub(sso_mul(sso_mul(e, first[later]), a),
+                                      sso_mul(sso_mul(f, second[later]), c)));
+      }
+      sso_factor(later % 2 == 0, first[later], second[later], &a, &c);
+    }
+  }
+  double product = 1.0;
+  for (k = 0; k < joints; ++k) product *= cos_beta[k];
+  double scale = sqrt(2.0 / product), log_first[size], log_second[size];
+  for (i = 0; i < size; ++i) log_first[i] = log_second[i] = 0.0;
+  if (beta_free)
+    for (k = 0; k < joints; ++k) {
+      log_first[k] = 0.5 * sin_beta[k] / cos_beta[k];
+      log_second[k] = 0.5 / (cos_beta[k] * cos_beta[k]);
+    }
+  sso_complex rho = sso_scaled(final_c, scale), jacobian[size];
+  for (i = 0; i < size; ++i)
+    jacobian[i] = sso_scaled(sso_add(sso_scaled(final_c, log_first[i]), c_first[i]), scale);
+  sso_complex weight = sso_scaled(sso_c(rho.re, -rho.im), 2.0 * scale);
+  double hessian[size][size];
+  for (i = 0; i < size; ++i)
+    for (j = 0; j <= i; ++j) {
+      double both = log_first[i] * log_first[j] + (i == j ? log_second[i] : 0.0);
+      sso_complex curvature = sso_add(
+          sso_add(sso_add(sso_scaled(final_c, both), sso_scaled(c_first[j], log_first[i])),
+                  sso_scaled(c_first[i], log_first[j])),
+          c_second[i][j]);
+      hessian[i][j] = hessian[j][i] =
+          2.0 * (jacobian[i].re * jacobian[j].re + jacobian[i].im * jacobian[j].im)
+          + (weight.re * curvature.re - weight.im * curvature.im);
+    }
+  /* Over the free variables: finite, then the shifted Cholesky factor's pivots. */
+  double largest_diagonal = 0.0, factor[free_count][free_count];
+  for (i = 0; i < free_count; ++i)
+    for (j = 0; j < free_count; ++j)
+      if (!isfinite(hessian[free_index[i]][free_index[j]])) return 0;
+  for (i = 0; i < free_count; ++i) {
+    double magnitude = fabs(hessian[free_index[i]][free_index[i]]);
+    if (i == 0 || magnitude > largest_diagonal) largest_diagonal = magnitude;
+  }
+  double shift = SSO_RELATIVE_CURVATURE * largest_diagonal;
+  if (SSO_ABSOLUTE_CURVATURE > shift) shift = SSO_ABSOLUTE_CURVATURE;
+  for (i = 0; i < free_count; ++i) {
+    for (j = 0; j < i; ++j) {
+      double total = hessian[free_index[i]][free_index[j]];
+      for (k = 0; k < j; ++k) total = total - factor[i][k] * factor[j][k];
+      factor[i][j] = total / factor[j][j];
+    }
+    double total = hessian[free_index[i]][free_index[i]] + shift;
+    for (k = 0; k < i; ++k) total = total - factor[i][k] * factor[i][k];
+    if (!(total > 0.0)) return 1;
+    factor[i][i] = sqrt(total);
+  }
+  return 0;
+}
+
 static void sso_measure(casadi_int joints, int beta_free, int phase_free, casadi_int size,
                         const casadi_real* given, const casadi_real* fixed,
                         const casadi_real* lower, const casadi_real* upper,
-                        casadi_real* measure) {
+                        int look_for_saddle, casadi_real* measure) {
   double point[size], cos_beta[joints];
   sso_complex turns[joints], before_a[joints], before_c[joints], jacobian[size];
   casadi_int k, i, last = joints - 1;
@@ -236,10 +413,10 @@ static void sso_measure(casadi_int joints, int beta_free, int phase_free, casadi
       f = sso_mul(f, turns[k - 1]);
     }
   }
-  double r1 = 2.0 * rho.re, r2 = 2.0 * rho.im, norm = 0.0;
+  double r1 = 2.0 * rho.re, r2 = 2.0 * rho.im, norm = 0.0, slopes[size];
+  for (i = 0; i < size; ++i) slopes[i] = r1 * jacobian[i].re + r2 * jacobian[i].im;
   for (i = 0; i < size; ++i) {
-    double slope = r1 * jacobian[i].re + r2 * jacobian[i].im;
-    double projected = point[i] - slope;
+    double projected = point[i] - slopes[i];
     if (projected != projected) {
       norm = NAN;
       break;
@@ -251,11 +428,15 @@ static void sso_measure(casadi_int joints, int beta_free, int phase_free, casadi
   for (i = 0; i < size; ++i) measure[i] = point[i];
   measure[size] = rho.re * rho.re + rho.im * rho.im;
   measure[size + 1] = norm;
+  measure[size + 2] = look_for_saddle ? sso_curvature(joints, beta_free, phase_free, size, point,
+                                                      fixed, lower, upper, slopes) : 1.0;
 }
 
 /* One design from its start to its end (sso_lm_solve), then the measure of where it
-   ended: the point onto the bounds, RE and the projected gradient's norm there into
-   measure (size + 2 entries). Returns as sso_lm_solve. */
+   ended: the point onto the bounds, RE and the projected gradient's norm there, and
+   where it succeeded above round-off zero (sso._solvers.saddle.saddle_direction's look)
+   0 when the Hessian has no negative curvature by sso_curvature's test, else 1, into
+   measure (size + 3 entries). Returns as sso_lm_solve. */
 CASADI_SYMBOL_EXPORT int sso_lm_solve_measured(const casadi_real* problem,
                                                casadi_int problem_size, casadi_real* state,
                                                casadi_int state_size, casadi_int status_index,
@@ -264,8 +445,10 @@ CASADI_SYMBOL_EXPORT int sso_lm_solve_measured(const casadi_real* problem,
   casadi_int size = (state_size - 2 - SSO_SCALARS) / 3;
   casadi_int fixed_size = problem_size - 2 * size - 2;
   if (sso_lm_run(1, problem, problem_size, state, state_size, status_index, 0)) return 1;
+  int look_for_saddle = state[status_index] > 0.0
+                        && state[3 * size + 2 + SSO_FUN] > SSO_ZERO_OBJECTIVE;
   sso_measure(joints, option != 1, option != 2, size, state, problem,
-              problem + fixed_size, problem + fixed_size + size, measure);
+              problem + fixed_size, problem + fixed_size + size, look_for_saddle, measure);
   return 0;
 }
 
@@ -329,7 +512,7 @@ class OneDesign:
         size = solver.size
         self._size = size
         self._state: Any = (ctypes.c_double * solver.state_size)()
-        self._measure: Any = (ctypes.c_double * (size + 2))()
+        self._measure: Any = (ctypes.c_double * (size + 3))()
         self._nfev = 3 * size + 2 + _NFEV
         self._given: Any = None
         self._problem: list[float] = []
@@ -367,9 +550,11 @@ class OneDesign:
                        ) -> tuple[list[float], list[float]]:
         """:meth:`solve`, and the measure of where the design ended, in the same call of
         the library: the point put onto the bounds, RE and the projected gradient's norm
-        there (``size + 2`` floats), bit for bit what
-        :func:`sso._solvers.multistart.measure_on_bounds` gives for the exact model's closed
-        form. The measure is of no use where the state ends with
+        there, bit for bit what :func:`sso._solvers.multistart.measure_on_bounds` gives for
+        the exact model's closed form; last, for a design that succeeded above round-off
+        zero, 0.0 where :func:`sso._solvers.saddle.saddle_direction` finds no negative
+        curvature before its eigendecomposition (the same test on the same bits), else 1.0
+        (``size + 3`` floats). The measure is of no use where the state ends with
         :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (the solve goes on in Python).
 
         Raises
@@ -515,7 +700,12 @@ def _source(nlp: Any) -> str:
         generator.add(casadi.Function(name, inputs, function.call(inputs), {"cse": True}))
     statuses = (f"#define SSO_RUNNING {RUNNING}\n#define SSO_NEWTON {NEWTON}\n"
                 f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n"
-                f"#define SSO_SCALARS {len(SCALARS)}\n")
+                f"#define SSO_SCALARS {len(SCALARS)}\n#define SSO_FUN {SCALARS.index('fun')}\n"
+                f"#define SSO_ZERO_OBJECTIVE {ZERO_OBJECTIVE!r}\n"
+                f"#define SSO_ON_BOUND {ON_BOUND!r}\n"
+                f"#define SSO_STATIONARY {STATIONARY_START!r}\n"
+                f"#define SSO_RELATIVE_CURVATURE {RELATIVE_CURVATURE!r}\n"
+                f"#define SSO_ABSOLUTE_CURVATURE {ABSOLUTE_CURVATURE!r}\n")
     return str(generator.dump()) + statuses + _DRIVER
 
 

@@ -15,7 +15,7 @@ import pytest
 
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
-from sso._solvers import lm, lm_native
+from sso._solvers import lm, lm_native, saddle
 from sso._solvers.lm_kernel import (
     NEWTON_KERNEL_AFTER,
     flat_outcome,
@@ -28,7 +28,7 @@ from sso._solvers.lm_native import (
     native_solver_of,
     solve_native,
 )
-from sso._solvers.lm_rules import NEWTON
+from sso._solvers.lm_rules import NEWTON, PYTHON, cholesky
 from sso._solvers.multistart import measure_on_bounds
 from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
@@ -143,6 +143,14 @@ def test_the_gauss_newton_entry_ends_bit_for_bit_where_the_kernel_s_blocks_end(j
     assert NEWTON in statuses and statuses - {NEWTON}, statuses
 
 
+def _one_design(joints, option):
+    """The shape's NLP and its library called one design at a time."""
+    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
+    native = build_native_solver(nlp)
+    assert native is not None
+    return nlp, lm_native.OneDesign(native, joints, option)
+
+
 @needs_compiler
 @pytest.mark.parametrize(("joints", "option"), [(3, 3), (4, 1), (5, 2)])
 def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_bounds(joints,
@@ -153,10 +161,7 @@ def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_boun
     # to the bit (float.hex tells -0.0 from 0.0). Ends inside the bounds and on them (wide
     # and narrow bounds), at zero and nonzero minima and after 1 or 2 iterations.
     rng = np.random.default_rng(100 + joints)
-    nlp = compiled_nlp(_problem([20.0] * joints, [90.0] * (joints - 1), option), 0)
-    native = build_native_solver(nlp)
-    assert native is not None
-    one = lm_native.OneDesign(native, joints, option)
+    nlp, one = _one_design(joints, option)
     ends = set()
     for index in range(120):
         beta_bounds = (5.0, 35.0) if index % 2 else (15.0, 20.0)
@@ -169,12 +174,56 @@ def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_boun
         values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
         x = values[:len(lower)]
         point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
-        assert [value.hex() for value in measured] == [value.hex() for value in
-                                                      (*point, fun, kkt)]
+        assert [value.hex() for value in measured[:-1]] == [value.hex() for value in
+                                                           (*point, fun, kkt)]
         assert values == one.solve(problem.start_rad.tolist(), flat)
         ends.add((fun <= 1e-20, any(value in (low, high)
                                     for value, low, high in zip(x, lower, upper, strict=True))))
     assert len(ends) >= 3, ends
+
+
+@needs_compiler
+@pytest.mark.parametrize(("joints", "option"), [(3, 1), (4, 1)])  # minima above zero
+def test_the_library_s_look_for_negative_curvature_decides_as_saddle_py(joints, option):
+    # Where a design succeeds above round-off zero, the library tells (the measure's last
+    # entry) whether the Hessian over the variables that may move has no negative
+    # curvature by the test saddle.py makes before its eigendecomposition. Reference: that
+    # test in Python (_free_hessian, the closed-form Hessian, then lm_rules.cholesky with
+    # the same shift), the same verdict on every design; where the library finds none,
+    # saddle_direction finds no saddle point. Symmetric starts (phases at 0, 90 or 180 deg,
+    # equal angles) stop on saddle points; narrow bounds leave variables on them.
+    rng = np.random.default_rng(110 + joints)
+    nlp, one = _one_design(joints, option)
+    verdicts = set()
+    for index in range(150):
+        beta_deg, phase_deg = rng.uniform(5.0, 35.0, joints), rng.uniform(0.0, 180.0, joints - 1)
+        if index % 5 == 0:
+            beta_deg = rng.choice([10.0, 20.0, 30.0], joints)
+            phase_deg = rng.choice([0.0, 90.0, 180.0], joints - 1)
+        problem = build_problem(beta_deg.tolist(), phase_deg.tolist(), "exact", option,
+                                ((5.0, 35.0), (15.0, 20.0))[index % 2],
+                                ((0.0, 180.0), (60.0, 80.0))[index % 2])
+        limits = RunLimits(problem.lower_rad, problem.upper_rad)
+        fixed = problem.parameters_rad.tolist()
+        flat = [*fixed, *limits.lower.tolist(), *limits.upper.tolist(), 1e-12,
+                (500.0, 5.0)[index % 2]]
+        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
+        x, fun, _, _, status = flat_outcome(values, problem.n_free)
+        if not (status > 0 and fun > saddle.ZERO_OBJECTIVE):
+            assert measured[-1] == 1.0  # no look: saddle_direction returns at once
+            continue
+        free, hessian = saddle._free_hessian(nlp, np.clip(np.array(x), limits.lower,
+                                                          limits.upper), fixed, limits,
+                                             saddle._Counts())
+        none_in_python = (not free or not np.all(np.isfinite(hessian)) or cholesky(
+            PYTHON, hessian, max(saddle.RELATIVE_CURVATURE * max(
+                abs(hessian[entry][entry]) for entry in range(len(free))),
+                saddle.ABSOLUTE_CURVATURE))[1])
+        assert measured[-1] == (0.0 if none_in_python else 1.0)
+        found = saddle.saddle_direction(nlp, True, fun, x, fixed, limits)
+        assert found is None or not none_in_python
+        verdicts.add((bool(none_in_python), found is not None))
+    assert verdicts >= {(True, False), (False, True)}, verdicts
 
 
 def test_a_missing_compiler_leaves_the_numpy_path(monkeypatch, tmp_path):
