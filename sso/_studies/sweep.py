@@ -90,18 +90,18 @@ ARRAY_CHUNK_CAP = 50_000
 # On Dask a task costs about 4 ms of CPU (benchmarks/sweep_throughput.py measures it
 # on a 2-worker LocalCluster: about 2 ms in the calling process, its scheduler's and
 # client's work, and 2 ms in the worker process), some three times what it costs the
-# local pool, so Dask's tasks are longer: at least DASK_CHUNK_FLOOR points of their action (about 25 ms of work
-# each), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 35 ms, and 35 MB
-# at the peak: a Dask worker computes in a thread, whose allocator's heaps hold at
-# most 64 MB each, and a chunk that needs two of them gives one back when it ends, to
-# be faulted in again by the next: 10,000 page faults a worker on the evaluate sweep
-# of 200,000-point tasks). And they go out in rounds of equal tasks, one a worker
-# thread: Dask's scheduler gives a single-threaded worker its next task while the
-# current one runs (worker-saturation 1.1: two tasks a thread), and its work stealing
-# looks every second, so the first two rounds are shared out as they are cut, and a
-# task handed to a busy worker waits there. A round takes half of the points left
-# (each task half a worker's share, ARRAY_SHARE); the round that would leave fewer
-# than a round of DASK_CHUNK_FLOOR-point tasks takes every point left.
+# local pool, so Dask's tasks are longer: at least DASK_CHUNK_FLOOR points of their
+# action (about 25 ms of work each), an evaluate task up to DASK_EVALUATE_CHUNK_CAP
+# points (about 35 ms, and 35 MB at the peak: a Dask worker computes in a thread,
+# whose allocator's heaps hold at most 64 MB each, and a chunk that needs two of them
+# gives one back when it ends, to be faulted in again by the next: 10,000 page faults
+# a worker on the evaluate sweep of 200,000-point tasks). And they go out in rounds of
+# equal tasks, one a worker thread: Dask's scheduler gives a single-threaded worker its
+# next task while the current one runs (worker-saturation 1.1: two tasks a thread),
+# and its work stealing looks every second, so the first two rounds are shared out as
+# they are cut, and a task handed to a busy worker waits there. A round takes half of
+# the points left (each task half a worker's share, ARRAY_SHARE); the round that would
+# leave fewer than a round of DASK_CHUNK_FLOOR-point tasks takes every point left.
 DASK_CHUNK_FLOOR = {"optimise": 10_000, "evaluate": 50_000}
 DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
