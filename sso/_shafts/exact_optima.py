@@ -209,13 +209,23 @@ class SetProblem:
 
 def series_set_problem(problem: DesignProblem) -> SetProblem:
     """The :class:`SetProblem` of a shaft series' design problem (every variable an angle)."""
-    count = len(problem.lower_rad)
-    return SetProblem(lower=problem.lower_rad, upper=problem.upper_rad,
-                      variables=_variable_names(problem), units=("deg",) * count,
-                      scale=np.full(count, 180.0 / math.pi), in_margin=np.ones(count, dtype=bool),
-                      design=problem,
-                      period=np.array([math.pi if name.startswith("phase") else 0.0
-                                       for name in _variable_names(problem)]))
+    names = _variable_names(problem)
+    scale, in_margin, period = _series_set_arrays(names)
+    return SetProblem(lower=problem.lower_rad, upper=problem.upper_rad, variables=names,
+                      units=("deg",) * len(names), scale=scale, in_margin=in_margin,
+                      design=problem, period=period)
+
+
+@functools.lru_cache(maxsize=64)
+def _series_set_arrays(names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The scale (deg per rad), margin flags and periods (rad: a phase's is pi) of a shaft
+    series' free variables, read-only and kept per layout (every call of a shape builds
+    its set problem)."""
+    arrays = (np.full(len(names), 180.0 / math.pi), np.ones(len(names), dtype=bool),
+              np.array([math.pi if name.startswith("phase") else 0.0 for name in names]))
+    for array in arrays:
+        array.flags.writeable = False
+    return arrays
 
 
 @runtime_checkable
@@ -589,7 +599,8 @@ def choose_exact_optimum(problem: SetProblem, residuals: Residuals, solve_in_box
         time_s=time.perf_counter() - started,
         extent_of=functools.partial(set_extent, problem, residuals, solve_in_box, chosen),
     )
-    if solver is not None and float(np.max(np.abs(chosen - first))) <= SAME_DESIGN_RAD:
+    if solver is not None and max(abs(value - other) for value, other in zip(
+            chosen.tolist(), first.tolist(), strict=True)) <= SAME_DESIGN_RAD:
         solver = None
     message = (f"most robust exact optimum ({exact_set.criterion}) of a set of dimension "
                f"{exact_set.dimension}")
@@ -696,8 +707,8 @@ def _largest_margin(problem: SetProblem, solve_in_box: BoxSolve, start: np.ndarr
                         for bottom, moves in zip(low_bounds, counted, strict=True)]
         shrunk_upper = [top - margin if moves else top
                         for top, moves in zip(high_bounds, counted, strict=True)]
-        moved = [min(max(value, bottom), top) for value, bottom, top
-                 in zip(best, shrunk_lower, shrunk_upper, strict=True)]
+        moved = [bottom if value < bottom else top if value > top else value
+                 for value, bottom, top in zip(best, shrunk_lower, shrunk_upper, strict=True)]
         x, fun, nit, nfev = solve_in_box(moved, shrunk_lower, shrunk_upper,
                                          MARGIN_MAX_ITERATIONS)
         counts[0] += nit
@@ -711,7 +722,8 @@ def _largest_margin(problem: SetProblem, solve_in_box: BoxSolve, start: np.ndarr
 
 def _margin_of(x: list[float], bounds: list[tuple[int, float, float, float]]) -> float:
     """Least distance of the ``bounds``' variables of ``x`` to a bound, the solver's units."""
-    return min(min(x[index] - bottom, top - x[index]) for index, bottom, top, _ in bounds)
+    return min([x[index] - bottom for index, bottom, _, _ in bounds]
+               + [top - x[index] for index, _, top, _ in bounds])
 
 
 def _full_angles(problem: DesignProblem, x_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -739,7 +751,9 @@ def _project(residuals: Residuals, start: np.ndarray, lower: np.ndarray,
              upper: np.ndarray) -> np.ndarray | None:
     """The point back at round-off zero by minimum-norm Gauss-Newton steps inside the
     bounds, or None when it does not get there."""
-    x: np.ndarray = np.clip(np.asarray(start, dtype=float), lower, upper)
+    x = np.array([bottom if value < bottom else top if value > top else value
+                  for value, bottom, top in zip(np.asarray(start, dtype=float).tolist(),
+                                                lower.tolist(), upper.tolist(), strict=True)])
     for _ in range(PROJECTION_STEPS):
         rho, derivative = residuals(x.tolist())
         if abs(rho) ** 2 <= ZERO_OBJECTIVE:

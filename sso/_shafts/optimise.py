@@ -7,7 +7,7 @@ import math
 import time
 import warnings
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -537,13 +537,13 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
         return solved["best"], choice.exact_set
     run = selection_run(choice, solved["best"].start_index, nlp, problem.parameters_rad,
                         RunLimits(problem.lower_rad, problem.upper_rad), started)
-    chosen = replace(_to_solution(run, problem, model, [run]), role=ROLE_SELECTION)
+    chosen = _to_solution(run, problem, model, [run], ROLE_SELECTION)
     return chosen, choice.exact_set
 
 
 def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
-                 solver_runs: list[MeasuredRun]) -> Solution:
+                 solver_runs: list[MeasuredRun], role: str = ROLE_SOLVE) -> Solution:
     x_deg = np.degrees(run.outcome.x)
     beta_deg, phase_deg = problem.design_deg(x_deg)
     return solution_from_run(run, solver_runs, x_deg.tolist(),
-                             checked_series(beta_deg, phase_deg, model))
+                             checked_series(beta_deg, phase_deg, model), role)

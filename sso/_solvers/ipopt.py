@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from sso._interrupts import raised_after_native_call
+from sso._record import built
 from sso._solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
@@ -103,7 +104,8 @@ def solve(
         iterations, evaluations, gradients = (iterations + more[0], evaluations + more[1],
                                               gradients + more[2])
     elapsed = time.perf_counter() - started
-    return RunOutcome(
+    return built(
+        RunOutcome,
         x=x,
         fun=fun,
         nit=iterations,
@@ -139,10 +141,16 @@ def _onto_active_bounds(
     point is kept only if it is no worse.
     """
     lower, upper = limits.lower, limits.upper
+    # Most answers have no such variable: looked for on plain floats first (the vectors
+    # are short, and each numpy operation costs more than its arithmetic).
+    if not any((multiplier < 0.0 and value - bottom < ACTIVE_DISTANCE and value != bottom)
+               or (multiplier > 0.0 and top - value < ACTIVE_DISTANCE and value != top)
+               for multiplier, value, bottom, top in zip(
+                   bound_multipliers.tolist(), x.tolist(), lower.tolist(), upper.tolist(),
+                   strict=True)):
+        return x, fun, (0, 0, 0)
     at_lower = (bound_multipliers < 0) & (x - lower < ACTIVE_DISTANCE) & (x != lower)
     at_upper = (bound_multipliers > 0) & (upper - x < ACTIVE_DISTANCE) & (x != upper)
-    if not (at_lower.any() or at_upper.any()):
-        return x, fun, (0, 0, 0)
     snapped = np.where(at_lower, lower, np.where(at_upper, upper, x))
     snapped_fun = float(nlp.objective_and_gradient(snapped, parameters)[0])
     if snapped_fun <= fun:

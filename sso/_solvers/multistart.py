@@ -8,12 +8,13 @@ import importlib
 import math
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, Protocol, TypedDict
 
 import numpy as np
 
 from sso._limits import BATCH_SCREEN_STARTS
+from sso._record import built, rebuilt
 from sso._solvers.crosscheck import crosscheck
 from sso._solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
 from sso._solvers.run import RunLimits, RunOutcome
@@ -209,7 +210,7 @@ def _screen_then_cross_check(
     screening = [_with_role(to_solution(run, screened), ROLE_SCREEN) for run in screened]
     chosen = min(screened, key=lambda run: (not run.outcome.success, run.fun))
     common, start_value = _common_start(nlp, points, parameters)
-    own = {name: [replace(run, start_index=common) for run in runs]
+    own = {name: [rebuilt(run, start_index=common) for run in runs]
            for name, runs in run_starts(nlp, points[common][np.newaxis, :], parameters, limits,
                                         solver_names, solver_tol, max_iterations,
                                         progress).items()}
@@ -218,7 +219,7 @@ def _screen_then_cross_check(
         if _lower(chosen, run, objective_rtol, objective_atol):
             runs = run_starts(nlp, chosen.outcome.x[np.newaxis, :], parameters, limits, (name,),
                               solver_tol, max_iterations, check_start=False)[name]
-            from_screen[name] = [replace(runs[0], start_index=chosen.start_index)]
+            from_screen[name] = [rebuilt(runs[0], start_index=chosen.start_index)]
     own_solutions = {name: _with_role(to_solution(runs[0], runs + from_screen.get(name, [])),
                                       ROLE_SOLVE)
                      for name, runs in own.items()}
@@ -289,7 +290,7 @@ def _lower(candidate: MeasuredRun, run: MeasuredRun, rtol: float, atol: float) -
 
 
 def _with_role(solution: Solution, role: str) -> Solution:
-    return solution if solution.role == role else replace(solution, role=role)
+    return solution if solution.role == role else rebuilt(solution, role=role)
 
 
 def _cross_check(nlp: Any, parameters: np.ndarray, limits: RunLimits,
@@ -327,10 +328,10 @@ def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLim
                 and len(points) - 1 >= BATCH_SCREEN_STARTS):
             batch = _screen_batch(nlp, points[1:], parameters, limits, solver_tol,
                                   max_iterations)
-            return screened + [replace(run, start_index=run.start_index + 1) for run in batch]
+            return screened + [rebuilt(run, start_index=run.start_index + 1) for run in batch]
         run = run_starts(nlp, point[np.newaxis, :], parameters, limits, ("lm",), solver_tol,
                          max_iterations, second_order=False)["lm"][0]
-        screened.append(replace(run, start_index=index))
+        screened.append(rebuilt(run, start_index=index))
         if nlp.nonnegative_objective and run.outcome.success and run.fun <= ZERO_OBJECTIVE:
             break
     return screened
@@ -455,6 +456,7 @@ def solution_from_run(
     solver_runs: Sequence[MeasuredRun],
     x: Sequence[float] | None = None,
     series: SeriesDesign | None = None,
+    role: str = ROLE_SOLVE,
 ) -> Solution:
     """The :class:`sso.Solution` of one measured run.
 
@@ -467,23 +469,28 @@ def solution_from_run(
         The design vector in the problem's user-facing units (default: the NLP's).
     series : sso.ShaftSeries, optional
         The shaft-series design, for shaft-series problems.
+    role : str
+        What the run was (:attr:`sso.Solution.role`).
     """
-    return Solution(
+    outcome = run.outcome
+    return built(
+        Solution,
         solver=run.solver,
         series=series,
         x=(tuple(x) if type(x) is list
-           else tuple(np.asarray(run.outcome.x if x is None else x, dtype=float).tolist())),
+           else tuple(np.asarray(outcome.x if x is None else x, dtype=float).tolist())),
         fun=run.fun,
-        nit=run.outcome.nit,
-        nfev=run.outcome.nfev,
-        status=run.outcome.status,
-        success=run.outcome.success,
-        message=run.outcome.message,
+        nit=outcome.nit,
+        nfev=outcome.nfev,
+        status=outcome.status,
+        success=outcome.success,
+        message=outcome.message,
         kkt=run.kkt,
-        time_s=run.outcome.time_s,
+        time_s=outcome.time_s,
         start_index=run.start_index,
         total_nfev=sum([other.outcome.nfev for other in solver_runs]),
         constraint_violation=run.violation,
+        role=role,
     )
 
 
@@ -529,11 +536,9 @@ def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,
         point, value, kkt = measure_on_bounds(nlp, given, parameters, lower, upper)
         x = np.array(point, dtype=float)
         violation = 0.0  # x was just put onto the bounds: it violates nothing
-    return MeasuredRun(name, start_index,
-                       RunOutcome(x, outcome.fun, outcome.nit, outcome.nfev, outcome.njev,
-                                  outcome.status, outcome.success, outcome.message,
-                                  outcome.time_s),
-                       float(value), kkt, violation)
+    return built(MeasuredRun, solver=name, start_index=start_index,
+                 outcome=rebuilt(outcome, x=x), fun=float(value), kkt=kkt,
+                 violation=violation)
 
 
 def measure_on_bounds(nlp: Any, given: list[float], parameters: Any, lower: list[float],

@@ -190,28 +190,33 @@ class BufferedFunction:
     buffer : casadi.FunctionBuffer
         The buffer the function is evaluated through (its ``stats()`` are those of
         the last evaluation).
+    inputs, outputs : list of numpy.ndarray
+        The buffers of the inputs and outputs, one flat array each (a matrix column by
+        column, as CasADi stores it).
+    evaluate : callable
+        Evaluates the function from ``inputs`` into ``outputs`` (no arguments).
     """
 
     def __init__(self, function: Any, scalar_first: bool = False) -> None:
         self._function = function
-        self.buffer, self._evaluate = self._function.buffer()
-        self._inputs = [np.zeros(self._function.nnz_in(i)) for i in range(self._function.n_in())]
-        self._outputs = [np.zeros(self._function.nnz_out(i))
-                         for i in range(self._function.n_out())]
+        self.buffer, self.evaluate = self._function.buffer()
+        self.inputs = [np.zeros(self._function.nnz_in(i)) for i in range(self._function.n_in())]
+        self.outputs = [np.zeros(self._function.nnz_out(i))
+                        for i in range(self._function.n_out())]
         self._shapes = [self._function.size_out(i) for i in range(self._function.n_out())]
-        for index, array in enumerate(self._inputs):
+        for index, array in enumerate(self.inputs):
             self.buffer.set_arg(index, array.data)
-        for index, array in enumerate(self._outputs):
+        for index, array in enumerate(self.outputs):
             self.buffer.set_res(index, array.data)
         self._scalar_first = scalar_first
 
     def __call__(self, *arguments: Any) -> tuple[Any, ...]:
         """Evaluate at ``arguments`` (array-likes); returns fresh numpy arrays."""
-        for destination, value in zip(self._inputs, arguments, strict=True):
+        for destination, value in zip(self.inputs, arguments, strict=True):
             destination[:] = np.ravel(value)
-        self._evaluate()
+        self.evaluate()
         results: list[Any] = []
-        for array, (rows, columns) in zip(self._outputs, self._shapes, strict=True):
+        for array, (rows, columns) in zip(self.outputs, self._shapes, strict=True):
             # CasADi stores dense matrices column by column.
             results.append(array.reshape((rows, columns), order="F").squeeze(axis=1).copy()
                            if columns == 1 else array.reshape((rows, columns), order="F").copy())
@@ -225,10 +230,10 @@ class BufferedFunction:
         The lean path for a function called in a loop on lists: no reshaping, and no
         intermediate array per input.
         """
-        for destination, value in zip(self._inputs, arguments, strict=True):
+        for destination, value in zip(self.inputs, arguments, strict=True):
             destination[:] = value
-        self._evaluate()
-        values: list[float] = self._outputs[0].tolist()
+        self.evaluate()
+        values: list[float] = self.outputs[0].tolist()
         return values
 
 
@@ -248,10 +253,14 @@ class BufferedSolver:
     """
 
     def __init__(self, solver: Any) -> None:
-        self._names_in = tuple(solver.name_in())
-        self._defaults = tuple(solver.default_in(index) for index in range(solver.n_in()))
-        self._names_out = tuple(solver.name_out())
-        self._function = BufferedFunction(solver)
+        function = BufferedFunction(solver)
+        self._function = function
+        self._names_in = frozenset(solver.name_in())
+        # (name, buffer, default) of each input; every output of nlpsol is a column (x, f,
+        # g and their multipliers), so its buffer is the flat vector itself.
+        self._inputs = tuple((name, array, solver.default_in(index)) for index, (name, array)
+                             in enumerate(zip(solver.name_in(), function.inputs, strict=True)))
+        self._outputs = tuple(zip(solver.name_out(), function.outputs, strict=True))
         self._totals: dict[str, Any] = {}
         self._stats: dict[str, Any] = {}
 
@@ -266,16 +275,17 @@ class BufferedSolver:
         RuntimeError
             What CasADi raises (an ill-posed problem, such as crossed bounds).
         """
-        unknown = sorted(set(arguments) - set(self._names_in))
-        if unknown:
-            raise TypeError(f"unknown solver inputs {unknown}; allowed: {list(self._names_in)}")
-        values = [arguments.get(name, default)
-                  for name, default in zip(self._names_in, self._defaults, strict=True)]
+        if not self._names_in.issuperset(arguments):
+            unknown = sorted(set(arguments) - self._names_in)
+            raise TypeError(f"unknown solver inputs {unknown}; "
+                            f"allowed: {[name for name, *_ in self._inputs]}")
+        for name, array, default in self._inputs:
+            array[:] = np.ravel(arguments.get(name, default))
         try:
-            answer = dict(zip(self._names_out, self._function(*values), strict=True))
+            self._function.evaluate()
         finally:
             self._stats = self._own_stats(self._function.buffer.stats())
-        return answer
+        return {name: array.copy() for name, array in self._outputs}
 
     def stats(self) -> dict[str, Any]:
         """The statistics of the last solve (``return_status``, ``iter_count``,
@@ -287,12 +297,16 @@ class BufferedSolver:
         times (``n_call_*``, ``t_proc_*``, ``t_wall_*``) add up over every solve of the
         buffer, where the plain call gives each solve's own; the rest is the last
         solve's."""
-        totals = {name: value for name, value in cumulative.items()
-                  if name.startswith(("n_call_", "t_proc_", "t_wall_"))}
-        previous = self._totals
-        self._totals = totals
-        return {**cumulative, **{name: value - previous.get(name, 0)
-                                 for name, value in totals.items()}}
+        totals = self._totals
+        if not totals:
+            totals.update((name, 0) for name in cumulative
+                          if name.startswith(("n_call_", "t_proc_", "t_wall_")))
+        for name, previous in totals.items():
+            value = cumulative.get(name)
+            if value is not None:
+                totals[name] = value
+                cumulative[name] = value - previous
+        return cumulative
 
 
 def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sso._record import rebuilt
+
 # Shared by every problem without constraint functions (one per solve otherwise);
 # read-only, so no caller can change it for the others.
 _NO_CONSTRAINTS = np.zeros(0)
@@ -55,5 +57,4 @@ class RunOutcome:
 
     def with_time(self, time_s: float) -> RunOutcome:
         """The same outcome with wall time ``time_s`` (s)."""
-        return RunOutcome(self.x, self.fun, self.nit, self.nfev, self.njev, self.status,
-                          self.success, self.message, time_s)
+        return rebuilt(self, time_s=time_s)

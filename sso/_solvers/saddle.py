@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from sso._record import rebuilt
 from sso._solvers.kkt import projected_gradient_norm_floats
 from sso._solvers.lm_rules import PYTHON, cholesky
 from sso._solvers.run import RunLimits, RunOutcome
@@ -177,9 +178,8 @@ class _Counts:
     def add_to(self, outcome: RunOutcome) -> RunOutcome:
         if not (self.objective or self.gradient):
             return outcome
-        return RunOutcome(outcome.x, outcome.fun, outcome.nit, outcome.nfev + self.objective,
-                          outcome.njev + self.gradient, outcome.status, outcome.success,
-                          outcome.message, outcome.time_s)
+        return rebuilt(outcome, nfev=outcome.nfev + self.objective,
+                       njev=outcome.njev + self.gradient)
 
 
 def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: Parameters,

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from sso._record import built
 from sso._solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
@@ -44,32 +46,27 @@ def solve(
     """
     from scipy.optimize import fmin_slsqp
 
-    objective_and_gradient = nlp.objective_and_gradient
+    evaluate = _objective_and_gradient(nlp, parameters)
     # SLSQP's objective and gradient evaluations, counted as scipy.optimize.minimize
-    # counts them (nfev, njev), and the last point with its gradient: SLSQP asks for the
-    # gradient at the point whose objective it has just asked for.
+    # counts them (nfev, njev), and the last point (as a list) with its gradient: SLSQP
+    # asks for the gradient at the point whose objective it has just asked for.
     counts = [0, 0]
     last: list[Any] = [None, None]
 
-    def evaluate(x: np.ndarray) -> tuple[float, np.ndarray]:
-        value, gradient = objective_and_gradient(x, parameters)
-        return float(value), np.array(gradient, dtype=float).ravel()
-
     def objective(x: np.ndarray) -> float:
         counts[0] += 1
-        value, last[1] = evaluate(x)
-        last[0] = x.copy()
+        point = x.tolist()
+        value, last[1] = evaluate(point)
+        last[0] = point
         return value
 
     def gradient(x: np.ndarray) -> np.ndarray:
         counts[1] += 1
-        if last[0] is not None and np.array_equal(last[0], x):
-            known: np.ndarray = last[1]
-            return known
-        return evaluate(x)[1]
+        point = x.tolist()
+        return np.array(last[1] if point == last[0] else evaluate(point)[1], dtype=float)
 
     start = np.array(start, dtype=float)
-    start_value, _ = evaluate(start)
+    start_value, _ = evaluate(start.tolist())
     ftol = max(solver_tol * abs(start_value), solver_tol * solver_tol * np.finfo(float).eps)
     started = time.perf_counter()
     try:
@@ -84,7 +81,8 @@ def solve(
         return RunOutcome(start, float("nan"), 0, 0, 0, -1, False, f"SLSQP raised: {error}",
                           time.perf_counter() - started)
     elapsed = time.perf_counter() - started
-    return RunOutcome(
+    return built(
+        RunOutcome,
         x=np.array(x, dtype=float),
         fun=float(fun),
         nit=int(nit),
@@ -95,6 +93,24 @@ def solve(
         message=str(message),
         time_s=elapsed,
     )
+
+
+def _objective_and_gradient(nlp: Any, parameters: np.ndarray
+                            ) -> Callable[[list[float]], tuple[float, Any]]:
+    """``point (list) -> (objective, gradient)``: the problem's closed form on plain floats
+    where it has one (the gradient a list), else its objective-and-gradient function (the
+    gradient a flat array)."""
+    floats = nlp.objective_and_gradient_floats
+    if floats is not None:
+        fixed = parameters.tolist()
+        return lambda point: floats(point, fixed)
+    objective_and_gradient = nlp.objective_and_gradient
+
+    def evaluate(point: list[float]) -> tuple[float, np.ndarray]:
+        value, gradient = objective_and_gradient(point, parameters)
+        return float(value), np.ravel(gradient)
+
+    return evaluate
 
 
 def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits) -> dict[str, Any]:

@@ -17,16 +17,17 @@ differs only in numbers. Its chunk is then array work:
    (:mod:`sso._kinematics.hooke_matrix`, as :meth:`sso.ShaftSeries.evaluate`);
 4. the rows: a :class:`sso._studies.columns.RowTable`.
 
-Each axis value is checked once, in the calling process, by reading the base case
-with that value set, as a case file is read: a point holding a value the case
-refuses takes the point-by-point path, which records its error as every sweep
-does. The warnings of a point are those of its values.
+Each axis value a chunk's points take is read as a case where the chunk runs
+(:mod:`sso._studies.axis_checks`: the base case with that value set, as a case file
+is read): a point holding a value the case refuses takes the point-by-point path,
+which records its error as every sweep does. The warnings of a point are those of
+its values.
 """
 
 from __future__ import annotations
 
-import math
 import re
+import secrets
 import time
 import warnings
 from collections.abc import Sequence
@@ -39,42 +40,20 @@ from sso._kinematics.hooke_matrix import peak_ratio_slope, ratio_extremes, resid
 from sso._shafts.evaluation import RPM_TO_RAD_S
 from sso._solvers.least_squares import STATUS_MESSAGES
 from sso._solvers.starts import start_points
-from sso._studies.axes import Axis, set_field
+from sso._studies.axes import Axis
+from sso._studies.axis_checks import AxisValues
 from sso._studies.columns import RowTable
 
 ZERO_OBJECTIVE = 1e-20
 """RE at or below this is a global minimum: ``sso.optimise`` stops its starts there."""
 MOST_CHECKED_VALUES = 20_000
-"""Most axis values read as cases beforehand; a sweep with more takes the point path."""
+"""Most axis values of an array sweep; a sweep with more takes the point path (a worker
+reads every value its chunks take, at most every value of every axis)."""
 _DESIGN_PATH = re.compile(r"^design\.(?P<field>beta_deg|phase_deg)\[(?P<index>\d+)\]$")
 SOLVER = "lm"
 FIGURE_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "max_output_accel_rad_s2")
 """The figures of a design, each a number per point (:func:`_figures`)."""
-
-
-@dataclass(frozen=True)
-class AxisValues:
-    """One axis as the engine reads it: where it goes, and what each value brings.
-
-    Attributes
-    ----------
-    target : (str, int)
-        ``("beta_deg", joint)``, ``("phase_deg", joint)`` or ``("input_speed_rpm", 0)``.
-    accepted : numpy.ndarray of bool
-        Whether the case accepts each value.
-    notes : tuple of tuple of str
-        The warnings each value brings (those of the case read with it, and a start
-        moved onto its bounds).
-    """
-
-    target: tuple[str, int]
-    accepted: np.ndarray
-    notes: tuple[tuple[str, ...], ...]
-
-    def sliced(self, low: int, high: int) -> AxisValues:
-        """The values ``low .. high - 1`` only."""
-        return AxisValues(self.target, self.accepted[low:high], self.notes[low:high])
 
 
 @dataclass(frozen=True)
@@ -93,21 +72,15 @@ class ArrayPlan:
     other_starts_deg: np.ndarray
     free: tuple[int, ...]
     base_notes: tuple[str, ...]
-    axes: tuple[AxisValues, ...]
-
-    def sliced(self, bounds: Sequence[tuple[int, int]]) -> ArrayPlan:
-        """The plan with each axis cut to the values ``bounds[k]`` of a chunk."""
-        axes = tuple(axis.sliced(low, high)
-                     for axis, (low, high) in zip(self.axes, bounds, strict=True))
-        return ArrayPlan(**{**self.__dict__, "axes": axes})
+    targets: tuple[tuple[str, int], ...]
+    run: str
 
 
-def array_plan(case: Any, axes: Sequence[Axis], action: str, client: Any = None,
-               workers: int = 1) -> ArrayPlan | None:
+def array_plan(case: Any, axes: Sequence[Axis], action: str) -> ArrayPlan | None:
     """The plan of a sweep the engine can run, or None (the point-by-point path).
 
-    The axis values are read as cases where the sweep runs (``client``, ``workers``:
-    see :func:`sso._studies.execution.run_tasks`), each worker a share of them.
+    Each call is a new sweep run (:attr:`ArrayPlan.run`): the chunks of its plan read
+    their axis values afresh.
     """
     from sso._shafts.options import build_problem
 
@@ -135,7 +108,6 @@ def array_plan(case: Any, axes: Sequence[Axis], action: str, client: Any = None,
                             *(problem.phase_bounds_deg if problem.phase_free else ())],
                            dtype=float).reshape(-1, 2)
     other_starts = np.clip(np.degrees(starts_rad), free_bounds[:, 0], free_bounds[:, 1])
-    document = case.to_dict()
     return ArrayPlan(
         action=action, beta_deg=tuple(case.beta_deg), phase_deg=tuple(case.phase_deg),
         input_speed_rpm=float(case.input_speed_rpm), option=problem.option,
@@ -143,8 +115,8 @@ def array_plan(case: Any, axes: Sequence[Axis], action: str, client: Any = None,
         phase_bounds_deg=tuple(problem.phase_bounds_deg), solver_tol=float(case.solver_tol),
         max_iterations=int(case.max_iterations), other_starts_deg=other_starts,
         free=tuple(free), base_notes=(*case.warnings, *base_moved),
-        axes=_checked_axes(document, axes, [target for target in targets if target is not None],
-                           action, client, workers))
+        targets=tuple(target for target in targets if target is not None),
+        run=secrets.token_hex(8))
 
 
 def _target(path: str) -> tuple[str, int] | None:
@@ -152,111 +124,6 @@ def _target(path: str) -> tuple[str, int] | None:
         return ("input_speed_rpm", 0)
     match = _DESIGN_PATH.match(path)
     return None if match is None else (match["field"], int(match["index"]))
-
-
-@dataclass(frozen=True)
-class ValueCheck:
-    """Values of one axis to read as cases, each set into the base case (a task).
-
-    Attributes
-    ----------
-    document : dict
-        The base case as a complete case-file document.
-    path : str
-        The axis's path.
-    values : tuple
-        The values.
-    target : (str, int)
-        Where the axis's values go (:attr:`AxisValues.target`).
-    action : {"optimise", "evaluate"}
-        The sweep's action (optimising, a value may move the start onto its bounds).
-    """
-
-    document: dict[str, Any]
-    path: str
-    values: tuple[Any, ...]
-    target: tuple[str, int]
-    action: str
-
-
-def _checked_axes(document: dict[str, Any], axes: Sequence[Axis],
-                  targets: Sequence[tuple[str, int]], action: str, client: Any,
-                  workers: int) -> tuple[AxisValues, ...]:
-    """Every axis's values read as cases: one task per worker, each an even share of
-    all the values (a task costs a round trip to the pool or the cluster; the chunks
-    wait for the last one)."""
-    from sso._studies.execution import parallelism, run_tasks
-
-    parts = parallelism(client, workers)
-    share = max(1, math.ceil(sum(len(axis.values) for axis in axes) / parts))
-    groups: list[list[ValueCheck]] = [[]]
-    owners: list[list[int]] = [[]]
-    for index, (axis, target) in enumerate(zip(axes, targets, strict=True)):
-        start = 0
-        while start < len(axis.values):
-            room = share - sum(len(check.values) for check in groups[-1])
-            if room == 0:
-                groups.append([])
-                owners.append([])
-                continue
-            groups[-1].append(ValueCheck(document, axis.path,
-                                         axis.values[start:start + room], target, action))
-            owners[-1].append(index)
-            start += room
-    checked: list[Any] = [None] * len(groups)
-    for task, result, error in run_tasks(check_value_groups, [tuple(group) for group in groups],
-                                         client, workers):
-        if error is not None:
-            raise error
-        checked[task] = result
-    pieces = [(owner, piece) for task in range(len(groups))
-              for owner, piece in zip(owners[task], checked[task], strict=True)]
-    return tuple(AxisValues(
-        target, np.concatenate([piece[0] for owner, piece in pieces if owner == index]),
-        tuple(note for owner, piece in pieces if owner == index for note in piece[1]))
-        for index, target in enumerate(targets))
-
-
-def check_value_groups(group: tuple[ValueCheck, ...]
-                       ) -> tuple[tuple[np.ndarray, tuple[tuple[str, ...], ...]], ...]:
-    """:func:`check_values` of each of a task's parts, in order."""
-    return tuple(check_values(task) for task in group)
-
-
-def check_values(task: ValueCheck) -> tuple[np.ndarray, tuple[tuple[str, ...], ...]]:
-    """Read the base case with each of the task's values set, as a case file is read:
-    whether the case accepts each value, and the warnings it brings."""
-    import copy
-
-    from sso._cases.schema import parse_case
-    from sso._shafts.options import build_problem
-
-    accepted = np.zeros(len(task.values), dtype=bool)
-    notes: list[tuple[str, ...]] = []
-    table = task.path.split(".", 1)[0].split("[", 1)[0]
-    for position, value in enumerate(task.values):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            notes.append(())
-            continue
-        # A copy of the table the value goes into; the rest is shared (read only).
-        trial = {**task.document, table: copy.deepcopy(task.document.get(table))}
-        try:
-            set_field(trial, task.path, value)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                case = parse_case(trial, "axis value")
-                moved = (build_problem(case.beta_deg, case.phase_deg, case.model, case.option,
-                                       case.beta_bounds_deg, case.phase_bounds_deg).moved_starts
-                         if task.action == "optimise" else ())
-        except ValueError:
-            notes.append(())
-            continue
-        accepted[position] = True
-        field, index = task.target
-        notes.append((*case.warnings,
-                      *(message for message in moved
-                        if message.startswith(f"start {field}[{index}] "))))
-    return accepted, tuple(notes)
 
 
 def number_columns(plan: ArrayPlan,
@@ -278,15 +145,18 @@ def number_columns(plan: ArrayPlan,
     return kinds
 
 
-def run_array_points(plan: ArrayPlan, header: Sequence[str], paths: Sequence[str],
-                     indices: np.ndarray, value_indices: Sequence[np.ndarray],
+def run_array_points(plan: ArrayPlan, axes: Sequence[AxisValues], header: Sequence[str],
+                     paths: Sequence[str], indices: np.ndarray,
+                     value_indices: Sequence[np.ndarray],
                      values: Sequence[Sequence[Any]]) -> RowTable:
     """The rows of a chunk's points, every one accepted by the case (see the module).
 
     Parameters
     ----------
     plan : ArrayPlan
-        The sweep's plan, its axes cut to the chunk's values.
+        The sweep's plan.
+    axes : sequence of AxisValues
+        Per axis, the chunk's values as read (:func:`sso._studies.axis_checks.chunk_axes`).
     header : sequence of str
         The columns of ``sweep.csv``.
     paths : sequence of str
@@ -305,7 +175,7 @@ def run_array_points(plan: ArrayPlan, header: Sequence[str], paths: Sequence[str
         count, len(plan.phase_deg))
     speed = np.full(count, plan.input_speed_rpm)
     columns: dict[str, np.ndarray] = {"point": np.asarray(indices, dtype=np.int64)}
-    for path, axis, positions, axis_values in zip(paths, plan.axes, value_indices, values,
+    for path, axis, positions, axis_values in zip(paths, axes, value_indices, values,
                                                   strict=True):
         numbers = np.asarray(axis_values, dtype=float)[positions]
         if all(isinstance(value, float) for value in axis_values):
@@ -326,7 +196,7 @@ def run_array_points(plan: ArrayPlan, header: Sequence[str], paths: Sequence[str
         columns.update(solver_cells)
     columns.update(_figures(beta, phase, speed))
     columns["status"] = _repeated("ok", count)
-    columns["warnings"] = _notes(plan, value_indices, count)
+    columns["warnings"] = _notes(plan, axes, value_indices, count)
     columns["time_s"] = np.full(count, (time.perf_counter() - started) / max(count, 1))
     return RowTable(tuple(header), columns, count)
 
@@ -418,10 +288,11 @@ def _figures(beta_deg: np.ndarray, phase_deg: np.ndarray,
     }
 
 
-def _notes(plan: ArrayPlan, value_indices: Sequence[np.ndarray], count: int) -> np.ndarray:
+def _notes(plan: ArrayPlan, axes: Sequence[AxisValues], value_indices: Sequence[np.ndarray],
+           count: int) -> np.ndarray:
     """Each point's warnings: the base case's, then its values', once each."""
     column = np.empty(count, dtype=object)
-    if not plan.base_notes and not any(any(axis.notes) for axis in plan.axes):
+    if not plan.base_notes and not any(any(axis.notes) for axis in axes):
         column[:] = ""
         return column
     keys = np.stack(value_indices, axis=1) if value_indices else np.zeros((count, 0), int)
@@ -429,7 +300,7 @@ def _notes(plan: ArrayPlan, value_indices: Sequence[np.ndarray], count: int) -> 
     for row, key in enumerate(map(tuple, keys.tolist())):
         text = cache.get(key)
         if text is None:
-            notes = [*plan.base_notes, *(note for axis, position in zip(plan.axes, key,
+            notes = [*plan.base_notes, *(note for axis, position in zip(axes, key,
                                                                         strict=True)
                                          for note in axis.notes[position])]
             text = cache[key] = " | ".join(dict.fromkeys(notes))

@@ -89,15 +89,18 @@ ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
 # On Dask a task costs about 5 ms of CPU (the scheduler's and the client's work in
 # the calling process of a LocalCluster, and the worker's), against a few tenths of
-# a ms in the local pool, so Dask's tasks are fewer and longer: each takes a whole
-# worker's share of the points not yet cut (DASK_ARRAY_SHARE), at least
-# DASK_CHUNK_FLOOR points of its action (about 12 ms of optimising, 7 ms of
+# a ms in the local pool, so Dask's shortest tasks are longer: at least
+# DASK_CHUNK_FLOOR points of their action (about 12 ms of optimising, 7 ms of
 # evaluating), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 35 ms,
 # and 35 MB at the peak: a Dask worker computes in a thread, whose allocator's
 # heaps hold at most 64 MB each, and a chunk that needs two of them gives one back
 # when it ends, to be faulted in again by the next: 10,000 page faults a worker on
-# the evaluate sweep of 200,000-point tasks).
-DASK_ARRAY_SHARE = 1
+# the evaluate sweep of 200,000-point tasks). Each task takes half a worker's share
+# of the points left there too (ARRAY_SHARE): Dask's scheduler gives a
+# single-threaded worker its next task while the current one runs (worker-saturation
+# 1.1: two tasks a thread), and its work stealing looks every second, so a task
+# handed to a worker waits there behind the running one; at half a share it is at
+# most a quarter of the points left when it was handed out.
 DASK_CHUNK_FLOOR = {"optimise": 5_000, "evaluate": 20_000}
 DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
@@ -161,8 +164,8 @@ def sweep(
         Points per task, ``1..50000`` (default: about four tasks per worker, at
         most 25 points each; a sweep run as arrays, tasks of decreasing size, each
         half a worker's share of the points left, 2,000 to 50,000 points; on
-        Dask a whole worker's share, at least 5,000 optimised or 20,000 evaluated
-        points, an evaluate task up to 100,000).
+        Dask at least 5,000 optimised or 20,000 evaluated points, an evaluate task
+        up to 100,000).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -204,7 +207,7 @@ def sweep(
         raise ValueError(f"action = {shown(action)} is not one of "
                          f"{', '.join(map(repr, ACTIONS))}")
     worker_count = validate_workers(workers)
-    plan = array_plan(case, parsed_axes, action, client, worker_count)
+    plan = array_plan(case, parsed_axes, action)
     check_memory(_estimate(case, parsed_axes, mode, action,
                            worker_count if client is None else 1, plan is not None,
                            client is not None),
@@ -276,7 +279,7 @@ class _Job:
                 tuple(axis.path for axis in self.axes), indices,
                 tuple(axis.values[low:high] for axis, (low, high) in zip(self.axes, bounds,
                                                                          strict=True)),
-                None if self.plan is None else self.plan.sliced(bounds),
+                self.plan,
                 self.identity[HASH_COLUMN],
                 GridPositions(self.mode, lengths, tuple(low for low, _ in bounds))))
         return chunks
@@ -385,28 +388,25 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
                           min(count, array_chunk_rule(on_dask, action)[1]))
 
 
-def array_chunk_rule(on_dask: bool, action: str) -> tuple[int, int, int]:
-    """The fewest and the most points of an array sweep's task, and the parts of a
-    worker's share of the points left it takes (see the chunking constants above)."""
+def array_chunk_rule(on_dask: bool, action: str) -> tuple[int, int]:
+    """The fewest and the most points of an array sweep's task (see the chunking
+    constants above)."""
     if not on_dask:
-        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP, ARRAY_SHARE
+        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP
     return (DASK_CHUNK_FLOOR[action],
-            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP,
-            DASK_ARRAY_SHARE)
+            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP)
 
 
 def _chunk_sizes(chunk_size: Any, points: int, at_once: int, arrays: bool = False,
-                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP,
-                 share: int = ARRAY_SHARE) -> list[int]:
+                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP) -> list[int]:
     """Points of each task, in order (see the chunking constants above); an array
-    sweep's tasks of ``fewest`` to ``most`` points, each ``1 / share`` of a worker's
-    share of the points left."""
+    sweep's tasks of ``fewest`` to ``most`` points."""
     if chunk_size is None and arrays:
         floor = min(fewest, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
         sizes = []
         while points > 0:
             size = min(points, most,
-                       max(floor, math.ceil(points / (share * at_once))))
+                       max(floor, math.ceil(points / (ARRAY_SHARE * at_once))))
             sizes.append(size)
             points -= size
         return sizes

@@ -16,6 +16,7 @@ import numpy as np
 
 from sso._studies.array_engine import ArrayPlan, run_array_points
 from sso._studies.axes import point_document
+from sso._studies.axis_checks import chunk_axes
 from sso._studies.batched import BatchedPoints, batchable
 from sso._studies.column_rows import column_row
 from sso._studies.columns import RowTable, packed, unpacked
@@ -75,8 +76,8 @@ class SweepChunk:
     values : tuple of tuple
         Per axis, the values this chunk's points take (a slice of the axis).
     plan : ArrayPlan or None
-        The array engine's plan (:mod:`sso._studies.array_engine`), cut to ``values``;
-        None where every point is read and solved on its own.
+        The array engine's plan (:mod:`sso._studies.array_engine`); None where every
+        point is read and solved on its own.
     sweep_hash : str
         The sweep's hash, written into every row.
     positions : GridPositions or tuple of numpy.ndarray
@@ -137,8 +138,10 @@ def _unpack_chunk(indices: Any, others: dict[str, Any]) -> SweepChunk:
 def run_sweep_chunk(chunk: SweepChunk) -> RowTable:
     """Rows of the chunk's points; a point that fails gives an error row.
 
-    With a plan, the points every axis value of which the case accepts are computed
-    as arrays (:mod:`sso._studies.array_engine`); every other point is read as a case.
+    With a plan, the chunk's axis values are read as cases
+    (:func:`sso._studies.axis_checks.chunk_axes`), and the points every axis value of
+    which the case accepts are computed as arrays (:mod:`sso._studies.array_engine`);
+    every other point is read as a case.
     Optimising such a point, the points whose case the least-squares solver solves
     alone from several starts (:func:`sso._studies.batched.batchable`) are solved
     together, one :func:`sso.optimise_batch` call per shape; every other point is
@@ -147,12 +150,16 @@ def run_sweep_chunk(chunk: SweepChunk) -> RowTable:
     accepted = np.zeros(len(chunk.indices), dtype=bool)
     tables = []
     if chunk.plan is not None:
+        axes = chunk_axes(chunk.plan.run, chunk.document, chunk.action, chunk.paths,
+                          chunk.plan.targets, chunk.values, chunk.value_indices,
+                          chunk.positions.lows if isinstance(chunk.positions, GridPositions)
+                          else None)
         accepted[:] = True
-        for axis, positions in zip(chunk.plan.axes, chunk.value_indices, strict=True):
+        for axis, positions in zip(axes, chunk.value_indices, strict=True):
             accepted &= axis.accepted[positions]
         if accepted.any():
             tables.append(run_array_points(
-                chunk.plan, chunk.header, chunk.paths, chunk.indices[accepted],
+                chunk.plan, axes, chunk.header, chunk.paths, chunk.indices[accepted],
                 [positions[accepted] for positions in chunk.value_indices], chunk.values))
     if not accepted.all():
         tables.append(RowTable.from_rows(chunk.header, _point_rows(chunk, ~accepted)))

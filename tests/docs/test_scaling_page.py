@@ -20,7 +20,6 @@ from sso._studies.sweep import (
     ARRAY_CHUNK_FLOOR,
     ARRAY_CHUNKS_PER_WORKER,
     ARRAY_SHARE,
-    DASK_ARRAY_SHARE,
     DASK_CHUNK_FLOOR,
     DASK_EVALUATE_CHUNK_CAP,
     _chunk_sizes,
@@ -123,16 +122,16 @@ def test_the_prose_states_the_package_constants():
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
-    assert (f"each takes {SHARE_WORDS[DASK_ARRAY_SHARE]} worker's share of the points not "
-            f"yet cut, at least {DASK_CHUNK_FLOOR['optimise']:,} optimised points or "
-            f"{DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an evaluate task up to "
-            f"{DASK_EVALUATE_CHUNK_CAP:,} points") in text
-    for action, points, pool, dask in (("optimise", 103_823, 13, 6),
-                                       ("evaluate", 1_000_000, 32, 13)):
+    assert (f"the shortest tasks are longer: at least {DASK_CHUNK_FLOOR['optimise']:,} "
+            f"optimised points or {DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an "
+            f"evaluate task up to {DASK_EVALUATE_CHUNK_CAP:,} points") in text
+    assert f"a Dask task, too, takes {SHARE_WORDS[ARRAY_SHARE]} worker's share" in text
+    for action, points, pool, dask in (("optimise", 103_823, 13, 10),
+                                       ("evaluate", 1_000_000, 32, 16)):
         assert len(_chunk_sizes(None, points, 2, True)) == pool
         assert len(_chunk_sizes(None, points, 2, True, *array_chunk_rule(True, action))) == dask
-    assert "into 6 tasks on 2 Dask workers, 13 in the pool" in text
-    assert "sweep into 13 and 32" in text
+    assert "into 10 tasks on 2 Dask workers, 13 in the pool" in text
+    assert "sweep into 16 and 32" in text
     assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text

@@ -126,22 +126,6 @@ def test_the_pool_gives_the_rows_of_one_process_where_values_are_refused():
     assert strip(pool.rows) == strip(one.rows)
 
 
-def test_axis_values_read_by_two_workers_are_those_read_here():
-    document = lm_document(3, 2)
-    axes = parse_axes({"design.beta_deg[2]": [25.0, 50.0, 95.0, 30.0, 12.0],
-                       "design.beta_deg[0]": [20.0, 91.0, 35.0]}, document)
-    here = array_plan(base_case(document), axes, "optimise")
-    shared = array_plan(base_case(document), axes, "optimise", workers=2)
-    for mine, theirs in zip(shared.axes, here.axes, strict=True):
-        assert mine.target == theirs.target
-        assert mine.accepted.tolist() == theirs.accepted.tolist()
-        assert mine.notes == theirs.notes
-    assert [axis.accepted.tolist() for axis in here.axes] == [
-        [True, True, False, True, True], [True, False, True]]
-    assert any("start beta_deg[2] = 50 deg lies outside its bounds" in note
-               for note in here.axes[0].notes[1])
-
-
 @pytest.mark.parametrize("action", ["optimise", "evaluate"])
 def test_the_number_columns_are_those_the_engine_makes(action):
     document = lm_document(2, 3, joints=4)

@@ -181,6 +181,19 @@ def test_a_bad_axis_value_names_the_key_and_its_range_before_any_point_runs(axes
         sso.sweep(TRUCK, axes, workers=1, progress=False)
 
 
+def test_an_axis_too_long_to_read_whole_is_refused_by_its_ends():
+    # Above MOST_CHECKED_VALUES values only each axis's ends are read beforehand: a
+    # value of the wrong kind, or a range reaching past its key's limits, is refused
+    # before any of the 30,001 points runs.
+    with pytest.raises(ValueError, match=r"axis 'tilt.axis' = 0.0: tilt.angle_deg is missing"):
+        sso.sweep(TRUCK, {"tilt.axis": {"start": 0.0, "stop": 30.0, "num": 30_001}},
+                  workers=1, progress=False)
+    with pytest.raises(ValueError, match=r"axis 'tilt.angle_deg' = 95.0: tilt.angle_deg = 95 "
+                                         r"is outside the allowed range \[-90, 90\]"):
+        sso.sweep(TRUCK, {"tilt.angle_deg": {"start": -5.0, "stop": 95.0, "num": 30_001}},
+                  workers=1, progress=False)
+
+
 def test_a_bad_column_sweep_exits_2_naming_the_key(tmp_path):
     sweep_file = tmp_path / "bad.toml"
     sweep_file.write_text(f'case = "{TRUCK}"\n[axes]\n"tilt.angle_deg" = [0, 95]\n')

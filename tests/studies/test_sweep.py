@@ -14,7 +14,6 @@ from sso._studies.sweep import (
     ARRAY_CHUNK_FLOOR,
     ARRAY_CHUNKS_PER_WORKER,
     ARRAY_SHARE,
-    DASK_ARRAY_SHARE,
     DASK_CHUNK_FLOOR,
     DASK_EVALUATE_CHUNK_CAP,
     _chunk_sizes,
@@ -175,17 +174,18 @@ def test_array_tasks_shrink_towards_the_end_of_a_sweep(points, workers):
 
 
 @pytest.mark.parametrize("action, points, pool_tasks, dask_tasks",
-                         [("optimise", 103_823, 13, 6), ("evaluate", 1_000_000, 32, 13)])
+                         [("optimise", 103_823, 13, 10), ("evaluate", 1_000_000, 32, 16)])
 def test_dask_tasks_are_fewer_and_longer(action, points, pool_tasks, dask_tasks):
     # A Dask task costs the calling process and the worker about ten times what a
-    # pool's does, so a sweep on Dask is cut into fewer, longer tasks.
-    fewest, most, share = array_chunk_rule(True, action)
-    assert (fewest, most, share) == (DASK_CHUNK_FLOOR[action], DASK_EVALUATE_CHUNK_CAP
-                                     if action == "evaluate" else ARRAY_CHUNK_CAP,
-                                     DASK_ARRAY_SHARE)
-    assert array_chunk_rule(False, action) == (ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP, ARRAY_SHARE)
+    # pool's does, so a sweep on Dask is cut into fewer, longer tasks; each still
+    # takes half a worker's share of the points left (a task handed to a busy worker
+    # waits behind its running one).
+    fewest, most = array_chunk_rule(True, action)
+    assert (fewest, most) == (DASK_CHUNK_FLOOR[action], DASK_EVALUATE_CHUNK_CAP
+                              if action == "evaluate" else ARRAY_CHUNK_CAP)
+    assert array_chunk_rule(False, action) == (ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP)
     pool = _chunk_sizes(None, points, 2, True)
-    dask = _chunk_sizes(None, points, 2, True, fewest, most, share)
+    dask = _chunk_sizes(None, points, 2, True, fewest, most)
     assert (len(pool), len(dask)) == (pool_tasks, dask_tasks)
     assert sum(dask) == points and max(dask) <= most and min(dask[:-1]) >= fewest
-    assert dask[0] == min(most, math.ceil(points / (share * 2)))
+    assert dask[0] == min(most, math.ceil(points / (ARRAY_SHARE * 2)))
