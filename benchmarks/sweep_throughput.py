@@ -26,6 +26,11 @@ one process's (for 1.6x on 2 cores the calling process must take a small fractio
 of the work) and the ratio the CPU times allow on 2 idle cores
 (:func:`cpu_bound_ratio`).
 
+What a task costs (:func:`task_cost`): the optimise sweep on the local pool and on
+Dask, cut into tasks of 50,000 points and then of 5,000, in interleaved passes; the
+CPU time of the calling process and of the workers beyond the points' work, per
+task (the difference of the two cuts' CPU times over the difference of their tasks).
+
 The ceiling (skip with ``--no-ceiling``): the same per-chunk compute with no sso
 engine around it (no pool, no Dask, no shared rows, no assembly): each sweep's
 points cut into chunks of ``ARRAY_CHUNK_CAP`` points and computed
@@ -370,6 +375,35 @@ def _chunk_computer(link: Any, per_axis: dict[str, int]) -> None:
                    "cpu_s": time.process_time() - cpu_started})
 
 
+TASK_COST_CHUNKS = (50_000, 5_000)
+"""Points a task of the optimise sweep runs for :func:`task_cost`: few tasks, then many."""
+
+
+def task_cost(client: Any, per_axis: int, passes: int,
+              idle: dict[str, float]) -> dict[str, Any]:
+    """CPU time a task costs the pool and Dask beyond its points' work: the optimise
+    sweep cut into tasks of each of :data:`TASK_COST_CHUNKS` points, interleaved,
+    the difference of the medians of the calling process's and the workers' CPU
+    times (less what they use idle) over the difference of the tasks."""
+    samples: dict[str, dict[int, list[tuple[float, float]]]] = {}
+    tasks = {size: math.ceil(per_axis**3 / size) for size in TASK_COST_CHUNKS}
+    for _ in range(passes):
+        for label, options in list(modes(client).items())[1:]:
+            for size in TASK_COST_CHUNKS:
+                run, _ = timed("optimise", grid(per_axis), chunk_size=size, **options)
+                samples.setdefault(label, {}).setdefault(size, []).append(
+                    tuple(cpu * run["points"] for cpu in busy_cpu_s(run, idle)))
+    few, many = TASK_COST_CHUNKS
+    figures: dict[str, Any] = {"tasks": tasks}
+    for label, runs in samples.items():
+        cost = [(statistics.median(run[part] for run in runs[many])
+                 - statistics.median(run[part] for run in runs[few]))
+                / (tasks[many] - tasks[few]) for part in (0, 1)]
+        figures[label] = {"calling_process_cpu_ms_per_task": 1e3 * cost[0],
+                          "workers_cpu_ms_per_task": 1e3 * cost[1]}
+    return figures
+
+
 def against_point_by_point(sample: int, per_axis: int) -> dict[str, Any]:
     """The engine's rows against each point solved alone by sso.optimise (run_point)."""
     import warnings
@@ -519,6 +553,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                 ceiling.close()
         if ceiling is not None:
             figures["ceiling"] = ceiling.figures()
+        figures["task_cost"] = task_cost(client, args.optimise_per_axis, args.passes,
+                                         figures["idle_cpu_per_s"])
     figures["load_after_timed_runs"] = load_now()
     figures["point_by_point"] = against_point_by_point(args.sample, args.optimise_per_axis)
     if not args.no_disk:
@@ -576,6 +612,12 @@ def report(figures: dict[str, Any]) -> None:
     idle = figures["idle_cpu_per_s"]
     print(f"CPU used idle (cluster and pool up, no sweep): calling process "
           f"{idle['calling_process']:.3f} s/s, the processes below it {idle['workers']:.3f} s/s")
+    cost = figures["task_cost"]
+    print("CPU a task costs beyond its points (the optimise sweep in "
+          + " and ".join(f"{count} tasks" for count in cost["tasks"].values()) + "): "
+          + "; ".join(f"{label} {run['calling_process_cpu_ms_per_task']:.2f} ms in the calling "
+                      f"process, {run['workers_cpu_ms_per_task']:.2f} ms in the workers"
+                      for label, run in cost.items() if label != "tasks"))
     print(f"Dask cluster start: {figures['dask_cluster_start_s']:.1f} s; local pool start "
           f"(fork server and workers, first pool of the process): "
           f"{figures['pool_start_s']:.2f} s (neither counted)")

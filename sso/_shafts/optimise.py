@@ -454,10 +454,10 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
         point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
     else:  # the library measured it in the solve's call
         point, fun, kkt = measured[:-3], measured[-3], measured[-2]
-    x_deg = [math.degrees(angle) for angle in point]
+    x_deg = tuple(map(math.degrees, point))
     beta_deg, phase_deg = problem.design_deg(x_deg)
     solution = built(Solution, solver="lm",
-                     series=checked_series(beta_deg, phase_deg, series.model), x=tuple(x_deg),
+                     series=checked_series(beta_deg, phase_deg, series.model), x=x_deg,
                      fun=fun, nit=nit, nfev=nfev, status=status, success=success,
                      message=lm.MESSAGES[status], kkt=kkt, time_s=time_s, start_index=0,
                      total_nfev=nfev, constraint_violation=0.0, role=ROLE_SOLVE)
@@ -482,7 +482,7 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
                       if problem.option == 2 else series)
     # A start that was not moved onto the bounds is the initial design.
     start_series = (initial_series if not problem.moved_starts
-                    else checked_series(*problem.design_deg(list(problem.start_values_deg)),
+                    else checked_series(*problem.design_deg(problem.start_values_deg),
                                         series.model))
     return built(
         OptimisationResult,

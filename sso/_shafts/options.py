@@ -132,8 +132,9 @@ class DesignProblem:
 
     def design_deg(self, x_deg: Sequence[float] | NDArray[np.float64]
                    ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        """Operating angles and phases (deg) of the design vector ``x_deg`` (deg)."""
-        beta, phase = self.split(x_deg if type(x_deg) is list
+        """Operating angles and phases (deg) of the design vector ``x_deg`` (deg); a list or
+        tuple is taken to hold Python floats (a tuple's parts are its slices)."""
+        beta, phase = self.split(x_deg if isinstance(x_deg, (list, tuple))
                                  else np.asarray(x_deg, dtype=float).tolist(),
                                  self.parameter_values_deg)
         return tuple(beta), tuple(phase)

@@ -174,15 +174,14 @@ def _solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[
     kernel = None if native is not None else kernel_of(nlp)
     if native is not None:
         problem = [*fixed, *lower, *upper, solver_tol, float(max_iterations)]
-        measure = None
         if measured:
-            values, measure = native.solve_measured(start, problem)
+            ended, measure = native.solve_measured(start, problem)
         else:
-            values = native.solve(start, problem)
-        x, fun, nit, nfev, status = flat_outcome(values, len(lower))
+            ended, measure = flat_outcome(native.solve(start, problem), len(lower)), None
+        x, fun, nit, nfev, status = ended
         if status != NEWTON_INDEFINITE:
             return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), measure
-        state = unpack(values, len(lower))
+        state = unpack(native.state(), len(lower))
     elif kernel is not None:
         values = run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol,
                                  max_iterations)

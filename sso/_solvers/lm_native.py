@@ -432,23 +432,30 @@ static void sso_measure(casadi_int joints, int beta_free, int phase_free, casadi
                                                       fixed, lower, upper, slopes) : 1.0;
 }
 
-/* One design from its start to its end (sso_lm_solve), then the measure of where it
-   ended: the point onto the bounds, RE and the projected gradient's norm there, and
-   where it succeeded above round-off zero (sso._solvers.saddle.saddle_direction's look)
-   0 when the Hessian has no negative curvature by sso_curvature's test, else 1, into
-   measure (size + 3 entries). Returns as sso_lm_solve. */
-CASADI_SYMBOL_EXPORT int sso_lm_solve_measured(const casadi_real* problem,
-                                               casadi_int problem_size, casadi_real* state,
-                                               casadi_int state_size, casadi_int status_index,
-                                               casadi_int joints, casadi_int option,
-                                               casadi_real* measure) {
-  casadi_int size = (state_size - 2 - SSO_SCALARS) / 3;
+/* One design from its start to its end (sso_lm_solve), then into ended: where it ended
+   (x, then fun, nit, nfev and status), the measure of that point (the point onto the
+   bounds, RE and the projected gradient's norm there) and, where the design succeeded
+   above round-off zero (sso._solvers.saddle.saddle_direction's look), 0 when the Hessian
+   has no negative curvature by sso_curvature's test, else 1: 2 size + 7 entries. layout
+   holds the sizes of the problem and the state, the index of the status in the state,
+   and the chain's joints and option. Returns as sso_lm_solve. */
+CASADI_SYMBOL_EXPORT int sso_lm_solve_measured(const casadi_int* layout,
+                                               const casadi_real* problem, casadi_real* state,
+                                               casadi_real* ended) {
+  casadi_int problem_size = layout[0], state_size = layout[1], status_index = layout[2];
+  casadi_int joints = layout[3], option = layout[4], i;
+  casadi_int size = (state_size - 2 - SSO_SCALARS) / 3, scalars = 3 * size + 2;
   casadi_int fixed_size = problem_size - 2 * size - 2;
   if (sso_lm_run(1, problem, problem_size, state, state_size, status_index, 0)) return 1;
-  int look_for_saddle = state[status_index] > 0.0
-                        && state[3 * size + 2 + SSO_FUN] > SSO_ZERO_OBJECTIVE;
+  for (i = 0; i < size; ++i) ended[i] = state[i];
+  ended[size] = state[scalars + SSO_FUN];
+  ended[size + 1] = state[scalars + SSO_NIT];
+  ended[size + 2] = state[scalars + SSO_NFEV];
+  ended[size + 3] = state[status_index];
+  int look_for_saddle = state[status_index] > 0.0 && state[scalars + SSO_FUN] > SSO_ZERO_OBJECTIVE;
   sso_measure(joints, option != 1, option != 2, size, state, problem,
-              problem + fixed_size, problem + fixed_size + size, look_for_saddle, measure);
+              problem + fixed_size, problem + fixed_size + size, look_for_saddle,
+              ended + size + 4);
   return 0;
 }
 
@@ -512,13 +519,14 @@ class OneDesign:
         size = solver.size
         self._size = size
         self._state: Any = (ctypes.c_double * solver.state_size)()
-        self._measure: Any = (ctypes.c_double * (size + 3))()
+        self._ended: Any = (ctypes.c_double * (2 * size + 7))()
         self._nfev = 3 * size + 2 + _NFEV
         self._given: Any = None
+        self._layout: Any = None
         self._problem: list[float] = []
         self._fixed = (ctypes.c_longlong(1), ctypes.c_longlong(solver.state_size),
                        ctypes.c_longlong(3 * size + 2 + _STATUS))
-        self._shape = (ctypes.c_longlong(joints), ctypes.c_longlong(option))
+        self._shape = (joints, option)
 
     def solve(self, start: list[float], problem: list[float],
               gauss_newton_only: bool = False) -> list[float]:
@@ -547,31 +555,37 @@ class OneDesign:
         return values
 
     def solve_measured(self, start: list[float], problem: list[float]
-                       ) -> tuple[list[float], list[float]]:
-        """:meth:`solve`, and the measure of where the design ended, in the same call of
-        the library: the point put onto the bounds, RE and the projected gradient's norm
-        there, bit for bit what :func:`sso._solvers.multistart.measure_on_bounds` gives for
-        the exact model's closed form; last, for a design that succeeded above round-off
-        zero, 0.0 where :func:`sso._solvers.saddle.saddle_direction` finds no negative
-        curvature before its eigendecomposition (the same test on the same bits), else 1.0
-        (``size + 3`` floats). The measure is of no use where the state ends with
-        :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (the solve goes on in Python).
+                       ) -> tuple[tuple[list[float], float, int, int, int], list[float]]:
+        """One design from ``start`` to its end as :meth:`solve`, and the measure of where it
+        ended, in the same call of the library: where it ended (``x``, ``fun``, ``nit``,
+        ``nfev``, ``status`` as :func:`sso._solvers.lm_kernel.flat_outcome` reads them), and
+        the point put onto the bounds, RE and the projected gradient's norm there, bit for
+        bit what :func:`sso._solvers.multistart.measure_on_bounds` gives for the exact
+        model's closed form, then, for a design that succeeded above round-off zero, 0.0
+        where :func:`sso._solvers.saddle.saddle_direction` finds no negative curvature
+        before its eigendecomposition (the same test on the same bits), else 1.0
+        (``size + 3`` floats). The measure is of no use where the status is
+        :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (the solve goes on in Python from
+        :meth:`state`).
 
         Raises
         ------
         MemoryError
             If the library could not allocate its working memory.
         """
-        given, given_size = self._load(start, problem)
-        state, measure = self._state, self._measure
-        _, state_size, status_index = self._fixed
-        joints, option = self._shape
-        if self.solver.solve_measured(given, given_size, state, state_size, status_index,
-                                      joints, option, measure):
+        given, _ = self._load(start, problem)
+        ended = self._ended
+        if self.solver.solve_measured(self._layout, given, self._state, ended):
             raise MemoryError("the compiled lm solver could not allocate its working memory")
-        values: list[float] = state[:]
-        measured: list[float] = measure[:]
-        return values, measured
+        values: list[float] = ended[:]
+        size = self._size
+        return ((values[:size], values[size], int(values[size + 1]), int(values[size + 2]),
+                 int(values[size + 3])), values[size + 4:])
+
+    def state(self) -> list[float]:
+        """The flat state the last solve ended with (:func:`sso._solvers.lm_kernel.pack`)."""
+        values: list[float] = self._state[:]
+        return values
 
     def _load(self, start: list[float], problem: list[float]) -> tuple[Any, Any]:
         """The start into the state, the problem into its buffer (made on the first call:
@@ -584,6 +598,8 @@ class OneDesign:
         """
         if self._given is None:
             self._given = ((ctypes.c_double * len(problem))(), ctypes.c_longlong(len(problem)))
+            self._layout = (ctypes.c_longlong * 5)(len(problem), self.solver.state_size,
+                                                   self._fixed[2].value, *self._shape)
         given, given_size = self._given
         state = self._state
         state[:self._size] = start
@@ -701,6 +717,7 @@ def _source(nlp: Any) -> str:
     statuses = (f"#define SSO_RUNNING {RUNNING}\n#define SSO_NEWTON {NEWTON}\n"
                 f"#define SSO_NEWTON_INDEFINITE {NEWTON_INDEFINITE}\n"
                 f"#define SSO_SCALARS {len(SCALARS)}\n#define SSO_FUN {SCALARS.index('fun')}\n"
+                f"#define SSO_NIT {SCALARS.index('nit')}\n#define SSO_NFEV {_NFEV}\n"
                 f"#define SSO_ZERO_OBJECTIVE {ZERO_OBJECTIVE!r}\n"
                 f"#define SSO_ON_BOUND {ON_BOUND!r}\n"
                 f"#define SSO_STATIONARY {STATIONARY_START!r}\n"

@@ -87,21 +87,22 @@ ARRAY_SHARE = 2
 ARRAY_CHUNKS_PER_WORKER = 8
 ARRAY_CHUNK_FLOOR = 2_000
 ARRAY_CHUNK_CAP = 50_000
-# On Dask a task costs about 5 ms of CPU (the scheduler's and the client's work in
-# the calling process of a LocalCluster, and the worker's), against a few tenths of
-# a ms in the local pool, so Dask's shortest tasks are longer: at least
-# DASK_CHUNK_FLOOR points of their action (about 12 ms of optimising, 7 ms of
-# evaluating), an evaluate task up to DASK_EVALUATE_CHUNK_CAP points (about 35 ms,
-# and 35 MB at the peak: a Dask worker computes in a thread, whose allocator's
-# heaps hold at most 64 MB each, and a chunk that needs two of them gives one back
-# when it ends, to be faulted in again by the next: 10,000 page faults a worker on
-# the evaluate sweep of 200,000-point tasks). Each task takes half a worker's share
-# of the points left there too (ARRAY_SHARE): Dask's scheduler gives a
-# single-threaded worker its next task while the current one runs (worker-saturation
-# 1.1: two tasks a thread), and its work stealing looks every second, so a task
-# handed to a worker waits there behind the running one; at half a share it is at
-# most a quarter of the points left when it was handed out.
-DASK_CHUNK_FLOOR = {"optimise": 5_000, "evaluate": 20_000}
+# On Dask a task costs about 4 ms of CPU (benchmarks/sweep_throughput.py measures it
+# on a 2-worker LocalCluster: about 2 ms in the calling process, its scheduler's and
+# client's work, and 2 ms in the worker process), some three times what it costs the
+# local pool, so Dask's tasks are longer: at least DASK_CHUNK_FLOOR points of their
+# action (about 25 ms of work each), an evaluate task up to DASK_EVALUATE_CHUNK_CAP
+# points (about 35 ms, and 35 MB at the peak: a Dask worker computes in a thread,
+# whose allocator's heaps hold at most 64 MB each, and a chunk that needs two of them
+# gives one back when it ends, to be faulted in again by the next: 10,000 page faults
+# a worker on the evaluate sweep of 200,000-point tasks). And they go out in rounds of
+# equal tasks, one a worker thread: Dask's scheduler gives a single-threaded worker its
+# next task while the current one runs (worker-saturation 1.1: two tasks a thread),
+# and its work stealing looks every second, so the first two rounds are shared out as
+# they are cut, and a task handed to a busy worker waits there. A round takes half of
+# the points left (each task half a worker's share, ARRAY_SHARE); the round that would
+# leave fewer than a round of DASK_CHUNK_FLOOR-point tasks takes every point left.
+DASK_CHUNK_FLOOR = {"optimise": 10_000, "evaluate": 50_000}
 DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
@@ -164,8 +165,8 @@ def sweep(
         Points per task, ``1..50000`` (default: about four tasks per worker, at
         most 25 points each; a sweep run as arrays, tasks of decreasing size, each
         half a worker's share of the points left, 2,000 to 50,000 points; on
-        Dask at least 5,000 optimised or 20,000 evaluated points, an evaluate task
-        up to 100,000).
+        Dask rounds of equal tasks, one a worker, each at least 10,000 optimised or
+        50,000 evaluated points, an evaluate task up to 100,000).
     progress : bool, optional
         Draw a progress bar on stderr (default: only on an interactive terminal
         outside CI).
@@ -388,19 +389,23 @@ def _estimate(case: Any, axes: tuple[Axis, ...], mode: str, action: str,
                           min(count, array_chunk_rule(on_dask, action)[1]))
 
 
-def array_chunk_rule(on_dask: bool, action: str) -> tuple[int, int]:
-    """The fewest and the most points of an array sweep's task (see the chunking
-    constants above)."""
+def array_chunk_rule(on_dask: bool, action: str) -> tuple[int, int, bool]:
+    """The fewest and the most points of an array sweep's task, and whether its tasks
+    go out in rounds of one a worker (see the chunking constants above)."""
     if not on_dask:
-        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP
+        return ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP, False
     return (DASK_CHUNK_FLOOR[action],
-            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP)
+            DASK_EVALUATE_CHUNK_CAP if action == "evaluate" else ARRAY_CHUNK_CAP, True)
 
 
 def _chunk_sizes(chunk_size: Any, points: int, at_once: int, arrays: bool = False,
-                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP) -> list[int]:
+                 fewest: int = ARRAY_CHUNK_FLOOR, most: int = ARRAY_CHUNK_CAP,
+                 in_rounds: bool = False) -> list[int]:
     """Points of each task, in order (see the chunking constants above); an array
-    sweep's tasks of ``fewest`` to ``most`` points."""
+    sweep's tasks of ``fewest`` to ``most`` points, ``in_rounds`` of ``at_once`` equal
+    tasks."""
+    if chunk_size is None and arrays and in_rounds:
+        return _rounds(points, at_once, fewest, most)
     if chunk_size is None and arrays:
         floor = min(fewest, math.ceil(points / (ARRAY_CHUNKS_PER_WORKER * at_once)))
         sizes = []
@@ -419,3 +424,19 @@ def _chunk_sizes(chunk_size: Any, points: int, at_once: int, arrays: bool = Fals
     else:
         size = chunk_size
     return [min(size, points - start) for start in range(0, points, size)]
+
+
+def _rounds(points: int, at_once: int, fewest: int, most: int) -> list[int]:
+    """Tasks in rounds of ``at_once`` equal tasks, each round half the points left, each
+    task ``fewest`` to ``most`` points; the last round takes every point left, cut into
+    a whole number of rounds of at most ``most`` points a task."""
+    sizes: list[int] = []
+    while points > 0:
+        size = min(most, max(fewest, math.ceil(points / (ARRAY_SHARE * at_once))))
+        if points - at_once * size < at_once * fewest:
+            tasks = min(points, at_once * math.ceil(points / (at_once * most)))
+            size, longer = divmod(points, tasks)
+            return [*sizes, *[size + 1] * longer, *[size] * (tasks - longer)]
+        sizes += [size] * at_once
+        points -= at_once * size
+    return sizes

@@ -122,16 +122,18 @@ def test_the_prose_states_the_package_constants():
     assert f"at most {ARRAY_CHUNK_CAP:,} points" in text
     assert f"{SHARE_WORDS[ARRAY_SHARE]} worker's share of the points not yet cut" in text
     assert f"at least {ARRAY_CHUNK_FLOOR:,}" in text
-    assert (f"the shortest tasks are longer: at least {DASK_CHUNK_FLOOR['optimise']:,} "
-            f"optimised points or {DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an "
-            f"evaluate task up to {DASK_EVALUATE_CHUNK_CAP:,} points") in text
-    assert f"a Dask task, too, takes {SHARE_WORDS[ARRAY_SHARE]} worker's share" in text
-    for action, points, pool, dask in (("optimise", 103_823, 13, 10),
-                                       ("evaluate", 1_000_000, 32, 16)):
+    assert (f"the tasks are longer: at least {DASK_CHUNK_FLOOR['optimise']:,} optimised "
+            f"points or {DASK_CHUNK_FLOOR['evaluate']:,} evaluated ones, and an evaluate task "
+            f"up to {DASK_EVALUATE_CHUNK_CAP:,} points") in text
+    assert f"each round {SHARE_WORDS[ARRAY_SHARE].replace(' a', '')} of the points left" in text
+    for action, points, pool, dask in (("optimise", 103_823, 13, 6),
+                                       ("evaluate", 1_000_000, 32, 12)):
         assert len(_chunk_sizes(None, points, 2, True)) == pool
         assert len(_chunk_sizes(None, points, 2, True, *array_chunk_rule(True, action))) == dask
-    assert "into 10 tasks on 2 Dask workers, 13 in the pool" in text
-    assert "sweep into 16 and 32" in text
+    rounds = _chunk_sizes(None, 103_823, 2, True, *array_chunk_rule(True, "optimise"))[::2]
+    assert ("into 6 tasks on 2 Dask workers (rounds of {:,}, {:,} and {:,} points a task), 13 "
+            "in the pool".format(*rounds)) in text
+    assert "sweep into 12 and 32" in text
     assert f"an {NUMBER_WORDS[ARRAY_CHUNKS_PER_WORKER]} of a worker's share" in text
     assert f"at most {MOST_DRAWN_POINTS:,} points" in text
     assert f"the {REPORT_ROWS} points of lowest residual error" in text

@@ -171,12 +171,14 @@ def test_the_library_measures_where_a_design_ends_bit_for_bit_as_measure_on_boun
         fixed, lower, upper = (problem.parameters_rad.tolist(), problem.lower_rad.tolist(),
                                problem.upper_rad.tolist())
         flat = [*fixed, *lower, *upper, 1e-12, (1.0, 2.0, 500.0)[index % 3]]
-        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
-        x = values[:len(lower)]
+        ended, measured = one.solve_measured(problem.start_rad.tolist(), flat)
+        x = ended[0]
         point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
         assert [value.hex() for value in measured[:-1]] == [value.hex() for value in
                                                            (*point, fun, kkt)]
-        assert values == one.solve(problem.start_rad.tolist(), flat)
+        state = one.state()
+        assert ended == flat_outcome(state, len(lower))
+        assert state == one.solve(problem.start_rad.tolist(), flat)
         ends.add((fun <= 1e-20, any(value in (low, high)
                                     for value, low, high in zip(x, lower, upper, strict=True))))
     assert len(ends) >= 3, ends
@@ -207,8 +209,7 @@ def test_the_library_s_look_for_negative_curvature_decides_as_saddle_py(joints, 
         fixed = problem.parameters_rad.tolist()
         flat = [*fixed, *limits.lower.tolist(), *limits.upper.tolist(), 1e-12,
                 (500.0, 5.0)[index % 2]]
-        values, measured = one.solve_measured(problem.start_rad.tolist(), flat)
-        x, fun, _, _, status = flat_outcome(values, problem.n_free)
+        (x, fun, _, _, status), measured = one.solve_measured(problem.start_rad.tolist(), flat)
         if not (status > 0 and fun > saddle.ZERO_OBJECTIVE):
             assert measured[-1] == 1.0  # no look: saddle_direction returns at once
             continue

@@ -1,6 +1,7 @@
 """``sso.sweep`` in this process: values, failing points, files, progress, bad input."""
 
 import csv
+import itertools
 import json
 import math
 import struct
@@ -174,18 +175,32 @@ def test_array_tasks_shrink_towards_the_end_of_a_sweep(points, workers):
 
 
 @pytest.mark.parametrize("action, points, pool_tasks, dask_tasks",
-                         [("optimise", 103_823, 13, 10), ("evaluate", 1_000_000, 32, 16)])
-def test_dask_tasks_are_fewer_and_longer(action, points, pool_tasks, dask_tasks):
+                         [("optimise", 103_823, 13, 6), ("evaluate", 1_000_000, 32, 12)])
+def test_dask_tasks_are_fewer_and_longer_in_rounds_of_one_a_worker(action, points, pool_tasks,
+                                                                     dask_tasks):
     # A Dask task costs the calling process and the worker about ten times what a
-    # pool's does, so a sweep on Dask is cut into fewer, longer tasks; each still
-    # takes half a worker's share of the points left (a task handed to a busy worker
-    # waits behind its running one).
-    fewest, most = array_chunk_rule(True, action)
-    assert (fewest, most) == (DASK_CHUNK_FLOOR[action], DASK_EVALUATE_CHUNK_CAP
-                              if action == "evaluate" else ARRAY_CHUNK_CAP)
-    assert array_chunk_rule(False, action) == (ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP)
+    # pool's does, so a sweep on Dask is cut into fewer, longer tasks, in rounds of
+    # equal tasks (Dask hands each worker its next task while the current one runs).
+    fewest, most, in_rounds = array_chunk_rule(True, action)
+    assert (fewest, most, in_rounds) == (DASK_CHUNK_FLOOR[action], DASK_EVALUATE_CHUNK_CAP
+                                         if action == "evaluate" else ARRAY_CHUNK_CAP, True)
+    assert array_chunk_rule(False, action) == (ARRAY_CHUNK_FLOOR, ARRAY_CHUNK_CAP, False)
     pool = _chunk_sizes(None, points, 2, True)
-    dask = _chunk_sizes(None, points, 2, True, fewest, most)
+    dask = _chunk_sizes(None, points, 2, True, fewest, most, in_rounds)
     assert (len(pool), len(dask)) == (pool_tasks, dask_tasks)
-    assert sum(dask) == points and max(dask) <= most and min(dask[:-1]) >= fewest
+    assert sum(dask) == points and max(dask) <= most and min(dask) >= fewest
     assert dask[0] == min(most, math.ceil(points / (ARRAY_SHARE * 2)))
+    rounds = [dask[start:start + 2] for start in range(0, len(dask), 2)]
+    assert all(max(pair) - min(pair) <= 1 for pair in rounds)
+    assert all(sum(later) <= sum(earlier) for earlier, later in itertools.pairwise(rounds))
+
+
+@pytest.mark.parametrize("points, workers", [(1, 2), (3, 2), (1_000, 2), (103_823, 3),
+                                             (10_000_000, 8), (25_001, 2)])
+def test_dask_rounds_cover_every_point_in_whole_rounds(points, workers):
+    sizes = _chunk_sizes(None, points, workers, True, 10_000, 50_000, True)
+    assert sum(sizes) == points and min(sizes) >= 1 and max(sizes) <= 50_000
+    if points >= workers:
+        assert len(sizes) % workers == 0
+        assert all(max(sizes[start:start + workers]) - min(sizes[start:start + workers]) <= 1
+                   for start in range(0, len(sizes), workers))
