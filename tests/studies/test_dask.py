@@ -82,14 +82,20 @@ def test_sso_sweep_with_scheduler_runs_on_the_cluster(client, tmp_path):
 def test_an_array_sweep_on_dask_gives_the_rows_of_one_process(client):
     # The array engine's chunks (sso._studies.array_engine) on two Dask workers: the same
     # rows as one process, every column but the wall times.
+    # Each worker reads the axis values its chunks take (sso._studies.axis_checks), with
+    # tasks of 17 points (each worker runs several) and in the automatic rounds.
     base = {**BASE, "option": 3, "solver": {"solvers": ["lm"], "starts": 2}}
     axes = {"design.beta_deg[0]": {"start": 10.0, "stop": 40.0, "num": 20},
-            "design.beta_deg[1]": [10.0, 25.0, 40.0, 95.0],
+            "design.beta_deg[1]": [10.0, 25.0, 40.0, 95.0, 45.0],
             "design.phase_deg[0]": [30.0, 90.0]}
     one = sso.sweep(base, axes, workers=1, progress=False)
-    on_dask = sso.sweep(base, axes, client=client, chunk_size=17, progress=False)
-    assert _without_times(on_dask.rows) == _without_times(one.rows)
+    for chunk_size in (17, None):
+        on_dask = sso.sweep(base, axes, client=client, chunk_size=chunk_size, progress=False)
+        assert _without_times(on_dask.rows) == _without_times(one.rows)
     assert sum(row["status"] == "failed" for row in one.rows) == 40  # beta 95 deg refused
+    moved = [row for row in one.rows if row["design.beta_deg[1]"] == 45.0]
+    assert len(moved) == 40 and all("start beta_deg[1] = 45 deg lies outside its bounds"
+                                    in row["warnings"] for row in moved)
 
 
 def test_dask_workers_on_this_machine_write_the_numbers_in_place(client, tmp_path):
