@@ -261,6 +261,9 @@ class BufferedSolver:
         self._inputs = tuple((name, array, solver.default_in(index)) for index, (name, array)
                              in enumerate(zip(solver.name_in(), function.inputs, strict=True)))
         self._outputs = tuple(zip(solver.name_out(), function.outputs, strict=True))
+        for _, array, default in self._inputs:
+            array[:] = default
+        self._given: frozenset[str] | set[str] = frozenset()
         self._totals: dict[str, Any] = {}
         self._stats: dict[str, Any] = {}
 
@@ -279,8 +282,16 @@ class BufferedSolver:
             unknown = sorted(set(arguments) - self._names_in)
             raise TypeError(f"unknown solver inputs {unknown}; "
                             f"allowed: {[name for name, *_ in self._inputs]}")
+        # An input left out holds its default already unless an earlier call wrote it
+        # (until this call's writes are done, any of the two may have).
+        previous = self._given
+        self._given = previous | arguments.keys()
         for name, array, default in self._inputs:
-            array[:] = np.ravel(arguments.get(name, default))
+            if name in arguments:
+                array[:] = np.ravel(arguments[name])
+            elif name in previous:
+                array[:] = default
+        self._given = frozenset(arguments)
         try:
             self._function.evaluate()
         finally:

@@ -45,7 +45,7 @@ def start_points(
         return user_start[np.newaxis, :]
     unit_points = _kept_halton(count - 1, user_start.size, seed)
     spread = lower + unit_points * (upper - lower)
-    return np.vstack([user_start, spread])
+    return np.concatenate((user_start[np.newaxis, :], spread))
 
 
 @functools.lru_cache(maxsize=16)

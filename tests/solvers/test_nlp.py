@@ -81,6 +81,29 @@ def test_buffered_ipopt_answers_and_counts_each_solve_as_the_plain_call():
         assert solver.stats()["n_call_nlp_f"] > 0
 
 
+def test_an_input_a_buffered_solve_leaves_out_is_the_default_again():
+    # The buffers keep what the last solve wrote: an input given once and then left out
+    # must be back at the solver's default (here the bounds: -inf and inf), also after a
+    # call that failed halfway through writing its inputs. The reference is CasADi's
+    # plain call, which takes the default for every input left out.
+    import casadi
+
+    nlp = rosenbrock()
+    solver = nlp.ipopt({"tol": 1e-10, "max_iter": 100})
+    plain = casadi.nlpsol("plain", "ipopt", nlp.symbols,
+                          {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes",
+                                                          "tol": 1e-10, "max_iter": 100}})
+    free = {"x0": [-1.2, 1.0], "p": PARAMETERS.tolist()}
+    expected = plain(**free)["x"].full().ravel()
+    np.testing.assert_allclose(expected, [1.0, 1.0], atol=1e-8)  # Rosenbrock's minimum
+    boxed = solver(**free, lbx=[-2.0, -2.0], ubx=[0.5, 0.5])["x"]
+    assert boxed[0] == pytest.approx(0.5, abs=1e-8)  # held by the box
+    np.testing.assert_array_equal(solver(**free)["x"], expected)
+    with pytest.raises(ValueError):  # lbx written, then ubx of the wrong length
+        solver(**free, lbx=[0.9, 0.9], ubx=[1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(solver(**free)["x"], expected)
+
+
 def test_buffered_ipopt_refuses_unknown_inputs_and_raises_what_casadi_raises():
     solver = rosenbrock().ipopt({"max_iter": 10})
     with pytest.raises(TypeError, match=r"unknown solver inputs \['x_start'\]"):
