@@ -97,7 +97,7 @@ ARRAY_CHUNK_CAP = 50_000
 # gives one back when it ends, to be faulted in again by the next: 10,000 page faults
 # a worker on the evaluate sweep of 200,000-point tasks). And they go out in rounds of
 # equal tasks, one a worker thread: Dask's scheduler gives a single-threaded worker its
-# next task while the current one runs (worker-saturation 1.1: two tasks a thread),
+# next task while the current one runs (worker-saturation 1.1 x 1 thread, rounded up),
 # and its work stealing looks every second, so the first two rounds are shared out as
 # they are cut, and a task handed to a busy worker waits there. A round takes half of
 # the points left (each task half a worker's share, ARRAY_SHARE); the round that would
