@@ -370,6 +370,11 @@ def optimise(
                                      len(solver_names), _screened(series, solver_names, starts,
                                                                   screen_starts)),
                  memory_limit_mb)
+    if solver_names == ("lm",) and starts == 1 and tolerances is None:
+        alone = _solve_alone(problem, series, speed_rpm, solver_tol, max_iterations,
+                             quadrature_rtol, quadrature_atol, setup_warnings)
+        if alone is not None:
+            return alone
     return _solve(problem, rule, series, solver_names, starts, speed_rpm, solver_tol,
                   max_iterations, seed, quadrature_rtol, quadrature_atol, objective_rtol,
                   objective_atol, kkt_tolerance, screen_starts, setup_warnings, tolerances)
@@ -387,11 +392,6 @@ def _solve(problem: DesignProblem, rule: Any, series: ShaftSeries, solver_names:
            objective_atol: float, kkt_tolerance: float, screen_starts: bool,
            setup_warnings: tuple[str, ...],
            tolerances: SpreadMeasure | None) -> OptimisationResult:
-    if solver_names == ("lm",) and starts == 1 and tolerances is None:
-        alone = _solve_alone(problem, series, speed_rpm, solver_tol, max_iterations,
-                             quadrature_rtol, quadrature_atol, setup_warnings)
-        if alone is not None:
-            return alone
     screened = _screened(series, solver_names, starts, screen_starts)
     # Screened starts run "lm" only; the bar counts the requested solvers' runs.
     runs = len(solver_names) if screened else starts * len(solver_names)
