@@ -461,13 +461,18 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                      fun=fun, nit=nit, nfev=nfev, status=status, success=success,
                      message=lm.MESSAGES[status], kkt=kkt, time_s=time_s, start_index=0,
                      total_nfev=nfev, constraint_violation=0.0, role=ROLE_SOLVE)
-    return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
-                   quadrature_atol, setup_warnings, None,
-                   SolverFields(best=solution, solutions={"lm": solution}, runs=(solution,),
-                                crosscheck=None,
-                                # distinct_minima of one run: its value where it succeeded
-                                local_minima=(fun,) if success else (),
-                                confirmations={}))
+    initial_series, start_series = _given_series(problem, series)
+    # _result's record, made in one step (its fields passed once, not through SolverFields).
+    return built(
+        OptimisationResult, option=problem.option, option_name=problem.option_name,
+        model=series.model, input_speed_rpm=speed_rpm, beta_bounds_deg=problem.beta_bounds_deg,
+        phase_bounds_deg=problem.phase_bounds_deg, initial_series=initial_series,
+        start_series=start_series, samples=CLOSED_FORM_RULE.samples,
+        quadrature_error=CLOSED_FORM_RULE.error_estimate, starts=1, warnings=setup_warnings,
+        quadrature_rtol=quadrature_rtol, quadrature_atol=quadrature_atol, exact_optima=None,
+        best=solution, solutions={"lm": solution}, runs=(solution,), crosscheck=None,
+        # distinct_minima of one run: its value where it succeeded
+        local_minima=(fun,) if success else (), confirmations={})
 
 
 def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
@@ -476,14 +481,7 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
             solved: SolverFields) -> OptimisationResult:
     """The result of a run: the problem's layout, the designs as given and as started, and
     the solvers' fields."""
-    initial_series = (checked_series(series.beta_deg,
-                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
-                                     series.model)
-                      if problem.option == 2 else series)
-    # A start that was not moved onto the bounds is the initial design.
-    start_series = (initial_series if not problem.moved_starts
-                    else checked_series(*problem.design_deg(problem.start_values_deg),
-                                        series.model))
+    initial_series, start_series = _given_series(problem, series)
     return built(
         OptimisationResult,
         option=problem.option,
@@ -503,6 +501,21 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
         exact_optima=exact_optima,
         **solved,
     )
+
+
+def _given_series(problem: DesignProblem, series: ShaftSeries
+                  ) -> tuple[ShaftSeries, ShaftSeries]:
+    """The design as given (option 2's phases at 90 deg) and as started (moved onto the
+    bounds)."""
+    initial_series = (checked_series(series.beta_deg,
+                                     (OPTION_FIXED_PHASE_DEG,) * len(series.phase_deg),
+                                     series.model)
+                      if problem.option == 2 else series)
+    # A start that was not moved onto the bounds is the initial design.
+    start_series = (initial_series if not problem.moved_starts
+                    else checked_series(*problem.design_deg(problem.start_values_deg),
+                                        series.model))
+    return initial_series, start_series
 
 
 def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: str,

@@ -385,5 +385,7 @@ def _moved_messages(given: list[float], start: list[float], layout: BoundsLayout
 def warn_moved_starts(problem: DesignProblem) -> None:
     """Raise a :class:`StartMovedWarning` for each start value ``problem`` moved onto its
     bounds, naming the user's line that called into the package."""
-    for message in problem.moved_starts:
-        warnings.warn(message, StartMovedWarning, stacklevel=user_stacklevel())
+    if problem.moved_starts:
+        stacklevel = user_stacklevel()
+        for message in problem.moved_starts:
+            warnings.warn(message, StartMovedWarning, stacklevel=stacklevel)
