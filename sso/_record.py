@@ -119,6 +119,19 @@ def built(cls: type[T], **fields: Any) -> T:
     TypeError
         If a field is missing or unknown.
     """
+    return built_from(cls, fields)
+
+
+def built_from(cls: type[T], fields: dict[str, Any]) -> T:
+    """:func:`built` from the dict ``fields``: a dict display of a record's fields costs
+    about half of the keyword call :func:`built` takes (measured on CPython 3.11, 21
+    fields), so the hot path of a single solve builds its records this way.
+
+    Raises
+    ------
+    TypeError
+        If a field is missing or unknown.
+    """
     names = _FIELD_NAMES.get(cls)
     if names is None:
         names = _FIELD_NAMES[cls] = frozenset(

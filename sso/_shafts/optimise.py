@@ -32,7 +32,7 @@ from sso._limits import (
     MAX_STARTS,
     SOLVERS,
 )
-from sso._record import built
+from sso._record import built, built_from
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso._shafts.exact_optima import (
@@ -63,7 +63,7 @@ from sso._solvers.multistart import (
     solve_from_starts,
 )
 from sso._solvers.progress import ProgressBar, interactive
-from sso._solvers.resources import check_memory, multistart_estimate
+from sso._solvers.resources import check_multistart_memory
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._solvers.saddle import saddle_direction
@@ -366,10 +366,10 @@ def optimise(
         setup_warnings += tuple(str(warning.message) for warning in caught)
     else:
         rule = CLOSED_FORM_RULE
-    check_memory(multistart_estimate(problem.n_joints, problem.n_free, rule.samples, starts,
-                                     len(solver_names), _screened(series, solver_names, starts,
-                                                                  screen_starts)),
-                 memory_limit_mb)
+    check_multistart_memory(problem.n_joints, problem.n_free, rule.samples, starts,
+                            len(solver_names),
+                            _screened(series, solver_names, starts, screen_starts),
+                            memory_limit_mb)
     if solver_names == ("lm",) and starts == 1 and tolerances is None:
         alone = _solve_alone(problem, series, speed_rpm, solver_tol, max_iterations,
                              quadrature_rtol, quadrature_atol, setup_warnings)
@@ -456,23 +456,25 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
         point, fun, kkt = measured[:-3], measured[-3], measured[-2]
     x_deg = tuple(map(math.degrees, point))
     beta_deg, phase_deg = problem.design_deg(x_deg)
-    solution = built(Solution, solver="lm",
-                     series=checked_series(beta_deg, phase_deg, series.model), x=x_deg,
-                     fun=fun, nit=nit, nfev=nfev, status=status, success=success,
-                     message=lm.MESSAGES[status], kkt=kkt, time_s=time_s, start_index=0,
-                     total_nfev=nfev, constraint_violation=0.0, role=ROLE_SOLVE)
+    solution = built_from(Solution, {
+        "solver": "lm", "series": checked_series(beta_deg, phase_deg, series.model),
+        "x": x_deg, "fun": fun, "nit": nit, "nfev": nfev, "status": status,
+        "success": success, "message": lm.MESSAGES[status], "kkt": kkt, "time_s": time_s,
+        "start_index": 0, "total_nfev": nfev, "constraint_violation": 0.0,
+        "role": ROLE_SOLVE})
     initial_series, start_series = _given_series(problem, series)
     # _result's record, made in one step (its fields passed once, not through SolverFields).
-    return built(
-        OptimisationResult, option=problem.option, option_name=problem.option_name,
-        model=series.model, input_speed_rpm=speed_rpm, beta_bounds_deg=problem.beta_bounds_deg,
-        phase_bounds_deg=problem.phase_bounds_deg, initial_series=initial_series,
-        start_series=start_series, samples=CLOSED_FORM_RULE.samples,
-        quadrature_error=CLOSED_FORM_RULE.error_estimate, starts=1, warnings=setup_warnings,
-        quadrature_rtol=quadrature_rtol, quadrature_atol=quadrature_atol, exact_optima=None,
-        best=solution, solutions={"lm": solution}, runs=(solution,), crosscheck=None,
+    return built_from(OptimisationResult, {
+        "option": problem.option, "option_name": problem.option_name, "model": series.model,
+        "input_speed_rpm": speed_rpm, "beta_bounds_deg": problem.beta_bounds_deg,
+        "phase_bounds_deg": problem.phase_bounds_deg, "initial_series": initial_series,
+        "start_series": start_series, "samples": CLOSED_FORM_RULE.samples,
+        "quadrature_error": CLOSED_FORM_RULE.error_estimate, "starts": 1,
+        "warnings": setup_warnings, "quadrature_rtol": quadrature_rtol,
+        "quadrature_atol": quadrature_atol, "exact_optima": None, "best": solution,
+        "solutions": {"lm": solution}, "runs": (solution,), "crosscheck": None,
         # distinct_minima of one run: its value where it succeeded
-        local_minima=(fun,) if success else (), confirmations={})
+        "local_minima": (fun,) if success else (), "confirmations": {}})
 
 
 def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,

@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from sso._limits import BETA_LIMIT_DEG
-from sso._record import built
+from sso._record import built_from
 from sso._validation import check_chain_conditioning, per_item_bounds
 from sso._warning_origin import user_stacklevel
 
@@ -329,21 +329,12 @@ def build_problem(
     moved_starts: tuple[str, ...] = ()
     if start != given:
         moved_starts = _moved_starts(given, start, layout, n_joints)
-    return built(
-        DesignProblem,
-        n_joints=n_joints,
-        option=layout.option,
-        model=model,
-        beta_free=beta_free,
-        phase_free=phase_free,
-        lower_rad=layout.lower_rad,
-        upper_rad=layout.upper_rad,
-        start_values_deg=tuple(start),
-        parameter_values_deg=tuple(parameters),
-        beta_bounds_deg=layout.beta_bounds_deg,
-        phase_bounds_deg=layout.phase_bounds_deg,
-        moved_starts=moved_starts,
-    )
+    return built_from(DesignProblem, {
+        "n_joints": n_joints, "option": layout.option, "model": model, "beta_free": beta_free,
+        "phase_free": phase_free, "lower_rad": layout.lower_rad, "upper_rad": layout.upper_rad,
+        "start_values_deg": tuple(start), "parameter_values_deg": tuple(parameters),
+        "beta_bounds_deg": layout.beta_bounds_deg, "phase_bounds_deg": layout.phase_bounds_deg,
+        "moved_starts": moved_starts})
 
 
 MOVED_MESSAGES_KEPT = 256

@@ -96,7 +96,17 @@ def memory_limit_mb(value: Any = None) -> float:
     if value is not None:
         return finite_in_range("memory_limit_mb", value, 0.0, math.inf, "MB", lower_open=True,
                                upper_open=True)
-    text = os.environ.get(MEMORY_LIMIT_VARIABLE)
+    return _limit_of_text(os.environ.get(MEMORY_LIMIT_VARIABLE))
+
+
+def _limit_of_text(text: str | None) -> float:
+    """The limit that the environment variable's value ``text`` (None: unset) sets, MB.
+
+    Raises
+    ------
+    ValueError
+        If the text is not a number > 0.
+    """
     if text is None or not text.strip():
         return DEFAULT_MEMORY_LIMIT_MB
     return finite_in_range(MEMORY_LIMIT_VARIABLE, text.strip(), 0.0, math.inf, "MB",
@@ -157,6 +167,42 @@ def multistart_estimate(joints: int, free_variables: int, samples: int, starts: 
         solves=runs,
         lower_it="fix more angles (option 1 or 2, or equal bounds pin a joint), use fewer "
                  "joints or fewer starts")
+
+
+def check_multistart_memory(joints: int, free_variables: int, samples: int, starts: int,
+                            solvers: int, screened: bool, limit_mb: Any = None) -> None:
+    """``check_memory(multistart_estimate(...), limit_mb)``: refuse a multi-start run whose
+    estimate exceeds the limit, with the same message.
+
+    Under the default limit (``limit_mb`` None) a run that fits is known by its sizes and
+    the environment variable's text, kept per such key (a single solve costs a few times
+    what the full check does).
+
+    Raises
+    ------
+    ValueError
+        As :func:`check_memory`.
+    """
+    if limit_mb is None and _fits_default_limit(joints, free_variables, samples, starts, solvers,
+                                                screened,
+                                                os.environ.get(MEMORY_LIMIT_VARIABLE)):
+        return
+    check_memory(multistart_estimate(joints, free_variables, samples, starts, solvers, screened),
+                 limit_mb)
+
+
+@functools.lru_cache(maxsize=256)
+def _fits_default_limit(joints: int, free_variables: int, samples: int, starts: int,
+                        solvers: int, screened: bool, limit_text: str | None) -> bool:
+    """Whether the multi-start estimate fits the limit that ``limit_text`` (the environment
+    variable's value, None if unset) sets; False also where that text is no limit (the
+    full check then says why)."""
+    try:
+        limit = _limit_of_text(limit_text)
+    except ValueError:
+        return False
+    return multistart_estimate(joints, free_variables, samples, starts, solvers,
+                               screened).memory_mb <= limit
 
 
 def batch_estimate(starts: int, joints: int, free_variables: int) -> ResourceEstimate:

@@ -57,6 +57,32 @@ def test_sso_optimise_refuses_64_joints_from_10000_starts_with_the_estimate():
         sso.optimise(series, 3, starts=10_000, memory_limit_mb=1000)
 
 
+def test_the_environment_s_limit_is_read_on_every_call_of_a_run_that_fitted(monkeypatch):
+    # One start of "lm", 3 joints of option 3 (5 free angles), not screened: 60 MB for the
+    # process + 10 MB for the NLP + 0.01 MB for the kept run = 70.01 MB, which fits the
+    # default limit and 71 MB but not 70 MB; a fit is kept per shape and limit, never
+    # for a limit set afterwards.
+    series = sso.ShaftSeries([30.0, 40.0, 35.0], [90.0, 90.0])
+
+    def solve():
+        return sso.optimise(series, 3, solvers="lm", starts=1, beta_bounds_deg=(10.0, 40.0))
+
+    monkeypatch.delenv("SSO_MEMORY_LIMIT_MB", raising=False)
+    assert solve().success
+    monkeypatch.setenv("SSO_MEMORY_LIMIT_MB", "71")
+    assert solve().success
+    monkeypatch.setenv("SSO_MEMORY_LIMIT_MB", "70")
+    with pytest.raises(ValueError, match=r"multi-start run \(3 joints, 5 free angles, 1 starts "
+                                         r"x 1 solvers\): about 70 MB and 1 solves, above the "
+                                         r"memory limit of 70 MB"):
+        solve()
+    monkeypatch.setenv("SSO_MEMORY_LIMIT_MB", "lots")
+    with pytest.raises(ValueError, match="SSO_MEMORY_LIMIT_MB"):
+        solve()
+    monkeypatch.delenv("SSO_MEMORY_LIMIT_MB")
+    assert solve().success
+
+
 def test_optimise_batch_solves_in_parts_that_fit_with_the_same_answers():
     rng = np.random.default_rng(3)
     beta, phase = rng.uniform(5.0, 30.0, (300, 10)), rng.uniform(0.0, 180.0, (300, 9))
