@@ -246,6 +246,9 @@ _PLAIN_NUMBERS = (int, float)
 def validate_solvers(solvers: Iterable[str] | str,
                      allowed: tuple[str, ...] = CROSS_CHECK_SOLVERS) -> tuple[str, ...]:
     """Solver names as a tuple, or raise naming the bad entry and the ``allowed`` choices."""
+    if (type(solvers) is tuple and len(solvers) == 1 and type(solvers[0]) is str
+            and solvers[0] in allowed):
+        return solvers  # one known name, as a single solve gives it
     names = (solvers,) if isinstance(solvers, str) else tuple(solvers)
     if not names:
         raise ValueError(f"solvers is empty; choose one or more of {', '.join(allowed)}")
