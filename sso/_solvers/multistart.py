@@ -17,6 +17,7 @@ from sso._limits import BATCH_SCREEN_STARTS
 from sso._record import built, rebuilt
 from sso._solvers.crosscheck import crosscheck
 from sso._solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
+from sso._solvers.nlp import value_and_gradient_floats
 from sso._solvers.run import RunLimits, RunOutcome
 from sso._solvers.saddle import ZERO_OBJECTIVE, isolated_minimum, solve_with_second_order_care
 from sso._solvers.solution import (
@@ -546,13 +547,8 @@ def measure_on_bounds(nlp: Any, given: list[float], parameters: Any, lower: list
     """The measure of a point of a bound-only problem: the point put onto the bounds, the
     objective and the projected gradient's norm there (plain floats)."""
     point = _onto_bounds(given, lower, upper)
-    floats = getattr(nlp, "objective_and_gradient_floats", None)
-    if floats is not None:
-        value, slopes = floats(point, parameters)
-    else:
-        value, gradient = nlp.objective_and_gradient(point, parameters)
-        slopes = np.ravel(gradient).tolist()
-    return point, float(value), projected_gradient_norm_floats(point, slopes, lower, upper)
+    value, slopes = value_and_gradient_floats(nlp, point, parameters)
+    return point, value, projected_gradient_norm_floats(point, slopes, lower, upper)
 
 
 def _onto_bounds(given: list[float], lower: list[float], upper: list[float]) -> list[float]:

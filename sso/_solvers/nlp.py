@@ -320,6 +320,18 @@ class BufferedSolver:
         return cumulative
 
 
+def value_and_gradient_floats(nlp: Any, x: Any, parameters: Any) -> tuple[float, list[float]]:
+    """The objective at ``x`` and its gradient, a float and a list of floats: the problem's
+    closed form on plain floats where it has one (``nlp.objective_and_gradient_floats``),
+    else its objective-and-gradient function."""
+    floats = getattr(nlp, "objective_and_gradient_floats", None)
+    if floats is not None:
+        value, slopes = floats(x, parameters)
+        return float(value), slopes
+    value, gradient = nlp.objective_and_gradient(x, parameters)
+    return float(value), np.ravel(gradient).tolist()
+
+
 def compile_nlp(name: str, x: Any, p: Any, objective: Any, constraints: Any = None,
                 objective_and_gradient: Any = None) -> CompiledNLP:
     """Wrap CasADi symbols of an NLP into the functions the solvers use.

@@ -29,6 +29,7 @@ import numpy as np
 from sso._record import rebuilt
 from sso._solvers.kkt import projected_gradient_norm_floats
 from sso._solvers.lm_rules import PYTHON, cholesky
+from sso._solvers.nlp import value_and_gradient_floats
 from sso._solvers.run import RunLimits, RunOutcome
 
 Parameters = np.ndarray | list[float]
@@ -187,12 +188,7 @@ def _value_and_gradient(nlp: Any, x: np.ndarray | list[float], parameters: Param
     """Objective and gradient, counted as ``use``: ``"both"``, ``"objective"`` or ``"gradient"``."""
     counts.objective += use in ("both", "objective")
     counts.gradient += use in ("both", "gradient")
-    floats = getattr(nlp, "objective_and_gradient_floats", None)
-    if floats is not None:
-        value, slopes = floats(x, parameters)
-        return float(value), slopes
-    value, gradient = nlp.objective_and_gradient(x, parameters)
-    return float(value), np.ravel(gradient).tolist()
+    return value_and_gradient_floats(nlp, x, parameters)
 
 
 def _hessian(nlp: Any, point: list[float], parameters: Parameters, counts: _Counts,

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from sso._record import built
+from sso._solvers.nlp import value_and_gradient_floats
 from sso._solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
@@ -46,7 +46,12 @@ def solve(
     """
     from scipy.optimize import fmin_slsqp
 
-    evaluate = _objective_and_gradient(nlp, parameters)
+    # The closed form on plain floats takes the parameters as a list, made once.
+    fixed = parameters if nlp.objective_and_gradient_floats is None else parameters.tolist()
+
+    def evaluate(point: list[float]) -> tuple[float, list[float]]:
+        return value_and_gradient_floats(nlp, point, fixed)
+
     # SLSQP's objective and gradient evaluations, counted as scipy.optimize.minimize
     # counts them (nfev, njev), and the last point (as a list) with its gradient: SLSQP
     # asks for the gradient at the point whose objective it has just asked for.
@@ -93,24 +98,6 @@ def solve(
         message=str(message),
         time_s=elapsed,
     )
-
-
-def _objective_and_gradient(nlp: Any, parameters: np.ndarray
-                            ) -> Callable[[list[float]], tuple[float, Any]]:
-    """``point (list) -> (objective, gradient)``: the problem's closed form on plain floats
-    where it has one (the gradient a list), else its objective-and-gradient function (the
-    gradient a flat array)."""
-    floats = nlp.objective_and_gradient_floats
-    if floats is not None:
-        fixed = parameters.tolist()
-        return lambda point: floats(point, fixed)
-    objective_and_gradient = nlp.objective_and_gradient
-
-    def evaluate(point: list[float]) -> tuple[float, np.ndarray]:
-        value, gradient = objective_and_gradient(point, parameters)
-        return float(value), np.ravel(gradient)
-
-    return evaluate
 
 
 def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits) -> dict[str, Any]:
