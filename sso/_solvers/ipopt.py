@@ -141,16 +141,17 @@ def _onto_active_bounds(
     point is kept only if it is no worse.
     """
     lower, upper = limits.lower, limits.upper
-    # Most answers have no such variable: looked for on plain floats first (the vectors
-    # are short, and each numpy operation costs more than its arithmetic).
-    if not any((multiplier < 0.0 and value - bottom < ACTIVE_DISTANCE and value != bottom)
-               or (multiplier > 0.0 and top - value < ACTIVE_DISTANCE and value != top)
-               for multiplier, value, bottom, top in zip(
-                   bound_multipliers.tolist(), x.tolist(), lower.tolist(), upper.tolist(),
-                   strict=True)):
+    # On plain floats: the vectors are short, and each numpy operation costs more than its
+    # arithmetic (most answers have no such variable).
+    entries = list(zip(bound_multipliers.tolist(), x.tolist(), lower.tolist(), upper.tolist(),
+                       strict=True))
+    lower_active = [multiplier < 0.0 and value - bottom < ACTIVE_DISTANCE and value != bottom
+                    for multiplier, value, bottom, _ in entries]
+    upper_active = [multiplier > 0.0 and top - value < ACTIVE_DISTANCE and value != top
+                    for multiplier, value, _, top in entries]
+    if not (any(lower_active) or any(upper_active)):
         return x, fun, (0, 0, 0)
-    at_lower = (bound_multipliers < 0) & (x - lower < ACTIVE_DISTANCE) & (x != lower)
-    at_upper = (bound_multipliers > 0) & (upper - x < ACTIVE_DISTANCE) & (x != upper)
+    at_lower, at_upper = np.array(lower_active), np.array(upper_active)
     snapped = np.where(at_lower, lower, np.where(at_upper, upper, x))
     snapped_fun = float(nlp.objective_and_gradient(snapped, parameters)[0])
     if snapped_fun <= fun:
