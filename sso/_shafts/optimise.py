@@ -32,7 +32,7 @@ from sso._limits import (
     MAX_STARTS,
     SOLVERS,
 )
-from sso._record import built, built_from
+from sso._record import built_from
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso._shafts.exact_optima import (
@@ -462,19 +462,12 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
         "success": success, "message": lm.MESSAGES[status], "kkt": kkt, "time_s": time_s,
         "start_index": 0, "total_nfev": nfev, "constraint_violation": 0.0,
         "role": ROLE_SOLVE})
-    initial_series, start_series = _given_series(problem, series)
-    # _result's record, made in one step (its fields passed once, not through SolverFields).
-    return built_from(OptimisationResult, {
-        "option": problem.option, "option_name": problem.option_name, "model": series.model,
-        "input_speed_rpm": speed_rpm, "beta_bounds_deg": problem.beta_bounds_deg,
-        "phase_bounds_deg": problem.phase_bounds_deg, "initial_series": initial_series,
-        "start_series": start_series, "samples": CLOSED_FORM_RULE.samples,
-        "quadrature_error": CLOSED_FORM_RULE.error_estimate, "starts": 1,
-        "warnings": setup_warnings, "quadrature_rtol": quadrature_rtol,
-        "quadrature_atol": quadrature_atol, "exact_optima": None, "best": solution,
-        "solutions": {"lm": solution}, "runs": (solution,), "crosscheck": None,
-        # distinct_minima of one run: its value where it succeeded
-        "local_minima": (fun,) if success else (), "confirmations": {}})
+    return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
+                   quadrature_atol, setup_warnings, None, {
+                       "best": solution, "solutions": {"lm": solution}, "runs": (solution,),
+                       "crosscheck": None,
+                       # distinct_minima of one run: its value where it succeeded
+                       "local_minima": (fun,) if success else (), "confirmations": {}})
 
 
 def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
@@ -484,25 +477,14 @@ def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
     """The result of a run: the problem's layout, the designs as given and as started, and
     the solvers' fields."""
     initial_series, start_series = _given_series(problem, series)
-    return built(
-        OptimisationResult,
-        option=problem.option,
-        option_name=problem.option_name,
-        model=series.model,
-        input_speed_rpm=speed_rpm,
-        beta_bounds_deg=problem.beta_bounds_deg,
-        phase_bounds_deg=problem.phase_bounds_deg,
-        initial_series=initial_series,
-        start_series=start_series,
-        samples=rule.samples,
-        quadrature_error=rule.error_estimate,
-        starts=starts,
-        warnings=setup_warnings,
-        quadrature_rtol=quadrature_rtol,
-        quadrature_atol=quadrature_atol,
-        exact_optima=exact_optima,
-        **solved,
-    )
+    return built_from(OptimisationResult, {
+        "option": problem.option, "option_name": problem.option_name, "model": series.model,
+        "input_speed_rpm": speed_rpm, "beta_bounds_deg": problem.beta_bounds_deg,
+        "phase_bounds_deg": problem.phase_bounds_deg, "initial_series": initial_series,
+        "start_series": start_series, "samples": rule.samples,
+        "quadrature_error": rule.error_estimate, "starts": starts,
+        "warnings": setup_warnings, "quadrature_rtol": quadrature_rtol,
+        "quadrature_atol": quadrature_atol, "exact_optima": exact_optima, **solved})
 
 
 def _given_series(problem: DesignProblem, series: ShaftSeries
