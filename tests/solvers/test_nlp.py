@@ -55,17 +55,23 @@ def test_ipopt_solver_is_built_once_per_option_set():
     assert len(nlp.ipopt_solvers) == 2
 
 
+def _plain_ipopt(nlp):
+    """CasADi's own nlpsol of the problem, called with CasADi matrices: the reference of
+    the buffered solver (options as ``nlp.ipopt({"tol": 1e-10, "max_iter": 100})``)."""
+    import casadi
+
+    return casadi.nlpsol("plain", "ipopt", nlp.symbols,
+                         {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes",
+                                                         "tol": 1e-10, "max_iter": 100}})
+
+
 def test_buffered_ipopt_answers_and_counts_each_solve_as_the_plain_call():
     # The reference is CasADi's own call of the same nlpsol (inputs and outputs as
     # CasADi matrices). The buffer's memory adds its evaluation counts over its solves;
     # each solve must report its own, as the plain call does, the second as the first.
-    import casadi
-
     nlp = rosenbrock()
     solver = nlp.ipopt({"tol": 1e-10, "max_iter": 100})
-    plain = casadi.nlpsol("plain", "ipopt", nlp.symbols,
-                          {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes",
-                                                          "tol": 1e-10, "max_iter": 100}})
+    plain = _plain_ipopt(nlp)
     arguments = {"x0": [-1.2, 1.0], "p": PARAMETERS.tolist(), "lbx": [-2.0, -2.0],
                  "ubx": [2.0, 2.0]}
     expected = plain(**arguments)
@@ -86,13 +92,9 @@ def test_an_input_a_buffered_solve_leaves_out_is_the_default_again():
     # must be back at the solver's default (here the bounds: -inf and inf), also after a
     # call that failed halfway through writing its inputs. The reference is CasADi's
     # plain call, which takes the default for every input left out.
-    import casadi
-
     nlp = rosenbrock()
     solver = nlp.ipopt({"tol": 1e-10, "max_iter": 100})
-    plain = casadi.nlpsol("plain", "ipopt", nlp.symbols,
-                          {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes",
-                                                          "tol": 1e-10, "max_iter": 100}})
+    plain = _plain_ipopt(nlp)
     free = {"x0": [-1.2, 1.0], "p": PARAMETERS.tolist()}
     expected = plain(**free)["x"].full().ravel()
     np.testing.assert_allclose(expected, [1.0, 1.0], atol=1e-8)  # Rosenbrock's minimum
