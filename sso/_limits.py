@@ -100,12 +100,6 @@ ANGLE_SPACING_RAD = 2.0**-50
 360 deg, or of its round trip through degrees, moves it by at most this much (an
 operating angle, below pi / 2, by a quarter of it)."""
 
-COMPILED_CACHE_BYTES = 100 * 2**20
-"""Most bytes the cache folder's compiled libraries take together, B: after a build the
-least recently used are removed (:mod:`sso._solvers.library_cache`). A library takes 60
-to 310 kB (1 to 12 free variables), so this keeps several hundred shapes and versions
-of the code."""
-
 NLP_CACHE_SHAPES = 4
 """Built NLPs (CasADi graphs and their IPOPT instances) kept per thread.
 

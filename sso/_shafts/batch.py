@@ -2,10 +2,11 @@
 
 The exact model's residual error is the squared norm of two residuals of the chain
 matrix (``sso._kinematics.hooke_matrix``), so ``m`` starts form ``m`` tiny
-least-squares problems that the ``"lm"`` solver's rules solve together as array work
-(:mod:`sso._solvers.lm_batch`; compiled to machine code for a shape solved often,
-:mod:`sso._solvers.lm_native`): no quadrature, no per-design Python loop, and the
-iterates of a single ``sso.optimise(..., solvers="lm")`` solve. The
+least-squares problems that the ``"lm"`` solver's functions of the shape solve
+together (:func:`sso._solvers.lm_kernel.solve_states`: the same CasADi instructions
+per design, mapped over the designs): no quadrature, no per-design Python loop, and
+bit for bit the answer of ``sso.optimise(..., solvers="lm", starts=1)`` from the same
+start (a design that stops on a saddle point is left by that same call). The
 paper's model has no closed form and is refused here (use :func:`sso.optimise`);
 falling back to a per-design quadrature solve would silently change the speed a
 caller relies on.
@@ -24,8 +25,6 @@ from sso._display import Part, Readable, TextTable, format_number, format_number
 from sso._kinematics.hooke import MODELS
 from sso._kinematics.hooke_matrix import (
     ratio_extremes,
-    residual_jacobian,
-    residuals_and_jacobian_numpy,
 )
 from sso._limits import (
     BETA_LIMIT_DEG,
@@ -38,6 +37,7 @@ from sso._limits import (
     MAX_ITERATIONS,
 )
 from sso._record import Record
+from sso._shafts.optimise import on_saddle, optimise
 from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     StartMovedWarning,
@@ -45,16 +45,10 @@ from sso._shafts.options import (
     free_angles,
     validate_option_and_bounds,
 )
-from sso._shafts.problem import compiled_nlp, native_shape
-from sso._solvers import round_off_stops
-from sso._solvers.least_squares import STATUS_MESSAGES, SUCCESS_STATUSES, batch_least_squares
-from sso._solvers.lm_batch import solve_batch
-from sso._solvers.lm_native import (
-    NativeSolver,
-    native_solver_of,
-    rows_of,
-    solve_native_leaving_saddles,
-)
+from sso._shafts.problem import compiled_nlp
+from sso._shafts.series import ShaftSeries
+from sso._solvers import lm
+from sso._solvers.lm_kernel import FUN, NFEV, NIT, STATUS, kernels_of, solve_states
 from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE
 from sso._solvers.resources import (
     batch_estimate,
@@ -62,6 +56,8 @@ from sso._solvers.resources import (
     check_memory,
 )
 from sso._solvers.resources import memory_limit_mb as resolve_memory_limit
+from sso._solvers.round_off_stops import ROUND_OFF_STOPS
+from sso._solvers.saddle import ZERO_OBJECTIVE
 from sso._validation import (
     check_chain_conditioning,
     check_choice,
@@ -73,9 +69,6 @@ from sso._validation import (
 
 SUMMARY_ROWS = 5
 """Designs a batch's summary lists (the lowest RE first)."""
-ZERO_RESIDUAL_LEVEL = 1e-20
-"""RE at or below this is round-off zero: a global minimum, needing no Newton steps or
-saddle check (the batched least squares' default)."""
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -94,7 +87,7 @@ class BatchResult(Record, Readable):
     success : numpy.ndarray of shape (m,)
         Whether the solver converged for that start.
     status : numpy.ndarray of shape (m,)
-        Stopping reason, a key of :data:`sso._solvers.least_squares.STATUS_MESSAGES`.
+        Stopping reason, a key of :data:`sso._solvers.lm.MESSAGES`.
     nit, nfev : numpy.ndarray of shape (m,)
         Iterations and residual evaluations of each start.
     kkt : numpy.ndarray of shape (m,)
@@ -144,7 +137,7 @@ class BatchResult(Record, Readable):
     @property
     def message(self) -> tuple[str, ...]:
         """Each start's stopping reason in words."""
-        return tuple(STATUS_MESSAGES[int(code)] for code in self.status)
+        return tuple(lm.MESSAGES[int(code)] for code in self.status)
 
     def to_columns(self) -> dict[str, np.ndarray]:
         """One flat column per figure (``beta_deg_1 .. beta_deg_n``, ``phase_deg_1 ..``)."""
@@ -273,18 +266,15 @@ def optimise_batch(
     if moved:
         warnings.warn(f"{moved} start values lie outside their bounds; moved onto the nearer bound",
                       StartMovedWarning, stacklevel=2)
-    native = native_solver_of(
-        native_shape(n_joints, option_number), len(free),
-        lambda: compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model,
-                                           option_number, beta_bounds, phase_bounds), 0))
-    parts = [_solve(design_deg[part], free, n_joints, beta_free, phase_free,
-                    np.radians(start[part]), np.radians(lower), np.radians(upper),
-                    gradient_tolerance, iterations, native)
+    nlp = compiled_nlp(build_problem(beta[0].tolist(), phase[0].tolist(), model, option_number,
+                                     beta_bounds, phase_bounds), 0)
+    shape = _Shape(nlp, n_joints, option_number, beta_bounds, phase_bounds, free, lower, upper)
+    parts = [_solve(shape, design_deg[part], np.radians(start[part]), gradient_tolerance,
+                    iterations)
              for part in _parts(len(start), n_joints, len(free), memory_limit_mb)]
     solved = _Solved(*(np.concatenate([getattr(part, field.name) for part in parts])
                        for field in fields(_Solved)))
-    # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
-    design_deg[:, free] = np.clip(np.degrees(solved.x), lower, upper)
+    design_deg[:, free] = solved.x_deg
     beta_out, phase_out = design_deg[:, :n_joints], design_deg[:, n_joints:]
     beta_rad, phase_rad = np.radians(beta_out), np.radians(phase_out)
     least, greatest = ratio_extremes(np, [beta_rad[:, k] for k in range(n_joints)],
@@ -327,10 +317,24 @@ def _parts(starts: int, joints: int, free_variables: int,
 
 
 @dataclass(frozen=True)
-class _Solved:
-    """Each start's answer (rad), as arrays."""
+class _Shape:
+    """What every part of a batch shares: the shape's NLP, its layout and bounds."""
 
-    x: np.ndarray
+    nlp: Any
+    n_joints: int
+    option: int
+    beta_bounds: tuple[tuple[float, float], ...]
+    phase_bounds: tuple[tuple[float, float], ...]
+    free: np.ndarray
+    lower_deg: np.ndarray
+    upper_deg: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Solved:
+    """Each start's answer, as arrays (the design's free values in deg)."""
+
+    x_deg: np.ndarray
     fun: np.ndarray
     kkt: np.ndarray
     nit: np.ndarray
@@ -339,92 +343,68 @@ class _Solved:
     success: np.ndarray
 
 
-def _solve(design_deg: np.ndarray, free: np.ndarray, n_joints: int, beta_free: bool,
-           phase_free: bool, start: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-           tolerance: float, max_iterations: int, native: NativeSolver | None) -> _Solved:
-    """Every start by the ``"lm"`` rules, compiled or in numpy, those above zero finished by
-    the batched least squares (saddle escapes; on the numpy path Newton steps too).
-
-    With the shape's compiled rules (``native``, :mod:`sso._solvers.lm_native`) every
-    start runs as the single solve ``sso.optimise(..., solvers="lm")`` runs it, Newton
-    steps included. On the numpy path (:mod:`sso._solvers.lm_batch`) the Gauss-Newton
-    iterations are the single solve's, so a start that Gauss-Newton takes to round-off
-    zero ends where the single solve ends; a start whose steps turned to Newton steps
-    goes to :func:`sso._solvers.least_squares.batch_least_squares` afresh from its start.
-    A start whose sum of squares stays above round-off zero either way goes to it from
-    where it stopped, which checks for saddles and leaves them. The iterations already
-    taken count against the limit.
-    """
+def _solve(shape: _Shape, design_deg: np.ndarray, start: np.ndarray, tolerance: float,
+           max_iterations: int) -> _Solved:
+    """Every start by the shape's ``"lm"`` functions, each as the single solve
+    ``sso.optimise(..., solvers="lm", starts=1)`` takes it: the same functions (mapped over
+    the starts), the same test of a stop at round-off, and a design that succeeded on a
+    saddle point above zero solved by that very call (which leaves the saddle)."""
     design_rad = np.radians(design_deg)
+    free = shape.free
     fixed = np.setdiff1d(np.arange(design_rad.shape[1]), free)
+    lower, upper = np.radians(shape.lower_deg), np.radians(shape.upper_deg)
+    kernels = kernels_of(shape.nlp)
+    assert kernels is not None, "the exact model has a residual expression"
+    size = len(free)
+    problems = np.empty((len(start), kernels.problem_size))
+    problems[:, :len(fixed)] = design_rad[:, fixed]
+    problems[:, len(fixed):-1] = [*lower, *upper, tolerance]
+    problems[:, -1] = max_iterations
+    states = solve_states(kernels, start, problems)
+    for row in np.flatnonzero(states[:, 3 * size + 2 + STATUS] == NEWTON):
+        states[row] = lm.newton_on_floats(shape.nlp, design_rad[row, fixed].tolist(), states[row],
+                                          lower.tolist(), upper.tolist(), tolerance,
+                                          max_iterations)
+    scalars = 3 * size + 2
+    x = states[:, :size]
+    fun = states[:, scalars + FUN]
+    nit = states[:, scalars + NIT].astype(int)
+    nfev = states[:, scalars + NFEV].astype(int)
+    status = states[:, scalars + STATUS].astype(int)
+    status[status == NEWTON_INDEFINITE] = lm.INDEFINITE
+    # 2 J^T r, in the order of lm_kernel.gradient_of (the single solve's): the same bits.
+    gradient = 2.0 * (states[:, size + 2:scalars:2] * states[:, size, None]
+                      + states[:, size + 3:scalars:2] * states[:, size + 1, None])
+    x_deg = np.clip(np.degrees(x), shape.lower_deg, shape.upper_deg)
+    kkt = np.max(np.abs(x - np.clip(x - gradient, lower, upper)), axis=1, initial=0.0)
+    lower_list, upper_list = lower.tolist(), upper.tolist()
+    # Where the single solve does more than read its end: a stop at round-off tested, a
+    # success above zero looked at for a saddle point, one design at a time as it does.
+    for row in np.flatnonzero(np.isin(status, ROUND_OFF_STOPS)
+                              | ((status > 0) & (fun > ZERO_OBJECTIVE))):
+        parameters = design_rad[row, fixed].tolist()
+        point, value, nit[row], nfev[row], status[row] = lm.checked(
+            shape.nlp, parameters, x[row].tolist(), float(fun[row]), int(nit[row]),
+            int(nfev[row]), int(status[row]), lower_list, upper_list)
+        end = lm.End(point, value, gradient[row].tolist(), int(nit[row]), int(nfev[row]),
+                     int(status[row]))
+        if on_saddle(shape.nlp, end, parameters, lower, upper):
+            best = _alone(shape, design_deg[row], tolerance, max_iterations)
+            x_deg[row], fun[row], kkt[row] = best.x, best.fun, best.kkt
+            nit[row], nfev[row], status[row] = best.nit, best.nfev, best.status
+    return _Solved(x_deg, fun, kkt, nit, nfev, status, np.isin(status, lm.SUCCESS_STATUSES))
 
-    def column_residuals(point: list[np.ndarray], parameters: list[np.ndarray]
-                         ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
-        if beta_free and phase_free:
-            beta, phase = point[:n_joints], point[n_joints:]
-        else:
-            beta, phase = (point, parameters) if beta_free else (parameters, point)
-        # Real arithmetic: numpy's complex products round differently with the length of
-        # the arrays, which would make a design's answer depend on the batch it is in.
-        (first, second), d_beta, d_phase = residual_jacobian(np, beta, phase)
-        derivatives = [*(d_beta if beta_free else []), *(d_phase if phase_free else [])]
-        return (first, second, [pair[0] for pair in derivatives],
-                [pair[1] for pair in derivatives])
 
-    def residual_and_jacobian(x_rad: np.ndarray, rows: np.ndarray
-                              ) -> tuple[np.ndarray, np.ndarray]:
-        full = design_rad[rows]
-        full[:, free] = x_rad
-        residual, jacobian = residuals_and_jacobian_numpy(full[:, :n_joints], full[:, n_joints:])
-        return residual, jacobian[..., free]
-
-    run = (None if native is None else
-           solve_native_leaving_saddles(native, start, design_rad[:, fixed], lower, upper,
-                                        tolerance, max_iterations, residual_and_jacobian,
-                                        ZERO_RESIDUAL_LEVEL))
-    compiled = run is not None
-    if run is None:
-        run = solve_batch(column_residuals, start, design_rad[:, fixed], lower, upper,
-                          tolerance, max_iterations)
-    x, fun, nit, nfev, status = run.x, run.fun, run.nit, run.nfev, run.status
-    # A design that turned to Newton steps on its last allowed iteration ends there, as
-    # the single solve does at the iteration limit.
-    status[np.isin(status, (NEWTON, NEWTON_INDEFINITE)) & (nit >= max_iterations)] = 0
-    held = ((x <= lower) & (run.gradient > 0)) | ((x >= upper) & (run.gradient < 0))
-    kkt = np.max(np.where(held, 0.0, np.abs(run.gradient)), axis=1, initial=0.0)
-    # The compiled path has left its saddles already: only its failures above zero go on.
-    unfinished = np.flatnonzero((fun > ZERO_RESIDUAL_LEVEL) & (status != -2)
-                                & (nit < max_iterations)
-                                & ~(compiled & np.isin(status, SUCCESS_STATUSES)))
-    # A design that turned to Newton steps on the numpy path, or whose shifted Newton step
-    # stayed indefinite, starts the batched least squares afresh from its start (Newton
-    # steps from where Gauss-Newton slowed down, taken without the single solve's
-    # eigenvalue shift, can stall); the others continue from where they stopped (a
-    # saddle check of a point that has converged).
-    restart = np.isin(status[unfinished], (NEWTON, NEWTON_INDEFINITE))
-    if unfinished.size:
-        finished = batch_least_squares(rows_of(residual_and_jacobian, unfinished),
-                                       np.where(restart[:, None], start[unfinished],
-                                                x[unfinished]), lower, upper,
-                                       gtol=tolerance, max_iterations=max_iterations,
-                                       iterations_taken=nit[unfinished])
-        x[unfinished], fun[unfinished] = finished.x, finished.fun
-        kkt[unfinished] = finished.projected_gradient
-        nit[unfinished] = finished.nit
-        nfev[unfinished] += finished.nfev
-        status[unfinished] = finished.status
-    # A stop at round-off with a gradient far from zero: a minimum, or only a vanished step?
-    suspects = np.flatnonzero(np.isin(status, round_off_stops.ROUND_OFF_STOPS)
-                              & (kkt > round_off_stops.SUSPECT_GRADIENT))
-    if suspects.size:
-        def sum_of_squares(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
-            residual = residual_and_jacobian(points, rows)[0]
-            values: np.ndarray = residual[:, 0] ** 2 + residual[:, 1] ** 2
-            return values
-
-        status[suspects[round_off_stops.refuted(sum_of_squares, x, fun, lower, upper,
-                                                suspects)]] = round_off_stops.REFUTED
-    return _Solved(x, fun, kkt, nit, nfev, status, np.isin(status, SUCCESS_STATUSES))
+def _alone(shape: _Shape, design_deg: np.ndarray, tolerance: float, max_iterations: int) -> Any:
+    """The best solution of ``sso.optimise(..., solvers="lm", starts=1)`` from one design."""
+    n_joints = shape.n_joints
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", StartMovedWarning)
+        return optimise(ShaftSeries(design_deg[:n_joints].tolist(),
+                                    design_deg[n_joints:].tolist()),
+                        shape.option, beta_bounds_deg=shape.beta_bounds,
+                        phase_bounds_deg=shape.phase_bounds, solvers=("lm",), starts=1,
+                        solver_tol=tolerance, max_iterations=max_iterations).best
 
 
 def _design_array(field: str, values: Any, shape: tuple[int, int] | None) -> np.ndarray:

@@ -54,11 +54,10 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso._shafts.series import ShaftSeries, checked_series
 from sso._solvers import lm
-from sso._solvers.lm_kernel import flat_outcome, kernel_of
+from sso._solvers.kkt import projected_gradient_norm_floats
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
-    measure_on_bounds,
     solution_from_run,
     solve_from_starts,
 )
@@ -66,7 +65,7 @@ from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_multistart_memory
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
-from sso._solvers.saddle import saddle_direction
+from sso._solvers.saddle import ZERO_OBJECTIVE, saddle_direction
 from sso._solvers.solution import ROLE_SELECTION, ROLE_SOLVE, Solution
 from sso._validation import (
     validate_count,
@@ -439,35 +438,40 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
     # math.radians rounds as numpy's radians does (the problem's start_rad, parameters_rad).
     fixed = list(map(math.radians, problem.parameter_values_deg))
     lower, upper = problem.lower_rad.tolist(), problem.upper_rad.tolist()
-    (x, solver_fun, nit, nfev, status), measured = lm.solve_floats_measured(
-        nlp, list(map(math.radians, problem.start_values_deg)), fixed, lower, upper,
-        solver_tol, max_iterations)
-    success = status > 0
-    # The library looked for negative curvature where it measured (0.0: none there).
-    if ((measured is None or measured[-1])
-            and saddle_direction(nlp, success, solver_fun, x, fixed,
-                                 lambda: RunLimits(problem.lower_rad, problem.upper_rad))
-            is not None):
+    end = lm.solve_floats(nlp, list(map(math.radians, problem.start_values_deg)), fixed,
+                          lower, upper, solver_tol, max_iterations)
+    if on_saddle(nlp, end, fixed, problem.lower_rad, problem.upper_rad):
         return None
     time_s = time.perf_counter() - started
-    if measured is None:
-        point, fun, kkt = measure_on_bounds(nlp, x, fixed, lower, upper)
-    else:  # the library measured it in the solve's call
-        point, fun, kkt = measured[:-3], measured[-3], measured[-2]
-    x_deg = tuple(map(math.degrees, point))
+    # As _to_solution: a value on a bound is that bound exactly.
+    x_deg = tuple(high if value > high else low if value < low else value
+                  for value, low, high in zip(map(math.degrees, end.x), *problem.bounds_deg,
+                                              strict=True))
     beta_deg, phase_deg = problem.design_deg(x_deg)
+    success = end.status > 0
     solution = built_from(Solution, {
         "solver": "lm", "series": checked_series(beta_deg, phase_deg, series.model),
-        "x": x_deg, "fun": fun, "nit": nit, "nfev": nfev, "status": status,
-        "success": success, "message": lm.MESSAGES[status], "kkt": kkt, "time_s": time_s,
-        "start_index": 0, "total_nfev": nfev, "constraint_violation": 0.0,
-        "role": ROLE_SOLVE})
+        "x": x_deg, "fun": end.fun, "nit": end.nit, "nfev": end.nfev, "status": end.status,
+        "success": success, "message": lm.MESSAGES[end.status],
+        "kkt": projected_gradient_norm_floats(end.x, end.gradient, lower, upper),
+        "time_s": time_s, "start_index": 0, "total_nfev": end.nfev,
+        "constraint_violation": 0.0, "role": ROLE_SOLVE})
     return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
                    quadrature_atol, setup_warnings, None, {
                        "best": solution, "solutions": {"lm": solution}, "runs": (solution,),
                        "crosscheck": None,
                        # distinct_minima of one run: its value where it succeeded
-                       "local_minima": (fun,) if success else (), "confirmations": {}})
+                       "local_minima": (end.fun,) if success else (), "confirmations": {}})
+
+
+def on_saddle(nlp: Any, end: lm.End, fixed: list[float], lower_rad: np.ndarray,
+              upper_rad: np.ndarray) -> bool:
+    """Whether a run of ``"lm"`` that succeeded stopped on a saddle point (above round-off
+    zero), which the general path then leaves: the one test of the single solve and of
+    :func:`sso.optimise_batch`."""
+    return (end.status > 0 and end.fun > ZERO_OBJECTIVE
+            and saddle_direction(nlp, True, end.fun, end.x, fixed,
+                                 lambda: RunLimits(lower_rad, upper_rad)) is not None)
 
 
 def _result(problem: DesignProblem, rule: Any, series: ShaftSeries, starts: int,
@@ -510,22 +514,11 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
                                 if run.success and is_exact(run.fun))]
     started = time.perf_counter()
 
-    kernel = kernel_of(nlp)
-
     def solve_in_box(start: list[float], lower: list[float], upper: list[float],
                      max_iterations: int) -> tuple[list[float], float, int, int]:
-        # Gauss-Newton steps only: a margin is feasible where they reach round-off zero,
-        # and the same compiled steps give the same design in every process (the Newton
-        # steps after them run compiled or in Python depending on the session's history).
-        if kernel is None:
-            outcome = lm.solve(nlp, np.array(start), problem.parameters_rad,
-                               RunLimits(np.array(lower), np.array(upper)),
-                               DEFAULT_SHAFT_SOLVER_TOL, max_iterations)
-            return outcome.x.tolist(), outcome.fun, outcome.nit, outcome.nfev
-        x, fun, nit, nfev, _ = flat_outcome(
-            lm.gauss_newton_flat(nlp, kernel, start, fixed, lower, upper,
-                                 DEFAULT_SHAFT_SOLVER_TOL, max_iterations), len(start))
-        return x, fun, nit, nfev
+        # Gauss-Newton steps only: a margin is feasible where they reach round-off zero.
+        return lm.gauss_newton_end(nlp, start, fixed, lower, upper, DEFAULT_SHAFT_SOLVER_TOL,
+                                   max_iterations)
 
     choice = choose_exact_optimum(series_set_problem(problem),
                                   lambda x: nlp.residuals_and_jacobian(x, fixed), solve_in_box,
@@ -540,7 +533,8 @@ def _most_robust(problem: DesignProblem, nlp: Any, solved: SolverFields, model: 
 
 def _to_solution(run: MeasuredRun, problem: DesignProblem, model: str,
                  solver_runs: list[MeasuredRun], role: str = ROLE_SOLVE) -> Solution:
-    x_deg = np.degrees(run.outcome.x)
+    # Back in degrees, a value on a bound is that bound exactly (not a round-trip ulp off).
+    x_deg = np.clip(np.degrees(run.outcome.x), *problem.bounds_deg)
     beta_deg, phase_deg = problem.design_deg(x_deg)
     return solution_from_run(run, solver_runs, x_deg.tolist(),
                              checked_series(beta_deg, phase_deg, model), role)

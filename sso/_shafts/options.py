@@ -98,6 +98,13 @@ class DesignProblem:
         """The fixed angles, deg."""
         return np.array(self.parameter_values_deg, dtype=float)
 
+    @functools.cached_property
+    def bounds_deg(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """Lower and upper bounds of the design vector, deg (the bounds as given)."""
+        pairs = [*(self.beta_bounds_deg if self.beta_free else ()),
+                 *(self.phase_bounds_deg if self.phase_free else ())]
+        return tuple(low for low, _ in pairs), tuple(high for _, high in pairs)
+
     @property
     def option_name(self) -> str:
         """``"phase"``, ``"angle"`` or ``"both"``."""

@@ -67,12 +67,6 @@ def compiled_nlp(problem: DesignProblem, samples: int) -> CompiledNLP:
     return cached_nlp(key, lambda: _build(problem, ShapeKey(*key)))
 
 
-def native_shape(n_joints: int, option: int) -> tuple[int, int]:
-    """The key of the exact model's ``"lm"`` library for a shape (:mod:`sso._solvers.lm_native`):
-    one library serves :func:`sso.optimise_batch` and the single solve."""
-    return (n_joints, option)
-
-
 def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
     import casadi
 
@@ -95,7 +89,6 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp.residuals = residual
         nlp.objective_hessian = _float_hessian(problem)
         nlp.batch_residuals_and_jacobian = _array_residuals(problem)
-        nlp.lm_shape = native_shape(key.n_joints, key.option)
     nlp.nonnegative_objective = True
     return nlp
 
@@ -195,7 +188,7 @@ def _array_residuals(problem: DesignProblem) -> Any:
     """``(x, p) -> (r, J)`` for many points ``x`` of shape ``(k, free)`` at once, in numpy.
 
     ``r`` has shape ``(k, 2)`` and ``J`` shape ``(k, 2, free)``; ``p`` holds the fixed
-    angles (rad) shared by every point. For :func:`sso._solvers.least_squares.batch_least_squares`.
+    angles (rad) shared by every point. For the multi-start screening.
     """
     n_joints = problem.n_joints
     beta_free, phase_free = problem.beta_free, problem.phase_free

@@ -1,54 +1,40 @@
-"""A single-design bounded Levenberg-Marquardt on two residuals.
+"""The least-squares solver ``"lm"``: a bounded Levenberg-Marquardt on two residuals.
 
-Minimises ``f(x) = r_1(x)^2 + r_2(x)^2 = |rho(x)|^2`` under box bounds, where the
-problem supplies the two residuals as one complex number ``rho`` (``r_1 - i r_2``
-for a shaft series; the sign of a residual does not matter to least squares) and
-its Jacobian as one complex number per variable (a shaft series of the exact
-model: :func:`sso._kinematics.hooke_matrix.residual_and_jacobian_complex`). With two
+Minimises ``f(x) = r_1(x)^2 + r_2(x)^2 = |rho(x)|^2`` under box bounds. With two
 residuals and ``k`` variables the damped Gauss-Newton step
 
     dx = -(J^T J + mu I)^-1 J^T r = -J^T (J J^T + mu I)^-1 r
 
-(the push-through identity) needs one 2x2 solve whatever ``k`` is, so a whole
-iteration is a few dozen float operations on top of one residual-and-Jacobian
-call. The method is a projected active-set Levenberg-Marquardt (Nielsen's damping
-rule, scaled by ``|r| / |r_0|``, Newton steps when it converges slowly to a nonzero
-residual); :mod:`sso._solvers.lm_rules` states it.
+(the push-through identity) needs one 2x2 solve whatever ``k`` is. The method is a
+projected active-set Levenberg-Marquardt (Nielsen's damping rule, scaled by
+``|r| / |r_0|``, Newton steps when it converges slowly to a nonzero residual);
+:mod:`sso._solvers.lm_rules` states it, once.
 
-Where the problem gives its residuals as a CasADi expression (``nlp.residuals``),
-the iterations run compiled, in blocks (:mod:`sso._solvers.lm_kernel`): in Python
-every operation costs the interpreter tens of nanoseconds, and an iteration cost
-more than the whole block does in CasADi's virtual machine. A shape solved
-:data:`NATIVE_AFTER` times in a process runs the same instructions compiled to machine
-code (:mod:`sso._solvers.lm_native`, one call per solve, Newton steps included), which
-ends every solve bit for bit where the kernels end it. The loop below runs the
-same rules in plain Python numbers; it takes the Newton steps the kernel does not
-take (with the problem's closed-form Hessian, ``nlp.objective_hessian``, or
-differences of the gradient) and runs alone for a problem without the expression.
-
-Its answer goes through the same measure as every other solver
-(:mod:`sso._solvers.multistart`): the stopping test here is the same projected
-gradient, of ``f``, per unit of ``x``.
+A problem that gives its residuals as a CasADi expression (``nlp.residuals``: every
+shaft series of the exact model) runs the rules as the shape's CasADi functions
+(:mod:`sso._solvers.lm_kernel`), from its first call, whatever ran before:
+:func:`sso.optimise_batch` runs the same functions, so a design ends there bit for bit
+where it ends alone. A problem without the expression (a column's phasing or joint
+centres, through :func:`minimise`) runs the same rules on plain Python floats.
 """
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from sso._solvers import round_off_stops
 from sso._solvers.lm_kernel import (
-    NEWTON_KERNEL_VARIABLES,
-    SWITCH_VARIABLE,
-    flat_outcome,
-    kernel_of,
-    newton_kernel_of,
-    run_kernel_flat,
-    run_newton_kernel,
+    gradient_of,
+    kernels_of,
+    outcome,
+    pack,
+    problem_vector,
+    solve_one,
     unpack,
 )
 from sso._solvers.lm_rules import (
@@ -69,7 +55,11 @@ TESTS_ITS_START = True
 """Its first step stops at a start already at a minimum (round-off zero, or a projected
 gradient under the tolerance), for the cost of one evaluation: no check before it."""
 
+INDEFINITE = -5
+"""Status of a solve whose Newton step round-off kept indefinite past every shift."""
+
 MESSAGES = {
+    INDEFINITE: "the Newton step's Hessian stayed indefinite after every shift (round-off)",
     -2: "residual or Jacobian is not finite",
     -1: "no decrease possible (damping overflow) before the tolerance was met",
     0: "iteration limit reached",
@@ -77,28 +67,37 @@ MESSAGES = {
     2: "actual and predicted relative reductions at round-off",
     3: "step at round-off",
     4: "sum of squares at round-off zero",
-    -4: "stopped at round-off, but a move of one variable lowers the sum of squares "
-        "(not a minimum: the problem is beyond floating point's resolution there)",
+    round_off_stops.REFUTED: round_off_stops.REFUTED_MESSAGE,
 }
-ROUND_OFF_STOPS = (2, 3)
-"""Statuses that stop because a step or a reduction reached round-off. Far from a
-minimum, where the residuals change by more than their size within a rounding of
-``x`` (a chain of near-90-deg joints), they come from a damping grown by steps the
-linear model mispredicts, not from a minimum: :func:`_round_off_stop_holds` tests
-each such stop directly."""
-PROBE_STEPS = (1e-9, 1e-6, 1e-3)
-"""Moves of one variable (NLP units, rad for a shaft series) tried at a round-off stop."""
-PROBE_DECREASE = 1e-6
-"""A probe that lowers the sum of squares by more than this fraction refutes the stop."""
-NATIVE_AFTER = 64
-"""Solves of one shape (in one thread) after which it runs compiled to machine code: the
-library's build (1 to 3 s, once per machine and version of the code, kept in a cache
-folder) or its load (the hash of the package, about 50 ms) costs more than a few dozen
-solves gain, so a shape solved once or by one default call (eight screened starts) never
-pays it."""
+SUCCESS_STATUSES = (1, 2, 3, 4)
+"""Statuses of a solve that succeeded."""
 # Forward differences: truncation ~ step, round-off ~ eps / step; 1e-7 balances them
 # well enough for Newton's superlinear convergence.
 _HESSIAN_STEP = 1e-7
+
+
+@dataclass(frozen=True)
+class End:
+    """Where a solve of the shape's functions ended (plain floats, NLP units).
+
+    Attributes
+    ----------
+    x : list of float
+    fun : float
+        ``r1^2 + r2^2`` at ``x``, as the functions computed it.
+    gradient : list of float
+        ``2 J^T r`` at ``x``.
+    nit, nfev, status : int
+        Trial steps, residual evaluations (round-off probes included) and a key of
+        :data:`MESSAGES`.
+    """
+
+    x: list[float]
+    fun: float
+    gradient: list[float]
+    nit: int
+    nfev: int
+    status: int
 
 
 def solve(
@@ -114,8 +113,9 @@ def solve(
     Parameters
     ----------
     nlp : sso._solvers.nlp.CompiledNLP
-        The problem; its ``residuals_and_jacobian(x, parameters)`` gives ``(rho,
-        jacobian)`` in Python complex numbers (a problem without it fails the run).
+        The problem; its ``residuals`` expression (or else ``residuals_and_jacobian(x,
+        parameters)``, ``(rho, jacobian)`` in Python complex numbers); a problem without
+        either fails the run.
     start, parameters : numpy.ndarray
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
@@ -130,129 +130,87 @@ def solve(
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0, -3, False,
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
-    x, fun, nit, nfev, status = solve_floats(nlp, start.tolist(), parameters.tolist(),
-                                             limits.lower.tolist(), limits.upper.tolist(),
-                                             solver_tol, max_iterations)
+    fixed, lower, upper = parameters.tolist(), limits.lower.tolist(), limits.upper.tolist()
+    if kernels_of(nlp) is not None:
+        end = solve_floats(nlp, start.tolist(), fixed, lower, upper, solver_tol, max_iterations)
+        x, fun, nit, nfev, status = end.x, end.fun, end.nit, end.nfev, end.status
+    else:
+        residual = nlp.residuals_and_jacobian
+        hessian = getattr(nlp, "objective_hessian", None)
+        x, fun, nit, nfev, status = minimise(
+            lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
+            max_iterations, None if hessian is None else lambda point: hessian(point, fixed))
+        x, fun, nit, nfev, status = checked(nlp, fixed, x, fun, nit, nfev, status, lower,
+                                            upper)
     return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
                       time.perf_counter() - started)
 
 
 def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
-                 upper: list[float], solver_tol: float, max_iterations: int
-                 ) -> tuple[list[float], float, int, int, int]:
-    """:func:`solve` on lists of floats, for a problem with residuals and bounds only.
-
-    Returns
-    -------
-    x, fun, nit, nfev, status
-        Final point, sum of squares, trial steps, residual evaluations and a key of
-        :data:`MESSAGES` (the run succeeded where it is positive).
-    """
-    return _solve_floats(nlp, start, fixed, lower, upper, solver_tol, max_iterations, False)[0]
+                 upper: list[float], solver_tol: float, max_iterations: int) -> End:
+    """:func:`solve` on lists of floats, by the shape's functions (``nlp.residuals``)."""
+    kernels = kernels_of(nlp)
+    assert kernels is not None, "solve_floats needs a problem with a residual expression"
+    values = solve_one(kernels, start, problem_vector(fixed, lower, upper, solver_tol,
+                                                      max_iterations))
+    return end_of(nlp, fixed, values, lower, upper, solver_tol, max_iterations)
 
 
-def solve_floats_measured(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
-                          upper: list[float], solver_tol: float, max_iterations: int
-                          ) -> tuple[tuple[list[float], float, int, int, int], list[float] | None]:
-    """:func:`solve_floats`, and where the shape's library compiled to machine code ran the
-    whole solve (:func:`native_of`), its measure of the end in the same call: the point
-    put onto the bounds, the objective and the projected gradient's norm there (bit for
-    bit :func:`sso._solvers.multistart.measure_on_bounds`), and 0.0 where it found no
-    negative curvature there as :func:`sso._solvers.saddle.saddle_direction` would, else
-    1.0, one list (:meth:`sso._solvers.lm_native.OneDesign.solve_measured`); None where it
-    did not run the whole solve.
-    """
-    return _solve_floats(nlp, start, fixed, lower, upper, solver_tol, max_iterations, True)
+def end_of(nlp: Any, fixed: list[float], values: Any, lower: list[float],
+           upper: list[float], solver_tol: float, max_iterations: int) -> End:
+    """The end of a solve from the flat state the functions ended with: Newton steps on
+    plain floats where the shape has no Newton block (:func:`newton_on_floats`), a stop at
+    round-off tested (:func:`checked`), a Newton step left indefinite reported as a
+    failure. :func:`sso.optimise_batch` and the screening read each design's state with
+    it too."""
+    size = len(lower)
+    values = newton_on_floats(nlp, fixed, values, lower, upper, solver_tol, max_iterations)
+    x, fun, nit, nfev, status = outcome(values, size)
+    if status == NEWTON_INDEFINITE:
+        status = INDEFINITE
+    x, fun, nit, nfev, status = checked(nlp, fixed, x, fun, nit, nfev, status, lower, upper)
+    return End(x, fun, gradient_of(values, size), nit, nfev, status)
 
 
-def _solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
-                  upper: list[float], solver_tol: float, max_iterations: int, measured: bool
-                  ) -> tuple[tuple[list[float], float, int, int, int], list[float] | None]:
+def newton_on_floats(nlp: Any, fixed: list[float], values: Any, lower: list[float],
+                     upper: list[float], solver_tol: float, max_iterations: int) -> Any:
+    """A flat state of status :data:`sso._solvers.lm_rules.NEWTON` (a shape beyond
+    :data:`sso._solvers.lm_kernel.NEWTON_BLOCK_VARIABLES`) taken to its end by the rules'
+    Newton iterations on plain floats, with the problem's closed-form Hessian; any other
+    state as it is."""
+    size = len(lower)
+    if outcome(values, size)[4] != NEWTON:
+        return values
     residual = nlp.residuals_and_jacobian
-    state = None
-    native = native_of(nlp)
-    kernel = None if native is not None else kernel_of(nlp)
-    if native is not None:
-        problem = [*fixed, *lower, *upper, solver_tol, float(max_iterations)]
-        if measured:
-            ended, measure = native.solve_measured(start, problem)
-        else:
-            ended, measure = flat_outcome(native.solve(start, problem), len(lower)), None
-        x, fun, nit, nfev, status = ended
-        if status != NEWTON_INDEFINITE:
-            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), measure
-        state = unpack(native.state(), len(lower))
-    elif kernel is not None:
-        values = run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol,
-                                 max_iterations)
-        x, fun, nit, nfev, status = flat_outcome(values, len(lower))
-        if status not in (RUNNING, NEWTON):
-            return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), None
-        state = unpack(values, len(lower))
-    objective_hessian = getattr(nlp, "objective_hessian", None)
-    newton_kernel = (newton_kernel_of(nlp)
-                     if state is not None and state["status"] in (NEWTON, NEWTON_INDEFINITE)
-                     else None)
-    x, fun, nit, nfev, status = minimise(
-        lambda point: residual(point, fixed), start, lower, upper, solver_tol,
-        max_iterations,
-        None if objective_hessian is None else lambda point: objective_hessian(point, fixed),
-        state,
-        None if newton_kernel is None else lambda given: run_newton_kernel(
-            newton_kernel, given, fixed, lower, upper, solver_tol, max_iterations))
-    return _checked(residual, fixed, x, fun, nit, nfev, status, lower, upper), None
+    hessian = nlp.objective_hessian
+    state = unpack([float(value) for value in values], size)
+    ended = _newton_steps(lambda point: residual(point, fixed), state, lower, upper,
+                          solver_tol, max_iterations,
+                          None if hessian is None else lambda point: hessian(point, fixed))
+    return pack(ended)
 
 
-def native_of(nlp: Any) -> Any:
-    """The shape's library compiled to machine code (:mod:`sso._solvers.lm_native`), called
-    one design at a time in this thread (:class:`sso._solvers.lm_native.OneDesign`), once
-    this thread has solved the shape :data:`NATIVE_AFTER` times; None before, for a
-    problem without one (no ``nlp.lm_shape``, too many variables, no compiler) and while
-    ``SSO_NATIVE_LM=0`` (:data:`sso._solvers.lm_kernel.SWITCH_VARIABLE`) is in the
-    environment (read until the library is loaded; a shape loaded keeps it).
-
-    Each design ends there bit for bit where the compiled kernels end it (the Newton
-    kernel built); only a shape's first solves, whose Newton steps the Python loop takes
-    before that kernel is built, may end differently in the last digits.
-    """
-    native = nlp.lm_native
-    if native is None:
-        if nlp.lm_shape is None:
-            return None
-        nlp.lm_solves += 1
-        if nlp.lm_solves < NATIVE_AFTER or os.environ.get(SWITCH_VARIABLE, "1").strip() == "0":
-            return None
-        from sso._solvers.lm_native import OneDesign, native_solver_of
-
-        solver = native_solver_of(nlp.lm_shape, int(nlp.symbols["x"].numel()), lambda: nlp,
-                                  NEWTON_KERNEL_VARIABLES)
-        native = nlp.lm_native = False if solver is None else OneDesign(solver, *nlp.lm_shape)
-    return native or None
+def gauss_newton_end(nlp: Any, start: list[float], fixed: list[float], lower: list[float],
+                     upper: list[float], solver_tol: float, max_iterations: int
+                     ) -> tuple[list[float], float, int, int]:
+    """The start and Gauss-Newton steps of the rules from ``start`` (the shape's functions):
+    ``x``, ``fun``, ``nit`` and ``nfev`` where they end, or where they turn to Newton
+    steps."""
+    kernels = kernels_of(nlp)
+    assert kernels is not None, "gauss_newton_end needs a problem with a residual expression"
+    values = solve_one(kernels, start, problem_vector(fixed, lower, upper, solver_tol,
+                                                      max_iterations), newton=False)
+    x, fun, nit, nfev, _ = outcome(values, len(lower))
+    return x, fun, nit, nfev
 
 
-def gauss_newton_flat(nlp: Any, kernel: Any, start: list[float], fixed: list[float],
-                      lower: list[float], upper: list[float], solver_tol: float,
-                      max_iterations: int) -> list[float]:
-    """The start and Gauss-Newton steps of the rules from ``start``, as the flat state of
-    :func:`sso._solvers.lm_kernel.run_kernel_flat` (read with
-    :func:`sso._solvers.lm_kernel.flat_outcome`): by the shape's library compiled to machine
-    code once :func:`native_of` has loaded it, else by ``kernel``'s blocks (``kernel_of(nlp)``);
-    the same bits either way, whatever ran before."""
-    native = nlp.lm_native
-    if native:
-        ended: list[float] = native.solve(
-            start, [*fixed, *lower, *upper, solver_tol, float(max_iterations)],
-            gauss_newton_only=True)
-        return ended
-    return run_kernel_flat(kernel, start, fixed, lower, upper, solver_tol, max_iterations)
-
-
-def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit: int,
-             nfev: int, status: int, lower: list[float], upper: list[float]
-             ) -> tuple[list[float], float, int, int, int]:
+def checked(nlp: Any, fixed: list[float], x: list[float], fun: float, nit: int, nfev: int,
+            status: int, lower: list[float], upper: list[float]
+            ) -> tuple[list[float], float, int, int, int]:
     """The outcome of a solve, a stop at round-off tested first: a minimum, or only a
     vanished step (:mod:`sso._solvers.round_off_stops`)?"""
     if status in round_off_stops.ROUND_OFF_STOPS:
+        residual = nlp.residuals_and_jacobian
         holds, probes = round_off_stops.holds(lambda point: abs(residual(point, fixed)[0]) ** 2,
                                               list(x), fun, lower, upper)
         nfev += probes
@@ -261,20 +219,15 @@ def _checked(residual: Any, fixed: list[float], x: list[float], fun: float, nit:
 
 
 def minimise(residual: Residual, start: list[float], lower: list[float], upper: list[float],
-             tolerance: float, max_iterations: int, hessian: Hessian | None = None,
-             state: dict[str, Any] | None = None,
-             newton_kernel: Callable[[dict[str, Any]], dict[str, Any]] | None = None
+             tolerance: float, max_iterations: int, hessian: Hessian | None = None
              ) -> tuple[list[float], float, int, int, int]:
-    """Minimise ``|rho|^2`` under bounds from ``start`` by the rules in plain Python floats.
+    """Minimise ``|rho|^2`` under bounds from ``start`` by the rules on plain Python floats,
+    for a problem whose residuals are a Python function ``residual(x) -> (rho, jacobian)``
+    (complex numbers).
 
     ``hessian(x)``, when given, is the exact Hessian of ``|rho|^2`` for the Newton
     steps (one call, counted as one evaluation); without it they difference the
-    gradient (one residual call per free variable). ``state``, when given, is
-    where the compiled kernel (:mod:`sso._solvers.lm_kernel`) left the solve: the
-    loop continues from it (and ``start`` is not used). ``newton_kernel``, when
-    given, takes the Newton steps from a state (compiled, :mod:`sso._solvers.lm_kernel`);
-    the loop takes only those it hands back (a Hessian that the damping's shift leaves
-    indefinite), one at a time.
+    gradient (one residual call per free variable).
 
     Returns
     -------
@@ -282,27 +235,36 @@ def minimise(residual: Residual, start: list[float], lower: list[float], upper: 
         Final point, sum of squares, trial steps, residual evaluations and a key of
         :data:`MESSAGES`.
     """
+    current = fresh_state(PYTHON, _evaluate_of(residual), start, lower, upper)
+    while current["status"] == RUNNING:
+        current = gauss_newton_iteration(PYTHON, _evaluate_of(residual), current, lower, upper,
+                                         tolerance, max_iterations)
+    current = _newton_steps(residual, current, lower, upper, tolerance, max_iterations, hessian)
+    status = int(current["status"])
+    return (current["x"], current["fun"], int(current["nit"]), int(current["nfev"]),
+            INDEFINITE if status == NEWTON_INDEFINITE else status)
+
+
+def _evaluate_of(residual: Residual) -> Any:
+    """``point -> (r1, r2, J1, J2)`` of a complex residual function."""
     def evaluate(point: list[Any]) -> tuple[Any, Any, list[Any], list[Any]]:
         rho, jacobian = residual(point)
         # rho = r1 - i r2 (the sign of a residual does not matter to least squares).
         return (rho.real, -rho.imag, [entry.real for entry in jacobian],
                 [-entry.imag for entry in jacobian])
 
-    current = (fresh_state(PYTHON, evaluate, start, lower, upper) if state is None
-               else dict(state))
-    while current["status"] == RUNNING:
-        current = gauss_newton_iteration(PYTHON, evaluate, current, lower, upper, tolerance,
-                                         max_iterations)
-    hessian_at = _hessian_of(residual, hessian)
-    while current["status"] in (NEWTON, NEWTON_INDEFINITE):
-        if current["status"] == NEWTON and newton_kernel is not None:
-            current = newton_kernel(current)
-            continue
-        current["status"] = NEWTON
-        current = newton_iteration(PYTHON, evaluate, hessian_at, current, lower, upper,
-                                   tolerance, max_iterations)
-    return (current["x"], current["fun"], int(current["nit"]), int(current["nfev"]),
-            int(current["status"]))
+    return evaluate
+
+
+def _newton_steps(residual: Residual, state: dict[str, Any], lower: list[float],
+                  upper: list[float], tolerance: float, max_iterations: int,
+                  hessian: Hessian | None) -> dict[str, Any]:
+    """The rules' Newton iterations on plain floats from ``state`` until it leaves Newton mode."""
+    evaluate, hessian_at = _evaluate_of(residual), _hessian_of(residual, hessian)
+    while state["status"] == NEWTON:
+        state = newton_iteration(PYTHON, evaluate, hessian_at, state, lower, upper, tolerance,
+                                 max_iterations)
+    return state
 
 
 def _hessian_of(residual: Residual, hessian: Hessian | None) -> Any:

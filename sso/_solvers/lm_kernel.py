@@ -1,38 +1,43 @@
-"""The ``"lm"`` solver's iterations compiled into one CasADi function.
+"""The ``"lm"`` solver's rules as CasADi functions of one shape, run for one design or many.
 
-One iteration of the rules (:mod:`sso._solvers.lm_rules`) is a few dozen operations
-on top of one residual-and-Jacobian evaluation. Written in Python, every operation
-costs the interpreter tens of nanoseconds. Here the rules are evaluated on CasADi
-symbols: one iteration is an SX function (a flat instruction list); a block chains
-:data:`KERNEL_ITERATIONS` of them and is expanded into one instruction list
-(built in about 15 ms for 3 joints, 70 ms for 30), which CasADi's virtual machine
-runs in about the time Python takes for one iteration. Blocks run one after
-another until the solve ends (RE at round-off zero, the projected gradient under
-the tolerance, a failure, the iteration limit) or turns to Newton steps, which
-the Newton kernel takes once a shape has asked for it often enough (the Python loop
-before). A Newton step whose damped Hessian is not positive definite is taken by a
-separate compiled step that shifts it past its most negative eigenvalue (found by
-bisection, :func:`sso._solvers.lm_rules.bisected_lowest_eigenvalue`): its instructions
-are spent only on such a step, not on every Newton iteration.
+The rules (:mod:`sso._solvers.lm_rules`) are evaluated once on CasADi symbols: one
+Gauss-Newton iteration and one Newton iteration are each an SX function (a flat
+instruction list). A block folds :data:`GAUSS_NEWTON_ITERATIONS` (or
+:data:`NEWTON_ITERATIONS`) of them: CasADi's virtual machine runs the block's
+instructions in about the time Python takes for one iteration. A state that is not in
+the block's mode passes through it unchanged (every branch is an ``if_else`` selection),
+so a design that ended inside a block is frozen exactly.
 
-The kernel and the Python loop are the same rules, step for step, so the kernel
-ends with the Python loop's status and iteration count (up to round-off in the
-last digits, which can move a threshold test by an iteration; the tests compare
-both on random problems). Branches are ``if_else`` selections: every iteration of a
-block is evaluated, and one after the end leaves the state as it was.
+The driver (:func:`solve_states`) runs Gauss-Newton blocks while a design's status is
+:data:`sso._solvers.lm_rules.RUNNING`, then Newton blocks while it is
+:data:`sso._solvers.lm_rules.NEWTON`. One design runs the functions themselves; many
+designs run the same functions through ``Function.map`` (CasADi calls the same
+instruction list once per column), so a design's answer is bit for bit the one it gets
+alone, whichever designs are beside it and whatever ran before in the process. Nothing
+depends on a count of calls: the Newton block of a shape is built the first time a
+design of it needs Newton steps, which changes no design's arithmetic.
+
+A Newton iteration whose damped Hessian is not positive definite shifts it past its
+most negative eigenvalue, found by bisection
+(:func:`sso._solvers.lm_rules.bisected_lowest_eigenvalue`, one never-inlined function,
+so the iteration holds one call instruction, not 52 Cholesky factors). A shift that
+round-off still leaves indefinite after its rescue shifts ends the design with status
+:data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (a failure).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from functools import cache
 from typing import Any
+
+import casadi
+import numpy as np
 
 from sso._solvers.lm_rules import (
     EIGENVALUE_HALVINGS,
     NEWTON,
-    NEWTON_INDEFINITE,
     RUNNING,
     SCALARS,
     Operations,
@@ -44,143 +49,122 @@ from sso._solvers.lm_rules import (
 )
 from sso._solvers.nlp import BufferedFunction
 
-SWITCH_VARIABLE = "SSO_NATIVE_LM"
-"""Environment variable: ``0`` keeps the ``"lm"`` iterations on CasADi's virtual machine (the
-single solve) and on numpy (:func:`sso.optimise_batch`) instead of the library compiled to
-machine code (:mod:`sso._solvers.lm_native`)."""
+GAUSS_NEWTON_ITERATIONS = 6
+"""Gauss-Newton iterations folded into one block. Most exact-model solves of 3 to 6
+joints take 4 or 5 steps and the final test, which one block of 6 holds (the paper's
+option 3: 4 steps); an iteration after the end still costs its instructions."""
 
-KERNEL_ITERATIONS = 6
-"""Iterations chained in one block of the kernel, which runs block after block until
-the solve ends. Most exact-model solves of 3 to 6 joints take 4 or 5 steps and the
-final test, which one block of 6 holds (the paper's option 3: 4 steps); an
-iteration after the end still costs its instructions."""
+NEWTON_ITERATIONS = 4
+"""Newton iterations folded into one block."""
 
-NEWTON_KERNEL_ITERATIONS = 4
-"""Newton iterations chained in one block of the Newton kernel."""
+NEWTON_BLOCK_VARIABLES = 12
+"""A shape's Newton block is built for at most this many variables (6 joints of option 3
+have 11). Its Hessian and Cholesky factors are made of scalar symbols in Python, a cost
+that grows with the cube of the variables (measured, its build: 0.15 s at 11 variables,
+0.41 s at 15, 2.2 s at 29, 13.6 s at 59); a larger shape takes its Newton steps by the
+same rules on plain floats (:func:`sso._solvers.lm.newton_on_floats`), one design at a
+time, in the single solve and the batch alike."""
 
-NEWTON_KERNEL_AFTER = 8
-"""Solves of one shape whose Newton steps the Python loop takes before the Newton kernel
-is built for it: its build (tens of milliseconds) costs more than one solve's Newton
-steps, so a shape solved once or twice (one case of the command line) never pays it."""
+MAP_COLUMNS = (1, 8, 64, 512)
+"""Column counts of the mapped blocks a batch is run through: each call takes up to the
+largest, and a part smaller than a count is padded with copies of its last design."""
 
-NEWTON_KERNEL_VARIABLES = 12
-"""The Newton kernel is built for at most this many variables (6 joints of option 3 have
-11): its Hessian and Cholesky factor grow with the square and the cube of their count,
-and so do its build time and memory; larger problems take their Newton steps in the
-Python loop."""
+FUN, NIT, NFEV, STATUS = (SCALARS.index(name) for name in ("fun", "nit", "nfev", "status"))
+"""Places of these numbers among a state's scalars (after ``x``, ``r`` and ``J``)."""
 
 
-def kernel_of(nlp: Any) -> BufferedFunction | None:
-    """The NLP's kernel, built on first use and kept on it; None without residuals.
-
-    Parameters
-    ----------
-    nlp : sso._solvers.nlp.CompiledNLP
-    """
-    if nlp.lm_kernel is None and nlp.residuals is not None:
-        nlp.lm_kernel = build_kernel(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
-    kernel: BufferedFunction | None = nlp.lm_kernel
-    return kernel
-
-
-@dataclass(frozen=True)
-class NewtonKernels:
-    """The compiled Newton steps of one shape.
-
-    Attributes
-    ----------
-    blocks : BufferedFunction
-        :data:`NEWTON_KERNEL_ITERATIONS` Newton iterations; a state whose damped Hessian
-        is not positive definite is left with status
-        :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`.
-    shifted : BufferedFunction
-        One Newton iteration whose Hessian is shifted past its most negative eigenvalue
-        where it is not positive definite (the step the Python loop takes there), from
-        a state of status ``NEWTON``.
-    """
-
-    blocks: BufferedFunction
-    shifted: BufferedFunction
-
-
-def newton_kernel_of(nlp: Any) -> NewtonKernels | None:
-    """The NLP's Newton kernels, kept on it; None without residuals, with more than
-    :data:`NEWTON_KERNEL_VARIABLES` variables, or while fewer than
-    :data:`NEWTON_KERNEL_AFTER` solves of the shape have asked for them."""
-    if nlp.lm_newton_kernel is None and nlp.residuals is not None:
-        nlp.lm_newton_requests += 1
-        if (nlp.lm_newton_requests >= NEWTON_KERNEL_AFTER
-                and nlp.symbols["x"].numel() <= NEWTON_KERNEL_VARIABLES):
-            symbols = (nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
-            nlp.lm_newton_kernel = NewtonKernels(build_kernel(*symbols, mode="newton"),
-                                                 build_kernel(*symbols, mode="shifted"))
-    kernels: NewtonKernels | None = nlp.lm_newton_kernel
-    return kernels
-
-
-MODES = ("gauss_newton", "newton", "shifted")
-"""The iterations a kernel can chain: Gauss-Newton, Newton (handing back a Hessian that its
-damping leaves indefinite), Newton shifted past the most negative eigenvalue."""
-
-
-def build_kernel(x: Any, p: Any, residual: Any, mode: str = "gauss_newton"
-                 ) -> BufferedFunction:
-    """One block of iterations for residuals ``residual(x, p)``.
-
-    :data:`KERNEL_ITERATIONS` Gauss-Newton iterations; with ``mode = "newton"``
-    :data:`NEWTON_KERNEL_ITERATIONS` Newton iterations with CasADi's symbolic Hessian of
-    the sum of squares (a state whose shifted Hessian is not positive definite is left
-    with status :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`); with ``"shifted"`` one
-    Newton iteration that shifts such a Hessian past its most negative eigenvalue.
+class ShapeKernels:
+    """The blocks of one shape, built on first use and kept (on the shape's NLP).
 
     Parameters
     ----------
     x, p : casadi.SX
         Design variables and fixed parameters (column vectors).
     residual : casadi.SX
-        The two residuals (a 2-vector).
-
-    The start and one iteration are SX functions (each one flat instruction list),
-    chained in MX (a few call nodes, built in milliseconds at any size), then expanded
-    into a single instruction list.
-
-    Returns
-    -------
-    BufferedFunction
-        ``(state, problem) -> state``: ``state`` is the flat list of :func:`pack`, one
-        vector; ``problem`` is ``p``, the lower and upper bounds, the tolerance and
-        the iteration limit, one vector. A state with ``nfev = 0`` is a fresh start:
-        ``x`` is clipped onto the bounds and evaluated there.
+        The two residuals (a 2-vector) as an expression of ``x`` and ``p``.
     """
-    import casadi
 
+    def __init__(self, x: Any, p: Any, residual: Any) -> None:
+        self.size = int(x.numel())
+        self.state_size = 3 * self.size + 2 + len(SCALARS)
+        self.problem_size = int(p.numel()) + 2 * self.size + 2
+        self._symbols = (x, p, residual)
+        self._functions: dict[str, Any] = {}
+        self._buffered: dict[tuple[str, int], BufferedFunction] = {}
+
+    def function(self, mode: str) -> Any:
+        """The block of ``mode`` (``"gauss_newton"`` or ``"newton"``): ``(state, problem) ->
+        state``, with a state of :func:`pack` and the problem of :func:`problem_vector`."""
+        if mode not in self._functions:
+            self._functions[mode] = build_block(*self._symbols, mode)
+        return self._functions[mode]
+
+    def buffered(self, mode: str, columns: int) -> BufferedFunction:
+        """The block of ``mode`` on ``columns`` designs at once (one of :data:`MAP_COLUMNS`)."""
+        key = (mode, columns)
+        if key not in self._buffered:
+            block = self.function(mode)
+            self._buffered[key] = BufferedFunction(block if columns == 1
+                                                   else block.map(columns, "serial"))
+        return self._buffered[key]
+
+
+def kernels_of(nlp: Any) -> ShapeKernels | None:
+    """The NLP's blocks, kept on it; None for a problem without a residual expression.
+
+    Parameters
+    ----------
+    nlp : sso._solvers.nlp.CompiledNLP
+    """
+    if nlp.lm_kernel is None and nlp.residuals is not None:
+        nlp.lm_kernel = ShapeKernels(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
+    kernels: ShapeKernels | None = nlp.lm_kernel
+    return kernels
+
+
+MODES = ("gauss_newton", "newton")
+"""The iterations a block can fold: Gauss-Newton, and Newton (with the shift past the most
+negative eigenvalue where the damped Hessian is not positive definite)."""
+
+
+def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
+    """One block of ``mode`` for residuals ``residual(x, p)``, as a CasADi function.
+
+    The Gauss-Newton block starts with the start (a state with ``nfev = 0`` has ``x``
+    moved onto the bounds and evaluated there), then folds
+    :data:`GAUSS_NEWTON_ITERATIONS` iterations; the Newton block folds
+    :data:`NEWTON_ITERATIONS` Newton iterations with CasADi's symbolic Hessian of the
+    sum of squares. Each iteration is one SX function; the fold calls it in turn.
+
+    Raises
+    ------
+    ValueError
+        If ``mode`` is not one of :data:`MODES`.
+    """
     start, iteration = iteration_functions(x, p, residual, mode)
-    state = casadi.MX.sym("state", start.numel_in(0))
-    problem = casadi.MX.sym("problem", start.numel_in(1))
-    chained = start(state, problem)
-    chain = {"gauss_newton": KERNEL_ITERATIONS, "newton": NEWTON_KERNEL_ITERATIONS,
-             "shifted": 1}[mode]
-    for _ in range(chain):
-        chained = iteration(chained, problem)
-    return BufferedFunction(casadi.Function("lm_kernel", [state, problem], [chained]).expand())
+    state = casadi.MX.sym("state", iteration.numel_in(0))
+    problem = casadi.MX.sym("problem", iteration.numel_in(1))
+    chain = GAUSS_NEWTON_ITERATIONS if mode == "gauss_newton" else NEWTON_ITERATIONS
+    first = state if start is None else start(state, problem)
+    # fold calls the iteration ``chain`` times and gives the last state.
+    folded = iteration.fold(chain)(first, casadi.repmat(problem, 1, chain))
+    return casadi.Function(f"lm_{mode}", [state, problem], [folded])
 
 
 def iteration_operations(nlp: Any) -> int:
     """Arithmetic operations of one Gauss-Newton iteration of the rules for the NLP's shape
     (one residual-and-Jacobian evaluation and the step, every branch computed): the
-    instructions of its compiled form less those that only read inputs or constants and
+    instructions of its SX function less those that only read inputs or constants and
     write outputs."""
-    import casadi
-
-    _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
+    _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
+                                       "gauss_newton")
     bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
     return sum(iteration.instruction_id(index) not in bookkeeping
                for index in range(iteration.n_instructions()))
 
 
-def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton"
-                        ) -> tuple[Any, Any]:
-    """The start and one iteration of ``mode`` (one of :data:`MODES`) as SX functions
+def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, Any]:
+    """The start (None for ``"newton"``) and one iteration of ``mode`` as SX functions
     ``(state, problem) -> state``, each one flat instruction list.
 
     Raises
@@ -188,11 +172,9 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton
     ValueError
         If ``mode`` is not one of :data:`MODES`.
     """
-    import casadi
-
     if mode not in MODES:
         raise ValueError(f"mode = {mode!r} is not one of {MODES}")
-    ops = casadi_operations(shifting=mode == "shifted")
+    ops = casadi_operations(shifting=mode == "newton")
     size = x.numel()
     evaluate_function = casadi.Function(
         "lm_residual", [x, p], [residual, casadi.densify(casadi.jacobian(residual, x))])
@@ -208,7 +190,7 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton
                 [derivatives[1, i] for i in range(size)])
 
     given = unpack(casadi.vertsplit(state_in), size)
-    if mode != "gauss_newton":
+    if mode == "newton":
         hessian_function = casadi.Function(
             "lm_hessian", [x, p], [casadi.densify(casadi.hessian(casadi.dot(residual, residual),
                                                                  x)[0])])
@@ -220,25 +202,24 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str = "gauss_newton
 
         after = newton_iteration(ops, evaluate, hessian_at, given, lower_list, upper_list,
                                  settings[0], settings[1])
+        start = None
     else:
         after = gauss_newton_iteration(ops, evaluate, given, lower_list, upper_list,
                                        settings[0], settings[1])
-    iteration = casadi.Function("lm_iteration", [state_in, problem_in],
+        fresh = fresh_state(ops, evaluate, given["x"], lower_list, upper_list)
+        is_fresh = given["nfev"] == 0
+        start = casadi.Function(
+            "lm_start", [state_in, problem_in],
+            [casadi.vertcat(*(casadi.if_else(is_fresh, new, old) for new, old in
+                              zip(pack(fresh), pack(given), strict=True)))], {"cse": True})
+    iteration = casadi.Function(f"lm_{mode}_iteration", [state_in, problem_in],
                                 [casadi.vertcat(*pack(after))], {"cse": True})
-    fresh = fresh_state(ops, evaluate, given["x"], lower_list, upper_list)
-    is_fresh = given["nfev"] == 0
-    start = casadi.Function(
-        "lm_start", [state_in, problem_in],
-        [casadi.vertcat(*(casadi.if_else(is_fresh, new, old) for new, old in
-                          zip(pack(fresh), pack(given), strict=True)))], {"cse": True})
     return start, iteration
 
 
 def casadi_operations(shifting: bool = False) -> Operations:
     """The rules' operations on CasADi symbols (branches as ``if_else`` selections); with
     ``shifting``, the lowest eigenvalue by bisection (:func:`lowest_eigenvalue_function`)."""
-    import casadi
-
     ops = Operations(select=casadi.if_else, both=casadi.logic_and, either=casadi.logic_or,
                      negate=casadi.logic_not, minimum=casadi.fmin, maximum=casadi.fmax,
                      absolute=casadi.fabs, sqrt=casadi.sqrt)
@@ -258,14 +239,7 @@ def lowest_eigenvalue_function(size: int) -> Any:
     positive definite (its entries row by row), by the rules' bisection
     (:func:`sso._solvers.lm_rules.eigenvalue_bracket`, then
     :data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS` times
-    :func:`sso._solvers.lm_rules.halve_eigenvalue_bracket`).
-
-    The halvings are one SX function folded into a loop, and the function is never
-    inlined: a kernel that calls it holds one call instruction, not the halvings'
-    Cholesky factors unrolled (which made its build, and a compiler's, many times longer).
-    """
-    import casadi
-
+    :func:`sso._solvers.lm_rules.halve_eigenvalue_bracket`), one never-inlined function."""
     ops = casadi_operations()
     entries = casadi.SX.sym("matrix", size * size)
     matrix = [[entries[row * size + column] for column in range(size)] for row in range(size)]
@@ -298,58 +272,81 @@ def unpack(values: list[Any], size: int) -> dict[str, Any]:
     return state
 
 
-def run_newton_kernel(kernels: NewtonKernels, state: dict[str, Any],
-                      parameters: list[float], lower: list[float], upper: list[float],
-                      tolerance: float, max_iterations: int) -> dict[str, Any]:
-    """Blocks of the Newton kernel from ``state`` (status
-    :data:`sso._solvers.lm_rules.NEWTON` or
-    :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`), a Hessian that the damping leaves
-    indefinite shifted by the compiled step, until the solve ends; a state the shifted
-    step still hands back (round-off beyond its rescue shifts) is returned with status
-    ``NEWTON_INDEFINITE``."""
-    size = len(lower)
-    problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
-    values = pack(state)
-    status_index = 3 * size + 2 + _STATUS
-    while values[status_index] in (NEWTON, NEWTON_INDEFINITE):
-        if values[status_index] == NEWTON:
-            values = kernels.blocks.flat(values, problem)
-            continue
-        values[status_index] = float(NEWTON)
-        values = kernels.shifted.flat(values, problem)
-        if values[status_index] == NEWTON_INDEFINITE:
-            break
-    return unpack(values, size)
+def problem_vector(parameters: list[float], lower: list[float], upper: list[float],
+                   tolerance: float, max_iterations: float) -> list[float]:
+    """The problem input of a block: the fixed parameters, the bounds, the projected-gradient
+    tolerance and the iteration limit."""
+    return [*parameters, *lower, *upper, tolerance, float(max_iterations)]
 
 
-def run_kernel(kernel: BufferedFunction, start: list[float], parameters: list[float],
-               lower: list[float], upper: list[float], tolerance: float,
-               max_iterations: int) -> dict[str, Any]:
-    """Blocks of the kernel from ``start`` (clipped onto the bounds) until the solve ends or
-    is handed to the Python loop; returns the rules' state there (plain floats)."""
-    return unpack(run_kernel_flat(kernel, start, parameters, lower, upper, tolerance,
-                                  max_iterations), len(start))
-
-
-def run_kernel_flat(kernel: BufferedFunction, start: list[float], parameters: list[float],
-                    lower: list[float], upper: list[float], tolerance: float,
-                    max_iterations: int) -> list[float]:
-    """:func:`run_kernel`'s state as the flat list of :func:`pack` (read with
-    :func:`flat_outcome` or :func:`unpack`)."""
-    size = len(start)
-    problem = [*parameters, *lower, *upper, tolerance, float(max_iterations)]
-    values = kernel.flat(start + [0.0] * (2 * size + 2 + len(SCALARS)), problem)
-    status_index = 3 * size + 2 + _STATUS
-    while values[status_index] == RUNNING:  # each block takes KERNEL_ITERATIONS more steps
-        values = kernel.flat(values, problem)
+def solve_one(kernels: ShapeKernels, start: list[float], problem: list[float],
+              newton: bool = True) -> list[float]:
+    """One design from ``start`` to its end (the flat state of :func:`pack`): Gauss-Newton
+    blocks while it runs, then Newton blocks while it takes Newton steps (without
+    ``newton``, or beyond :data:`NEWTON_BLOCK_VARIABLES`, a design whose steps turn to
+    Newton steps ends with status :data:`sso._solvers.lm_rules.NEWTON`)."""
+    size = kernels.size
+    status = 3 * size + 2 + STATUS
+    values = kernels.buffered("gauss_newton", 1).flat(
+        start + [0.0] * (kernels.state_size - size), problem)
+    while values[status] == RUNNING:
+        values = kernels.buffered("gauss_newton", 1).flat(values, problem)
+    while newton and kernels.size <= NEWTON_BLOCK_VARIABLES and values[status] == NEWTON:
+        values = kernels.buffered("newton", 1).flat(values, problem)
     return values
 
 
-def flat_outcome(values: list[float], size: int) -> tuple[list[float], float, int, int, int]:
+def solve_states(kernels: ShapeKernels, starts: np.ndarray, problems: np.ndarray) -> np.ndarray:
+    """Every design from its start (a row of ``starts``) with its problem (a row of
+    ``problems``) to its end, as :func:`solve_one` ends it, bit for bit; the states, one row
+    per design."""
+    count, size = starts.shape
+    states = np.zeros((count, kernels.state_size))
+    states[:, :size] = starts
+    status = 3 * size + 2 + STATUS
+    fresh = np.ones(count, dtype=bool)
+    modes = (("gauss_newton", RUNNING), ("newton", NEWTON))
+    for mode, going in modes[:2 if size <= NEWTON_BLOCK_VARIABLES else 1]:
+        rows = np.flatnonzero(fresh | (states[:, status] == going))
+        while rows.size:
+            states[rows] = _run_mapped(kernels, mode, states[rows], problems[rows])
+            rows = rows[states[rows, status] == going]
+        fresh[:] = False
+    return states
+
+
+def _run_mapped(kernels: ShapeKernels, mode: str, states: np.ndarray, problems: np.ndarray
+                ) -> np.ndarray:
+    """One block of ``mode`` for each row, through the mapped blocks of :data:`MAP_COLUMNS`."""
+    out = np.empty_like(states)
+    count = len(states)
+    first = 0
+    while first < count:
+        columns = next((size for size in MAP_COLUMNS if size >= count - first), MAP_COLUMNS[-1])
+        part = slice(first, min(first + columns, count))
+        taken = part.stop - part.start
+        block = kernels.buffered(mode, columns)
+        given_states, given_problems = block.inputs
+        # CasADi stores a matrix column by column: one design's state is one column.
+        given_states.reshape(columns, -1)[:taken] = states[part]
+        given_states.reshape(columns, -1)[taken:] = states[part.stop - 1]
+        given_problems.reshape(columns, -1)[:taken] = problems[part]
+        given_problems.reshape(columns, -1)[taken:] = problems[part.stop - 1]
+        block.evaluate()
+        out[part] = block.outputs[0].reshape(columns, -1)[:taken]
+        first = part.stop
+    return out
+
+
+def outcome(values: Any, size: int) -> tuple[list[float], float, int, int, int]:
     """``x``, ``fun``, ``nit``, ``nfev`` and ``status`` of a flat state of ``size`` variables."""
     scalars = 3 * size + 2
-    return (values[:size], values[scalars + _FUN], int(values[scalars + _NIT]),
-            int(values[scalars + _NFEV]), int(values[scalars + _STATUS]))
+    return (list(values[:size]), float(values[scalars + FUN]), int(values[scalars + NIT]),
+            int(values[scalars + NFEV]), int(values[scalars + STATUS]))
 
 
-_FUN, _NIT, _NFEV, _STATUS = (SCALARS.index(name) for name in ("fun", "nit", "nfev", "status"))
+def gradient_of(values: Any, size: int) -> list[float]:
+    """``2 J^T r`` of a flat state (plain floats, in the order numpy's columns take them)."""
+    r1, r2 = float(values[size]), float(values[size + 1])
+    return [2.0 * (float(values[size + 2 + 2 * i]) * r1 + float(values[size + 3 + 2 * i]) * r2)
+            for i in range(size)]

@@ -6,7 +6,6 @@ free variables by the push-through identity (one 2x2 solve whatever the number o
 variables), the acceptance test and the damping rules. It is written on lists of
 per-variable scalars with every branch a selection, so the same function builds the
 compiled kernel (CasADi symbols, :mod:`sso._solvers.lm_kernel`), runs many designs
-at once as numpy arrays (one entry per design, :func:`sso._solvers.lm_batch.solve_batch`)
 and runs one design in plain Python floats (:func:`sso._solvers.lm.minimise`). What
 differs between them is only the arithmetic that :class:`Operations` names.
 

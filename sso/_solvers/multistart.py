@@ -15,8 +15,10 @@ import numpy as np
 
 from sso._limits import BATCH_SCREEN_STARTS
 from sso._record import built, rebuilt
+from sso._solvers import lm
 from sso._solvers.crosscheck import crosscheck
 from sso._solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
+from sso._solvers.lm_kernel import kernels_of, problem_vector, solve_states
 from sso._solvers.nlp import value_and_gradient_floats
 from sso._solvers.run import RunLimits, RunOutcome
 from sso._solvers.saddle import ZERO_OBJECTIVE, isolated_minimum, solve_with_second_order_care
@@ -121,7 +123,7 @@ def solve_from_starts(
         When the user's start does not reach zero and at least
         :data:`sso._limits.BATCH_SCREEN_STARTS` starts remain (and the problem has
         ``nlp.batch_residuals_and_jacobian``), the rest are solved in one batch
-        (:func:`sso._solvers.least_squares.batch_least_squares`).
+        (:func:`sso._solvers.lm_kernel.solve_states`).
         The screening runs come first in ``runs``; each solver's own answer is in
         ``solutions``; the reported best is the lowest of every run.
 
@@ -340,28 +342,27 @@ def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLim
 
 def _screen_batch(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
                   solver_tol: float, max_iterations: int) -> list[MeasuredRun]:
-    """Every start in one batched least-squares solve, each answer measured as any other.
+    """Every start by the shape's ``"lm"`` functions mapped over the starts (each ends as
+    it ends alone), each answer measured as any other.
 
     The batch runs together, so it does not stop at the first global minimum; each
     run's ``time_s`` is its share of the batch's wall time. Saddle points are left
     to the checks of the runs from the best start, as in the screening one by one.
     """
-    from sso._solvers.least_squares import STATUS_MESSAGES, batch_least_squares
-
     started = time.perf_counter()
-    residuals = nlp.batch_residuals_and_jacobian
-    solved = batch_least_squares(lambda x, rows: residuals(x, parameters), points, limits.lower,
-                                 limits.upper, gtol=solver_tol, max_iterations=max_iterations,
-                                 escape_saddles=False)
+    kernels = kernels_of(nlp)
+    assert kernels is not None, "a problem with batch residuals has a residual expression"
+    fixed, lower, upper = parameters.tolist(), limits.lower.tolist(), limits.upper.tolist()
+    problem = problem_vector(fixed, lower, upper, solver_tol, max_iterations)
+    states = solve_states(kernels, points, np.tile(problem, (len(points), 1)))
+    ends = [lm.end_of(nlp, fixed, state, lower, upper, solver_tol, max_iterations)
+            for state in states]
     share = (time.perf_counter() - started) / len(points)
-    runs = []
-    for index in range(len(points)):
-        status, evaluations = int(solved.status[index]), int(solved.nfev[index])
-        outcome = RunOutcome(solved.x[index], float(solved.fun[index]), int(solved.nit[index]),
-                             evaluations, evaluations, status, bool(solved.success[index]),
-                             STATUS_MESSAGES[status], share)
-        runs.append(measure_run("lm", index, outcome, nlp, parameters, limits))
-    return runs
+    return [measure_run("lm", index, RunOutcome(np.array(end.x), end.fun, end.nit, end.nfev,
+                                                end.nfev, end.status, end.status > 0,
+                                                lm.MESSAGES[end.status], share),
+                        nlp, parameters, limits)
+            for index, end in enumerate(ends)]
 
 
 def run_starts(

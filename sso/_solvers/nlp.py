@@ -60,24 +60,9 @@ class CompiledNLP:
     residuals : casadi.SX or None
         For a least-squares objective, its two residuals as an expression of
         ``symbols["x"]`` and ``symbols["p"]``; None otherwise.
-    lm_kernel : BufferedFunction or None
-        The ``"lm"`` solver's compiled iterations, built from ``residuals`` on its
-        first run (:func:`sso._solvers.lm_kernel.kernel_of`).
-    lm_newton_kernel : BufferedFunction or None
-        Its compiled Newton iterations, built once runs have asked for them often
-        enough (:func:`sso._solvers.lm_kernel.newton_kernel_of`).
-    lm_newton_requests : int
-        Runs that asked for the Newton kernel before it was built.
-    lm_shape : hashable or None
-        The key of the shape's ``"lm"`` library compiled to machine code
-        (:mod:`sso._solvers.lm_native`, shared with :func:`sso.optimise_batch`); None
-        for a problem without one.
-    lm_solves : int
-        ``"lm"`` solves of the shape before it turned to that library
-        (:func:`sso._solvers.lm.native_of`).
-    lm_native : OneDesign, False or None
-        The library once loaded, called one design at a time (False where it cannot be
-        had; None before).
+    lm_kernel : ShapeKernels or None
+        The ``"lm"`` solver's rules as CasADi functions of the shape, made on its first
+        run (:func:`sso._solvers.lm_kernel.kernels_of`).
     objective_hessian : callable or None
         ``(x, p) -> d2f/dx2`` as a list of lists of floats, when the problem has
         it in closed form: the ``"lm"`` solver's Newton steps and the
@@ -101,11 +86,6 @@ class CompiledNLP:
     residuals: Any = None
     nonnegative_objective: bool = False
     lm_kernel: Any = None
-    lm_newton_kernel: Any = None
-    lm_newton_requests: int = 0
-    lm_shape: Hashable | None = None
-    lm_solves: int = 0
-    lm_native: Any = None
 
     def ipopt(self, options: dict[str, Any]) -> BufferedSolver:
         """The IPOPT ``nlpsol`` for these options (exact Hessian), built once."""

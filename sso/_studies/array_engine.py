@@ -38,7 +38,7 @@ import numpy as np
 
 from sso._kinematics.hooke_matrix import peak_ratio_slope, ratio_extremes, residual_error
 from sso._shafts.evaluation import RPM_TO_RAD_S
-from sso._solvers.least_squares import STATUS_MESSAGES
+from sso._solvers.lm import MESSAGES as STATUS_MESSAGES
 from sso._solvers.starts import start_points
 from sso._studies.axes import Axis
 from sso._studies.axis_checks import AxisValues

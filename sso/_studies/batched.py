@@ -16,7 +16,7 @@ its best start, a converged one first, then the lowest RE. Its row has the colum
 of the point-by-point path (:func:`sso._studies.worker.run_point`): the optimum's
 figures from :meth:`sso.ShaftSeries.evaluate`, the design, ``success``,
 ``best_solver`` (``"lm"``) and the ``lm_*`` columns, whose status and message are
-the batched solver's (:data:`sso._solvers.least_squares.STATUS_MESSAGES`) and whose
+the batched solver's (:data:`sso._solvers.lm.MESSAGES`) and whose
 time is the point's share of the call, in proportion to its starts.
 
 ``sso.optimise`` with ``"lm"`` alone screens the starts in turn, stops at the first

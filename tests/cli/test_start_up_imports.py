@@ -47,9 +47,8 @@ NEVER_ON_A_SHAFT_SERIES_RUN = {
     "sso._cases.mechanism": "mechanism cases only",
     "sso._linkages": "mechanism cases only",
     "sso._run.mechanism_run": "mechanism cases only",
-    # sweeps and tolerance studies, and the compiled batch kernel of optimise_batch
+    # sweeps and tolerance studies
     "sso._studies": "sso sweep and sso tolerance only",
-    "sso._solvers.lm_native": "optimise_batch only",
 }
 
 

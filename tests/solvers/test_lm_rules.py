@@ -1,10 +1,9 @@
-"""The rules' Cholesky factor (plain floats and numpy columns) and their lowest eigenvalue
+"""The rules' Cholesky factor (plain floats) and their lowest eigenvalue
 by bisection against numpy's (LAPACK's) factor and eigenvalues."""
 
 import numpy as np
 import pytest
 
-from sso._solvers.lm_batch import NUMPY
 from sso._solvers.lm_rules import PYTHON, bisected_lowest_eigenvalue, cholesky, solve_factored
 
 
@@ -21,17 +20,6 @@ def test_factor_matches_numpy_for_positive_definite_matrices(size):
     np.testing.assert_allclose(solve_factored(PYTHON, factor, gradient.tolist()),
                                np.linalg.solve(matrix + 0.5 * np.eye(size), -gradient),
                                rtol=1e-10, atol=1e-12)
-
-
-def test_numpy_columns_factor_each_matrix_as_its_own():
-    # Two matrices in columns: one positive definite, one not (eigenvalues 3 and -1).
-    first = np.array([[4.0, 2.0], [2.0, 3.0]])
-    second = np.array([[1.0, 2.0], [2.0, 1.0]])
-    columns = [[np.array([first[r, c], second[r, c]]) for c in range(2)] for r in range(2)]
-    factor, positive = cholesky(NUMPY, columns, 0.0)
-    assert positive.tolist() == [True, False]
-    first_factor = [[np.broadcast_to(entry, (2,))[0] for entry in row] for row in factor]
-    np.testing.assert_allclose(first_factor, np.linalg.cholesky(first), rtol=1e-14)
 
 
 def test_no_factor_exactly_when_the_shifted_matrix_is_not_positive_definite():

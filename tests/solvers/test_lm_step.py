@@ -1,4 +1,4 @@
-"""The "lm" step itself, in both its copies (the compiled kernel and the Python loop).
+"""The "lm" step itself, as the shape's CasADi functions and on plain Python floats.
 
 Reference: the damped Gauss-Newton step in its textbook form,
 ``dx = -(J^T J + mu I)^-1 J^T r`` (a k-by-k solve by numpy), with ``J`` by central
@@ -20,17 +20,7 @@ from sso._kinematics import hooke_matrix
 from sso._shafts.options import build_problem
 from sso._shafts.problem import compiled_nlp
 from sso._solvers import lm
-from sso._solvers.lm_kernel import SWITCH_VARIABLE
-from sso._solvers.nlp import cached_shapes
 from sso._solvers.run import RunLimits
-
-
-@pytest.fixture(autouse=True)
-def _kernels_not_the_library(monkeypatch):
-    # The kernel's copy of the step (CasADi's virtual machine), not the library a shape
-    # solved often runs (the same instructions compiled: tests/solvers/test_lm_native.py).
-    monkeypatch.setenv(SWITCH_VARIABLE, "0")
-    cached_shapes().clear()  # no shape that earlier tests turned to the library
 
 # Interior starts near, but not at, an exact optimum: the first step is accepted and
 # touches no bound (both checked below).

@@ -15,7 +15,7 @@ import pytest
 
 import sso
 from sso._cases.schema import parse_case
-from sso._solvers.least_squares import STATUS_MESSAGES
+from sso._solvers.lm import MESSAGES as STATUS_MESSAGES
 from sso._studies.batched import BatchedPoints, batchable
 from sso._studies.point_row import PointRow
 from sso._studies.table import TIME_COLUMNS, read_rows, render_rows
