@@ -37,7 +37,7 @@ from sso._limits import (
     MAX_ITERATIONS,
 )
 from sso._record import Record
-from sso._shafts.optimise import on_saddle, optimise
+from sso._shafts.optimise import measured_end, on_saddle, optimise
 from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
     StartMovedWarning,
@@ -48,16 +48,13 @@ from sso._shafts.options import (
 from sso._shafts.problem import compiled_nlp
 from sso._shafts.series import ShaftSeries
 from sso._solvers import lm
-from sso._solvers.lm_kernel import FUN, NFEV, NIT, STATUS, kernels_of, solve_states
-from sso._solvers.lm_rules import NEWTON, NEWTON_INDEFINITE
+from sso._solvers.lm_kernel import kernels_of, solve_states
 from sso._solvers.resources import (
     batch_estimate,
     batch_least_squares_mb,
     check_memory,
 )
 from sso._solvers.resources import memory_limit_mb as resolve_memory_limit
-from sso._solvers.round_off_stops import ROUND_OFF_STOPS
-from sso._solvers.saddle import ZERO_OBJECTIVE
 from sso._validation import (
     check_chain_conditioning,
     check_choice,
@@ -347,52 +344,38 @@ def _solve(shape: _Shape, design_deg: np.ndarray, start: np.ndarray, tolerance: 
            max_iterations: int) -> _Solved:
     """Every start by the shape's ``"lm"`` functions, each as the single solve
     ``sso.optimise(..., solvers="lm", starts=1)`` takes it: the same functions (mapped over
-    the starts), the same test of a stop at round-off, and a design that succeeded on a
-    saddle point above zero solved by that very call (which leaves the saddle)."""
+    the starts), then, design by design, the same reading of the end (:func:`lm.end_of`),
+    the same measure (:func:`measured_end`), and a design that succeeded on a saddle point
+    above zero solved by that very call (which leaves the saddle)."""
     design_rad = np.radians(design_deg)
-    free = shape.free
-    fixed = np.setdiff1d(np.arange(design_rad.shape[1]), free)
+    fixed = np.setdiff1d(np.arange(design_rad.shape[1]), shape.free)
     lower, upper = np.radians(shape.lower_deg), np.radians(shape.upper_deg)
     kernels = kernels_of(shape.nlp)
     assert kernels is not None, "the exact model has a residual expression"
-    size = len(free)
     problems = np.empty((len(start), kernels.problem_size))
     problems[:, :len(fixed)] = design_rad[:, fixed]
     problems[:, len(fixed):-1] = [*lower, *upper, tolerance]
     problems[:, -1] = max_iterations
-    states = solve_states(kernels, start, problems)
-    for row in np.flatnonzero(states[:, 3 * size + 2 + STATUS] == NEWTON):
-        states[row] = lm.newton_on_floats(shape.nlp, design_rad[row, fixed].tolist(), states[row],
-                                          lower.tolist(), upper.tolist(), tolerance,
-                                          max_iterations)
-    scalars = 3 * size + 2
-    x = states[:, :size]
-    fun = states[:, scalars + FUN]
-    nit = states[:, scalars + NIT].astype(int)
-    nfev = states[:, scalars + NFEV].astype(int)
-    status = states[:, scalars + STATUS].astype(int)
-    status[status == NEWTON_INDEFINITE] = lm.INDEFINITE
-    # 2 J^T r, in the order of lm_kernel.gradient_of (the single solve's): the same bits.
-    gradient = 2.0 * (states[:, size + 2:scalars:2] * states[:, size, None]
-                      + states[:, size + 3:scalars:2] * states[:, size + 1, None])
-    x_deg = np.clip(np.degrees(x), shape.lower_deg, shape.upper_deg)
-    kkt = np.max(np.abs(x - np.clip(x - gradient, lower, upper)), axis=1, initial=0.0)
+    states = solve_states(kernels, start, problems).tolist()
     lower_list, upper_list = lower.tolist(), upper.tolist()
-    # Where the single solve does more than read its end: a stop at round-off tested, a
-    # success above zero looked at for a saddle point, one design at a time as it does.
-    for row in np.flatnonzero(np.isin(status, ROUND_OFF_STOPS)
-                              | ((status > 0) & (fun > ZERO_OBJECTIVE))):
-        parameters = design_rad[row, fixed].tolist()
-        point, value, nit[row], nfev[row], status[row] = lm.checked(
-            shape.nlp, parameters, x[row].tolist(), float(fun[row]), int(nit[row]),
-            int(nfev[row]), int(status[row]), lower_list, upper_list)
-        end = lm.End(point, value, gradient[row].tolist(), int(nit[row]), int(nfev[row]),
-                     int(status[row]))
+    bounds_deg = (tuple(shape.lower_deg.tolist()), tuple(shape.upper_deg.tolist()))
+    rows = []
+    for parameters, state, row_deg in zip(design_rad[:, fixed].tolist(), states, design_deg,
+                                          strict=True):
+        end = lm.end_of(shape.nlp, parameters, state, lower_list, upper_list, tolerance,
+                        max_iterations)
         if on_saddle(shape.nlp, end, parameters, lower, upper):
-            best = _alone(shape, design_deg[row], tolerance, max_iterations)
-            x_deg[row], fun[row], kkt[row] = best.x, best.fun, best.kkt
-            nit[row], nfev[row], status[row] = best.nit, best.nfev, best.status
-    return _Solved(x_deg, fun, kkt, nit, nfev, status, np.isin(status, lm.SUCCESS_STATUSES))
+            best = _alone(shape, row_deg, tolerance, max_iterations)
+            rows.append((best.x, best.fun, best.kkt, best.nit, best.nfev, best.status))
+            continue
+        x_deg, fun, kkt = measured_end(shape.nlp, end, parameters, lower_list, upper_list,
+                                       bounds_deg)
+        rows.append((x_deg, fun, kkt, end.nit, end.nfev, end.status))
+    columns = [np.array(column) for column in zip(*rows, strict=True)]
+    status = columns[5].astype(int)
+    return _Solved(columns[0].reshape(len(start), len(shape.free)), columns[1].astype(float),
+                   columns[2].astype(float), columns[3].astype(int), columns[4].astype(int),
+                   status, np.isin(status, lm.SUCCESS_STATUSES))
 
 
 def _alone(shape: _Shape, design_deg: np.ndarray, tolerance: float, max_iterations: int) -> Any:

@@ -54,10 +54,10 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.quadrature import QuadratureRule, rule_for_bounds
 from sso._shafts.series import ShaftSeries, checked_series
 from sso._solvers import lm
-from sso._solvers.kkt import projected_gradient_norm_floats
 from sso._solvers.multistart import (
     MeasuredRun,
     SolverFields,
+    measure_on_bounds,
     solution_from_run,
     solve_from_starts,
 )
@@ -442,18 +442,14 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                           lower, upper, solver_tol, max_iterations)
     if on_saddle(nlp, end, fixed, problem.lower_rad, problem.upper_rad):
         return None
+    x_deg, fun, kkt = measured_end(nlp, end, fixed, lower, upper, problem.bounds_deg)
     time_s = time.perf_counter() - started
-    # As _to_solution: a value on a bound is that bound exactly.
-    x_deg = tuple(high if value > high else low if value < low else value
-                  for value, low, high in zip(map(math.degrees, end.x), *problem.bounds_deg,
-                                              strict=True))
     beta_deg, phase_deg = problem.design_deg(x_deg)
     success = end.status > 0
     solution = built_from(Solution, {
         "solver": "lm", "series": checked_series(beta_deg, phase_deg, series.model),
-        "x": x_deg, "fun": end.fun, "nit": end.nit, "nfev": end.nfev, "status": end.status,
-        "success": success, "message": lm.MESSAGES[end.status],
-        "kkt": projected_gradient_norm_floats(end.x, end.gradient, lower, upper),
+        "x": x_deg, "fun": fun, "nit": end.nit, "nfev": end.nfev, "status": end.status,
+        "success": success, "message": lm.MESSAGES[end.status], "kkt": kkt,
         "time_s": time_s, "start_index": 0, "total_nfev": end.nfev,
         "constraint_violation": 0.0, "role": ROLE_SOLVE})
     return _result(problem, CLOSED_FORM_RULE, series, 1, speed_rpm, quadrature_rtol,
@@ -461,7 +457,22 @@ def _solve_alone(problem: DesignProblem, series: ShaftSeries, speed_rpm: float,
                        "best": solution, "solutions": {"lm": solution}, "runs": (solution,),
                        "crosscheck": None,
                        # distinct_minima of one run: its value where it succeeded
-                       "local_minima": (end.fun,) if success else (), "confirmations": {}})
+                       "local_minima": (fun,) if success else (), "confirmations": {}})
+
+
+def measured_end(nlp: Any, end: lm.End, fixed: list[float], lower: list[float],
+                 upper: list[float], bounds_deg: tuple[tuple[float, ...], tuple[float, ...]]
+                 ) -> tuple[tuple[float, ...], float, float]:
+    """The design (deg), RE and projected gradient's norm of where ``"lm"`` ended, measured
+    as the general path measures every run (:func:`sso._solvers.multistart.measure_on_bounds`):
+    the one measure of the single solve and of :func:`sso.optimise_batch`."""
+    point, fun, kkt = measure_on_bounds(nlp, end.x, fixed, lower, upper)
+    # As _to_solution: a value on a bound is that bound exactly (math.degrees rounds as
+    # numpy's degrees does).
+    x_deg = tuple(high if value > high else low if value < low else value
+                  for value, low, high in zip(map(math.degrees, point), *bounds_deg,
+                                              strict=True))
+    return x_deg, fun, kkt
 
 
 def on_saddle(nlp: Any, end: lm.End, fixed: list[float], lower_rad: np.ndarray,

@@ -9,23 +9,14 @@ Problems: the paper's three options (the cases of benchmarks/batch_throughput.py
 random starts of 3 to 6 joints of every option (the work-precision benchmark's
 ranges), a start outside its bounds (moved, with a warning) and symmetric starts on
 which "lm" stops on a saddle point (the direct path hands those to the general path,
-which leaves it). The same again with each shape run in its library compiled to machine
-code (as a shape solved often runs), which measures the answer in the solve's own call.
+which leaves it).
 """
-
-import os
-import shutil
 
 import numpy as np
 import pytest
 
 import sso
 from sso._shafts import optimise as optimise_module
-from sso._shafts.options import build_problem
-from sso._shafts.problem import compiled_nlp
-from sso._solvers.lm import NATIVE_AFTER
-from sso._solvers.lm_kernel import NEWTON_KERNEL_AFTER, newton_kernel_of
-from sso._solvers.lm_native import OneDesign
 
 pytestmark = pytest.mark.filterwarnings("ignore::sso.StartMovedWarning")
 
@@ -38,12 +29,6 @@ PAPER = [((15.0, 20.0, 9.0), (30.0, 40.0), 1, (0.0, 40.0)),
 SADDLES = [((20.0, 20.0, 20.0), (0.0, 0.0), 1, (5.0, 35.0)),
            ((20.0, 30.0, 20.0), (0.0, 0.0), 1, (5.0, 35.0)),
            ((20.0, 30.0, 20.0), (0.0, 0.0), 3, (5.0, 35.0))]
-# Shapes (joints, option) of the random cases also solved in their compiled library (each
-# built once per machine and version of the code, 1 to 5 s).
-COMPILED_SHAPES = {(4, 1), (5, 2), (4, 3)}
-needs_compiler = pytest.mark.skipif(
-    shutil.which(os.environ.get("CC") or "cc") is None,
-    reason="no C compiler ($CC or cc) on this machine: no shape runs compiled")
 
 
 def _random_cases():
@@ -61,16 +46,8 @@ def _without_times(value):
     return value
 
 
-def _solve(case, general, monkeypatch, compiled=False):
+def _solve(case, general, monkeypatch):
     beta_deg, phase_deg, option, beta_bounds = case
-    # The Newton steps of a shape run compiled once it has asked for them often enough;
-    # built first, both paths take them the same way whatever ran before.
-    nlp = compiled_nlp(build_problem(beta_deg, phase_deg, "exact", option, beta_bounds,
-                                     (0.0, 180.0)), 0)
-    for _ in range(NEWTON_KERNEL_AFTER):
-        newton_kernel_of(nlp)
-    if compiled and nlp.lm_native is None:  # solved as often as NATIVE_AFTER asks
-        nlp.lm_solves = max(nlp.lm_solves, NATIVE_AFTER)
     with monkeypatch.context() as patch:
         if general:
             patch.setattr(optimise_module, "_solve_alone", lambda *arguments: None)
@@ -97,24 +74,7 @@ def test_the_direct_path_gives_the_general_path_s_record(case, monkeypatch):
     assert lean.fun == general.fun and lean.x == general.x
 
 
-@needs_compiler
-@pytest.mark.parametrize("case", PAPER + [case for case in _random_cases()
-                                          if (len(case[0]), case[2]) in COMPILED_SHAPES])
-def test_the_direct_path_on_the_compiled_library_gives_the_general_path_s_record(case,
-                                                                                monkeypatch):
-    # A shape solved often runs in its library, which measures the answer in the solve's
-    # call (the direct path); the general path measures it in Python (measure_on_bounds).
-    lean = _solve(case, False, monkeypatch, compiled=True)
-    nlp = compiled_nlp(build_problem(*case[:2], "exact", case[2], case[3], (0.0, 180.0)), 0)
-    assert isinstance(nlp.lm_native, OneDesign)
-    general = _solve(case, True, monkeypatch, compiled=True)
-    assert _without_times(lean.to_dict()) == _without_times(general.to_dict())
-    assert (lean.fun, lean.x, lean.best.kkt) == (general.fun, general.x, general.best.kkt)
-
-
-@pytest.mark.parametrize("compiled", [False, pytest.param(True, marks=needs_compiler)])
-def test_a_run_that_stops_on_a_saddle_point_is_left_by_the_general_path(compiled, monkeypatch):
-    # Compiled, the library's own look finds negative curvature there and hands it over.
+def test_a_run_that_stops_on_a_saddle_point_is_left_by_the_general_path(monkeypatch):
     for case in SADDLES:
         taken = []
         direct = optimise_module._solve_alone
@@ -126,11 +86,9 @@ def test_a_run_that_stops_on_a_saddle_point_is_left_by_the_general_path(compiled
 
         with monkeypatch.context() as patch:
             patch.setattr(optimise_module, "_solve_alone", counted)
-            result = _solve(case, False, monkeypatch, compiled)
+            result = _solve(case, False, monkeypatch)
         assert taken == [False]
-        nlp = compiled_nlp(build_problem(*case[:2], "exact", case[2], case[3], (0.0, 180.0)), 0)
-        assert isinstance(nlp.lm_native, OneDesign) or not compiled
         assert result.best.message.endswith("(after leaving a saddle point)")
         assert result.success
-        general = _solve(case, True, monkeypatch, compiled)
+        general = _solve(case, True, monkeypatch)
         assert _without_times(result.to_dict()) == _without_times(general.to_dict())
