@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
 import time
 import warnings
@@ -49,7 +48,6 @@ import sso
 from benchmarks.skilled_baseline import solve as baseline_solve
 from sso._files import write_text_atomic
 from sso._shafts.batch import optimise_batch
-from sso._solvers.lm import NATIVE_AFTER
 
 REACHED = 1e-10
 BETA_BOUNDS_DEG = (10.0, 40.0)
@@ -73,19 +71,18 @@ PAPER_CASES = {
 LATENCY_REPEATS = 21
 LATENCY_CALLS_PER_PASS = 5
 """Calls of one method in a row in each round of the one-design timing."""
+WARM_UP_CALLS = 3
+"""Calls of each method before it is timed (the issue's limit: at most 3)."""
 
 
 def batch_figures(count: int, repeats: int) -> dict[str, Any]:
     """Designs per second of ``optimise_batch`` and of the baseline on the same starts.
 
-    ``optimise_batch`` is timed twice in this run, best of ``repeats`` each: on the numpy
-    path (``SSO_NATIVE_LM=0``), then on the compiled path (:mod:`sso._solvers.lm_native`,
-    as shipped), after a first call that builds its library or loads it from the cache
-    (timed apart). The starts reaching RE <= 1e-10 are compared with the baseline's and
-    with the single solve's (``sso.optimise`` with ``"lm"`` and one start).
+    ``optimise_batch`` is timed best of ``repeats``, after a first call of one row that
+    builds the shape's functions (timed apart). The starts reaching RE <= 1e-10 are
+    compared with the baseline's and with the single solve's (``sso.optimise`` with
+    ``"lm"`` and one start).
     """
-    from sso._solvers.lm_native import SWITCH_VARIABLE, native_solver_of
-
     rng = np.random.default_rng(SEED)
     beta_deg = rng.uniform(*BETA_BOUNDS_DEG, (count, 3))
     phase_deg = rng.uniform(*PHASE_BOUNDS_DEG, (count, 2))
@@ -100,20 +97,10 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
             times.append(time.perf_counter() - started)
         return times, result
 
-    switch = os.environ.get(SWITCH_VARIABLE)
-    os.environ[SWITCH_VARIABLE] = "0"
-    try:
-        numpy_times, numpy_result = timed()
-    finally:
-        if switch is None:
-            del os.environ[SWITCH_VARIABLE]
-        else:
-            os.environ[SWITCH_VARIABLE] = switch
     started = time.perf_counter()
     optimise_batch(beta_deg[:1], phase_deg[:1], **arguments)
     first_call_s = time.perf_counter() - started
     times, result = timed()
-    compiled = native_solver_of((3, 3), 5, lambda: None) is not None
     started = time.perf_counter()
     baseline = [baseline_solve(beta_deg[row], phase_deg[row], 3, BETA_BOUNDS_DEG,
                                PHASE_BOUNDS_DEG) for row in range(count)]
@@ -133,12 +120,7 @@ def batch_figures(count: int, repeats: int) -> dict[str, Any]:
     return {
         **arithmetic,
         "starts": count,
-        "path": "compiled" if compiled else "numpy (no compiled library)",
-        "numpy_batch_time_s": min(numpy_times),
-        "numpy_designs_per_s": count / min(numpy_times),
-        "compiled_over_numpy": min(numpy_times) / min(times),
         "first_call_s": first_call_s,
-        "numpy_batch_reached": float(np.mean(numpy_result.fun <= REACHED)),
         "batch_time_s": min(times),
         "batch_times_s": times,
         "designs_per_s": designs_per_s,
@@ -208,7 +190,7 @@ def _element_time_s(elements: int) -> float:
 
 def shape_figures(count: int) -> list[dict[str, Any]]:
     """Batch against baseline for 3 to 6 joints and each option; the batch timed warm (a
-    first call of one row loads the shape's compiled library, or builds it)."""
+    first call of one row builds the shape's functions)."""
     rows = []
     bounds = (5.0, 35.0)
     for n_joints in range(3, 7):
@@ -240,16 +222,15 @@ def shape_figures(count: int) -> list[dict[str, Any]]:
 def _interleaved_medians(methods: dict[str, Callable[[], float]]
                          ) -> dict[str, tuple[float, float, float]]:
     """Median wall time (s) and median CPU time of this process (s) of one call of each
-    method, and the RE it returns: after a warm-up of :data:`sso._solvers.lm.NATIVE_AFTER`
-    calls each (a shape solved that often runs its "lm" iterations compiled to machine
-    code, as in a run of many designs), :data:`LATENCY_REPEATS`
+    method, and the RE it returns: after a warm-up of :data:`WARM_UP_CALLS` calls each,
+    :data:`LATENCY_REPEATS`
     rounds in which every method in turn makes a pass of :data:`LATENCY_CALLS_PER_PASS`
     calls (a method's time is its pass's over the calls), so a burst of the machine's
     other work falls on every method alike and each is timed warm, as in a run of many
     designs. On a machine shared with other work the CPU time is the work the call did;
     the wall time adds the time it waited for a core (more for a longer call: it
     outlasts more scheduler slices)."""
-    for _ in range(NATIVE_AFTER):
+    for _ in range(WARM_UP_CALLS):
         funs = {name: call() for name, call in methods.items()}
     walls: dict[str, list[float]] = {name: [] for name in methods}
     cpus: dict[str, list[float]] = {name: [] for name in methods}
@@ -320,13 +301,11 @@ def summary(batch: dict[str, Any], shapes: list[dict[str, Any]], latency: dict[s
         (f"## optimise_batch: {batch['starts']} random 3-joint option-3 starts "
         f"(beta {BETA_BOUNDS_DEG}, phase {PHASE_BOUNDS_DEG} deg)"),
         "",
-        (f"- optimise_batch ({batch['path']} path): {batch['designs_per_s']:,.0f} designs/s "
+        (f"- optimise_batch: {batch['designs_per_s']:,.0f} designs/s "
         f"({batch['batch_time_s'] * 1e3:.1f} ms, best of {len(batch['batch_times_s'])}); "
         f"target {TARGET_DESIGNS_PER_S:,.0f}: "
         f"{met[batch['designs_per_s'] >= TARGET_DESIGNS_PER_S]}"),
-        (f"- the numpy path in this run: {batch['numpy_designs_per_s']:,.0f} designs/s "
-         f"(compiled / numpy: {batch['compiled_over_numpy']:.2f}x); the first call of the "
-         f"compiled path (its library built or loaded from the cache): "
+        (f"- the first call of one row (the shape's functions built): "
          f"{batch['first_call_s']:.2f} s"),
         (f"- skilled baseline: {batch['baseline_solves_per_s']:,.0f} solves/s; ratio "
         f"{batch['ratio']:.1f}x, target {TARGET_BATCH_RATIO:.0f}x: "

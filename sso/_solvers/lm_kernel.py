@@ -32,7 +32,6 @@ from dataclasses import replace
 from functools import cache
 from typing import Any
 
-import casadi
 import numpy as np
 
 from sso._solvers.lm_rules import (
@@ -48,6 +47,11 @@ from sso._solvers.lm_rules import (
     newton_iteration,
 )
 from sso._solvers.nlp import BufferedFunction
+
+# casadi is imported inside the functions that build: this module is imported with
+# sso._solvers.lm, which a mechanism's analysis loads (through the column and the
+# shafts' exact optima) without solving; it loads no CasADi
+# (tests/cli/test_start_up_imports.py).
 
 GAUSS_NEWTON_ITERATIONS = 6
 """Gauss-Newton iterations folded into one block. Most exact-model solves of 3 to 6
@@ -141,6 +145,8 @@ def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
     ValueError
         If ``mode`` is not one of :data:`MODES`.
     """
+    import casadi
+
     start, iteration = iteration_functions(x, p, residual, mode)
     state = casadi.MX.sym("state", iteration.numel_in(0))
     problem = casadi.MX.sym("problem", iteration.numel_in(1))
@@ -156,6 +162,8 @@ def iteration_operations(nlp: Any) -> int:
     (one residual-and-Jacobian evaluation and the step, every branch computed): the
     instructions of its SX function less those that only read inputs or constants and
     write outputs."""
+    import casadi
+
     _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
                                        "gauss_newton")
     bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
@@ -172,6 +180,8 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, 
     ValueError
         If ``mode`` is not one of :data:`MODES`.
     """
+    import casadi
+
     if mode not in MODES:
         raise ValueError(f"mode = {mode!r} is not one of {MODES}")
     ops = casadi_operations(shifting=mode == "newton")
@@ -220,6 +230,8 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, 
 def casadi_operations(shifting: bool = False) -> Operations:
     """The rules' operations on CasADi symbols (branches as ``if_else`` selections); with
     ``shifting``, the lowest eigenvalue by bisection (:func:`lowest_eigenvalue_function`)."""
+    import casadi
+
     ops = Operations(select=casadi.if_else, both=casadi.logic_and, either=casadi.logic_or,
                      negate=casadi.logic_not, minimum=casadi.fmin, maximum=casadi.fmax,
                      absolute=casadi.fabs, sqrt=casadi.sqrt)
@@ -240,6 +252,8 @@ def lowest_eigenvalue_function(size: int) -> Any:
     (:func:`sso._solvers.lm_rules.eigenvalue_bracket`, then
     :data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS` times
     :func:`sso._solvers.lm_rules.halve_eigenvalue_bracket`), one never-inlined function."""
+    import casadi
+
     ops = casadi_operations()
     entries = casadi.SX.sym("matrix", size * size)
     matrix = [[entries[row * size + column] for column in range(size)] for row in range(size)]

@@ -25,6 +25,8 @@ from functools import reduce
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 RUNNING = 10
 """Status of a solve still under way."""
 NEWTON = 11
@@ -127,8 +129,6 @@ def _python_maximum(first: float, second: float) -> float:
 
 
 def _python_lowest_eigenvalue(matrix: list[list[float]]) -> float:
-    import numpy as np
-
     return float(np.linalg.eigvalsh(np.array(matrix))[0])
 
 
