@@ -35,7 +35,6 @@ from sso._kinematics.hooke_matrix import (
     residual_and_jacobian_complex,
     residual_hessian_complex,
     residuals,
-    residuals_and_jacobian_numpy,
 )
 from sso._limits import QUADRATURE_BLOCK_SAMPLES
 from sso._shafts.objective import angle_grid, squared_ratio_error
@@ -88,7 +87,6 @@ def _build(problem: DesignProblem, key: ShapeKey) -> CompiledNLP:
         nlp.residuals_and_jacobian = float_residual
         nlp.residuals = residual
         nlp.objective_hessian = _float_hessian(problem)
-        nlp.batch_residuals_and_jacobian = _array_residuals(problem)
     nlp.nonnegative_objective = True
     return nlp
 
@@ -180,34 +178,6 @@ def _float_hessian(problem: DesignProblem) -> Any:
                                            phase_free=phase_free)[2]
         last[0], last[1], last[2] = list(point), list(parameters), hessian
         return hessian
-
-    return evaluate
-
-
-def _array_residuals(problem: DesignProblem) -> Any:
-    """``(x, p) -> (r, J)`` for many points ``x`` of shape ``(k, free)`` at once, in numpy.
-
-    ``r`` has shape ``(k, 2)`` and ``J`` shape ``(k, 2, free)``; ``p`` holds the fixed
-    angles (rad) shared by every point. For the multi-start screening.
-    """
-    n_joints = problem.n_joints
-    beta_free, phase_free = problem.beta_free, problem.phase_free
-
-    def evaluate(x: np.ndarray, fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        count = x.shape[0]
-        fixed_rows = np.broadcast_to(np.asarray(fixed, dtype=float), (count, len(fixed)))
-        if beta_free and phase_free:
-            beta, phase = x[:, :n_joints], x[:, n_joints:]
-        elif beta_free:
-            beta, phase = x, fixed_rows
-        else:
-            beta, phase = fixed_rows, x
-        residual, jacobian = residuals_and_jacobian_numpy(beta, phase)
-        if not beta_free:
-            jacobian = jacobian[..., n_joints:]
-        elif not phase_free:
-            jacobian = jacobian[..., :n_joints]
-        return residual, jacobian
 
     return evaluate
 

@@ -113,9 +113,8 @@ def solve(
     Parameters
     ----------
     nlp : sso._solvers.nlp.CompiledNLP
-        The problem; its ``residuals`` expression (or else ``residuals_and_jacobian(x,
-        parameters)``, ``(rho, jacobian)`` in Python complex numbers); a problem without
-        either fails the run.
+        The problem, with its ``residuals`` expression (a problem without it fails the
+        run) and their closed form ``residuals_and_jacobian``.
     start, parameters : numpy.ndarray
         Start of the design vector and the fixed parameters (NLP units).
     limits : RunLimits
@@ -126,24 +125,14 @@ def solve(
         Trial steps, at most.
     """
     started = time.perf_counter()
-    if getattr(nlp, "residuals_and_jacobian", None) is None or limits.constrained:
+    if kernels_of(nlp) is None or limits.constrained:
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0, -3, False,
                           "lm needs a bound-constrained problem with two residuals",
                           time.perf_counter() - started)
-    fixed, lower, upper = parameters.tolist(), limits.lower.tolist(), limits.upper.tolist()
-    if kernels_of(nlp) is not None:
-        end = solve_floats(nlp, start.tolist(), fixed, lower, upper, solver_tol, max_iterations)
-        x, fun, nit, nfev, status = end.x, end.fun, end.nit, end.nfev, end.status
-    else:
-        residual = nlp.residuals_and_jacobian
-        hessian = getattr(nlp, "objective_hessian", None)
-        x, fun, nit, nfev, status = minimise(
-            lambda point: residual(point, fixed), start.tolist(), lower, upper, solver_tol,
-            max_iterations, None if hessian is None else lambda point: hessian(point, fixed))
-        x, fun, nit, nfev, status = checked(nlp, fixed, x, fun, nit, nfev, status, lower,
-                                            upper)
-    return RunOutcome(np.array(x), fun, nit, nfev, nfev, status, status > 0, MESSAGES[status],
-                      time.perf_counter() - started)
+    end = solve_floats(nlp, start.tolist(), parameters.tolist(), limits.lower.tolist(),
+                       limits.upper.tolist(), solver_tol, max_iterations)
+    return RunOutcome(np.array(end.x), end.fun, end.nit, end.nfev, end.nfev, end.status,
+                      end.status > 0, MESSAGES[end.status], time.perf_counter() - started)
 
 
 def solve_floats(nlp: Any, start: list[float], fixed: list[float], lower: list[float],

@@ -122,7 +122,7 @@ def solve_from_starts(
         screen's best also runs from that point (``confirmations``).
         When the user's start does not reach zero and at least
         :data:`sso._limits.BATCH_SCREEN_STARTS` starts remain (and the problem has
-        ``nlp.batch_residuals_and_jacobian``), the rest are solved in one batch
+        ``nlp.residuals``), the rest are solved in one batch
         (:func:`sso._solvers.lm_kernel.solve_states`).
         The screening runs come first in ``runs``; each solver's own answer is in
         ``solutions``; the reported best is the lowest of every run.
@@ -327,7 +327,7 @@ def _screen(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLim
     """
     screened: list[MeasuredRun] = []
     for index, point in enumerate(points):
-        if (index == 1 and nlp.batch_residuals_and_jacobian is not None
+        if (index == 1 and nlp.residuals is not None
                 and len(points) - 1 >= BATCH_SCREEN_STARTS):
             batch = _screen_batch(nlp, points[1:], parameters, limits, solver_tol,
                                   max_iterations)
@@ -351,7 +351,7 @@ def _screen_batch(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: 
     """
     started = time.perf_counter()
     kernels = kernels_of(nlp)
-    assert kernels is not None, "a problem with batch residuals has a residual expression"
+    assert kernels is not None, "screened in a batch for a residual expression only"
     fixed, lower, upper = parameters.tolist(), limits.lower.tolist(), limits.upper.tolist()
     problem = problem_vector(fixed, lower, upper, solver_tol, max_iterations)
     states = solve_states(kernels, points, np.tile(problem, (len(points), 1)))

@@ -52,11 +52,6 @@ class CompiledNLP:
         jacobian)`` with ``RE = |rho|^2`` and one complex derivative per
         variable (lists of floats in, Python complex numbers out), used by the
         ``"lm"`` solver; None otherwise.
-    batch_residuals_and_jacobian : callable or None
-        The same residuals for many points at once: ``(x, p) -> (r, J)`` with
-        ``x`` of shape ``(k, n)``, ``r`` of shape ``(k, 2)`` and ``J`` of shape
-        ``(k, 2, n)`` (numpy), used to screen many starts in one batch; None
-        otherwise.
     residuals : casadi.SX or None
         For a least-squares objective, its two residuals as an expression of
         ``symbols["x"]`` and ``symbols["p"]``; None otherwise.
@@ -81,7 +76,6 @@ class CompiledNLP:
     ipopt_solvers: dict[tuple[tuple[str, Any], ...], BufferedSolver] = field(
         default_factory=dict)
     residuals_and_jacobian: Any = None
-    batch_residuals_and_jacobian: Any = None
     objective_hessian: Any = None
     residuals: Any = None
     nonnegative_objective: bool = False

@@ -129,19 +129,15 @@ def lm_kernel_blocks() -> str:
     """The compiled blocks of "lm" (sso/_solvers/lm_kernel.py's constants)."""
     from sso._solvers import lm_kernel
 
-    return (f"Gauss-Newton blocks of {NUMBER_WORDS[lm_kernel.KERNEL_ITERATIONS]} iterations "
-            f"and, for up to {lm_kernel.NEWTON_KERNEL_VARIABLES} variables, Newton blocks of "
-            f"{NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_ITERATIONS]} (built once a shape has "
-            f"needed them {NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_AFTER]} times)")
+    return (f"Gauss-Newton blocks of {NUMBER_WORDS[lm_kernel.GAUSS_NEWTON_ITERATIONS]} "
+            f"iterations and, for up to {lm_kernel.NEWTON_BLOCK_VARIABLES} variables, Newton "
+            f"blocks of {NUMBER_WORDS[lm_kernel.NEWTON_ITERATIONS]}")
 
 
 def lm_kernel_newton() -> str:
     from sso._solvers import lm_kernel
 
-    return (f"Newton steps are compiled too, for up to {lm_kernel.NEWTON_KERNEL_VARIABLES} "
-            "variables (the Hessian and its Cholesky factor grow with the square and the "
-            f"cube), once a shape has needed them {NUMBER_WORDS[lm_kernel.NEWTON_KERNEL_AFTER]} "
-            "times")
+    return (f"Newton blocks are built for up to {lm_kernel.NEWTON_BLOCK_VARIABLES} variables")
 
 
 def finite_difference_port() -> str:

@@ -51,9 +51,9 @@ def test_one_graph_per_shape():
 @pytest.mark.parametrize("option", [1, 2, 3])
 def test_the_exact_models_three_evaluators_agree(option):
     # The exact model's NLP carries the CasADi graph (IPOPT), the closed form in
-    # Python complex numbers (the "lm" solver and the shared measure) and the numpy
-    # batch (screening of many starts): three codings of one formula, compared at
-    # random designs of four joints to 1e-12.
+    # Python complex numbers (the shared measure) and the residuals as an SX expression
+    # (the "lm" solver's functions): three codings of one formula, compared at random
+    # designs of four joints to 1e-12.
     import casadi
 
     rng = np.random.default_rng(41)
@@ -62,7 +62,11 @@ def test_the_exact_models_three_evaluators_agree(option):
     nlp = compiled_nlp(problem, 0)
     parameters = problem.parameters_rad
     points = rng.uniform(problem.lower_rad, problem.upper_rad, (5, problem.n_free))
-    residual, jacobian = nlp.batch_residuals_and_jacobian(points, parameters)
+    residuals = casadi.Function("r", [nlp.symbols["x"], nlp.symbols["p"]],
+                                [nlp.residuals, casadi.jacobian(nlp.residuals, nlp.symbols["x"])])
+    evaluated = [residuals(point, parameters) for point in points]
+    residual = [np.array(pair[0]).ravel() for pair in evaluated]
+    jacobian = [np.array(pair[1]) for pair in evaluated]
     for row, point in enumerate(points):
         rho, complex_jacobian = nlp.residuals_and_jacobian(point.tolist(), parameters.tolist())
         # rho = r1 - i r2
