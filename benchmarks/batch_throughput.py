@@ -145,7 +145,7 @@ def arithmetic_figures(result: Any, batch_time_s: float, count: int) -> dict[str
     """The batch's time per design against the arithmetic it must do.
 
     The arithmetic of one iteration is the operations of the rules' iteration for the
-    shape (:func:`sso._solvers.lm_kernel.iteration_operations`: one residual-and-Jacobian
+    shape (:func:`iteration_operations`: one residual-and-Jacobian
     evaluation and the step, every branch computed, as the batch computes them); a
     design does it once per evaluation (``nfev``, the start's included). The floor is
     that many element-wise numpy operations, timed in this run on arrays of ``count``
@@ -154,8 +154,6 @@ def arithmetic_figures(result: Any, batch_time_s: float, count: int) -> dict[str
     """
     from sso._shafts.options import build_problem
     from sso._shafts.problem import compiled_nlp
-    from sso._solvers.lm_kernel import iteration_operations
-
     problem = build_problem([20.0] * 3, [90.0] * 2, "exact", 3, BETA_BOUNDS_DEG, PHASE_BOUNDS_DEG)
     operations = iteration_operations(compiled_nlp(problem, 0))
     per_design = operations * float(np.mean(result.nfev))
@@ -172,6 +170,22 @@ def arithmetic_figures(result: Any, batch_time_s: float, count: int) -> dict[str
         "over_array_floor": time_per_design / (per_design * short),
         "over_long_array_floor": time_per_design / (per_design * long),
     }
+
+
+def iteration_operations(nlp: Any) -> int:
+    """Arithmetic operations of one Gauss-Newton iteration of the rules for the NLP's shape
+    (one residual-and-Jacobian evaluation and the step, every branch computed): the
+    instructions of its SX function less those that only read inputs or constants and
+    write outputs."""
+    import casadi
+
+    from sso._solvers.lm_kernel import iteration_functions
+
+    _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
+                                       "gauss_newton")
+    bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
+    return sum(iteration.instruction_id(index) not in bookkeeping
+               for index in range(iteration.n_instructions()))
 
 
 def _element_time_s(elements: int) -> float:

@@ -18,7 +18,7 @@ depends on a count of calls: a shape's blocks are built at its first call.
 
 A Newton iteration whose damped Hessian is not positive definite shifts it past its
 most negative eigenvalue, found by bisection
-(:func:`sso._solvers.lm_rules.bisected_lowest_eigenvalue`, one never-inlined function,
+(:data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS`, one never-inlined function,
 so the iteration holds one call instruction, not 52 Cholesky factors). A shift that
 round-off still leaves indefinite after its rescue shifts ends the design with status
 :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (a failure).
@@ -163,20 +163,6 @@ def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
     # fold calls the iteration ``chain`` times and gives the last state.
     folded = iteration.fold(chain)(first, casadi.repmat(problem, 1, chain))
     return casadi.Function(f"lm_{mode}", [state, problem], [folded])
-
-
-def iteration_operations(nlp: Any) -> int:
-    """Arithmetic operations of one Gauss-Newton iteration of the rules for the NLP's shape
-    (one residual-and-Jacobian evaluation and the step, every branch computed): the
-    instructions of its SX function less those that only read inputs or constants and
-    write outputs."""
-    import casadi
-
-    _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
-                                       "gauss_newton")
-    bookkeeping = {casadi.OP_INPUT, casadi.OP_OUTPUT, casadi.OP_CONST}
-    return sum(iteration.instruction_id(index) not in bookkeeping
-               for index in range(iteration.n_instructions()))
 
 
 def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, Any]:

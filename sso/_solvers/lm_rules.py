@@ -427,28 +427,15 @@ def newton_iteration(ops: Operations, evaluate: Evaluate, hessian_at: HessianAt,
 
 
 EIGENVALUE_HALVINGS = 52
-"""Halvings of the bracket in :func:`bisected_lowest_eigenvalue`: it starts twice as wide
-as the matrix's largest absolute row sum, so the eigenvalue is found to about
-``4.4e-16`` of that (round-off, as a library's eigenvalue solver finds it)."""
-
-
-def bisected_lowest_eigenvalue(ops: Operations, matrix: list[list[Any]]) -> Any:
-    """The most negative eigenvalue of a symmetric matrix (a list of lists) that is not
-    positive definite, by bisection on the shift that makes it so: with only selections
-    and Cholesky factors, so a backend without an eigenvalue solver (CasADi symbols) can
-    shift a Newton step past it.
-
-    ``matrix + t I`` has a Cholesky factor exactly when ``t`` exceeds minus the lowest
-    eigenvalue, and no eigenvalue lies below minus the largest absolute row sum
-    (Gershgorin); :data:`EIGENVALUE_HALVINGS` halvings (:func:`halve_eigenvalue_bracket`)
-    of :func:`eigenvalue_bracket` keep the least ``t`` found with a factor. The value
-    returned is minus that ``t``: at most the lowest eigenvalue, by round-off, so a shift
-    past it gives a factor.
-    """
-    low, high = eigenvalue_bracket(ops, matrix)
-    for _ in range(EIGENVALUE_HALVINGS):
-        low, high = halve_eigenvalue_bracket(ops, matrix, low, high)
-    return -high
+"""Halvings of :func:`eigenvalue_bracket` by :func:`halve_eigenvalue_bracket` that find the
+most negative eigenvalue of a symmetric matrix that is not positive definite, for a
+backend without an eigenvalue solver (CasADi symbols,
+:func:`sso._solvers.lm_kernel.lowest_eigenvalue_function`): ``matrix + t I`` has a
+Cholesky factor exactly when ``t`` exceeds minus the lowest eigenvalue, and no eigenvalue
+lies below minus the largest absolute row sum (Gershgorin). The bracket starts twice as
+wide as that sum, so the eigenvalue is found to about ``4.4e-16`` of it (round-off, as a
+library's eigenvalue solver finds it); the least shift found with a factor is kept, so
+minus it is at most the lowest eigenvalue and a shift past it gives a factor."""
 
 
 def eigenvalue_bracket(ops: Operations, matrix: list[list[Any]]) -> tuple[Any, Any]:

@@ -1,10 +1,12 @@
-"""The rules' Cholesky factor (plain floats) and their lowest eigenvalue
-by bisection against numpy's (LAPACK's) factor and eigenvalues."""
+"""The rules' Cholesky factor (plain floats) and the lowest eigenvalue by their bisection
+(the CasADi function the Newton blocks call) against numpy's (LAPACK's) factor and
+eigenvalues."""
 
 import numpy as np
 import pytest
 
-from sso._solvers.lm_rules import PYTHON, bisected_lowest_eigenvalue, cholesky, solve_factored
+from sso._solvers.lm_kernel import lowest_eigenvalue_function
+from sso._solvers.lm_rules import PYTHON, cholesky, solve_factored
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 5, 8])
@@ -44,7 +46,7 @@ def test_bisected_lowest_eigenvalue_matches_lapack_on_indefinite_matrices(size):
         matrix[0, 0] -= scale * (abs(matrix[0, 0]) / scale + 1.0)
         lowest = np.linalg.eigvalsh(matrix)[0]
         assert lowest < 0.0
-        found = bisected_lowest_eigenvalue(PYTHON, matrix.tolist())
+        found = float(lowest_eigenvalue_function(size)(matrix.ravel()))
         size_of_matrix = np.max(np.sum(np.abs(matrix), axis=1))
         assert lowest - 1e-13 * size_of_matrix <= found <= lowest + 1e-15 * size_of_matrix
         assert cholesky(PYTHON, matrix.tolist(), -found)[1]
