@@ -8,20 +8,21 @@ instructions in about the time Python takes for one iteration. A state that is n
 the block's mode passes through it unchanged (every branch is an ``if_else`` selection),
 so a design that ended inside a block is frozen exactly.
 
-The driver (:func:`solve_states`) runs Gauss-Newton blocks while a design's status is
-:data:`sso._solvers.lm_rules.RUNNING`, then Newton blocks while it is
+The driver (:func:`solve_one`, :func:`solve_states`) runs Gauss-Newton blocks while a
+design's status is :data:`sso._solvers.lm_rules.RUNNING`, then Newton blocks while it is
 :data:`sso._solvers.lm_rules.NEWTON`. One design runs the functions themselves; many
 designs run the same functions through ``Function.map`` (CasADi calls the same
 instruction list once per column), so a design's answer is bit for bit the one it gets
 alone, whichever designs are beside it and whatever ran before in the process. Nothing
 depends on a count of calls: a shape's blocks are built at its first call.
 
-A Newton iteration whose damped Hessian is not positive definite shifts it past its
-most negative eigenvalue, found by bisection
-(:data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS`, one never-inlined function,
-so the iteration holds one call instruction, not 52 Cholesky factors). A shift that
-round-off still leaves indefinite after its rescue shifts ends the design with status
-:data:`sso._solvers.lm_rules.NEWTON_INDEFINITE` (a failure).
+A Newton iteration whose damped Hessian is not positive definite leaves the state with
+status :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`; the driver hands it to the
+shifted Newton iteration, which shifts the Hessian past its most negative eigenvalue,
+found by bisection (:data:`sso._solvers.lm_rules.EIGENVALUE_HALVINGS` Cholesky
+factors, one never-inlined function): those instructions are spent only on such a step
+(at 11 variables they are most of a Newton iteration's). A shift that round-off still
+leaves indefinite after its rescue shifts ends the design with that status (a failure).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ import numpy as np
 from sso._solvers.lm_rules import (
     EIGENVALUE_HALVINGS,
     NEWTON,
+    NEWTON_INDEFINITE,
     RUNNING,
     SCALARS,
     Operations,
@@ -116,9 +118,9 @@ def kernels_of(nlp: Any) -> ShapeKernels | None:
     """The NLP's blocks, built on its first call and kept on it; None for a problem without
     a residual expression.
 
-    Both blocks are built at once (the Newton block up to :data:`NEWTON_BLOCK_VARIABLES`),
+    Every block is built at once (the Newton blocks up to :data:`NEWTON_BLOCK_VARIABLES`),
     so no later call of the shape stalls on a build when one of its designs first needs
-    Newton steps (a Newton block takes 50 to 300 ms to build at 5 to 11 variables).
+    Newton steps (the Newton blocks take 50 to 300 ms to build at 5 to 11 variables).
 
     Parameters
     ----------
@@ -126,17 +128,17 @@ def kernels_of(nlp: Any) -> ShapeKernels | None:
     """
     if nlp.lm_kernel is None and nlp.residuals is not None:
         built = ShapeKernels(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
-        built.function("gauss_newton")
-        if built.size <= NEWTON_BLOCK_VARIABLES:
-            built.function("newton")
+        for mode in MODES[:3 if built.size <= NEWTON_BLOCK_VARIABLES else 1]:
+            built.function(mode)
         nlp.lm_kernel = built
     kernels: ShapeKernels | None = nlp.lm_kernel
     return kernels
 
 
-MODES = ("gauss_newton", "newton")
-"""The iterations a block can fold: Gauss-Newton, and Newton (with the shift past the most
-negative eigenvalue where the damped Hessian is not positive definite)."""
+MODES = ("gauss_newton", "newton", "shifted")
+"""The iterations a block can fold: Gauss-Newton, Newton (handing back a Hessian that its
+damping leaves indefinite), and one Newton iteration shifted past the most negative
+eigenvalue."""
 
 
 def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
@@ -146,7 +148,8 @@ def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
     moved onto the bounds and evaluated there), then folds
     :data:`GAUSS_NEWTON_ITERATIONS` iterations; the Newton block folds
     :data:`NEWTON_ITERATIONS` Newton iterations with CasADi's symbolic Hessian of the
-    sum of squares. Each iteration is one SX function; the fold calls it in turn.
+    sum of squares; the shifted block is one shifted Newton iteration. Each iteration is
+    one SX function; the fold calls it in turn.
 
     Raises
     ------
@@ -158,7 +161,8 @@ def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
     start, iteration = iteration_functions(x, p, residual, mode)
     state = casadi.MX.sym("state", iteration.numel_in(0))
     problem = casadi.MX.sym("problem", iteration.numel_in(1))
-    chain = GAUSS_NEWTON_ITERATIONS if mode == "gauss_newton" else NEWTON_ITERATIONS
+    chain = {"gauss_newton": GAUSS_NEWTON_ITERATIONS, "newton": NEWTON_ITERATIONS,
+             "shifted": 1}[mode]
     first = state if start is None else start(state, problem)
     # fold calls the iteration ``chain`` times and gives the last state.
     folded = iteration.fold(chain)(first, casadi.repmat(problem, 1, chain))
@@ -166,7 +170,7 @@ def build_block(x: Any, p: Any, residual: Any, mode: str) -> Any:
 
 
 def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, Any]:
-    """The start (None for ``"newton"``) and one iteration of ``mode`` as SX functions
+    """The start (None but for ``"gauss_newton"``) and one iteration of ``mode`` as SX functions
     ``(state, problem) -> state``, each one flat instruction list.
 
     Raises
@@ -178,7 +182,7 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, 
 
     if mode not in MODES:
         raise ValueError(f"mode = {mode!r} is not one of {MODES}")
-    ops = casadi_operations(shifting=mode == "newton")
+    ops = casadi_operations(shifting=mode == "shifted")
     size = x.numel()
     evaluate_function = casadi.Function(
         "lm_residual", [x, p], [residual, casadi.densify(casadi.jacobian(residual, x))])
@@ -194,7 +198,7 @@ def iteration_functions(x: Any, p: Any, residual: Any, mode: str) -> tuple[Any, 
                 [derivatives[1, i] for i in range(size)])
 
     given = unpack(casadi.vertsplit(state_in), size)
-    if mode == "newton":
+    if mode != "gauss_newton":
         hessian_function = casadi.Function(
             "lm_hessian", [x, p], [casadi.densify(casadi.hessian(casadi.dot(residual, residual),
                                                                  x)[0])])
@@ -261,7 +265,11 @@ def lowest_eigenvalue_function(size: int) -> Any:
     given = casadi.MX.sym("matrix", size * size)
     found = halve.fold(EIGENVALUE_HALVINGS)(start(given),
                                              casadi.repmat(given, 1, EIGENVALUE_HALVINGS))
-    return casadi.Function(f"lm_lowest_eigenvalue_{size}", [given], [-found[1]],
+    # The fold expanded into one instruction list: evaluated step by step as MX, each
+    # halving cost a function call's overhead, more than its arithmetic.
+    folded = casadi.Function("lm_lowest_eigenvalue", [given], [-found[1]]).expand()
+    symbols = casadi.SX.sym("matrix", size * size)
+    return casadi.Function(f"lm_lowest_eigenvalue_{size}", [symbols], [folded(symbols)],
                            {"never_inline": True})
 
 
@@ -301,8 +309,16 @@ def solve_one(kernels: ShapeKernels, start: list[float], problem: list[float],
         start + [0.0] * (kernels.state_size - size), problem)
     while values[status] == RUNNING:
         values = kernels.buffered("gauss_newton", 1).flat(values, problem)
-    while newton and kernels.size <= NEWTON_BLOCK_VARIABLES and values[status] == NEWTON:
-        values = kernels.buffered("newton", 1).flat(values, problem)
+    if not newton or kernels.size > NEWTON_BLOCK_VARIABLES:
+        return values
+    while values[status] in (NEWTON, NEWTON_INDEFINITE):
+        if values[status] == NEWTON:
+            values = kernels.buffered("newton", 1).flat(values, problem)
+            continue
+        values[status] = float(NEWTON)
+        values = kernels.buffered("shifted", 1).flat(values, problem)
+        if values[status] == NEWTON_INDEFINITE:  # round-off beyond the rescue shifts
+            break
     return values
 
 
@@ -314,14 +330,20 @@ def solve_states(kernels: ShapeKernels, starts: np.ndarray, problems: np.ndarray
     states = np.zeros((count, kernels.state_size))
     states[:, :size] = starts
     status = 3 * size + 2 + STATUS
-    fresh = np.ones(count, dtype=bool)
-    modes = (("gauss_newton", RUNNING), ("newton", NEWTON))
-    for mode, going in modes[:2 if size <= NEWTON_BLOCK_VARIABLES else 1]:
-        rows = np.flatnonzero(fresh | (states[:, status] == going))
-        while rows.size:
-            states[rows] = _run_mapped(kernels, mode, states[rows], problems[rows])
-            rows = rows[states[rows, status] == going]
-        fresh[:] = False
+    rows = np.arange(count)
+    while rows.size:
+        states[rows] = _run_mapped(kernels, "gauss_newton", states[rows], problems[rows])
+        rows = rows[states[rows, status] == RUNNING]
+    if size > NEWTON_BLOCK_VARIABLES:
+        return states
+    rows = np.flatnonzero(states[:, status] == NEWTON)
+    while rows.size:
+        states[rows] = _run_mapped(kernels, "newton", states[rows], problems[rows])
+        handed = rows[states[rows, status] == NEWTON_INDEFINITE]
+        if handed.size:
+            states[handed, status] = NEWTON
+            states[handed] = _run_mapped(kernels, "shifted", states[handed], problems[handed])
+        rows = rows[states[rows, status] == NEWTON]
     return states
 
 

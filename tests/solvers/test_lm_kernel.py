@@ -23,7 +23,14 @@ from sso._solvers.lm_kernel import (
     solve_states,
     unpack,
 )
-from sso._solvers.lm_rules import NEWTON, PYTHON, RUNNING, newton_iteration
+from sso._solvers.lm_rules import (
+    NEWTON,
+    NEWTON_INDEFINITE,
+    PYTHON,
+    RUNNING,
+    SCALARS,
+    newton_iteration,
+)
 from sso._solvers.run import RunLimits
 
 # Random starts often lie outside random bounds: moving them is expected here.
@@ -44,12 +51,17 @@ def run_kernel(nlp, start, fixed, lower, upper, tolerance, max_iterations):
 
 
 def run_newton_blocks(nlp, state, fixed, lower, upper, tolerance, max_iterations):
-    # Newton blocks from a state handed over by the Gauss-Newton blocks, to the end.
-    block = kernels_of(nlp).buffered("newton", 1)
+    # Newton blocks from a state handed over by the Gauss-Newton blocks, to the end; a
+    # state they hand back (an indefinite Hessian) takes the shifted iteration.
+    blocks, shifted = (kernels_of(nlp).buffered(mode, 1) for mode in ("newton", "shifted"))
     problem = problem_vector(fixed, lower, upper, tolerance, max_iterations)
     values = pack(state)
-    while unpack(values, len(lower))["status"] == NEWTON:
-        values = block.flat(values, problem)
+    while unpack(values, len(lower))["status"] in (NEWTON, NEWTON_INDEFINITE):
+        if unpack(values, len(lower))["status"] == NEWTON:
+            values = blocks.flat(values, problem)
+            continue
+        values[len(values) - len(SCALARS) + SCALARS.index("status")] = float(NEWTON)
+        values = shifted.flat(values, problem)
     return unpack(values, len(lower))
 
 
@@ -188,13 +200,28 @@ def _indefinite_case():
     return problem, nlp, fixed, lower, upper, handed
 
 
-def test_a_newton_iteration_shifts_an_indefinite_hessian_as_the_python_loop_does():
-    # One compiled Newton iteration (its lowest eigenvalue by bisection) against the Python
+def test_the_newton_blocks_hand_an_indefinite_hessian_back():
+    # The Newton blocks do not shift a Hessian past its most negative eigenvalue: they
+    # stop with NEWTON_INDEFINITE and leave the state for the shifted iteration.
+    problem, nlp, fixed, lower, upper, handed = _indefinite_case()
+    block = kernels_of(nlp).buffered("newton", 1)
+    problem_values = problem_vector(fixed, lower, upper, 1e-12, 3000)
+    values = pack(handed)
+    while unpack(values, len(lower))["status"] == NEWTON:
+        values = block.flat(values, problem_values)
+    stopped = unpack(values, len(lower))
+    assert stopped["status"] == NEWTON_INDEFINITE
+    assert stopped["nit"] >= handed["nit"]
+    assert np.linalg.eigvalsh(np.array(nlp.objective_hessian(stopped["x"], fixed)))[0] < 0
+
+
+def test_a_shifted_newton_iteration_takes_the_python_loop_s_step():
+    # One shifted Newton iteration (its lowest eigenvalue by bisection) against the Python
     # loop's (LAPACK's eigenvalue), step by step from where the Gauss-Newton blocks hand
     # over, through Hessians that are not positive definite.
     problem, nlp, fixed, lower, upper, handed = _indefinite_case()
     _, iteration = iteration_functions(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals,
-                                       "newton")
+                                       "shifted")
     problem_values = problem_vector(fixed, lower, upper, 1e-12, 3000)
     state, indefinite = dict(handed), 0
     for _ in range(8):
