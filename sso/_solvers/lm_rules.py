@@ -5,9 +5,9 @@ One Gauss-Newton iteration of the bounded Levenberg-Marquardt on two residuals
 free variables by the push-through identity (one 2x2 solve whatever the number of
 variables), the acceptance test and the damping rules. It is written on lists of
 per-variable scalars with every branch a selection, so the same function builds the
-compiled kernel (CasADi symbols, :mod:`sso._solvers.lm_kernel`), runs many designs
-and runs one design in plain Python floats (:func:`sso._solvers.lm.minimise`). What
-differs between them is only the arithmetic that :class:`Operations` names.
+shape's CasADi functions (:mod:`sso._solvers.lm_kernel`) and runs one design in plain
+Python floats (:func:`sso._solvers.lm.minimise`). What differs between them is only the
+arithmetic that :class:`Operations` names.
 
 A state is a dict of scalars and lists: ``x`` (the design vector), ``r1``, ``r2``
 (the residuals), ``J1``, ``J2`` (their derivatives, one per variable) and the

@@ -56,10 +56,11 @@ def batchable(case: Any) -> bool:
     exact model whose only solver is ``"lm"``, from more than one start.
 
     A point with one start is one solve, which :func:`sso.optimise` does faster than
-    a share of a batch call now that its iterations run compiled
-    (:mod:`sso._solvers.lm_kernel`): ``benchmarks/sweep_throughput.py --lm-only``
-    measured the batch at 0.66x point by point with one start, 0.99x with 4 and
-    0.97x with 8 on a grid whose points cancel.
+    a share of a batch call (``benchmarks/sweep_throughput.py --lm-only`` measured the
+    batch at 0.66x point by point with one start, 0.99x with 4 and 0.97x with 8 on a
+    grid whose points cancel, with the iterations in CasADi's virtual machine for the
+    single solve and on numpy columns for the batch); both run the same functions of
+    the shape now (:mod:`sso._solvers.lm_kernel`).
     """
     return (getattr(case, "kind", None) == "shaft_series" and case.model == "exact"
             and tuple(case.solvers) == BATCHED_SOLVERS and case.starts > 1)
