@@ -14,7 +14,8 @@ design's status is :data:`sso._solvers.lm_rules.RUNNING`, then Newton blocks whi
 designs run the same functions through ``Function.map`` (CasADi calls the same
 instruction list once per column), so a design's answer is bit for bit the one it gets
 alone, whichever designs are beside it and whatever ran before in the process. Nothing
-depends on a count of calls: a shape's blocks are built at its first call.
+depends on a count of calls: a block is built when a design first needs it, which
+changes no design's arithmetic.
 
 A Newton iteration whose damped Hessian is not positive definite leaves the state with
 status :data:`sso._solvers.lm_rules.NEWTON_INDEFINITE`; the driver hands it to the
@@ -105,10 +106,17 @@ class ShapeKernels:
         self._buffered: dict[tuple[str, int], BufferedFunction] = {}
 
     def function(self, mode: str) -> Any:
-        """The block of ``mode`` (``"gauss_newton"`` or ``"newton"``): ``(state, problem) ->
-        state``, with a state of :func:`pack` and the problem of :func:`problem_vector`."""
+        """The block of ``mode`` (one of :data:`MODES`): ``(state, problem) -> state``, with a
+        state of :func:`pack` and the problem of :func:`problem_vector`.
+
+        The Gauss-Newton block is built at the shape's first call; the two Newton blocks
+        together when a design of the shape first needs Newton steps (50 to 300 ms at 5 to
+        11 variables, against 10 to 40 ms for the Gauss-Newton block: a shape solved once
+        whose designs reach zero never pays them). The arithmetic is the same whenever
+        they are built."""
         if mode not in self._functions:
-            self._functions[mode] = build_block(*self._symbols, mode)
+            for built in (mode,) if mode == "gauss_newton" else ("newton", "shifted"):
+                self._functions[built] = build_block(*self._symbols, built)
         return self._functions[mode]
 
     def buffered(self, mode: str, columns: int) -> BufferedFunction:
@@ -122,22 +130,14 @@ class ShapeKernels:
 
 
 def kernels_of(nlp: Any) -> ShapeKernels | None:
-    """The NLP's blocks, built on its first call and kept on it; None for a problem without
-    a residual expression.
-
-    Every block is built at once (the Newton blocks up to :data:`NEWTON_BLOCK_VARIABLES`),
-    so no later call of the shape stalls on a build when one of its designs first needs
-    Newton steps (the Newton blocks take 50 to 300 ms to build at 5 to 11 variables).
+    """The NLP's blocks, kept on it; None for a problem without a residual expression.
 
     Parameters
     ----------
     nlp : sso._solvers.nlp.CompiledNLP
     """
     if nlp.lm_kernel is None and nlp.residuals is not None:
-        built = ShapeKernels(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
-        for mode in MODES[:3 if built.size <= NEWTON_BLOCK_VARIABLES else 1]:
-            built.function(mode)
-        nlp.lm_kernel = built
+        nlp.lm_kernel = ShapeKernels(nlp.symbols["x"], nlp.symbols["p"], nlp.residuals)
     kernels: ShapeKernels | None = nlp.lm_kernel
     return kernels
 
