@@ -96,8 +96,12 @@ def excitation_csv(run: ColumnRun) -> str:
 
 def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report of a column run."""
-    blocks = opening_blocks(run.case.name, run.case.description, _case_table(run), run.success,
-                            run.verdict)
+    yields = run.recommended_yields if run.mode == "optimise" else None
+    blocks = opening_blocks(
+        run.case.name, run.case.description, _case_table(run),
+        run.success and (yields is None or yields.signed_off),
+        run.verdict if yields is None else
+        f"recommended assembly's built columns: {yields.sentence}; {run.verdict}")
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),
                _shaft_table(run), Paragraph(CONVENTION), _scene(run),
                Heading(2, "Can phasing cancel the fluctuation?"), _cancel_table(run),

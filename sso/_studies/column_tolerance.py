@@ -30,12 +30,13 @@ import numpy as np
 
 import sso._studies.column_tolerance_report  # noqa: F401  (registers "column_tolerance")
 from sso._column.built_columns import built_angles
+from sso._column.built_figures import BUILT_FIGURES, built_column_figures, limited_figures
 from sso._column.chain_matrix import chain_matrix, matrix_residual_error
 from sso._column.design import column_design
 from sso._column.geometry import ColumnGeometry
 from sso._column.sensitivity import FigureSensitivity
 from sso._column.steering_criteria import SteeringLimits
-from sso._column.steering_range import range_extremes, steering_range
+from sso._column.steering_range import steering_range
 from sso._column.tolerances import Tolerances, draw_errors
 from sso._column.yields import YieldJudgement, column_limits
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
@@ -68,8 +69,7 @@ from sso._validation import (
 
 MAX_COLUMN_SAMPLES = 2_000_000
 """Most samples of a column study (its hardpoint draws take 8 (3 n + 6) bytes each)."""
-COLUMN_METRICS = ("residual_error", "speed_fluctuation_percent", "torque_fluctuation_percent",
-                  "largest_transmission_error_deg")
+COLUMN_METRICS = BUILT_FIGURES
 METRIC_LABELS = {
     "residual_error": "residual error RE (dimensionless)",
     "speed_fluctuation_percent": "speed-ratio fluctuation, lock to lock (%)",
@@ -91,16 +91,8 @@ class ColumnChunk:
 
 def evaluate_column_chunk(chunk: ColumnChunk) -> np.ndarray:
     """The figures of :data:`COLUMN_METRICS` of every sample, shape ``(4, samples)``."""
-    matrices = chain_matrix(chunk.beta_rad, chunk.phase_rad)
-    figures = np.empty((len(COLUMN_METRICS), len(matrices)))
-    figures[0] = matrix_residual_error(matrices)
-    for index, matrix in enumerate(matrices):
-        ratio_low, ratio_high, error_low, error_high = range_extremes(
-            matrix, chunk.straight_ahead_deg, chunk.lock_deg)
-        figures[1, index] = 100.0 * (ratio_high - ratio_low)
-        figures[2, index] = 100.0 * (1.0 / ratio_low - 1.0 / ratio_high)
-        figures[3, index] = max(-error_low, error_high)
-    return figures
+    return built_column_figures(chunk.beta_rad, chunk.phase_rad, chunk.straight_ahead_deg,
+                                chunk.lock_deg)
 
 
 @dataclass(frozen=True)
@@ -373,12 +365,6 @@ def column_tolerance_study(
 
     formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
     return replace(result, files=tuple(write_report(result, out_dir, formats)))
-
-
-def limited_figures(beta_deg: np.ndarray, figures: np.ndarray) -> dict[str, np.ndarray]:
-    """The figures limits judge, by name, from :func:`built_figures`' arrays."""
-    return {**dict(zip(COLUMN_METRICS, figures, strict=True)),
-            "largest_operating_angle_deg": np.max(beta_deg, axis=1)}
 
 
 def is_column_design(design: Any) -> bool:
