@@ -120,3 +120,26 @@ def test_a_required_yield_the_sample_shows_exits_0_and_a_percentage_is_refused(t
     assert ("limits.yield = 90 is outside the allowed range (0, 1]: the fraction of built "
             "columns that must meet every limit; for 90 % write 0.9") in refused.stderr
     assert "Traceback" not in refused.stderr
+
+
+def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample():
+    run = sso.run_case(CAR)
+    case = run.case
+    sample = case.tolerances().sample(run.geometry)  # the case's 200 built columns
+    chosen = run.assembly(run.recommended)
+    yields = run.recommended_yields
+    # counted again by another path: each built column made by sso.ColumnGeometry and
+    # judged by sso.steering_range over the case's lock (1.5 turns each way)
+    points = np.asarray(run.geometry.points_mm)
+    passed = 0
+    for offsets, errors in zip(sample.hardpoint_offsets_mm, sample.yoke_phase_errors_deg,
+                               strict=True):
+        built = sso.ColumnGeometry(points + offsets)
+        figures = sso.steering_range((built, np.asarray(chosen.yoke_phase_deg) + errors),
+                                     lock_deg=540.0)
+        passed += (figures.speed_fluctuation_percent <= 2.0
+                   and figures.largest_transmission_error_deg <= 0.5
+                   and max(built.beta_deg) <= 35.0)
+    assert yields.together.samples == 200 and yields.together.passed == passed
+    assert yields.required == 0.9 and yields.verdict == "fails"
+    assert "FAILS the required yield 90.0 %" in run.summary()
