@@ -59,36 +59,49 @@ def first_order_indices(inputs: np.ndarray, output: np.ndarray) -> np.ndarray:
         value is not finite.
     """
     inputs = np.asarray(inputs, dtype=float)
+    if inputs.ndim != 2:
+        raise ValueError(f"inputs of shape {inputs.shape}: need (samples, inputs)")
+    return np.array([first_order_index(inputs[:, column], output)
+                     for column in range(inputs.shape[1])])
+
+
+def first_order_index(values: np.ndarray, output: np.ndarray) -> float:
+    """First-order sensitivity index of ``output`` to one input's ``values`` (module
+    notes), in ``[0, 1]``; 0 where ``output`` does not vary.
+
+    Raises
+    ------
+    ValueError
+        As :func:`first_order_indices`.
+    """
+    values = np.asarray(values, dtype=float)
     output = np.asarray(output, dtype=float)
-    if inputs.ndim != 2 or output.shape != (inputs.shape[0],):
-        raise ValueError(f"inputs of shape {inputs.shape} and output of shape {output.shape}: "
+    if values.ndim != 1 or output.shape != values.shape:
+        raise ValueError(f"inputs of shape {values.shape} and output of shape {output.shape}: "
                          "need (samples, inputs) and (samples,)")
     samples = len(output)
     if samples < MIN_SAMPLES:
         raise ValueError(f"samples = {samples}: the indices need at least {MIN_SAMPLES}")
-    if not (np.all(np.isfinite(inputs)) and np.all(np.isfinite(output))):
+    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(output))):
         raise ValueError("inputs and output must be finite")
     total = float(np.var(output))
     if total == 0.0:
-        return np.zeros(inputs.shape[1])
+        return 0.0
     bins = bin_count(samples)
     edges = np.linspace(0, samples, bins + 1).round().astype(int)
-    indices = np.empty(inputs.shape[1])
     mean = float(np.mean(output))
-    for column in range(inputs.shape[1]):
-        # stable sort: tied inputs (a zero tolerance) keep the sample order
-        ordered = output[np.argsort(inputs[:, column], kind="stable")]
-        between = 0.0
-        within = 0.0
-        for start, stop in zip(edges[:-1], edges[1:], strict=True):
-            part = ordered[start:stop]
-            part_mean = float(np.mean(part))
-            between += len(part) * (part_mean - mean) ** 2
-            within += float(np.sum((part - part_mean) ** 2))
-        between /= samples
-        within /= samples - bins
-        indices[column] = max(0.0, between - (bins - 1) / samples * within) / total
-    return np.minimum(indices, 1.0)
+    # stable sort: tied inputs (a zero tolerance) keep the sample order
+    ordered = output[np.argsort(values, kind="stable")]
+    between = 0.0
+    within = 0.0
+    for start, stop in zip(edges[:-1], edges[1:], strict=True):
+        part = ordered[start:stop]
+        part_mean = float(np.mean(part))
+        between += len(part) * (part_mean - mean) ** 2
+        within += float(np.sum((part - part_mean) ** 2))
+    between /= samples
+    within /= samples - bins
+    return min(1.0, max(0.0, between - (bins - 1) / samples * within) / total)
 
 
 @register_record

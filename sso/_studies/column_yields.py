@@ -12,6 +12,9 @@ From the study's own sample (:mod:`sso._studies.column_tolerance`):
   one tolerance halved: the study's draws with that input's errors halved and every
   other error as drawn (common random numbers), each built column evaluated again,
   so the change is that tolerance's alone and no figure is extrapolated.
+
+The draws are read through views and halved in place (each put back), so the judgement
+holds no second copy of a study's samples.
 """
 
 from __future__ import annotations
@@ -21,7 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sso._column.sensitivity import FigureSensitivity, first_order_indices, ranked
+from sso._column.sensitivity import (
+    MIN_SAMPLES,
+    FigureSensitivity,
+    first_order_index,
+    ranked,
+)
 from sso._column.yields import YieldJudgement, judge_yields
 from sso._record import register_record
 
@@ -69,9 +77,12 @@ def input_names(points: int, shafts: int) -> tuple[str, ...]:
             *(f"delta_{shaft + 1}" for shaft in range(shafts)))
 
 
-def input_matrix(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray) -> np.ndarray:
-    """Every sample's errors, one column per tolerance of :func:`input_names`."""
-    return np.column_stack([offsets_mm.reshape(len(offsets_mm), -1), phase_errors_deg])
+def input_columns(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray) -> list[np.ndarray]:
+    """Every sample's error of each tolerance of :func:`input_names`: views into the
+    draws, no copies (a study may hold millions of samples)."""
+    return [*(offsets_mm[:, point, axis] for point in range(offsets_mm.shape[1])
+              for axis in range(3)),
+            *(phase_errors_deg[:, shaft] for shaft in range(phase_errors_deg.shape[1]))]
 
 
 def judge_study(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray,
@@ -95,29 +106,29 @@ def judge_study(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray,
     """
     yields = judge_yields(figures, limits, required)
     names = input_names(offsets_mm.shape[1], phase_errors_deg.shape[1])
-    inputs = input_matrix(offsets_mm, phase_errors_deg)
-    varied = [column for column in range(inputs.shape[1]) if np.any(inputs[:, column] != 0.0)]
+    columns = input_columns(offsets_mm, phase_errors_deg)
     sensitivity = []
-    if len(inputs) >= 16 and varied:
-        for item, (figure, label, unit, _) in zip(yields.limits, limits, strict=True):
-            if item.passed == item.samples:
-                continue
-            indices = np.zeros(len(names))
-            indices[varied] = first_order_indices(inputs[:, varied], figures[figure])
-            sensitivity.append(FigureSensitivity(figure, label, unit, ranked(names, indices)))
+    for item, (figure, label, unit, _) in zip(yields.limits, limits, strict=True):
+        if item.passed == item.samples or item.samples < MIN_SAMPLES:
+            continue
+        indices = np.array([first_order_index(column, figures[figure])
+                            if np.any(column != 0.0) else 0.0 for column in columns])
+        sensitivity.append(FigureSensitivity(figure, label, unit, ranked(names, indices)))
     largest: dict[str, list[str]] = {}
     for found in sensitivity:
         largest.setdefault(found.contributions[0].tolerance, []).append(found.label)
     halved = []
     for name, figure_labels in largest.items():
-        column = names.index(name)
-        offsets, phases = offsets_mm.copy(), phase_errors_deg.copy()
-        if column < offsets.shape[1] * 3:
-            offsets[:, column // 3, column % 3] *= 0.5
-            value, unit = hardpoint_mm / 2.0, "mm"
-        else:
-            phases[:, column - offsets.shape[1] * 3] *= 0.5
-            value, unit = yoke_phase_deg / 2.0, "deg"
+        column = columns[names.index(name)]
+        drawn = column.copy()
+        # halved in place and put back: the draws are not copied whole
+        column *= 0.5
+        try:
+            figures_halved = evaluate(offsets_mm, phase_errors_deg)
+        finally:
+            column[:] = drawn
+        value, unit = ((hardpoint_mm / 2.0, "mm") if name.startswith("P")
+                       else (yoke_phase_deg / 2.0, "deg"))
         halved.append(HalvedTolerance(name, value, unit, tuple(figure_labels),
-                                      judge_yields(evaluate(offsets, phases), limits, required)))
+                                      judge_yields(figures_halved, limits, required)))
     return StudyJudgement(yields, tuple(sensitivity), tuple(halved))
