@@ -333,7 +333,12 @@ def column_tolerance_study(
                              tolerances.hardpoint_mm, chunk_size, client, worker_count, advance)
 
     def limited(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray) -> dict[str, np.ndarray]:
-        beta_deg, _, figures = evaluate(offsets_mm, phase_errors_deg, lambda done: None)
+        again = ProgressBar(count, "samples, a tolerance halved",
+                            interactive() if progress is None else progress)
+        try:
+            beta_deg, _, figures = evaluate(offsets_mm, phase_errors_deg, again.advance)
+        finally:
+            again.close()
         return limited_figures(beta_deg, figures)
 
     try:
