@@ -102,7 +102,10 @@ def _blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:
         blocks.append(Image(TOLERANCE_PLOT, "Histograms of the built columns' figures; black: "
                             "nominal, red dotted: the percentiles above, orange dashed: the "
                             "case's limit."))
-    return [*blocks[:3], *yield_blocks(result, image_files), *blocks[3:]]
+    judged = yield_blocks(result, image_files)
+    spread: list[Block] = ([Heading(2, "Percentiles of the built columns' figures")]
+                           if judged else [])
+    return [*blocks[:3], *judged, *spread, *blocks[3:]]
 
 
 def _histograms(result: Any) -> Any:
