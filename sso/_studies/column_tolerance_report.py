@@ -103,9 +103,9 @@ def _blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:
                             "nominal, red dotted: the percentiles above, orange dashed: the "
                             "case's limit."))
     judged = yield_blocks(result, image_files)
-    spread: list[Block] = ([Heading(2, "Percentiles of the built columns' figures")]
-                           if judged else [])
-    return [*blocks[:3], *judged, *spread, *blocks[3:]]
+    percentiles_heading: list[Block] = ([Heading(2, "Percentiles of the built columns' figures")]
+                                        if judged else [])
+    return [*blocks[:3], *judged, *percentiles_heading, *blocks[3:]]
 
 
 def _histograms(result: Any) -> Any:
