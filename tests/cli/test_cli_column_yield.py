@@ -143,3 +143,25 @@ def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample():
     assert yields.together.samples == 200 and yields.together.passed == passed
     assert yields.required == 0.9 and yields.verdict == "fails"
     assert "FAILS the required yield 90.0 %" in run.summary()
+
+
+def test_the_limits_are_drawn_on_the_histograms():
+    from sso._studies.column_tolerance_report import _histograms
+
+    geometry = sso.ColumnGeometry([[-950.0, 360.0, 780.0], [-717.9, 296.7, 569.0],
+                                   [-660.0, 250.0, 430.0], [-610.0, 275.0, 300.0],
+                                   [-590.0, 300.0, 190.0]])
+    study = sso.tolerance_study(
+        (geometry, (-80.0, -60.0)), samples=200, progress=False, workers=1,
+        tolerances=sso.Tolerances(hardpoint_mm=0.5, yoke_phase_deg=1.0),
+        limits=sso.SteeringLimits(speed_fluctuation_percent=2.0, transmission_error_deg=0.5))
+    figure = _histograms(study)
+    drawn = {axes.get_xlabel(): [line for line in axes.get_lines()
+                                 if line.get_label().startswith("limit ")]
+             for axes in figure.axes}
+    (fluctuation,) = drawn["speed-ratio fluctuation, lock to lock (%)"]
+    (error,) = drawn["largest |transmission error|, lock to lock (deg)"]
+    assert list(fluctuation.get_xdata()) == [2.0, 2.0] and list(error.get_xdata()) == [0.5, 0.5]
+    assert fluctuation.get_label() == (
+        f"limit 2 %, yield {100 * study.yields.limits[0].fraction:.1f} %")
+    assert drawn["residual error RE (dimensionless)"] == []  # no limit on RE
