@@ -122,7 +122,7 @@ def test_a_required_yield_the_sample_shows_exits_0_and_a_percentage_is_refused(t
     assert "Traceback" not in refused.stderr
 
 
-def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample():
+def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample(tmp_path):
     run = sso.run_case(CAR)
     case = run.case
     sample = case.tolerances().sample(run.geometry)  # the case's 200 built columns
@@ -143,6 +143,13 @@ def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample():
     assert yields.together.samples == 200 and yields.together.passed == passed
     assert yields.required == 0.9 and yields.verdict == "fails"
     assert "FAILS the required yield 90.0 %" in run.summary()
+    # the report: the verdict leads with it, and the criteria's 'within' (of the design
+    # as drawn, which meets both limits) is followed by the built columns' yield
+    sso.write_report(run, tmp_path / "report", formats=("md",))
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "FAILED: recommended assembly's built columns: FAILS the required yield" in markdown
+    assert "'within' judges each design as drawn. Built as production builds it" in markdown
+    assert "| tolerance-aware (p95), on the splines (whole teeth) | 53.0 % |" in markdown
 
 
 def test_the_limits_are_drawn_on_the_histograms():
