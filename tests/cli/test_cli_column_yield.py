@@ -73,37 +73,17 @@ def test_the_car_column_fails_a_required_yield_of_90_percent(car_study):
     assert "Verdict: FAILS the required yield 90.0 %" in markdown
 
 
-def test_the_ranked_contributions_and_the_halved_tolerance(car_study):
+def test_the_report_ranks_the_contributions(car_study):
     done, folder = car_study
     saved = sso.ColumnToleranceResult.from_dict(json.loads((folder / "result.json").read_text()))
     assert [found.figure for found in saved.sensitivity] == [
         "speed_fluctuation_percent", "largest_transmission_error_deg"]
-    for found in saved.sensitivity:
-        indices = [item.index for item in found.contributions]
-        assert indices == sorted(indices, reverse=True) and len(indices) == 5 * 3 + 2
-        assert 0.0 <= sum(indices) <= 1.0
-    assert "Which tolerance matters" in (folder / "report.md").read_text()
+    markdown = (folder / "report.md").read_text()
+    assert "## Which tolerance matters" in markdown
+    top = saved.sensitivity[0].contributions[0]
+    assert f"| {top.tolerance} | {100 * top.index:.1f} % |" in markdown
+    assert "largest first-order shares of the speed-ratio fluctuation" in done.stdout
     assert (folder / "tolerance_sensitivity.png").stat().st_size > 10_000
-    (halved,) = saved.halved
-    assert halved.tolerance == saved.sensitivity[0].contributions[0].tolerance
-    # Re-sample by another path: the documented draw, that coordinate's errors halved,
-    # each built column made by sso.ColumnGeometry and judged by sso.steering_range.
-    rng = np.random.default_rng(0)
-    offsets = rng.normal(0.0, 0.5, (2000, 5, 3))
-    phase_errors = rng.normal(0.0, 1.0, (2000, 2))
-    point, axis = int(halved.tolerance[1]), "xyz".index(halved.tolerance[-1])
-    offsets[:, point, axis] *= 0.5
-    points = np.asarray(saved.geometry.points_mm)
-    passed = 0
-    for index in range(2000):
-        built = sso.ColumnGeometry(points + offsets[index])
-        figures = sso.steering_range((built, np.asarray(saved.yoke_phase_deg)
-                                      + phase_errors[index]), lock_deg=540.0)
-        passed += (figures.speed_fluctuation_percent <= 2.0
-                   and figures.largest_transmission_error_deg <= 0.5
-                   and max(built.beta_deg) <= 35.0)
-    assert halved.yields.together.passed == passed
-    assert halved.tolerance_value == 0.25 and halved.unit == "mm"
 
 
 def test_a_required_yield_the_sample_shows_exits_0_and_a_percentage_is_refused(tmp_path):
@@ -150,25 +130,3 @@ def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample(tmp_pa
     assert "FAILED: recommended assembly's built columns: FAILS the required yield" in markdown
     assert "'within' judges each design as drawn. Built as production builds it" in markdown
     assert "| tolerance-aware (p95), on the splines (whole teeth) | 53.0 % |" in markdown
-
-
-def test_the_limits_are_drawn_on_the_histograms():
-    from sso._studies.column_tolerance_report import _histograms
-
-    geometry = sso.ColumnGeometry([[-950.0, 360.0, 780.0], [-717.9, 296.7, 569.0],
-                                   [-660.0, 250.0, 430.0], [-610.0, 275.0, 300.0],
-                                   [-590.0, 300.0, 190.0]])
-    study = sso.tolerance_study(
-        (geometry, (-80.0, -60.0)), samples=200, progress=False, workers=1,
-        tolerances=sso.Tolerances(hardpoint_mm=0.5, yoke_phase_deg=1.0),
-        limits=sso.SteeringLimits(speed_fluctuation_percent=2.0, transmission_error_deg=0.5))
-    figure = _histograms(study)
-    drawn = {axes.get_xlabel(): [line for line in axes.get_lines()
-                                 if line.get_label().startswith("limit ")]
-             for axes in figure.axes}
-    (fluctuation,) = drawn["speed-ratio fluctuation, lock to lock (%)"]
-    (error,) = drawn["largest |transmission error|, lock to lock (deg)"]
-    assert list(fluctuation.get_xdata()) == [2.0, 2.0] and list(error.get_xdata()) == [0.5, 0.5]
-    assert fluctuation.get_label() == (
-        f"limit 2 %, yield {100 * study.yields.limits[0].fraction:.1f} %")
-    assert drawn["residual error RE (dimensionless)"] == []  # no limit on RE
