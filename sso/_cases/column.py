@@ -88,13 +88,14 @@ def teeth_list(label: str, value: Any) -> tuple[int, ...]:
 def yield_fraction(label: str, value: Any) -> float:
     """Parser of a required yield: a fraction in ``(0, 1]`` (a percentage is refused
     with the fraction it likely means)."""
-    fraction = number(0.0, math.inf, lower_open=True)(label, value)
-    if fraction > 1.0:
-        hint = (f"; for {fraction:g} % write {fraction / 100.0:g}" if fraction <= 100.0
-                else "")
-        raise ValueError(f"{label} = {fraction:g} is outside the allowed range (0, 1]: the "
-                         f"fraction of built columns that must meet every limit{hint}")
-    return fraction
+    try:
+        return number(0.0, 1.0, lower_open=True)(label, value)
+    except ValueError as error:
+        if isinstance(value, (int, float)) and not isinstance(value, bool) \
+                and 1.0 < value <= 100.0:
+            raise ValueError(f"{error}: the fraction of built columns that must meet every "
+                             f"limit; for {value:g} % write {value / 100.0:g}") from None
+        raise
 
 
 def _rpm_range(label: str, value: Any) -> tuple[float, float]:
