@@ -16,6 +16,9 @@ The draw and the angles are computed once in the calling process (a sample that 
 column is bad input: the tolerance is too large for this column); the chain matrices
 and the figures in chunks, on local processes or a Dask cluster
 (:func:`sso._studies.execution.run_tasks`), so the numbers do not depend on the chunking.
+The built columns are then judged against the limits given (a case's ``[limits]``):
+the yield of each and of all together with its confidence interval, which tolerance
+matters, and the largest one halved and re-sampled (:mod:`sso._studies.column_yields`).
 """
 
 from __future__ import annotations
