@@ -18,8 +18,14 @@ ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = sorted([*ROOT.glob("cases/*.toml"), *ROOT.glob("cases/mechanisms/*.toml")])
 
 
+# Shipped to fail: issue 35's car column is not shown to reach its required yield of 90 %
+# of built columns, so sso run says why on stderr and exits 1
+# (tests/cli/test_cli_column_yield.py).
+BELOW_REQUIRED_YIELD = {"column_car_limits"}
+
+
 def test_every_case_folder_is_covered():
-    assert len(SHIPPED) == 20
+    assert len(SHIPPED) == 21
 
 
 @pytest.mark.parametrize("command", ["run", "evaluate", "validate"])
@@ -32,8 +38,15 @@ def test_shipped_case_emits_no_warning(case, command, tmp_path, capsys):
         warnings.simplefilter("always")
         code = main(arguments)
     captured = capsys.readouterr()
-    assert code == 0, captured.err
-    assert captured.err == ""
+    if command == "run" and case.stem in BELOW_REQUIRED_YIELD:
+        assert code == 1
+        assert captured.err == (f"error: {case.stem}: the recommended assembly's built columns "
+                                "([tolerances] sample): FAILS the required yield 90.0 %: yield "
+                                "of all limits together 51.5 % (95 % CI 44.6 % to 58.3 %), its "
+                                "upper bound below it\n")
+    else:
+        assert code == 0, captured.err
+        assert captured.err == ""
     assert [str(warning.message) for warning in caught] == []
 
 

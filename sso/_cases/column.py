@@ -13,7 +13,8 @@ Tables (every key is listed in the README):
 * ``[steering]``: the lock-to-lock range of the steering figures (``lock_deg``,
   ``straight_ahead_deg``, ``on_centre_deg``; default from ``[feel]`` when given);
 * ``[limits]``: limits of the steering criteria and the joint maker's largest
-  operating angle (:mod:`sso._column.steering_criteria`);
+  operating angle (:mod:`sso._column.steering_criteria`), and the yield of built
+  columns required to meet them all (``yield``, :mod:`sso._column.yields`);
 * ``[tilt]``: a tilt position, ``P0`` turned about a pivot axis
   (:mod:`sso._cases.column_tilt`);
 * ``[joint_boxes] min_mm / max_mm``: a box per joint centre (optional table);
@@ -82,6 +83,19 @@ def teeth_list(label: str, value: Any) -> tuple[int, ...]:
                          f"[1, {MAX_TEETH}], one per intermediate shaft")
     item = whole_number(1, MAX_TEETH)
     return tuple(item(f"{label}[{index}]", entry) for index, entry in enumerate(value))
+
+
+def yield_fraction(label: str, value: Any) -> float:
+    """Parser of a required yield: a fraction in ``(0, 1]`` (a percentage is refused
+    with the fraction it likely means)."""
+    try:
+        return number(0.0, 1.0, lower_open=True)(label, value)
+    except ValueError as error:
+        if isinstance(value, (int, float)) and not isinstance(value, bool) \
+                and 1.0 < value <= 100.0:
+            raise ValueError(f"{error}: the fraction of built columns that must meet every "
+                             f"limit; for {value:g} % write {value / 100.0:g}") from None
+        raise
 
 
 def _rpm_range(label: str, value: Any) -> tuple[float, float]:
@@ -164,6 +178,9 @@ COLUMN_KEYS: tuple[Key, ...] = (
         number(0.0, BETA_LIMIT_DEG, "deg", lower_open=True, upper_open=True),
         DEFAULT_MAX_OPERATING_ANGLE_DEG, "deg",
         "(0, 90): the joint maker's largest operating angle"),
+    Key("limits", "yield", yield_fraction, None, "",
+        "(0, 1]: the fraction of built columns ([tolerances]) that must meet every limit "
+        "(judged on its 95 % confidence interval; no default)"),
     *solver_keys(COLUMN_SOLVER_DEFAULTS),
 )
 
@@ -257,6 +274,13 @@ class ColumnCase(SavedCase):
                                               "torque_fluctuation_percent",
                                               "transmission_error_deg",
                                               "max_operating_angle_deg")})
+
+    @property
+    def required_yield(self) -> float | None:
+        """``[limits] yield``: the fraction of built columns that must meet every limit,
+        or None."""
+        value: float | None = self.values.get("limits.yield")
+        return value
 
     def excitation_speeds_rpm(self) -> tuple[float, ...]:
         """The excitation table's speeds, evenly spaced, rpm."""

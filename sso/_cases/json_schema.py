@@ -258,6 +258,7 @@ NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
         "minItems": 1,
     },
     "sso._cases.column._rpm_range": lambda: _pair({"type": "number", "exclusiveMinimum": 0.0}),
+    "sso._cases.column.yield_fraction": lambda: _number(0.0, 1.0, True, False),
     "sso._cases.column_robust.positions_table": lambda: {
         "type": "object",
         "minProperties": 2,

@@ -6,7 +6,10 @@ recommended assembly read from ``--result`` (a ``result.json`` of ``sso run``). 
 tolerances are the case's ``[tolerances]`` (hardpoint mm, yoke phasing deg), else
 sso's defaults (:data:`sso._limits.DEFAULT_HARDPOINT_TOLERANCE_MM`,
 :data:`sso._limits.DEFAULT_YOKE_PHASE_TOLERANCE_DEG`); the steering range is the
-case's ``[steering]``.
+case's ``[steering]``. The built columns are judged against the case's ``[limits]``:
+the command exits 1 unless the yield of all of them together is shown to reach
+``[limits] yield`` (its 95 % confidence interval's lower bound at or above it;
+:mod:`sso._column.yields`).
 """
 
 from __future__ import annotations
@@ -18,8 +21,9 @@ from typing import Any
 
 
 def run_column_tolerance(args: argparse.Namespace, case: Any, client: Any) -> int:
-    """Study the column case's design; write the report; 0 (bad input raises ValueError)."""
-    from sso._cli.common import DEFAULT_OUT, EXIT_OK
+    """Study the column case's design; write the report; 0 when the required yield is
+    shown (or none is required), else 1 (bad input raises ValueError)."""
+    from sso._cli.common import DEFAULT_OUT, EXIT_FAILED, EXIT_OK
     from sso._limits import OUTPUT_FORMATS
     from sso._reports.kinds import write_report
     from sso._studies.column_tolerance import column_tolerance_study, study_settings
@@ -30,12 +34,13 @@ def run_column_tolerance(args: argparse.Namespace, case: Any, client: Any) -> in
         design, tolerances, samples=count, lock_deg=case.values["steering.lock_deg"],
         straight_ahead_deg=case.values["steering.straight_ahead_deg"], study_of=study_of,
         client=client, workers=args.workers, progress=False if args.quiet else None,
-        memory_limit_mb=args.memory_limit)
+        memory_limit_mb=args.memory_limit, limits=case.steering_limits(),
+        required_yield=case.required_yield)
     formats = tuple(name for name in OUTPUT_FORMATS if not (args.no_plots and name == "png"))
     folder = Path(args.out or DEFAULT_OUT) / case.name
     result = replace(result, files=tuple(write_report(result, folder, formats)))
     print(result.summary(), flush=True)
-    return EXIT_OK
+    return EXIT_OK if result.yields is None or result.yields.signed_off else EXIT_FAILED
 
 
 def _studied_design(args: argparse.Namespace, case: Any) -> tuple[tuple[Any, Any], str]:

@@ -164,6 +164,8 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
     status, code = _status(told)
     if not told.success:
         print_error(f"{case.name}: {told.verdict}")
+    if told.shortfall is not None:
+        print_error(f"{case.name}: {told.shortfall}")
     say(args, f"{case.name}: {status}; wrote {', '.join(path.name for path in written)} "
          f"in {folder}")
     initial, optimum, reference = (format_number(value, 3) if value is not None else "-"
@@ -188,6 +190,9 @@ class _Told:
     objective_note: str | None = None
     """The objective the recommended teeth were searched for, at the teeth and continuous
     (a column with positions, tolerances or a steering feel), else None."""
+    shortfall: str | None = None
+    """Why the recommended column's built columns are not shown to reach the required
+    yield (``[limits] yield``), else None."""
 
 
 def _told(result: Any) -> _Told:
@@ -214,9 +219,12 @@ def _told(result: Any) -> _Told:
     note = None if optimum is None or optimum.objective is None else (
         f"{optimum.objective} {format_number(optimum.objective_at_teeth, 3)} at the teeth, "
         f"{format_number(optimum.objective_continuous, 3)} continuous")
+    yields = result.recommended_yields if result.mode == "optimise" else None
+    shortfall = None if yields is None or yields.signed_off else (
+        f"the recommended assembly's built columns ([tolerances] sample): {yields.sentence}")
     return _Told(result.mode, result.success, result.verdict, result.warnings,
                  (result.initial.residual_error,
-                  None if optimum is None else optimum.residual_error, None), note)
+                  None if optimum is None else optimum.residual_error, None), note, shortfall)
 
 
 def _status(told: _Told) -> tuple[str, int]:
@@ -226,6 +234,8 @@ def _status(told: _Told) -> tuple[str, int]:
         return "evaluated", EXIT_OK
     if told.mode == "analyse":
         return "analysed", EXIT_OK
+    if told.success and told.shortfall is not None:
+        return "below the required yield", EXIT_FAILED
     if told.success:
         return "solved", EXIT_OK
     if told.verdict.startswith("solver failed"):

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from sso._column.geometry import shaft_name
 from sso._column.joint_centres import JointCentresResult
 from sso._limits import REPORT_DIGITS
+from sso._reports.column_fitter_report import fitter_blocks
 from sso._reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
 from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
 from sso._reports.documents import report_files
@@ -95,13 +96,17 @@ def excitation_csv(run: ColumnRun) -> str:
 
 def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report of a column run."""
-    blocks = opening_blocks(run.case.name, run.case.description, _case_table(run), run.success,
-                            run.verdict)
+    yields = run.recommended_yields if run.mode == "optimise" else None
+    blocks = opening_blocks(
+        run.case.name, run.case.description, _case_table(run),
+        run.success and (yields is None or yields.signed_off),
+        run.verdict if yields is None else
+        f"recommended assembly's built columns: {yields.sentence}; {run.verdict}")
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),
                _shaft_table(run), Paragraph(CONVENTION), _scene(run),
                Heading(2, "Can phasing cancel the fluctuation?"), _cancel_table(run),
                Heading(2, "Assemblies compared"), _assembly_table(run),
-               Heading(2, "Yoke phasing for the fitter"), _phasing_table(run),
+               Heading(2, "Yoke phasing for the fitter"), *fitter_blocks(run),
                *_exact_set_blocks(run)]
     splines = run.splines
     if splines is not None:
@@ -209,7 +214,7 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
                  for side, value, witness, end in zip(("from", "to"), (low, high), pair, found,
                                                       strict=True))
     return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
-                      f"{exact.dimension}; the best phasing above is the one "
+                      f"{exact.dimension}; the best continuous phasing is the one "
                       f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
                       f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
                       f"steps each way from the chosen phasing to the first where no exact "
@@ -220,34 +225,6 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
                       f"optimum (every shaft's delta, deg)."),
             Table(("intermediate shaft", "end", "delta (deg)", "witness delta (deg)",
                    "witness RE"), rows)]
-
-
-def _phasing_table(run: ColumnRun) -> Table:
-    phasing, splines = run.phasing, run.splines
-    as_built = run.assemblies[0]  # the assembly as built comes first
-    header = ["intermediate shaft", "gamma (deg)", "delta as built (deg)"]
-    if phasing is not None:
-        header += ["best delta (deg)", "all optimal delta, mod 180 (deg)"]
-    if splines is not None:
-        header += ["teeth", "tooth offset", "delta on the splines (deg)", "direction"]
-    rows = []
-    for shaft, gamma in enumerate(run.geometry.plane_angle_deg):
-        row = [f"{shaft + 1} (joint {shaft + 1} to {shaft + 2})", number(gamma, ".3f"),
-               number(as_built.yoke_phase_deg[shaft], ".3f")]
-        if phasing is not None:
-            row += [number(phasing.yoke_phase_deg[shaft], ".3f"),
-                    "; ".join(number(optimum[shaft], ".3f")
-                              for optimum in phasing.equivalent_yoke_phase_deg)]
-        if splines is not None:
-            offset = splines.tooth_offset[shaft]
-            direction = ("in phase" if offset == 0 else
-                         "clockwise" if offset > 0 else "anticlockwise")
-            row += [str(splines.teeth[shaft]), f"{offset:+d}",
-                    number(splines.yoke_phase_deg[shaft], ".3f"),
-                    f"{direction}, looking from joint {shaft + 1} to joint {shaft + 2}"
-                    if offset else direction]
-        rows.append(tuple(row))
-    return Table(tuple(header), tuple(rows))
 
 
 def _joint_blocks(moved: JointCentresResult) -> list[Block]:

@@ -15,9 +15,16 @@ from sso._column.band import Interval, ToleranceBand
 from sso._column.positions import PositionsResult
 from sso._column.scenarios import PhasingOutcome
 from sso._column.tolerances import SampleStudy
+from sso._column.yields import limit_text, percent
 from sso._reports.summary import Block, Heading, Paragraph, Table, number
 from sso._run.column import ColumnRun
-from sso._run.column_robust import ColumnRobustPart, FeelPart, PositionsPart, TolerancesPart
+from sso._run.column_robust import (
+    ColumnRobustPart,
+    FeelPart,
+    PositionsPart,
+    RobustDesign,
+    TolerancesPart,
+)
 
 SAME_FIGURE_RTOL = 1e-9
 """Two p95s of one design computed two ways agree to this (relative)."""
@@ -123,6 +130,7 @@ def _tolerance_blocks(robust: ColumnRobustPart, tolerances: TolerancesPart) -> l
              for equivalent in tolerances.nominal_equivalents]
     blocks.append(Table(("design", "nominal RE", "mean", "p50", "p95", "max", "CVaR95"),
                         tuple(rows)))
+    blocks += yield_blocks(robust.designs)
     result = tolerances.result
     if result is not None:
         robust_study, nominal_study = result.robust_study, result.nominal_study
@@ -150,6 +158,29 @@ def _tolerance_blocks(robust: ColumnRobustPart, tolerances: TolerancesPart) -> l
             f"{settings.seed + 1}): p95 {number(fresh_robust.p95, '.4g')} against "
             f"{number(fresh_nominal.p95, '.4g')}. {_agreement(result)}."))
     return blocks
+
+
+def yield_blocks(designs: Sequence[RobustDesign]) -> list[Block]:
+    """Each design's built columns against the case's limits: the yields, their 95 %
+    confidence intervals and the verdict (:mod:`sso._column.yields`)."""
+    judged = [(design.label, design.yields) for design in designs if design.yields is not None]
+    if not judged:
+        return []
+    first = judged[0][1]
+    header = ("design", *(f"yield: {item.label} {limit_text(item)}" for item in first.limits),
+              "yield of every limit (95 % CI)", "verdict")
+    rows = tuple((label, *(percent(item.fraction) for item in yields.limits),
+                  yields.together.text,
+                  yields.verdict if yields.required is None
+                  else f"{yields.verdict} {percent(yields.required)}")
+                 for label, yields in judged)
+    return [Paragraph(
+        "The same built columns against the case's [limits]: the yield is the fraction whose "
+        "figure (from lock to lock) meets the limit, with Wilson's 95 % score interval; the "
+        "verdict against [limits] yield is 'meets' when the interval of every limit together "
+        "lies at or above it, 'fails' when below, 'not shown' when it straddles it (sso run "
+        "exits 1 unless the recommended assembly meets it). The steering criteria's 'within' "
+        "judge each nominal design only."), Table(header, rows)]
 
 
 def _band_blocks(robust: ColumnRobustPart, limit: float) -> list[Block]:

@@ -41,7 +41,18 @@ def steering_blocks(run: ColumnRun) -> list[Block]:
                    "on-centre fluctuation (%)", "speed ratio at the locks (acw / cw)",
                    "transmission error at the locks (acw / cw, deg)"), figure_rows),
             Heading(3, "Steering criteria"), _criteria_table(designs),
-            Paragraph(_excitation_note(run))]
+            *_built_columns_note(run), Paragraph(_excitation_note(run))]
+
+
+def _built_columns_note(run: ColumnRun) -> list[Block]:
+    """Where the case has tolerances: the criteria judge nominal designs, the yield the
+    built columns (so a 'within' cannot hide a failing yield)."""
+    yields = run.recommended_yields if run.mode == "optimise" else None
+    if yields is None:
+        return []
+    return [Paragraph(f"'within' judges each design as drawn. Built as production builds it "
+                      f"(the [tolerances] sample), the recommended assembly: {yields.sentence} "
+                      "(Robust phasing, below).")]
 
 
 def _excitation_note(run: ColumnRun) -> str:

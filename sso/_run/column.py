@@ -33,6 +33,7 @@ from sso._column.joint_centres import JointCentresResult
 from sso._column.phasing import PhasingResult
 from sso._column.splines import SplineResult
 from sso._column.steering_criteria import SteeringAssessment, assess_steering
+from sso._column.yields import YieldJudgement
 from sso._display import Part, TextTable, format_number, format_numbers
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
@@ -208,6 +209,18 @@ class ColumnRun(CaseRun):
                              splines.continuous_residual_error)
         return RunFigure(label, value)
 
+    @property
+    def recommended_yields(self) -> YieldJudgement | None:
+        """The yields of the recommended assembly's built columns against the case's
+        ``[limits]`` (the ``[tolerances]`` sample), or None without ``[tolerances]``."""
+        if self.robust is None:
+            return None
+        chosen = self.assembly(self.recommended).yoke_phase_deg
+        for design in self.robust.designs:
+            if design.yields is not None and design.yoke_phase_deg == chosen:
+                return design.yields
+        return None
+
     def _repr_text(self) -> str:
         optimum = self.optimum
         figures = f"as built RE {format_number(self.initial.residual_error, 4)}" + (
@@ -219,10 +232,13 @@ class ColumnRun(CaseRun):
         rows = tuple((assembly.label, format_numbers(assembly.yoke_phase_deg),
                       format_number(assembly.residual_error))
                      for assembly in self.assemblies)
+        yields = self.recommended_yields if self.mode == "optimise" else None
         return [f"Case {self.case.name} (column, {self.mode}): "
                 f"{'OK' if self.success else 'FAILED'}: {self.verdict}",
                 TextTable(("assembly", "yoke phasing delta (deg)", "RE"), rows),
-                f"recommended: {self.assembly(self.recommended).label}"]
+                f"recommended: {self.assembly(self.recommended).label}",
+                *([] if yields is None else [f"its built columns ([tolerances] sample): "
+                                             f"{yields.sentence}"])]
 
 
 def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:

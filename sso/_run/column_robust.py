@@ -16,7 +16,7 @@ the case gives ``[splines]``.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,6 +24,7 @@ import numpy as np
 
 from sso._cases.column import ColumnCase
 from sso._column.band import ToleranceBand, re_against_phase_error, tolerance_band
+from sso._column.built_figures import built_column_figures, limited_figures
 from sso._column.chain_matrix import residual_error
 from sso._column.feel import OnCentreResult, SteeringFeel, speed_ratio, steering_feel
 from sso._column.geometry import ColumnGeometry
@@ -32,6 +33,7 @@ from sso._column.positions import PositionsResult
 from sso._column.robust_phasing import RobustResult
 from sso._column.splines import SplineResult
 from sso._column.tolerances import SampleStudy, Tolerances, ToleranceSample
+from sso._column.yields import YieldJudgement, column_limits, judge_yields
 from sso._limits import DEFAULT_PHASE_ERROR_POINTS, DEFAULT_PHASE_ERROR_SPAN_DEG
 from sso._record import register_record
 
@@ -87,6 +89,10 @@ class RobustDesign:
         Its tolerance band (``[band]``, where the design is within the limit).
     band_note : str or None
         Why it has no band (RE above ``band.re_limit``).
+    yields : YieldJudgement or None
+        Its built columns (the ``[tolerances]`` sample) against the case's ``[limits]``:
+        the yield of each limit and of all together, and the verdict against
+        ``[limits] yield`` (:mod:`sso._column.yields`).
     """
 
     role: str
@@ -99,6 +105,7 @@ class RobustDesign:
     feel: SteeringFeel | None = None
     band: ToleranceBand | None = None
     band_note: str | None = None
+    yields: YieldJudgement | None = None
 
 
 @register_record
@@ -351,7 +358,9 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
             verdicts.append(f"steering feel: {centred.message}")
     limit = case.values.get("band.re_limit")
     sample = None if tolerances is None else tolerances.sample(geometry)
-    compared = tuple(_design(role, label, yoke, splines, geometry, positions, sample, feel, limit)
+    judge = None if sample is None else _yield_judge(case, sample)
+    compared = tuple(_design(role, label, yoke, splines, geometry, positions, sample, feel, limit,
+                             judge)
                      for role, label, yoke, splines in designs)
     tolerances_part = None
     if tolerances is not None:
@@ -377,7 +386,8 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
 def _design(role: str, label: str, yoke: tuple[float, ...], splines: SplineResult | None,
             geometry: ColumnGeometry, positions: dict[str, ColumnGeometry] | None,
             sample: ToleranceSample | None, feel: dict[str, float] | None,
-            limit: float | None) -> RobustDesign:
+            limit: float | None,
+            judge: Callable[[Sequence[float]], YieldJudgement] | None) -> RobustDesign:
     """One design with every figure the case asks for."""
     nominal = _re_of(geometry, yoke)
     figures = None
@@ -399,7 +409,23 @@ def _design(role: str, label: str, yoke: tuple[float, ...], splines: SplineResul
                          f"{limit:g}: no band")
     return RobustDesign(role=role, label=label, yoke_phase_deg=yoke, nominal_re=nominal,
                         splines=splines, positions=figures, study=study, feel=felt, band=band,
-                        band_note=band_note)
+                        band_note=band_note, yields=None if judge is None else judge(yoke))
+
+
+def _yield_judge(case: ColumnCase,
+                 sample: ToleranceSample) -> Callable[[Sequence[float]], YieldJudgement]:
+    """The yields of a design's built columns (the case's sample) against its limits."""
+    limits = column_limits(case.steering_limits())
+    steering = case.steering_options()
+    beta_deg = np.degrees(sample.beta_rad)
+
+    def judge(yoke: Sequence[float]) -> YieldJudgement:
+        phase_rad = np.radians(90.0 + np.asarray(yoke)) - sample.gamma_rad
+        figures = built_column_figures(sample.beta_rad, phase_rad,
+                                       steering["straight_ahead_deg"], steering["lock_deg"])
+        return judge_yields(limited_figures(beta_deg, figures), limits, case.required_yield)
+
+    return judge
 
 
 def _re_of(column: ColumnGeometry, yoke: Sequence[float]) -> float:

@@ -16,12 +16,15 @@ The draw and the angles are computed once in the calling process (a sample that 
 column is bad input: the tolerance is too large for this column); the chain matrices
 and the figures in chunks, on local processes or a Dask cluster
 (:func:`sso._studies.execution.run_tasks`), so the numbers do not depend on the chunking.
+The built columns are then judged against the limits given (a case's ``[limits]``):
+the yield of each and of all together with its confidence interval, which tolerance
+matters, and the largest one halved and re-sampled (:mod:`sso._studies.column_yields`).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
@@ -30,11 +33,15 @@ import numpy as np
 
 import sso._studies.column_tolerance_report  # noqa: F401  (registers "column_tolerance")
 from sso._column.built_columns import built_angles
+from sso._column.built_figures import BUILT_FIGURES, built_column_figures, limited_figures
 from sso._column.chain_matrix import chain_matrix, matrix_residual_error
 from sso._column.design import column_design
 from sso._column.geometry import ColumnGeometry
-from sso._column.steering_range import range_extremes, steering_range
+from sso._column.sensitivity import FigureSensitivity
+from sso._column.steering_criteria import SteeringLimits
+from sso._column.steering_range import steering_range
 from sso._column.tolerances import Tolerances, draw_errors
+from sso._column.yields import YieldJudgement, column_limits
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
 from sso._files import check_report_folder
 from sso._limits import (
@@ -49,16 +56,23 @@ from sso._limits import (
 from sso._record import Record
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory
+from sso._studies.column_yields import HalvedTolerance, judge_study
+from sso._studies.column_yields_report import yield_parts
 from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks, validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import SampledFigures
-from sso._validation import as_float_tuple, check_in_range, finite_float, validate_count
+from sso._validation import (
+    as_float_tuple,
+    check_in_range,
+    finite_float,
+    finite_in_range,
+    validate_count,
+)
 
 MAX_COLUMN_SAMPLES = 2_000_000
 """Most samples of a column study (its hardpoint draws take 8 (3 n + 6) bytes each)."""
-COLUMN_METRICS = ("residual_error", "speed_fluctuation_percent", "torque_fluctuation_percent",
-                  "largest_transmission_error_deg")
+COLUMN_METRICS = BUILT_FIGURES
 METRIC_LABELS = {
     "residual_error": "residual error RE (dimensionless)",
     "speed_fluctuation_percent": "speed-ratio fluctuation, lock to lock (%)",
@@ -80,16 +94,54 @@ class ColumnChunk:
 
 def evaluate_column_chunk(chunk: ColumnChunk) -> np.ndarray:
     """The figures of :data:`COLUMN_METRICS` of every sample, shape ``(4, samples)``."""
-    matrices = chain_matrix(chunk.beta_rad, chunk.phase_rad)
-    figures = np.empty((len(COLUMN_METRICS), len(matrices)))
-    figures[0] = matrix_residual_error(matrices)
-    for index, matrix in enumerate(matrices):
-        ratio_low, ratio_high, error_low, error_high = range_extremes(
-            matrix, chunk.straight_ahead_deg, chunk.lock_deg)
-        figures[1, index] = 100.0 * (ratio_high - ratio_low)
-        figures[2, index] = 100.0 * (1.0 / ratio_low - 1.0 / ratio_high)
-        figures[3, index] = max(-error_low, error_high)
-    return figures
+    return built_column_figures(chunk.beta_rad, chunk.phase_rad, chunk.straight_ahead_deg,
+                                chunk.lock_deg)
+
+
+@dataclass(frozen=True)
+class BuiltSample:
+    """Built columns to evaluate: their hardpoints (mm), design phasing and phase errors
+    (deg), and the steering range (deg)."""
+
+    points_mm: np.ndarray
+    yoke_phase_deg: np.ndarray
+    phase_errors_deg: np.ndarray
+    straight_ahead_deg: float
+    lock_deg: float
+
+
+def built_figures(sample: BuiltSample, hardpoint_mm: float, chunk_size: int, client: Any,
+                  workers: int, advance: Callable[[int], None]
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Operating angles, bend-plane angles (deg) and the figures of
+    :data:`COLUMN_METRICS` ``(4, samples)`` of built columns, evaluated in chunks.
+
+    Raises
+    ------
+    ValueError
+        If a built column is not a column (``hardpoint_mm`` too large for it).
+    RuntimeError
+        If a chunk fails.
+    """
+    try:
+        beta_deg, gamma_deg = built_angles(sample.points_mm)
+    except ValueError as refused:
+        raise ValueError(f"hardpoint_mm = {hardpoint_mm:g} mm is too large for this "
+                         f"column: {refused}") from None
+    phase_rad = np.radians(90.0 + sample.yoke_phase_deg + sample.phase_errors_deg - gamma_deg)
+    beta_rad = np.radians(beta_deg)
+    count = len(beta_rad)
+    chunks = [ColumnChunk(beta_rad[start:start + chunk_size], phase_rad[start:start + chunk_size],
+                          sample.straight_ahead_deg, sample.lock_deg)
+              for start in range(0, count, chunk_size)]
+    figures = np.empty((len(COLUMN_METRICS), count))
+    for index, values, error in run_tasks(evaluate_column_chunk, chunks, client, workers):
+        if error is not None:
+            raise RuntimeError(f"column tolerance study: chunk {index} failed: "
+                               f"{error}") from error
+        figures[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
+        advance(values.shape[1])
+    return beta_deg, gamma_deg, figures
 
 
 @dataclass(frozen=True, repr=False, eq=False)
@@ -125,6 +177,13 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
         Files written.
     study_of : str
         Which design was studied, in words.
+    yields : YieldJudgement or None
+        The yield of each limit and of all together, with its interval and the verdict
+        against the required yield (:mod:`sso._studies.column_yields`).
+    sensitivity : tuple of FigureSensitivity
+        Each failed limit's figure: the first-order index of every tolerance, ranked.
+    halved : tuple of HalvedTolerance
+        The yields re-sampled with each figure's largest contributor halved.
     """
 
     geometry: ColumnGeometry
@@ -147,6 +206,9 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
     elapsed_s: float
     files: tuple[Path, ...] = field(default=())
     study_of: str = "the given design"
+    yields: YieldJudgement | None = None
+    sensitivity: tuple[FigureSensitivity, ...] = ()
+    halved: tuple[HalvedTolerance, ...] = ()
 
     report_kind: ClassVar[str] = "column_tolerance"
     _metrics: ClassVar[tuple[str, ...]] = COLUMN_METRICS
@@ -172,6 +234,7 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
             f" mm, each yoke phasing {format_number(self.yoke_phase_tolerance_deg)} deg",
             f"  steering range: +-{format_number(self.lock_deg)} deg from straight ahead "
             f"(input angle {format_number(self.straight_ahead_deg)} deg)",
+            *yield_parts(self),
             TextTable(("figure", "nominal", *(f"p{q:g}" for q in self.percentiles)), rows),
         ]
 
@@ -192,6 +255,8 @@ def column_tolerance_study(
     progress: bool | None = None,
     plots: bool = True,
     memory_limit_mb: float | None = None,
+    limits: SteeringLimits | None = None,
+    required_yield: float | None = None,
 ) -> ColumnToleranceResult:
     """Monte Carlo study of a column design under hardpoint and yoke-phasing tolerances.
 
@@ -213,6 +278,14 @@ def column_tolerance_study(
         Which design this is, in words, for the report.
     out_dir, client, workers, chunk_size, progress, plots, memory_limit_mb
         As :func:`sso.tolerance_study`.
+    limits : sso.SteeringLimits, optional
+        The limits the built columns are judged against (default: the largest
+        operating angle only, 35 deg): the yield of each and of all together, and
+        the sensitivity of each figure some built column fails
+        (:mod:`sso._studies.column_yields`).
+    required_yield : float, optional
+        The yield of all limits together the design must show, in ``(0, 1]``; None
+        reports the yields without a verdict.
 
     Raises
     ------
@@ -233,6 +306,12 @@ def column_tolerance_study(
                           else percentiles)))
     if not quantiles:
         raise ValueError("percentiles is empty: give one or more values in [0, 100]")
+    limits = SteeringLimits() if limits is None else limits
+    if not isinstance(limits, SteeringLimits):
+        raise TypeError(f"limits must be an sso.SteeringLimits, not {type(limits).__name__}")
+    if required_yield is not None:
+        required_yield = finite_in_range("required_yield", required_yield, 0.0, 1.0,
+                                         lower_open=True)
     nominal_range = steering_range((geometry, yoke), lock_deg=lock_deg,
                                    straight_ahead_deg=straight_ahead_deg)
     if out_dir is not None:
@@ -247,29 +326,31 @@ def column_tolerance_study(
                           (count, *points.shape))
     phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
                                (count, geometry.joint_count - 1))
-    try:
-        beta_deg, gamma_deg = built_angles(points + offsets)
-    except ValueError as refused:
-        raise ValueError(f"hardpoint_mm = {tolerances.hardpoint_mm:g} mm is too large for this "
-                         f"column: {refused}") from None
-    phase_rad = np.radians(90.0 + np.asarray(yoke) + phase_errors - gamma_deg)
-    beta_rad = np.radians(beta_deg)
     centre = finite_float("straight_ahead_deg", straight_ahead_deg)
-    chunks = [ColumnChunk(beta_rad[start:start + chunk_size], phase_rad[start:start + chunk_size],
-                          centre, nominal_range.lock_deg)
-              for start in range(0, count, chunk_size)]
-    figures = np.empty((len(COLUMN_METRICS), count))
     bar = ProgressBar(count, "samples", interactive() if progress is None else progress)
+
+    def evaluate(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray,
+                 advance: Callable[[int], None]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return built_figures(BuiltSample(points + offsets_mm, np.asarray(yoke),
+                                         phase_errors_deg, centre, nominal_range.lock_deg),
+                             tolerances.hardpoint_mm, chunk_size, client, worker_count, advance)
+
+    def limited(offsets_mm: np.ndarray, phase_errors_deg: np.ndarray) -> dict[str, np.ndarray]:
+        again = ProgressBar(count, "samples, a tolerance halved",
+                            interactive() if progress is None else progress)
+        try:
+            beta_deg, _, figures = evaluate(offsets_mm, phase_errors_deg, again.advance)
+        finally:
+            again.close()
+        return limited_figures(beta_deg, figures)
+
     try:
-        for index, values, error in run_tasks(evaluate_column_chunk, chunks, client,
-                                              worker_count):
-            if error is not None:
-                raise RuntimeError(f"column tolerance study: chunk {index} failed: "
-                                   f"{error}") from error
-            figures[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
-            bar.advance(values.shape[1])
+        beta_deg, gamma_deg, figures = evaluate(offsets, phase_errors, bar.advance)
     finally:
         bar.close()
+    judged = judge_study(offsets, phase_errors, limited_figures(beta_deg, figures),
+                         column_limits(limits), required_yield, tolerances.hardpoint_mm,
+                         tolerances.yoke_phase_deg, limited)
     nominal = {"residual_error": float(matrix_residual_error(chain_matrix(
         np.radians(geometry.beta_deg), np.radians(geometry.phase_deg_from_yoke(yoke))))),
         "speed_fluctuation_percent": nominal_range.speed_fluctuation_percent,
@@ -284,7 +365,8 @@ def column_tolerance_study(
         yoke_phase_error_deg=phase_errors, residual_error=figures[0],
         speed_fluctuation_percent=figures[1], torque_fluctuation_percent=figures[2],
         largest_transmission_error_deg=figures[3], elapsed_s=time.perf_counter() - started,
-        study_of=study_of)
+        study_of=study_of, yields=judged.yields, sensitivity=judged.sensitivity,
+        halved=judged.halved)
     if out_dir is None:
         return result
     from sso._reports.kinds import write_report

@@ -3,7 +3,9 @@
 
 ``tolerance.csv`` (every built column: its angles, its yoke phase errors and its
 figures, 6 digits), ``report.md`` and ``report.html`` from the same blocks as every
-report, and ``tolerance_histogram.png`` (one histogram per figure); ``result.json``,
+report, ``tolerance_histogram.png`` (one histogram per figure, the case's limits
+drawn) and ``tolerance_sensitivity.png`` (which tolerance matters,
+:mod:`sso._studies.column_yields_report`); ``result.json``,
 the saved result, is added by :func:`sso.write_report`. The result is read by its
 attributes only (its module imports this one, to register the kind).
 """
@@ -14,10 +16,17 @@ from typing import Any
 
 import numpy as np
 
+from sso._column.yields import percent
 from sso._display import format_number
 from sso._limits import REPORT_DIGITS
 from sso._reports.kinds import register_report_kind
 from sso._reports.summary import Block, Heading, Image, Paragraph, Table
+from sso._studies.column_yields_report import (
+    SENSITIVITY_PLOT,
+    limit_of,
+    sensitivity_figure,
+    yield_blocks,
+)
 from sso._studies.report import (
     SINGLE_SIZE_IN,
     TOLERANCE_CSV,
@@ -44,6 +53,9 @@ def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, 
     if "csv" in formats:
         files[TOLERANCE_CSV] = _csv(result).encode("utf-8")
     images = {TOLERANCE_PLOT: _png(_histograms(result))} if "png" in formats else {}
+    sensitivity = sensitivity_figure(result, _figure) if "png" in formats else None
+    if sensitivity is not None:
+        images[SENSITIVITY_PLOT] = _png(sensitivity)
     files.update(images)
     _add_documents(files, formats, _blocks(result, tuple(images)), images)
     return files
@@ -86,10 +98,14 @@ def _blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:
                      *(format_number(value) for value in table[name].values()))
                     for name, label in FIGURES)),
     ]
-    if image_files:
-        blocks.append(Image(image_files[0], "Histograms of the built columns' figures; black: "
-                            "nominal, red dotted: the percentiles above."))
-    return blocks
+    if TOLERANCE_PLOT in image_files:
+        blocks.append(Image(TOLERANCE_PLOT, "Histograms of the built columns' figures; black: "
+                            "nominal, red dotted: the percentiles above, orange dashed: the "
+                            "case's limit."))
+    judged = yield_blocks(result, image_files)
+    percentiles_heading: list[Block] = ([Heading(2, "Percentiles of the built columns' figures")]
+                                        if judged else [])
+    return [*blocks[:3], *judged, *percentiles_heading, *blocks[3:]]
 
 
 def _histograms(result: Any) -> Any:
@@ -102,6 +118,12 @@ def _histograms(result: Any) -> Any:
         axes.axvline(result.nominal[name], color="black", label="nominal")
         for value in table[name].values():
             axes.axvline(value, color="tab:red", linestyle=":", linewidth=1)
+        limit = limit_of(result, name)
+        if limit is not None and limit.limit is not None:
+            axes.axvline(limit.limit, color="tab:orange", linestyle="--", linewidth=1.5,
+                         label=f"limit {format_number(limit.limit)} {limit.unit}, yield "
+                               f"{percent(limit.fraction)}")
+            axes.legend(loc="upper right", fontsize="small")
         axes.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
         axes.set_xlabel(label, fontsize="small")
         axes.set_ylabel("built columns" if index % 2 == 0 else "")

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from sso._cases.column import ColumnCase
+from sso._column.steering_criteria import SteeringLimits
 from sso._column.tolerances import Tolerances
 from sso._files import check_report_folder
 from sso._limits import (
@@ -89,6 +90,8 @@ def tolerance_study(
     plots: bool = True,
     memory_limit_mb: float | None = None,
     tolerances: Tolerances | None = None,
+    limits: SteeringLimits | None = None,
+    required_yield: float | None = None,
 ) -> ToleranceResult | ColumnToleranceResult:
     """Monte Carlo study of a design under angle and phase tolerances (a shaft series), or
     under hardpoint and yoke-phasing tolerances (a column).
@@ -160,6 +163,14 @@ def tolerance_study(
         ``SSO_MEMORY_LIMIT_MB`` or :data:`sso._limits.DEFAULT_MEMORY_LIMIT_MB`).
     tolerances : sso.Tolerances, optional
         A column's hardpoint and yoke-phasing tolerances (a column design only).
+    limits : sso.SteeringLimits, optional
+        The limits a column's built columns are judged against (a column design
+        only; a column case's ``[limits]`` unless given): the yield of each and of
+        all together, with its 95 % confidence interval, and which tolerance matters.
+    required_yield : float, optional
+        The yield of all limits together a column must show, in ``(0, 1]`` (a
+        column case's ``[limits] yield`` unless given); the result's
+        ``yields.verdict`` says whether it does.
 
     Returns
     -------
@@ -191,15 +202,22 @@ def tolerance_study(
                      for name in ("lock_deg", "straight_ahead_deg")})
         if column_case is not None:
             design = (column_case.geometry(), column_case.values["phasing.yoke_phase_deg"])
+            limits = column_case.steering_limits() if limits is None else limits
+            required_yield = (column_case.required_yield if required_yield is None
+                              else required_yield)
         return column_tolerance_study(
             design, chosen, samples=count, percentiles=percentiles, out_dir=out_dir,
             client=client, workers=workers, chunk_size=chunk_size, progress=progress,
-            plots=plots, memory_limit_mb=memory_limit_mb, **steering,
+            plots=plots, memory_limit_mb=memory_limit_mb, limits=limits,
+            required_yield=required_yield, **steering,
             study_of="the given design" if column_case is None else
             f"the assembly as built in case {column_case.name!r}")
     if tolerances is not None:
         raise ValueError("tolerances = sso.Tolerances(...) is a column's; a shaft series takes "
                          "beta_tolerance_deg= and phase_tolerance_deg=")
+    if limits is not None or required_yield is not None:
+        raise ValueError("limits and required_yield judge a column's built columns; a shaft "
+                         "series' tolerance study takes neither")
     series, speed_rpm, quadrature, case_settings, study_of = _nominal(design, input_speed_rpm)
     if out_dir is not None:
         out_dir = check_report_folder(out_dir, TOLERANCE_FOLDER)

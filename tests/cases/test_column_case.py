@@ -199,3 +199,27 @@ def test_a_bad_point_names_its_key_and_the_line_it_is_on(source, line, message):
         parse_case(tomllib.loads(source), "bend.toml", source)
     assert raised.value.line == line
     assert str(raised.value).startswith(f"bend.toml, line {line}: {message}"), str(raised.value)
+
+
+@pytest.mark.parametrize("value, message", [
+    ("90", "limits.yield = 90 is outside the allowed range (0, 1]: the fraction of built "
+           "columns that must meet every limit; for 90 % write 0.9"),
+    ("0", "limits.yield = 0 is outside the allowed range (0, 1]"),
+    ("1.5", "limits.yield = 1.5 is outside the allowed range (0, 1]: the fraction of built "
+            "columns that must meet every limit; for 1.5 % write 0.015"),
+    ("-0.2", "limits.yield = -0.2 is outside the allowed range (0, 1]"),
+    ('"90 %"', "limits.yield = '90 %' must be a number in (0, 1]"),
+])
+def test_a_required_yield_outside_zero_to_one_names_the_key(tmp_path, value, message):
+    text = (ROOT / "cases" / "column_car_limits.toml").read_text()
+    path = tmp_path / "car.toml"
+    path.write_text(text.replace("yield = 0.9", f"yield = {value}"))
+    with pytest.raises(CaseError) as raised:
+        load_case(path)
+    assert message in str(raised.value)
+
+
+def test_the_car_columns_required_yield_is_read():
+    case = load_case(ROOT / "cases" / "column_car_limits.toml")
+    assert case.required_yield == 0.9
+    assert load_case(ROOT / "cases" / "column_truck_three_joints.toml").required_yield is None
