@@ -254,12 +254,6 @@ class Driveline:
         return {DESIGN_POSITION: self._geometry,
                 **{position.name: _position_geometry(position) for position in self.positions}}
 
-    def analyse(self) -> Any:
-        """The figures this driveline is signed off on: :class:`sso.DrivelineResult`."""
-        from sso._driveline.figures import analyse
-
-        return analyse(self)
-
     def with_phasing(self, yoke_phase_deg: Sequence[float]) -> Driveline:
         """This driveline with another yoke phasing."""
         from dataclasses import replace

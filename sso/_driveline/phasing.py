@@ -30,9 +30,12 @@ if TYPE_CHECKING:
 
 FIGURES = ("inertia drive", "inertia coast", "torsional")
 CRITERION = ("largest margin under the limits over every position (least largest ratio of "
-             "an excitation to its limit), then least sum of squared ratios")
+             "an excitation to its limit), then least sum of squared ratios; a phasing of 0 "
+             "or 90 deg per shaft as good is preferred")
 REFINED_STARTS = 3
 HELD_RATIO = 1e-9
+TIE = 1e-9
+"""Ratios (of an excitation to its limit) this close are equal."""
 
 
 @register_record
@@ -75,7 +78,7 @@ class PhasingAdvice:
     def trades(self) -> tuple[PhasingRow, ...]:
         """The rows where the recommended phasing is worse than the given one."""
         return tuple(row for row in self.rows
-                     if row.recommended_rad_s2 > row.given_rad_s2 * (1.0 + 1e-6) + 1e-9)
+                     if row.recommended_rad_s2 > row.given_rad_s2 + TIE * row.limit_rad_s2)
 
     def summary_parts(self) -> list[Part]:
         """The advice for a summary."""
@@ -153,6 +156,14 @@ def recommend_phasing(driveline: Driveline) -> PhasingAdvice:
         if key < best_key:
             best_point, best_key = second.x, key
     assert best_point is not None
+    # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
+    # as such, not as its round-off neighbour.
+    for textbook in itertools.product((0.0, 90.0), repeat=shafts):
+        final = ratios(np.array(textbook))
+        if (float(np.max(final)) <= best_key[0] + TIE
+                and float(np.sum(final**2)) <= best_key[1] + TIE):
+            best_point = np.array(textbook)
+            break
     recommended = tuple(float(v) for v in wrap_half_turn(best_point))
     given = driveline.phasing_deg
     given_values = _figures(geometries, given, speed)
