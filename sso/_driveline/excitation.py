@@ -28,6 +28,7 @@ import numpy as np
 from sso._column.excitation import equivalent_angles
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.motion import (
+    PEAK_SAMPLES,
     RPM_TO_RAD_S,
     accelerations_per_speed2,
     partial_matrices,
@@ -62,21 +63,26 @@ class Excitations:
 
 
 def excitations(geometry: ColumnGeometry, yoke_phase_deg: tuple[float, ...],
-                shaft_speed_rpm: float) -> Excitations:
-    """The exact peak accelerations of every shaft and the three excitations."""
+                shaft_speed_rpm: float, samples: int = PEAK_SAMPLES,
+                refine: bool = True) -> Excitations:
+    """The exact peak accelerations of every shaft and the three excitations.
+
+    ``samples`` per half revolution; ``refine`` the largest by a bounded search (the
+    phasing search looks at the samples alone).
+    """
     omega_squared = (shaft_speed_rpm * RPM_TO_RAD_S) ** 2
     matrices = partial_matrices(geometry, yoke_phase_deg)
-    drive = tuple(omega_squared * peak
-                  for peak in peak_accelerations_per_speed2(matrices, coast=False))
-    coast_shafts = tuple(omega_squared * peak
-                         for peak in peak_accelerations_per_speed2(matrices, coast=True))
+    drive = tuple(omega_squared * peak for peak in peak_accelerations_per_speed2(
+        matrices, False, samples, refine))
+    coast_shafts = tuple(omega_squared * peak for peak in peak_accelerations_per_speed2(
+        matrices, True, samples, refine))
 
     def gearbox_coast(theta: np.ndarray) -> np.ndarray:
         ratio, slope = ratios_and_slopes(matrices, theta)
         acceleration: np.ndarray = -slope[-1] / ratio[-1] ** 3
         return acceleration
 
-    coast = (omega_squared * peak_magnitude(gearbox_coast), *coast_shafts[:-1])
+    coast = (omega_squared * peak_magnitude(gearbox_coast, samples, refine), *coast_shafts[:-1])
     propshafts = geometry.joint_count - 1
     if propshafts:
         inertia_drive, inertia_coast = max(drive[:propshafts]), max(coast[1:])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -42,7 +43,7 @@ JOINT_LIFE_NOTE = (
 
 @register_record
 @dataclass(frozen=True)
-class PositionFigures:
+class DrivelinePosition:
     """Angles and excitations of one position (the design or a named one).
 
     Attributes
@@ -138,12 +139,12 @@ class LoadCurves:
 
 @dataclass(frozen=True, eq=False, repr=False)
 class DrivelineResult(Record, Readable):
-    """What a driveline is signed off on (:meth:`sso.Driveline.analyse`).
+    """What a driveline is signed off on (:func:`sso.analyse_driveline`).
 
     Attributes
     ----------
     driveline : sso.Driveline
-    positions : tuple of PositionFigures
+    positions : tuple of DrivelinePosition
         The design position first, then the named ones.
     tubes : tuple of TubeFigures
         One per propshaft.
@@ -157,12 +158,13 @@ class DrivelineResult(Record, Readable):
     """
 
     driveline: Driveline
-    positions: tuple[PositionFigures, ...]
+    positions: tuple[DrivelinePosition, ...]
     tubes: tuple[TubeFigures, ...]
     rules: tuple[Rule, ...]
     loads: LoadCurves
     phasing: PhasingAdvice | None
     joint_life: str
+    report_kind: ClassVar[str] = "driveline"
 
     @property
     def passed(self) -> bool:
@@ -260,7 +262,7 @@ def joint_name(joint: int, joints: int) -> str:
 
 
 def position_figures(name: str, geometry: ColumnGeometry, phasing: tuple[float, ...],
-                     speed_rpm: float) -> PositionFigures:
+                     speed_rpm: float) -> DrivelinePosition:
     """Angles and excitations of one position."""
     directions = geometry.shaft_directions
     slopes = tuple(side_slope_deg(direction) for direction in directions)
@@ -268,7 +270,7 @@ def position_figures(name: str, geometry: ColumnGeometry, phasing: tuple[float, 
     side = tuple(slopes[k] - slopes[k + 1] for k in range(geometry.joint_count))
     plan = tuple(plans[k] - plans[k + 1] for k in range(geometry.joint_count))
     figures = excitations(geometry, phasing, speed_rpm)
-    return PositionFigures(
+    return DrivelinePosition(
         name=name, slope_deg=slopes, plan_deg=plans, joint_angle_deg=geometry.beta_deg,
         side_view_deg=side, plan_view_deg=plan,
         compound_estimate_deg=tuple(math.hypot(s, p) for s, p in zip(side, plan, strict=True)),
@@ -312,7 +314,7 @@ def load_curves(driveline: Driveline) -> LoadCurves:
     return LoadCurves(theta_deg=theta_deg, couples=couples, bearings=tuple(bearings))
 
 
-def rules(driveline: Driveline, positions: tuple[PositionFigures, ...],
+def rules(driveline: Driveline, positions: tuple[DrivelinePosition, ...],
           tubes: tuple[TubeFigures, ...]) -> tuple[Rule, ...]:
     """Every maker's rule at every position."""
     checked: list[Rule] = []
@@ -356,7 +358,7 @@ def rules(driveline: Driveline, positions: tuple[PositionFigures, ...],
     return tuple(checked)
 
 
-def analyse(driveline: Driveline, *, phasing: bool = True) -> DrivelineResult:
+def analyse_driveline(driveline: Driveline, *, phasing: bool = True) -> DrivelineResult:
     """Every figure of :class:`DrivelineResult` for ``driveline``.
 
     Parameters
@@ -375,4 +377,4 @@ def analyse(driveline: Driveline, *, phasing: bool = True) -> DrivelineResult:
                            joint_life=JOINT_LIFE_NOTE)
 
 
-__all__ = ["DESIGN_POSITION", "DrivelineResult", "analyse"]
+__all__ = ["DESIGN_POSITION", "DrivelineResult", "analyse_driveline"]

@@ -84,11 +84,16 @@ def speeds_per_speed(matrices: np.ndarray, theta_rad: np.ndarray, coast: bool) -
 
 
 def peak_magnitude(function: Callable[[np.ndarray], np.ndarray],
-                   samples: int = PEAK_SAMPLES) -> float:
-    """Largest ``|function(theta)|`` over a revolution of a function of period pi."""
+                   samples: int = PEAK_SAMPLES, refine: bool = True) -> float:
+    """Largest ``|function(theta)|`` over a revolution of a function of period pi.
+
+    Without ``refine`` the largest sample (the phasing search's quick look).
+    """
     theta = np.pi * np.arange(samples) / samples
     values = np.abs(function(theta))
     best = int(np.argmax(values))
+    if not refine:
+        return float(values[best])
     step = np.pi / samples
     found = minimize_scalar(lambda angle: -float(np.abs(function(np.array([angle]))[0])),
                             bounds=(theta[best] - step, theta[best] + step),
@@ -96,7 +101,9 @@ def peak_magnitude(function: Callable[[np.ndarray], np.ndarray],
     return max(float(values[best]), -float(found.fun))
 
 
-def peak_accelerations_per_speed2(matrices: np.ndarray, coast: bool) -> tuple[float, ...]:
+def peak_accelerations_per_speed2(matrices: np.ndarray, coast: bool,
+                                  samples: int = PEAK_SAMPLES,
+                                  refine: bool = True) -> tuple[float, ...]:
     """Peak angular acceleration of each shaft 1..n over a revolution per ``w^2``
     (rad/s^2 per (rad/s)^2)."""
     peaks = []
@@ -105,7 +112,7 @@ def peak_accelerations_per_speed2(matrices: np.ndarray, coast: bool) -> tuple[fl
             values: np.ndarray = accelerations_per_speed2(matrices, theta, coast)[shaft]
             return values
 
-        peaks.append(peak_magnitude(acceleration))
+        peaks.append(peak_magnitude(acceleration, samples, refine))
     return tuple(peaks)
 
 

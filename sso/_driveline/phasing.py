@@ -23,6 +23,7 @@ from scipy.optimize import minimize
 from sso._column.geometry import ColumnGeometry, wrap_half_turn
 from sso._display import Part, TextTable, format_number, format_numbers
 from sso._driveline.excitation import excitations
+from sso._driveline.motion import PEAK_SAMPLES
 from sso._record import register_record
 
 if TYPE_CHECKING:
@@ -33,6 +34,11 @@ CRITERION = ("largest margin under the limits over every position (least largest
              "an excitation to its limit), then least sum of squared ratios; a phasing of 0 "
              "or 90 deg per shaft as good is preferred")
 REFINED_STARTS = 3
+GRID_SAMPLES = 64
+"""Samples of a half revolution per peak while scanning the grid of phasings."""
+SEARCH_SAMPLES = 512
+"""Samples of a half revolution per peak while refining (the peak's sampling error is then
+below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
 HELD_RATIO = 1e-9
 TIE = 1e-9
 """Ratios (of an excitation to its limit) this close are equal."""
@@ -101,10 +107,11 @@ class PhasingAdvice:
 
 
 def _figures(geometries: Sequence[ColumnGeometry], phasing: tuple[float, ...],
-             speed_rpm: float) -> list[tuple[float, float, float]]:
+             speed_rpm: float, samples: int = PEAK_SAMPLES,
+             refine: bool = True) -> list[tuple[float, float, float]]:
     values = []
     for geometry in geometries:
-        found = excitations(geometry, phasing, speed_rpm)
+        found = excitations(geometry, phasing, speed_rpm, samples, refine)
         values.append((found.inertia_drive_rad_s2, found.inertia_coast_rad_s2,
                        found.torsional_rad_s2))
     return values
@@ -127,14 +134,15 @@ def recommend_phasing(driveline: Driveline) -> PhasingAdvice:
     limits = np.array([driveline.inertia_limit_rad_s2, driveline.inertia_limit_rad_s2,
                        driveline.torsional_limit_rad_s2])
 
-    def ratios(phasing: np.ndarray) -> np.ndarray:
-        values = np.array(_figures(geometries, tuple(float(v) for v in phasing), speed))
+    def ratios(phasing: np.ndarray, samples: int = SEARCH_SAMPLES) -> np.ndarray:
+        values = np.array(_figures(geometries, tuple(float(v) for v in phasing), speed,
+                                   samples, refine=False))
         ratio: np.ndarray = (values / limits).ravel()
         return ratio
 
     step = 10.0 if shafts <= 2 else 20.0
     grid = np.arange(-90.0, 90.0, step)
-    scored = sorted((float(np.max(ratios(np.array(point)))), point)
+    scored = sorted((float(np.max(ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in itertools.product(grid, repeat=shafts))
     best_point, best_key = None, (np.inf, np.inf)
     for _, start in scored[:REFINED_STARTS]:

@@ -53,8 +53,8 @@ def test_positions_keep_the_joint_count() -> None:
 
 
 def test_result_round_trips_through_its_record() -> None:
-    from sso._driveline.figures import DrivelineResult, analyse
+    from sso._driveline.figures import DrivelineResult, analyse_driveline
 
-    result = analyse(truck_two_piece(), phasing=False)
+    result = analyse_driveline(truck_two_piece(), phasing=False)
     assert DrivelineResult.from_dict(result.to_dict()) == result
     assert "torsional" in result.summary()
