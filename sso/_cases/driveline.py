@@ -140,7 +140,7 @@ DRIVELINE_KEYS: tuple[Key, ...] = (
         "the top gear's ratio (engine over propshaft speed)"),
     Key("loads", "torque_n_m", number(0.0, 1e7, "N m", lower_open=True), REQUIRED, "N m",
         "largest gearbox output torque (low gear, wheel slip)"),
-    Key("loads", "centre_bearing_mm", number_list(0.0, 1e5, "mm"), (), "mm",
+    Key("loads", "centre_bearing_mm", number_list(0.0, 1e5, "mm"), None, "mm",
         "each centre bearing's distance ahead of its shaft's rear joint"),
     Key("loads", "gearbox_bearings_mm", bearing_pair, (100.0, 50.0), "mm",
         "[a, b]: gearbox bearings at b and a + b ahead of the first joint"),
@@ -234,7 +234,9 @@ def _driveline(values: dict[str, Any]) -> Driveline:
     speed = values.get("speed.max_shaft_speed_rpm")
     engine: Any = values.get("speed.engine_speed_rpm")
     ratio: Any = values.get("speed.top_gear_ratio")
-    if (speed is None) == (engine is None or ratio is None):
+    engine_given = engine is not None or ratio is not None
+    if (speed is not None and engine_given) or (speed is None and (engine is None
+                                                                   or ratio is None)):
         raise ValueError("give either speed.max_shaft_speed_rpm or both "
                          "speed.engine_speed_rpm and speed.top_gear_ratio")
     if speed is None:
@@ -254,7 +256,7 @@ def _driveline(values: dict[str, Any]) -> Driveline:
         "tubes": tuple(tubes), "max_shaft_speed_rpm": speed,
         "torque_n_m": values["loads.torque_n_m"],
         "yoke_phase_deg": values.get("phasing.yoke_phase_deg"),
-        "centre_bearing_mm": values["loads.centre_bearing_mm"],
+        "centre_bearing_mm": values.get("loads.centre_bearing_mm") or (),
         "gearbox_bearings_mm": values["loads.gearbox_bearings_mm"],
         "pinion_bearings_mm": values["loads.pinion_bearings_mm"],
         "application": values["rules.application"],

@@ -60,7 +60,8 @@ class Driveline:
     tubes : sequence of Tube
         One per propshaft (``n - 1``; none for a single joint).
     max_shaft_speed_rpm : float
-        Largest gearbox output (propshaft) speed, rpm, in ``(0, 1e6]``.
+        Largest gearbox output (propshaft) speed, rpm, in ``(0, 1e6]`` and below every
+        propshaft's critical speed (above its safe speed is a failed rule, not an error).
     torque_n_m : float
         Largest gearbox output torque (low gear, wheel slip), N m, in ``(0, 1e7]``.
     yoke_phase_deg : sequence of float, optional
@@ -131,6 +132,15 @@ class Driveline:
                                  f"of {shafts} propshafts has {shafts}")
             set_(self, "yoke_phase_deg", phases)
         lengths = geometry.shaft_length_mm
+        for shaft, tube in enumerate(tubes, start=1):
+            critical = tube.critical_speed_rpm(lengths[shaft])
+            if self.max_shaft_speed_rpm >= critical:
+                raise ValueError(
+                    f"max_shaft_speed_rpm = {self.max_shaft_speed_rpm:g} rpm is outside the "
+                    f"allowed range (0, {critical:.6g}) rpm: propshaft {shaft} "
+                    f"({lengths[shaft]:.6g} mm of {tube.outside_diameter_mm:g} x "
+                    f"{tube.wall_mm:g} mm tube) whirls at its critical speed {critical:.6g} "
+                    "rpm; split the shaft or choose a larger tube")
         centres = as_float_tuple("centre_bearing_mm", self.centre_bearing_mm)
         if len(centres) != max(shafts - 1, 0):
             raise ValueError(f"centre_bearing_mm has {len(centres)} entries; every propshaft "

@@ -13,14 +13,14 @@ import math
 
 import numpy as np
 import pytest
+from driveline_cases import compound_pickup, compound_three_piece, truck_two_piece
+from driveline_vector_model import VectorDriveline, rotation, unit
 
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.excitation import effective_angle_deg, excitations, signed_square_deg
 from sso._driveline.loads import BearingGeometry, load_state
 from sso._driveline.model import Driveline
 from sso._driveline.tube import Tube
-from tests.driveline.cases import compound_pickup, compound_three_piece, truck_two_piece
-from tests.driveline.vector_model import VectorDriveline, rotation, unit
 
 DRIVELINES = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
               "compound three-piece": compound_three_piece}

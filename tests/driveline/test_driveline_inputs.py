@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from driveline_cases import truck_two_piece
 
 from sso._driveline.model import Driveline, NamedPosition
 from sso._driveline.tube import Tube
-from tests.driveline.cases import truck_two_piece
 
 MEASURED = dict(gearbox_slope_deg=3.0, shaft_slope_deg=[0.0], shaft_length_mm=[1200.0],
                 pinion_slope_deg=3.0, tubes=(Tube(80.0, 2.0),), max_shaft_speed_rpm=3000.0,

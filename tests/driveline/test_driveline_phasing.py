@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from driveline_cases import compound_pickup, planar_one_piece
 
 from sso._driveline.excitation import excitations
 from sso._driveline.phasing import recommend_phasing
-from tests.driveline.cases import compound_pickup, planar_one_piece
 
 
 def test_compound_pickup_phase_cancels_the_axle_excitation() -> None:
