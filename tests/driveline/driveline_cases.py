@@ -28,7 +28,7 @@ def planar_one_piece(**options: object) -> Driveline:
     """A car's one-piece shaft, planar, equal angles (3 deg) in a W: in phase cancels."""
     return Driveline.from_measurements(
         gearbox_slope_deg=3.0, shaft_slope_deg=[0.0], shaft_length_mm=[1400.0],
-        pinion_slope_deg=3.0, tubes=(Tube(76.2, 1.65),), max_shaft_speed_rpm=5000.0,
+        pinion_slope_deg=3.0, tubes=(Tube(88.9, 2.1),), max_shaft_speed_rpm=5000.0,
         torque_n_m=800.0, **options)  # type: ignore[arg-type]
 
 
