@@ -50,11 +50,3 @@ def test_positions_keep_the_joint_count() -> None:
         Driveline(points_mm=driveline.points_mm, tubes=driveline.tubes,
                   max_shaft_speed_rpm=2500.0, torque_n_m=100.0, centre_bearing_mm=(80.0,),
                   positions=(NamedPosition("jounce", ((1, 0, 0), (0, 0, 0), (-1, 0, 0.1))),))
-
-
-def test_result_round_trips_through_its_record() -> None:
-    from sso._driveline.figures import DrivelineResult, analyse_driveline
-
-    result = analyse_driveline(truck_two_piece(), phasing=False)
-    assert DrivelineResult.from_dict(result.to_dict()) == result
-    assert "torsional" in result.summary()
