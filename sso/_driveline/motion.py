@@ -22,7 +22,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from sso._column.chain_matrix import chain_matrix
 from sso._column.geometry import ColumnGeometry
@@ -94,6 +93,8 @@ def peak_magnitude(function: Callable[[np.ndarray], np.ndarray],
     best = int(np.argmax(values))
     if not refine:
         return float(values[best])
+    from scipy.optimize import minimize_scalar
+
     step = np.pi / samples
     found = minimize_scalar(lambda angle: -float(np.abs(function(np.array([angle]))[0])),
                             bounds=(theta[best] - step, theta[best] + step),

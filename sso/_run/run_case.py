@@ -59,9 +59,9 @@ def run_parsed_case(case: Any, solve: bool
         from sso._run.column import run_column
 
         return run_column(case, solve)
-    from sso._cases.driveline import DRIVELINE_KIND
+    from sso._cases.schema import KIND_MODULES
 
-    if case.kind == DRIVELINE_KIND:
+    if KIND_MODULES.get(case.kind) == "sso._cases.driveline":  # no import for other kinds
         from sso._run.driveline import run_driveline
 
         return run_driveline(case, solve)
