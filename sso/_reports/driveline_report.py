@@ -12,7 +12,16 @@ from typing import Any
 
 from sso._driveline.figures import DrivelineResult, joint_name, verdict_word, yoke_words
 from sso._reports.documents import report_files
-from sso._reports.summary import Block, Heading, Image, Paragraph, Table, closing_blocks, number
+from sso._reports.summary import (
+    Block,
+    Heading,
+    Image,
+    Paragraph,
+    Scene,
+    Table,
+    closing_blocks,
+    number,
+)
 
 LOAD_MODEL_WORDS = (
     "Bearing loads: quasi-static, torque only (no gravity, inertia or friction); a cross "
@@ -124,9 +133,47 @@ def driveline_blocks(result: DrivelineResult, name: str, description: str,
                        f"{row.position} {row.figure} rises from {number(row.given_rad_s2)} to "
                        f"{number(row.recommended_rad_s2)} rad/s^2" for row in advice.trades)
                        if advice.trades else "no excitation gets worse."))]
-    blocks += [Heading(2, "Joint life"), Paragraph(result.joint_life)]
+    blocks += [Heading(2, "Joint life"), Paragraph(result.joint_life),
+               Heading(2, "3D view"),
+               Scene(driveline_scene(result), "The driveline in 3D (vehicle axes, mm): shafts, "
+                     "joints with their true angles, named positions dashed")]
     return [*blocks, *closing_blocks(warnings, versions,
                                      [Image(image, CAPTIONS[image]) for image in images])]
+
+
+SHAFT_COLOUR = "#1f77b4"
+POSITION_COLOURS = ("#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
+
+
+def driveline_scene(result: DrivelineResult) -> dict[str, Any]:
+    """The interactive 3D view's scene (:mod:`sso._reports.view3d`): each component as a
+    line, each joint as a point with its true angle, each named position dashed."""
+    import numpy as np
+
+    geometries = result.driveline.named_geometries()
+    names = _component_names(result.driveline.joint_count)
+    items: list[dict[str, Any]] = []
+    for index, (position, geometry) in enumerate(geometries.items()):
+        points = np.asarray(geometry.points_mm, dtype=float)
+        design = index == 0
+        colour = SHAFT_COLOUR if design else POSITION_COLOURS[(index - 1) % len(POSITION_COLOURS)]
+        for shaft, name in enumerate(names):
+            items.append({"kind": "line", "points": points[[shaft, shaft + 1]].tolist(),
+                          "colour": colour, "width": 4.0 if design else 2.0,
+                          "dash": not design, "name": f"{name} ({position})"})
+        if design:
+            for joint, beta in enumerate(geometry.beta_deg):
+                label = joint_name(joint, len(geometry.beta_deg))
+                items.append({"kind": "point", "at": points[joint + 1].tolist(),
+                              "colour": SHAFT_COLOUR, "size": 6.0,
+                              "name": f"{label}: true angle {beta:.3f} deg",
+                              "label": f"joint {joint + 1}"})
+    stacked = np.array([point for item in items
+                        for point in (item["points"] if "points" in item else [item["at"]])])
+    centre = (stacked.max(axis=0) + stacked.min(axis=0)) / 2.0
+    radius = float(np.linalg.norm(stacked - centre, axis=1).max())
+    return {"items": items, "centre": centre.tolist(), "radius": max(radius, 1e-9),
+            "yaw_deg": 20.0, "pitch_deg": 15.0}
 
 
 def _files(result: DrivelineResult, name: str, description: str, formats: tuple[str, ...],

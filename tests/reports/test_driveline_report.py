@@ -15,7 +15,9 @@ TRUCK = Path(__file__).resolve().parents[2] / "cases" / "driveline_truck_two_pie
 
 def test_report_speaks_the_trade_and_cites_each_rule() -> None:
     run = run_driveline(load_case(TRUCK), optimising=True)
-    files = render_driveline_run(run, ("md", "csv"))
+    files = render_driveline_run(run, ("md", "csv", "html"))
+    page = files["report.html"].decode("utf-8")
+    assert "<canvas" in page and "joint 3 (pinion): true angle 4.000 deg" in page
     report = files["report.md"].decode("utf-8")
     for words in ("gearbox", "propshaft 1", "centre bearing 1", "pinion", "in phase",
                   "side-view slope", "plan-view angle", "Position: laden", "Position: wind_up",
