@@ -284,7 +284,7 @@ def _quoted(items: tuple[str, ...]) -> str:
 COMMON_KEYS: tuple[Key, ...] = (
     Key("", "kind", lambda label, value: value, DEFAULT_KIND, "",
         "a registered kind: 'shaft_series', 'fourbar', 'slider_crank', 'quick_return', "
-        "'fourbar_design', 'column'"),
+        "'fourbar_design', 'column', 'driveline'"),
     Key("", "name", case_name, lambda values, path: _name_from_file(path), "",
         "1-100 of A-Z a-z 0-9 . _ -, starting with a letter or digit"),
     Key("", "description", text(), "", "", "free text"),
