@@ -264,6 +264,17 @@ class Driveline:
         return {DESIGN_POSITION: self._geometry,
                 **{position.name: _position_geometry(position) for position in self.positions}}
 
+    @staticmethod
+    def shaft_speed_from_engine(engine_speed_rpm: float, top_gear_ratio: float) -> float:
+        """The largest propshaft speed, rpm: engine speed over the top gear's ratio.
+
+        Raises
+        ------
+        ValueError
+            If either is not finite and positive (the ratio at most 100).
+        """
+        return shaft_speed_from_engine(engine_speed_rpm, top_gear_ratio)
+
     def with_phasing(self, yoke_phase_deg: Sequence[float]) -> Driveline:
         """This driveline with another yoke phasing."""
         from dataclasses import replace
