@@ -225,8 +225,13 @@ class Driveline:
             except ValueError as error:
                 raise ValueError(f"positions[{name!r}]: {error}") from None
             named.append(NamedPosition(str(name), points))
-        return cls(points_mm=points_from_measurements(**measured), positions=tuple(named),
-                   **options)
+        points = points_from_measurements(**measured)
+        try:
+            ColumnGeometry(points)
+        except ValueError as error:
+            raise ValueError(f"the measurements, as the points P0 .. P(n+1) they give: "
+                             f"{error}") from None
+        return cls(points_mm=points, positions=tuple(named), **options)
 
     @property
     def geometry(self) -> ColumnGeometry:

@@ -26,6 +26,8 @@ MEASURED = dict(gearbox_slope_deg=3.0, shaft_slope_deg=[0.0], shaft_length_mm=[1
     ({"positions": {"laden": {"pinion_slope_deg": 60.0}}},
      r"positions\['laden'\]: pinion_slope_deg = 60 deg"),
     ({"positions": {"laden": {"pinion_angle": 1.0}}}, r"'pinion_angle' is not a measurement"),
+    ({"gearbox_slope_deg": 0.0, "pinion_slope_deg": 0.0},
+     r"the measurements, as the points P0 .. P\(n\+1\) they give: points_mm are collinear"),
 ])
 def test_bad_measurements_name_the_field(change: dict[str, object], message: str) -> None:
     with pytest.raises(ValueError, match=message):
