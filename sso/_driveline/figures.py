@@ -13,7 +13,7 @@ from sso._display import Part, Readable, TextTable, format_number
 from sso._driveline.excitation import effective_angle_deg, excitations, signed_square_deg
 from sso._driveline.layout import plan_angle_deg, side_slope_deg
 from sso._driveline.loads import bearing_names, load_state
-from sso._driveline.model import DESIGN_POSITION, Driveline
+from sso._driveline.model import Driveline
 from sso._driveline.phasing import PhasingAdvice, recommend_phasing
 from sso._driveline.rules import (
     CARRIER_MINUS_GEARBOX_DEG,
@@ -376,5 +376,3 @@ def analyse_driveline(driveline: Driveline, *, phasing: bool = True) -> Drivelin
                            loads=load_curves(driveline), phasing=advice,
                            joint_life=JOINT_LIFE_NOTE)
 
-
-__all__ = ["DESIGN_POSITION", "DrivelineResult", "analyse_driveline"]

@@ -144,14 +144,15 @@ def recommend_phasing(driveline: Driveline) -> PhasingAdvice:
     grid = np.arange(-90.0, 90.0, step)
     scored = sorted((float(np.max(ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in itertools.product(grid, repeat=shafts))
-    best_point, best_key = None, (np.inf, np.inf)
-    for _, start in scored[:REFINED_STARTS]:
+
+    def refined(start: tuple[float, ...]) -> tuple[tuple[float, float], np.ndarray]:
+        """The sort key (largest ratio, sum of squares) and the phasing refined from start."""
         first = minimize(lambda x: float(np.max(ratios(x))), np.array(start),
                          method="Nelder-Mead", options={"xatol": 1e-7, "fatol": 1e-12,
                                                         "initial_simplex": _simplex(start, step)})
         held = float(first.fun) * (1.0 + HELD_RATIO)
 
-        def penalised(x: np.ndarray, held: float = held) -> float:
+        def penalised(x: np.ndarray) -> float:
             ratio = ratios(x)
             excess = max(float(np.max(ratio)) - held, 0.0)
             return float(np.sum(ratio**2)) + 1e6 * excess
@@ -160,10 +161,10 @@ def recommend_phasing(driveline: Driveline) -> PhasingAdvice:
                           options={"xatol": 1e-9, "fatol": 1e-15,
                                    "initial_simplex": _simplex(tuple(first.x), step / 2)})
         final = ratios(second.x)
-        key = (round(float(np.max(final)), 12), float(np.sum(final**2)))
-        if key < best_key:
-            best_point, best_key = second.x, key
-    assert best_point is not None
+        return (round(float(np.max(final)), 12), float(np.sum(final**2))), second.x
+
+    best_key, best_point = min((refined(start) for _, start in scored[:REFINED_STARTS]),
+                               key=lambda candidate: candidate[0])
     # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
     # as such, not as its round-off neighbour.
     for textbook in itertools.product((0.0, 90.0), repeat=shafts):
