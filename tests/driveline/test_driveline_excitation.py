@@ -12,13 +12,23 @@ import math
 
 import numpy as np
 import pytest
-from driveline_cases import compound_pickup, compound_three_piece, truck_two_piece
+from driveline_cases import (
+    car_w,
+    car_z,
+    compound_pickup,
+    compound_three_piece,
+    long_shaft_near_critical,
+    phased_compound_two_piece,
+    truck_two_piece,
+)
 from driveline_vector_model import VectorDriveline, rotation, unit
 
 from sso._driveline.excitation import effective_angle_deg, signed_square_deg
 
 DRIVELINES = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
-              "compound three-piece": compound_three_piece}
+              "compound three-piece": compound_three_piece, "car Z": car_z, "car W": car_w,
+              "long shaft near critical": long_shaft_near_critical,
+              "phased compound two-piece": phased_compound_two_piece}
 
 
 def transported_phases(points: list[list[float]], yoke_phase_deg: list[float]) -> list[float]:

@@ -8,14 +8,24 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from driveline_cases import compound_pickup, compound_three_piece, truck_two_piece
+from driveline_cases import (
+    car_w,
+    car_z,
+    compound_pickup,
+    compound_three_piece,
+    long_shaft_near_critical,
+    phased_compound_two_piece,
+    truck_two_piece,
+)
 from driveline_vector_model import VectorDriveline
 
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.excitation import excitations
 
 DRIVELINES = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
-              "compound three-piece": compound_three_piece}
+              "compound three-piece": compound_three_piece, "car Z": car_z, "car W": car_w,
+              "long shaft near critical": long_shaft_near_critical,
+              "phased compound two-piece": phased_compound_two_piece}
 
 
 @pytest.mark.parametrize("name", sorted(DRIVELINES))
@@ -28,8 +38,11 @@ def test_joint_angles_and_peak_accelerations_match_the_vector_model(name: str) -
     found = excitations(driveline.geometry, driveline.phasing_deg,
                         driveline.max_shaft_speed_rpm)
     drive, coast = model.peaks(driveline.max_shaft_speed_rpm)
-    np.testing.assert_allclose(found.drive_peak_rad_s2, drive, rtol=1e-4)
-    np.testing.assert_allclose(found.coast_peak_rad_s2, coast, rtol=1e-4)
+    # A cancelled shaft's peak is zero up to each model's round-off: the vector model's
+    # root finding leaves about 1e-9 of the largest peak.
+    floor = 1e-8 * max(drive.max(), coast.max())
+    np.testing.assert_allclose(found.drive_peak_rad_s2, drive, rtol=1e-4, atol=floor)
+    np.testing.assert_allclose(found.coast_peak_rad_s2, coast, rtol=1e-4, atol=floor)
 
 
 def test_single_power_take_off_joint_matches_the_vector_model() -> None:
