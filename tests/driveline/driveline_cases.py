@@ -78,3 +78,10 @@ def phased_compound_two_piece(**options: object) -> Driveline:
         shaft_offset_mm=[-30.0, 45.0], pinion_slope_deg=0.5, gearbox_plan_deg=-1.0,
         tubes=(TRUCK_TUBE, TRUCK_TUBE), max_shaft_speed_rpm=3000.0, torque_n_m=2500.0,
         centre_bearing_mm=(70.0,), yoke_phase_deg=(-55.0, 20.0), **options)  # type: ignore[arg-type]
+
+
+CHECKED = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
+           "compound three-piece": compound_three_piece, "car Z": car_z, "car W": car_w,
+           "long shaft near critical": long_shaft_near_critical,
+           "phased compound two-piece": phased_compound_two_piece}
+"""The drivelines checked against the independent vector model, by name."""

@@ -12,23 +12,10 @@ import math
 
 import numpy as np
 import pytest
-from driveline_cases import (
-    car_w,
-    car_z,
-    compound_pickup,
-    compound_three_piece,
-    long_shaft_near_critical,
-    phased_compound_two_piece,
-    truck_two_piece,
-)
+from driveline_cases import CHECKED, compound_pickup, truck_two_piece
 from driveline_vector_model import VectorDriveline, rotation, unit
 
 from sso._driveline.excitation import effective_angle_deg, signed_square_deg
-
-DRIVELINES = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
-              "compound three-piece": compound_three_piece, "car Z": car_z, "car W": car_w,
-              "long shaft near critical": long_shaft_near_critical,
-              "phased compound two-piece": phased_compound_two_piece}
 
 
 def transported_phases(points: list[list[float]], yoke_phase_deg: list[float]) -> list[float]:
@@ -50,10 +37,10 @@ def transported_phases(points: list[list[float]], yoke_phase_deg: list[float]) -
     return angles
 
 
-@pytest.mark.parametrize("name", sorted(DRIVELINES))
+@pytest.mark.parametrize("name", sorted(CHECKED))
 def test_phase_aware_effective_angle_matches_the_transported_pins(name: str) -> None:
     # theta_e^2 = |sum beta_k^2 exp(2 i g_k)| with g_k from the geometry alone.
-    driveline = DRIVELINES[name]()
+    driveline = CHECKED[name]()
     points = [list(p) for p in driveline.points_mm]
     phases = transported_phases(points, list(driveline.phasing_deg))
     beta = VectorDriveline(points, list(driveline.phasing_deg)).joint_angles_deg()

@@ -8,29 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from driveline_cases import (
-    car_w,
-    car_z,
-    compound_pickup,
-    compound_three_piece,
-    long_shaft_near_critical,
-    phased_compound_two_piece,
-    truck_two_piece,
-)
+from driveline_cases import CHECKED
 from driveline_vector_model import VectorDriveline
 
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.excitation import excitations
 
-DRIVELINES = {"truck two-piece": truck_two_piece, "compound pickup": compound_pickup,
-              "compound three-piece": compound_three_piece, "car Z": car_z, "car W": car_w,
-              "long shaft near critical": long_shaft_near_critical,
-              "phased compound two-piece": phased_compound_two_piece}
 
-
-@pytest.mark.parametrize("name", sorted(DRIVELINES))
+@pytest.mark.parametrize("name", sorted(CHECKED))
 def test_joint_angles_and_peak_accelerations_match_the_vector_model(name: str) -> None:
-    driveline = DRIVELINES[name]()
+    driveline = CHECKED[name]()
     model = VectorDriveline([list(p) for p in driveline.points_mm],
                             list(driveline.phasing_deg))
     np.testing.assert_allclose(driveline.geometry.beta_deg, model.joint_angles_deg(),
