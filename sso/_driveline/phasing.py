@@ -1,19 +1,29 @@
-"""The yoke phasing that keeps a driveline's excitations furthest under their limits.
+"""The yoke phasing (and, within a box, the layout) a driveline engineer would choose.
 
-The criterion is the driveline's, not the residual error: over every named position,
-the largest ratio of an excitation (inertia drive, inertia coast, torsional) to its
-limit is made as small as it can be (the largest margin); among phasings that reach
-it, the sum of the squared ratios is least (so a figure that no phasing changes, such
-as a one-piece shaft's inertia excitation, leaves the others as low as they go). The
-search scans the yoke phasings on a grid (the column's ``delta_k``, period 180 deg),
-then refines the best points with Nelder-Mead (SciPy) on the exact figures, first on
-the largest ratio and then on the sum of squares with the largest ratio held.
+The criterion is the driveline's, not the residual error, and it is lexicographic
+(:data:`CRITERION`, the one statement of it):
+
+1. the largest margin under the excitation limits over every named position: the
+   least largest ratio ``r*`` of an excitation (inertia drive, inertia coast,
+   torsional) to its limit;
+2. among the phasings and layouts whose largest ratio is within
+   :data:`MARGIN_TOLERANCE` of ``r*``, the least torsional excitation at the design
+   position (the joints cancelling at ride height: a planar shaft's pinion set for
+   equal angles, its yokes in phase);
+3. then the least sum of the squared ratios over every position (so a figure that
+   nothing changes leaves the others as low as they go); a phasing of 0 or 90 deg per
+   shaft within :data:`TEXTBOOK_TIE` of the optimum in tiers 2 and 3 is preferred.
+
+The search scans the yoke phasings (the column's ``delta_k``, period 180 deg) and the
+layout box (:class:`sso._driveline.layout_box.LayoutBox`) on a grid, then refines the
+best points with Nelder-Mead (SciPy) on the exact figures, one stage per tier, each
+later stage holding what the earlier ones reached.
 """
 
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -23,6 +33,7 @@ from scipy.optimize import minimize
 from sso._column.geometry import ColumnGeometry, wrap_half_turn
 from sso._display import Part, TextTable, format_number, format_numbers
 from sso._driveline.excitation import excitations
+from sso._driveline.layout_box import LayoutBox, laid_out_geometries, pinion_slope_of
 from sso._driveline.motion import PEAK_SAMPLES
 from sso._record import register_record
 
@@ -30,24 +41,44 @@ if TYPE_CHECKING:
     from sso._driveline.model import Driveline
 
 FIGURES = ("inertia drive", "inertia coast", "torsional")
-CRITERION = ("largest margin under the limits over every position (least largest ratio of "
-             "an excitation to its limit), then least sum of squared ratios; a phasing of 0 "
-             "or 90 deg per shaft as good is preferred")
+MARGIN_TOLERANCE = 0.02
+"""How far (in ratio to a limit, here 2 % of it) above the largest margin's ratio a
+phasing or layout may go to cancel better at the design position."""
 REFINED_STARTS = 3
 GRID_SAMPLES = 64
-"""Samples of a half revolution per peak while scanning the grid of phasings."""
+"""Samples of a half revolution per peak while scanning the grid."""
 SEARCH_SAMPLES = 512
 """Samples of a half revolution per peak while refining (the peak's sampling error is then
 below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
-HELD_RATIO = 1e-9
+LAYOUT_GRID = 5
+"""Grid points across each layout variable's box."""
+STAGE_TOLERANCE = (1e-4, 1e-6, 1e-4)
+"""Nelder-Mead's tolerance on the variables (deg, mm) in the three tiers (and its square
+on the objective): the first only sets the threshold of the second, which sets the
+cancelling layout."""
+SAME_POINT = 0.5
+"""First-tier optima this close (deg of phasing, mm or deg of layout) are refined once."""
+HELD = 1e-9
+"""What a later stage may give up of an earlier stage's ratio."""
 TIE = 1e-9
 """Ratios (of an excitation to its limit) this close are equal."""
+TEXTBOOK_TIE = 1e-3
+"""A textbook phasing (0 or 90 deg per shaft) this close (in ratio to a limit, 0.1 % of
+it) to the optimum in the second and third tiers is as good: the rest is below what the
+limits, which are rules of thumb, can tell apart."""
+PENALTY = 1e6
+CRITERION = ("first the largest margin under the excitation limits over every position "
+             "(least largest ratio r* of an excitation to its limit); then, within "
+             f"{MARGIN_TOLERANCE:g} of r*, the least torsional excitation at the design "
+             "position (cancellation: equal angles, yokes in phase for a planar shaft); then "
+             "the least sum of squared ratios; a phasing of 0 or 90 deg per shaft within "
+             f"{TEXTBOOK_TIE:g} of that is preferred")
 
 
 @register_record
 @dataclass(frozen=True)
 class PhasingRow:
-    """One excitation at one position with the given and the recommended phasing, rad/s^2."""
+    """One excitation at one position with the given and the recommended layout, rad/s^2."""
 
     position: str
     figure: str
@@ -59,7 +90,7 @@ class PhasingRow:
 @register_record
 @dataclass(frozen=True)
 class PhasingAdvice:
-    """The recommended yoke phasing and what it changes.
+    """The recommended yoke phasing (and layout, where a box was given) and what it changes.
 
     Attributes
     ----------
@@ -71,6 +102,12 @@ class PhasingAdvice:
         Largest excitation over its limit, over every position and figure.
     rows : tuple of PhasingRow
     criterion : str
+    box : LayoutBox or None
+        The layout box searched (None: the phasing alone).
+    layout_values, given_layout_values : tuple of float
+        The layout variables recommended and as given, in :attr:`LayoutBox.bounds`
+        order: the design position's pinion slope, deg, then each centre bearing's
+        height change, mm (0 as given).
     """
 
     yoke_phase_deg: tuple[float, ...]
@@ -79,20 +116,58 @@ class PhasingAdvice:
     worst_ratio_recommended: float
     rows: tuple[PhasingRow, ...]
     criterion: str
+    box: LayoutBox | None = None
+    layout_values: tuple[float, ...] = ()
+    given_layout_values: tuple[float, ...] = ()
 
     @property
     def trades(self) -> tuple[PhasingRow, ...]:
-        """The rows where the recommended phasing is worse than the given one."""
+        """The rows where the recommendation is worse than the layout as given."""
         return tuple(row for row in self.rows
                      if row.recommended_rad_s2 > row.given_rad_s2 + TIE * row.limit_rad_s2)
 
+    @property
+    def pinion_slope_deg(self) -> float | None:
+        """The recommended pinion slope, deg (None when the box leaves it as given)."""
+        if self.box is None or self.box.pinion_slope_deg is None:
+            return None
+        return self.layout_values[0]
+
+    @property
+    def centre_bearing_height_mm(self) -> tuple[float, ...]:
+        """The recommended height change of each centre bearing in the box, mm."""
+        if self.box is None:
+            return ()
+        return self.layout_values[len(self.layout_values)
+                                  - len(self.box.centre_bearing_height_mm):]
+
+    def layout_words(self) -> str:
+        """The recommended layout in words (empty without a box)."""
+        if self.box is None:
+            return ""
+        words = []
+        pinion = self.pinion_slope_deg
+        if pinion is not None and self.box.pinion_slope_deg is not None:
+            low, high = self.box.pinion_slope_deg
+            words.append(f"pinion slope {format_number(pinion)} deg (given "
+                         f"{format_number(self.given_layout_values[0])}, box "
+                         f"[{format_number(low)}, {format_number(high)}])")
+        for index, (height, (low, high)) in enumerate(zip(
+                self.centre_bearing_height_mm, self.box.centre_bearing_height_mm,
+                strict=True), start=1):
+            words.append(f"centre bearing {index} raised {format_number(height)} mm (box "
+                         f"[{format_number(low)}, {format_number(high)}])")
+        return "; ".join(words)
+
     def summary_parts(self) -> list[Part]:
         """The advice for a summary."""
+        layout = self.layout_words()
         parts: list[Part] = [
             f"Recommended yoke phasing (deg): [{format_numbers(self.yoke_phase_deg)}] "
-            f"(given [{format_numbers(self.given_yoke_phase_deg)}]); largest excitation over "
-            f"its limit {format_number(self.worst_ratio_given)} -> "
-            f"{format_number(self.worst_ratio_recommended)} ({self.criterion})",
+            f"(given [{format_numbers(self.given_yoke_phase_deg)}])"
+            + (f"; layout: {layout}" if layout else "")
+            + f"; largest excitation over its limit {format_number(self.worst_ratio_given)} "
+            f"-> {format_number(self.worst_ratio_recommended)} ({self.criterion})",
             TextTable(("position", "excitation", "given (rad/s^2)", "recommended (rad/s^2)",
                        "limit (rad/s^2)"),
                       tuple((row.position, row.figure, format_number(row.given_rad_s2),
@@ -117,79 +192,179 @@ def _figures(geometries: Sequence[ColumnGeometry], phasing: tuple[float, ...],
     return values
 
 
-def recommend_phasing(driveline: Driveline) -> PhasingAdvice:
-    """The phasing of :data:`CRITERION` for ``driveline`` (module notes).
+class _Search:
+    """The variables (phasings, then the layout) and the ratios they give."""
+
+    def __init__(self, driveline: Driveline, box: LayoutBox | None) -> None:
+        self.driveline = driveline
+        self.box = box
+        self.named = list(driveline.named_geometries().values())
+        self._last: tuple[tuple[float, ...], list[ColumnGeometry]] | None = None
+
+    @property
+    def shafts(self) -> int:
+        return self.driveline.joint_count - 1
+
+    @property
+    def bounds(self) -> np.ndarray:
+        layout = () if self.box is None else self.box.bounds
+        return np.array([(-np.inf, np.inf)] * self.shafts + list(layout), dtype=float)
+
+    @property
+    def limits(self) -> np.ndarray:
+        inertia = self.driveline.inertia_limit_rad_s2
+        return np.array([inertia, inertia, self.driveline.torsional_limit_rad_s2])
+
+    def geometries(self, x: np.ndarray) -> list[ColumnGeometry]:
+        """Each position's geometry at the variables ``x`` (design first)."""
+        named = self.named
+        if self.box is None:
+            return named
+        layout = tuple(float(v) for v in np.clip(x[self.shafts:], self.bounds[self.shafts:, 0],
+                                                 self.bounds[self.shafts:, 1]))
+        if self._last is None or self._last[0] != layout:
+            # The grid scans the phasings at one layout after another: built once each.
+            self._last = (layout, laid_out_geometries(
+                [geometry.points_mm for geometry in named], self.box, layout))
+        return self._last[1]
+
+    def ratios(self, x: np.ndarray, samples: int = SEARCH_SAMPLES) -> np.ndarray:
+        """Excitation over limit, shape (positions, 3); infinite where no driveline is made."""
+        try:
+            geometries = self.geometries(x)
+        except ValueError:
+            return np.full((len(self.driveline.positions) + 1, len(FIGURES)), np.inf)
+        values = np.array(_figures(geometries, tuple(float(v) for v in x[:self.shafts]),
+                                   self.driveline.max_shaft_speed_rpm, samples, refine=False))
+        ratio: np.ndarray = values / self.limits
+        return ratio
+
+    def given(self) -> np.ndarray:
+        """The variables of the driveline as given."""
+        layout: tuple[float, ...] = ()
+        if self.box is not None:
+            pinion = (() if self.box.pinion_slope_deg is None
+                      else (pinion_slope_of(self.driveline.points_mm),))
+            layout = (*pinion, *(0.0,) * len(self.box.centre_bearing_height_mm))
+        return np.array((*self.driveline.phasing_deg, *layout), dtype=float)
+
+
+def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> PhasingAdvice:
+    """The phasing (and layout within ``box``) of :data:`CRITERION` (module notes).
+
+    Parameters
+    ----------
+    driveline : sso.Driveline
+    box : LayoutBox, optional
+        The pinion slope and centre-bearing heights to choose as well.
 
     Raises
     ------
     ValueError
-        If the driveline has a single joint (no propshaft to phase).
+        If the driveline has a single joint (no propshaft to phase), or the box names
+        more centre bearings than it has.
     """
-    shafts = driveline.joint_count - 1
-    if shafts < 1:
-        raise ValueError("a driveline of one joint has no propshaft to phase")
-    named = driveline.named_geometries()
-    geometries = list(named.values())
-    speed = driveline.max_shaft_speed_rpm
-    limits = np.array([driveline.inertia_limit_rad_s2, driveline.inertia_limit_rad_s2,
-                       driveline.torsional_limit_rad_s2])
-
-    def ratios(phasing: np.ndarray, samples: int = SEARCH_SAMPLES) -> np.ndarray:
-        values = np.array(_figures(geometries, tuple(float(v) for v in phasing), speed,
-                                   samples, refine=False))
-        ratio: np.ndarray = (values / limits).ravel()
-        return ratio
-
+    if driveline.joint_count < 2:
+        raise ValueError("a driveline of one joint has no propshaft to phase or lay out")
+    if box is not None:
+        box.check_fits(driveline.joint_count)
+    search = _Search(driveline, box)
+    shafts, bounds = search.shafts, search.bounds
     step = 10.0 if shafts <= 2 else 20.0
-    grid = np.arange(-90.0, 90.0, step)
-    scored = sorted((float(np.max(ratios(np.array(point), GRID_SAMPLES))), point)
-                    for point in itertools.product(grid, repeat=shafts))
+    layouts = itertools.product(*(np.unique(np.linspace(low, high, LAYOUT_GRID))
+                                  for low, high in bounds[shafts:]))
+    points = [(*phasing, *layout) for layout in layouts
+              for phasing in itertools.product(np.arange(-90.0, 90.0, step), repeat=shafts)]
+    scored = sorted((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
+                    for point in points)
+    starts = [np.array(point) for _, point in scored[:REFINED_STARTS]]
+    sizes = np.array([step] * shafts + [max((high - low) / (LAYOUT_GRID - 1), 1e-6)
+                                        for low, high in bounds[shafts:]])
 
-    def refined(start: tuple[float, ...]) -> tuple[tuple[float, float], np.ndarray]:
-        """The sort key (largest ratio, sum of squares) and the phasing refined from start."""
-        first = minimize(lambda x: float(np.max(ratios(x))), np.array(start),
-                         method="Nelder-Mead", options={"xatol": 1e-7, "fatol": 1e-12,
-                                                        "initial_simplex": _simplex(start, step)})
-        held = float(first.fun) * (1.0 + HELD_RATIO)
+    def descend(objective: Callable[[np.ndarray], float], start: np.ndarray,
+                shrink: float, tolerance: float) -> np.ndarray:
+        found = minimize(objective, start, method="Nelder-Mead", bounds=bounds,
+                         options={"xatol": tolerance, "fatol": tolerance**2, "maxfev": 4000,
+                                  "initial_simplex": _simplex(start, sizes * shrink, bounds)})
+        point: np.ndarray = np.clip(found.x, bounds[:, 0], bounds[:, 1])
+        return point
 
-        def penalised(x: np.ndarray) -> float:
-            ratio = ratios(x)
-            excess = max(float(np.max(ratio)) - held, 0.0)
-            return float(np.sum(ratio**2)) + 1e6 * excess
+    def worst(x: np.ndarray) -> float:
+        return float(np.max(search.ratios(x)))
 
-        second = minimize(penalised, first.x, method="Nelder-Mead",
-                          options={"xatol": 1e-9, "fatol": 1e-15,
-                                   "initial_simplex": _simplex(tuple(first.x), step / 2)})
-        final = ratios(second.x)
-        return (round(float(np.max(final)), 12), float(np.sum(final**2))), second.x
+    first = [descend(worst, start, 1.0, STAGE_TOLERANCE[0]) for start in starts]
+    allowed = min(worst(x) for x in first) + MARGIN_TOLERANCE
 
-    best_key, best_point = min((refined(start) for _, start in scored[:REFINED_STARTS]),
-                               key=lambda candidate: candidate[0])
+    def over(ratio: np.ndarray) -> float:
+        return max(float(np.max(ratio)) - allowed, 0.0)
+
+    def cancellation(x: np.ndarray) -> float:
+        ratio = search.ratios(x)
+        return float(ratio[0, 2]) + PENALTY * over(ratio)
+
+    def key(x: np.ndarray) -> tuple[bool, float, float]:
+        ratio = search.ratios(x)
+        return (over(ratio) > HELD, round(float(ratio[0, 2]), 9), float(np.sum(ratio**2)))
+
+    candidates = []
+    for x in _distinct(first, shafts):
+        second = descend(cancellation, x, 0.5, STAGE_TOLERANCE[1])
+        held = float(search.ratios(second)[0, 2]) + HELD
+
+        def spread(x: np.ndarray, held: float = held) -> float:
+            ratio = search.ratios(x)
+            return float(np.sum(ratio**2)) + PENALTY * (
+                over(ratio) + max(float(ratio[0, 2]) - held, 0.0))
+
+        candidates.append(descend(spread, second, 0.25, STAGE_TOLERANCE[2]))
+    best = min(candidates, key=key)
+    best_key = key(best)
     # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
     # as such, not as its round-off neighbour.
     for textbook in itertools.product((0.0, 90.0), repeat=shafts):
-        final = ratios(np.array(textbook))
-        if (float(np.max(final)) <= best_key[0] + TIE
-                and float(np.sum(final**2)) <= best_key[1] + TIE):
-            best_point = np.array(textbook)
+        point = np.array((*textbook, *best[shafts:]))
+        candidate = key(point)
+        if (not candidate[0] and candidate[1] <= best_key[1] + TEXTBOOK_TIE
+                and candidate[2] <= best_key[2] + TEXTBOOK_TIE):
+            best = point
             break
-    recommended = tuple(float(v) for v in wrap_half_turn(best_point))
-    given = driveline.phasing_deg
-    given_values = _figures(geometries, given, speed)
-    recommended_values = _figures(geometries, recommended, speed)
+    recommended = tuple(float(v) for v in wrap_half_turn(best[:shafts]))
+    given = search.given()
+    speed = driveline.max_shaft_speed_rpm
+    given_values = _figures(search.geometries(given), driveline.phasing_deg, speed)
+    recommended_values = _figures(search.geometries(best), recommended, speed)
+    limits = search.limits
     rows = tuple(PhasingRow(position=name, figure=figure, given_rad_s2=before[index],
                             recommended_rad_s2=after[index], limit_rad_s2=float(limits[index]))
-                 for name, before, after in zip(named, given_values, recommended_values,
-                                                strict=True)
+                 for name, before, after in zip(driveline.named_geometries(), given_values,
+                                                recommended_values, strict=True)
                  for index, figure in enumerate(FIGURES))
     return PhasingAdvice(
-        yoke_phase_deg=recommended, given_yoke_phase_deg=given,
+        yoke_phase_deg=recommended, given_yoke_phase_deg=driveline.phasing_deg,
         worst_ratio_given=max(row.given_rad_s2 / row.limit_rad_s2 for row in rows),
         worst_ratio_recommended=max(row.recommended_rad_s2 / row.limit_rad_s2 for row in rows),
-        rows=rows, criterion=CRITERION)
+        rows=rows, criterion=CRITERION, box=box,
+        layout_values=tuple(float(v) for v in best[shafts:]),
+        given_layout_values=tuple(float(v) for v in given[shafts:]))
 
 
-def _simplex(start: Sequence[float], size: float) -> np.ndarray:
-    centre = np.asarray(start, dtype=float)
-    simplex: np.ndarray = np.vstack([centre, centre + size * np.eye(len(centre))])
+def _simplex(start: np.ndarray, sizes: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """A simplex from ``start`` along each axis, stepping inward where a bound is near."""
+    vertices = [start]
+    for axis, size in enumerate(sizes):
+        vertex = start.copy()
+        vertex[axis] += size if start[axis] + size <= bounds[axis, 1] else -size
+        vertices.append(vertex)
+    simplex: np.ndarray = np.vstack(vertices)
     return simplex
+
+
+def _distinct(points: Sequence[np.ndarray], shafts: int) -> list[np.ndarray]:
+    """The points that differ (phasings modulo 180 deg) by more than :data:`SAME_POINT`."""
+    kept: list[np.ndarray] = []
+    for point in points:
+        if all(np.max(np.abs(np.concatenate((wrap_half_turn(point[:shafts] - other[:shafts]),
+                                             point[shafts:] - other[shafts:])))) > SAME_POINT
+               for other in kept):
+            kept.append(point)
+    return kept
