@@ -79,6 +79,8 @@ _EXPORTS: dict[str, str] = {
     "analyse_driveline": "sso._driveline.figures",
     "DrivelineResult": "sso._driveline.figures",
     "PhasingAdvice": "sso._driveline.phasing",
+    "LayoutBox": "sso._driveline.layout_box",
+    "LayoutAdvice": "sso._driveline.layout_advice",
     "DrivelineRun": "sso._run.driveline",
 }
 

@@ -11,7 +11,9 @@ Tables:
 * ``[speed]``: the largest shaft speed, or the engine speed and top gear ratio;
 * ``[loads]``: torque, centre bearings, gearbox and pinion bearing spacings;
 * ``[phasing] yoke_phase_deg``: the yoke phasing as assembled;
-* ``[rules]``: application (safe speed fraction), end tolerance, excitation limits.
+* ``[rules]``: application (safe speed fraction), end tolerance, excitation limits;
+* ``[layout]``: the boxes the pinion slope and the centre-bearing heights are chosen
+  within, with the phasing, by ``sso run``.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from sso._cases.schema import (
     REQUIRED,
     Key,
     SavedCase,
+    bounds_list,
     case_document,
     choice,
     number,
@@ -31,6 +34,7 @@ from sso._cases.schema import (
     register_case_kind,
 )
 from sso._driveline.layout import MAX_SLOPE_DEG
+from sso._driveline.layout_box import MAX_HEIGHT_CHANGE_MM, LayoutBox
 from sso._driveline.model import (
     DEFAULT_END_TOLERANCE_DEG,
     INERTIA_LIMIT_RAD_S2,
@@ -156,6 +160,12 @@ DRIVELINE_KEYS: tuple[Key, ...] = (
         DEFAULT_END_TOLERANCE_DEG, "deg", "largest difference of a shaft's two joint angles"),
     Key("rules", "inertia_limit_rad_s2", number(0.0, 1e6, "rad/s^2", lower_open=True),
         INERTIA_LIMIT_RAD_S2, "rad/s^2", "inertia excitation limit (Spicer 1000)"),
+    Key("layout", "pinion_slope_deg", number_list(-MAX_SLOPE_DEG, MAX_SLOPE_DEG, "deg",
+                                                  min_length=2, max_length=2), None, "deg",
+        "[low, high] of the pinion's side-view slope to choose (sso run), in [-45, 45]"),
+    Key("layout", "centre_bearing_height_mm",
+        bounds_list(-MAX_HEIGHT_CHANGE_MM, MAX_HEIGHT_CHANGE_MM, "mm"), None, "mm",
+        "[low, high] of each centre bearing's height change (up +) to choose (sso run)"),
     Key("rules", "torsional_limit_rad_s2", number(0.0, 1e6, "rad/s^2", lower_open=True),
         TORSIONAL_LIMIT_RAD_S2, "rad/s^2", "torsional excitation limit (Spicer 300)"),
 )
@@ -195,6 +205,16 @@ class DrivelineCase(SavedCase):
             Naming the key at fault.
         """
         return _driveline(self.values)
+
+    def layout_box(self) -> LayoutBox | None:
+        """The ``[layout]`` box, or None where the case gives none.
+
+        Raises
+        ------
+        ValueError
+            Naming the ``layout`` key at fault.
+        """
+        return _layout_box(self.values)
 
     def summary(self) -> str:
         """One line for ``sso validate``."""
@@ -281,9 +301,32 @@ def _driveline(values: dict[str, Any]) -> Driveline:
         positions=values.get("measurements.positions"), **options)
 
 
+def _layout_box(values: dict[str, Any]) -> LayoutBox | None:
+    """The box of ``[layout]`` (None without one)."""
+    pinion = values.get("layout.pinion_slope_deg")
+    heights = values.get("layout.centre_bearing_height_mm")
+    if pinion is None and heights is None:
+        return None
+    if heights is not None and not isinstance(heights[0], tuple):
+        heights = (heights,)
+    try:
+        return LayoutBox(pinion_slope_deg=pinion, centre_bearing_height_mm=heights or ())
+    except ValueError as error:
+        raise ValueError(f"layout.{error}") from None
+
+
 def _build(values: dict[str, Any], path: str) -> DrivelineCase:
     """Check the keys against each other, then build the :class:`DrivelineCase`."""
-    _driveline(values)
+    driveline = _driveline(values)
+    box = _layout_box(values)
+    if box is not None:
+        if driveline.joint_count < 2:
+            raise ValueError("layout: a single joint has no propshaft to lay out; leave "
+                             "[layout] out")
+        try:
+            box.check_fits(driveline.joint_count)
+        except ValueError as error:
+            raise ValueError(f"layout.{error}") from None
     return DrivelineCase(kind=values["kind"], name=values["name"],
                          description=values["description"],
                          values={label: value for label, value in values.items()

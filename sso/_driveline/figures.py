@@ -12,6 +12,8 @@ from sso._column.geometry import ColumnGeometry
 from sso._display import Part, Readable, TextTable, format_number
 from sso._driveline.excitation import effective_angle_deg, excitations, signed_square_deg
 from sso._driveline.layout import plan_angle_deg, side_slope_deg
+from sso._driveline.layout_advice import LayoutAdvice, laid_out_driveline, rule_changes
+from sso._driveline.layout_box import LayoutBox
 from sso._driveline.loads import bearing_names, load_state
 from sso._driveline.model import Driveline
 from sso._driveline.phasing import PhasingAdvice, recommend_phasing
@@ -155,6 +157,9 @@ class DrivelineResult(Record, Readable):
         The yoke phasing recommended for the excitation limits (None if not asked).
     joint_life : str
         Why no joint life is given.
+    layout : LayoutAdvice or None
+        The driveline laid out within the box and phased as recommended, its rules and
+        the rules it makes worse (None without a box).
     """
 
     driveline: Driveline
@@ -164,6 +169,7 @@ class DrivelineResult(Record, Readable):
     loads: LoadCurves
     phasing: PhasingAdvice | None
     joint_life: str
+    layout: LayoutAdvice | None = None
     report_kind: ClassVar[str] = "driveline"
 
     @property
@@ -225,6 +231,8 @@ class DrivelineResult(Record, Readable):
             tuple((curve.name, format_number(curve.peak_n)) for curve in self.loads.bearings)))
         if self.phasing is not None:
             parts.extend(self.phasing.summary_parts())
+        if self.layout is not None:
+            parts.extend(self.layout.summary_parts())
         parts.append(self.joint_life)
         return parts
 
@@ -358,21 +366,47 @@ def rules(driveline: Driveline, positions: tuple[DrivelinePosition, ...],
     return tuple(checked)
 
 
-def analyse_driveline(driveline: Driveline, *, phasing: bool = True) -> DrivelineResult:
+def analyse_driveline(driveline: Driveline, *, phasing: bool = True,
+                      layout: LayoutBox | None = None) -> DrivelineResult:
     """Every figure of :class:`DrivelineResult` for ``driveline``.
 
     Parameters
     ----------
     phasing : bool
         Also recommend a yoke phasing for the excitation limits (default True).
-    """
-    positions = tuple(position_figures(name, geometry, driveline.phasing_deg,
-                                       driveline.max_shaft_speed_rpm)
-                      for name, geometry in driveline.named_geometries().items())
-    tubes = tube_figures(driveline)
-    advice = recommend_phasing(driveline) if phasing and driveline.joint_count > 1 else None
-    return DrivelineResult(driveline=driveline, positions=positions, tubes=tubes,
-                           rules=rules(driveline, positions, tubes),
-                           loads=load_curves(driveline), phasing=advice,
-                           joint_life=JOINT_LIFE_NOTE)
+    layout : LayoutBox, optional
+        Also choose the pinion slope and centre-bearing heights within this box, with
+        the phasing (:mod:`sso._driveline.phasing`); needs ``phasing``.
 
+    Raises
+    ------
+    ValueError
+        If a layout box is given without ``phasing``, to a single joint, or with more
+        centre bearings than the driveline has.
+    """
+    if layout is not None and not phasing:
+        raise ValueError("layout: a layout box is chosen with the phasing; give phasing=True")
+    positions = analysed_positions(driveline)
+    tubes = tube_figures(driveline)
+    checked = rules(driveline, positions, tubes)
+    advice = None
+    if layout is not None or (phasing and driveline.joint_count > 1):
+        advice = recommend_phasing(driveline, layout)
+    laid_out = None
+    if layout is not None and advice is not None:
+        chosen = laid_out_driveline(driveline, layout, advice.layout_values,
+                                    advice.yoke_phase_deg)
+        chosen_positions = analysed_positions(chosen)
+        chosen_rules = rules(chosen, chosen_positions, tube_figures(chosen))
+        laid_out = LayoutAdvice(driveline=chosen, rules=chosen_rules,
+                                trades=rule_changes(checked, chosen_rules))
+    return DrivelineResult(driveline=driveline, positions=positions, tubes=tubes,
+                           rules=checked, loads=load_curves(driveline), phasing=advice,
+                           joint_life=JOINT_LIFE_NOTE, layout=laid_out)
+
+
+def analysed_positions(driveline: Driveline) -> tuple[DrivelinePosition, ...]:
+    """The figures of every position of ``driveline`` at its own phasing."""
+    return tuple(position_figures(name, geometry, driveline.phasing_deg,
+                                  driveline.max_shaft_speed_rpm)
+                 for name, geometry in driveline.named_geometries().items())

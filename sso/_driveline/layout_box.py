@@ -25,28 +25,12 @@ import numpy as np
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.layout import MAX_SLOPE_DEG, side_slope_deg
 from sso._record import register_record
-from sso._validation import as_float_tuple
+from sso._validation import per_item_bounds
 
 MAX_HEIGHT_CHANGE_MM = 500.0
 """Largest centre-bearing height change a box may reach, mm (either way)."""
 
 Points = tuple[tuple[float, float, float], ...]
-
-
-def _interval(name: str, value: Sequence[float], limit: float, unit: str
-              ) -> tuple[float, float]:
-    pair = as_float_tuple(name, value)
-    if len(pair) != 2:
-        raise ValueError(f"{name} has {len(pair)} entries; give [low, high] in {unit}")
-    low, high = pair
-    for bound, number in ((f"{name}[0]", low), (f"{name}[1]", high)):
-        if not -limit <= number <= limit:
-            raise ValueError(f"{bound} = {number:g} {unit} is outside the allowed range "
-                             f"[-{limit:g}, {limit:g}] {unit}")
-    if low > high:
-        raise ValueError(f"{name} = [{low:g}, {high:g}] {unit}: the low end is above the "
-                         "high end")
-    return low, high
 
 
 @register_record
@@ -75,10 +59,11 @@ class LayoutBox:
 
     def __post_init__(self) -> None:
         if self.pinion_slope_deg is not None:
-            object.__setattr__(self, "pinion_slope_deg", _interval(
-                "pinion_slope_deg", self.pinion_slope_deg, MAX_SLOPE_DEG, "deg"))
-        heights = tuple(_interval(f"centre_bearing_height_mm[{index}]", box,
-                                  MAX_HEIGHT_CHANGE_MM, "mm")
+            object.__setattr__(self, "pinion_slope_deg", per_item_bounds(
+                "pinion_slope_deg", self.pinion_slope_deg, 1, -MAX_SLOPE_DEG, MAX_SLOPE_DEG,
+                "deg")[0])
+        heights = tuple(per_item_bounds(f"centre_bearing_height_mm[{index}]", box, 1,
+                                        -MAX_HEIGHT_CHANGE_MM, MAX_HEIGHT_CHANGE_MM, "mm")[0]
                         for index, box in enumerate(self.centre_bearing_height_mm))
         object.__setattr__(self, "centre_bearing_height_mm", heights)
         if self.pinion_slope_deg is None and not heights:

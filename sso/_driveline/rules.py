@@ -43,6 +43,8 @@ class Rule:
     passed : bool or None
         None when not judged (no limit).
     source : str
+    bound : {"at most", "at least"}
+        Which side of the limit passes.
     """
 
     rule: str
@@ -52,6 +54,14 @@ class Rule:
     unit: str
     passed: bool | None
     source: str
+    bound: str = "at most"
+
+    @property
+    def margin(self) -> float | None:
+        """How far the value is inside its limit (negative when over it); None unjudged."""
+        if self.limit is None:
+            return None
+        return self.limit - self.value if self.bound == "at most" else self.value - self.limit
 
 
 def speed_limit_deg(shaft_speed_rpm: float) -> float | None:
@@ -72,4 +82,4 @@ def at_most(rule: str, where: str, value: float, limit: float | None, unit: str,
 
 def at_least(rule: str, where: str, value: float, limit: float, unit: str, source: str) -> Rule:
     """A rule ``value >= limit``."""
-    return Rule(rule, where, value, limit, unit, value >= limit, source)
+    return Rule(rule, where, value, limit, unit, value >= limit, source, "at least")

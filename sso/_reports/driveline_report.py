@@ -11,6 +11,8 @@ from __future__ import annotations
 from typing import Any
 
 from sso._driveline.figures import DrivelineResult, joint_name, verdict_word, yoke_words
+from sso._driveline.layout_advice import LayoutAdvice
+from sso._driveline.phasing import PhasingAdvice
 from sso._reports.documents import report_files
 from sso._reports.summary import (
     Block,
@@ -133,6 +135,8 @@ def driveline_blocks(result: DrivelineResult, name: str, description: str,
                        f"{row.position} {row.figure} rises from {number(row.given_rad_s2)} to "
                        f"{number(row.recommended_rad_s2)} rad/s^2" for row in advice.trades)
                        if advice.trades else "no excitation gets worse."))]
+        if result.layout is not None:
+            blocks += layout_blocks(advice, result.layout)
     blocks += [Heading(2, "Joint life"), Paragraph(result.joint_life),
                Heading(2, "3D view"),
                Scene(driveline_scene(result), "The driveline in 3D (vehicle axes, mm): shafts, "
@@ -184,6 +188,25 @@ def _files(result: DrivelineResult, name: str, description: str, formats: tuple[
                         lambda: driveline_plots(result),
                         lambda images: driveline_blocks(result, name, description,
                                                         tuple(images), warnings, versions))
+
+
+def layout_blocks(advice: PhasingAdvice, layout: LayoutAdvice) -> list[Block]:
+    """The layout chosen within its box, its verdict and every rule it makes worse."""
+    blocks: list[Block] = [
+        Heading(2, "Layout within its box"),
+        Paragraph(f"Recommended with the phasing above: {advice.layout_words()}. On the "
+                  "driveline so laid out and phased "
+                  + ("every rule passes." if layout.passed else "a rule FAILS.")
+                  + " Rules whose margin to the limit shrinks against the layout as given: "
+                  + ("none." if not layout.trades else "the table."))]
+    if layout.trades:
+        blocks.append(Table(
+            ("rule", "where", "given", "recommended", "limit", "verdict"),
+            tuple((change.rule, change.where, f"{number(change.given_value)} {change.unit}",
+                   f"{number(change.recommended_value)} {change.unit}",
+                   f"{number(change.limit)} {change.unit}",
+                   verdict_word(change.recommended_passed)) for change in layout.trades)))
+    return blocks
 
 
 def rules_csv(result: DrivelineResult) -> str:

@@ -61,14 +61,16 @@ class DrivelineRun(CaseRun):
 
 
 def run_driveline(case: DrivelineCase, optimising: bool) -> DrivelineRun:
-    """Analyse a driveline case; with ``optimising`` also recommend its yoke phasing.
+    """Analyse a driveline case; with ``optimising`` also recommend its yoke phasing (and
+    its layout within the case's ``[layout]`` box; ``sso evaluate`` analyses it as given).
 
     Raises
     ------
     ValueError
         If the public API refuses the case's values.
     """
-    result = analyse_driveline(case.driveline(), phasing=optimising)
+    result = analyse_driveline(case.driveline(), phasing=optimising,
+                               layout=case.layout_box() if optimising else None)
     return DrivelineRun(warnings=case.warnings, versions=package_versions(),
                         created_utc=created_utc(), case=case,
                         mode="optimise" if optimising else "evaluate", result=result)
