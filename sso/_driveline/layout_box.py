@@ -5,9 +5,10 @@ position alike (a shim under the axle, a spacer under a centre bearing's bracket
 
 * the pinion's side-view slope (deg, front higher positive, as
   :mod:`sso._driveline.layout`), chosen within ``[low, high]``; the pinion axis turns
-  about the lateral (``y``) axis through the pinion joint centre, so the pinion joint
-  stays where it is and every position's pinion slope changes by the same amount
-  (its plan angle is unchanged);
+  about the lateral (``y``, the axle's) axis through the pinion joint centre, so the
+  pinion joint stays where it is and every position's pinion slope changes by exactly
+  the same amount (a pinion angled in plan view keeps its lateral component, so its
+  plan angle changes at second order);
 * the height change of each centre bearing (mm, up positive) within its box: the
   joint at the rear of that propshaft (the centre bearing's joint) moves vertically by
   that much in every position; the propshafts' lengths follow it (a few tenths of a

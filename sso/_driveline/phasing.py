@@ -16,8 +16,9 @@ The criterion is the driveline's, not the residual error, and it is lexicographi
 
 The search scans the yoke phasings (the column's ``delta_k``, period 180 deg) and the
 layout box (:class:`sso._driveline.layout_box.LayoutBox`) on a grid, then refines the
-best points with Nelder-Mead (SciPy) on the exact figures, one stage per tier, each
-later stage holding what the earlier ones reached.
+best points with SLSQP (SciPy) on the sampled figures, one stage per tier with the
+earlier tiers as constraints: the first in epigraph form (least ``t`` with every ratio
+at most ``t``), the second on the squared ratio (smooth where the joints cancel).
 """
 
 from __future__ import annotations
@@ -52,10 +53,9 @@ SEARCH_SAMPLES = 512
 below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
 LAYOUT_GRID = 5
 """Grid points across each layout variable's box."""
-STAGE_TOLERANCE = (1e-4, 1e-6, 1e-4)
-"""Nelder-Mead's tolerance on the variables (deg, mm) in the three tiers (and its square
-on the objective): the first only sets the threshold of the second, which sets the
-cancelling layout."""
+STAGE_FTOL = 1e-12
+STAGE_ITERATIONS = 200
+"""SLSQP's tolerance on each tier's objective and its iteration limit."""
 SAME_POINT = 0.5
 """First-tier optima this close (deg of phasing, mm or deg of layout) are refined once."""
 HELD = 1e-9
@@ -66,7 +66,6 @@ TEXTBOOK_TIE = 1e-3
 """A textbook phasing (0 or 90 deg per shaft) this close (in ratio to a limit, 0.1 % of
 it) to the optimum in the second and third tiers is as good: the rest is below what the
 limits, which are rules of thumb, can tell apart."""
-PENALTY = 1e6
 CRITERION = ("first the largest margin under the excitation limits over every position "
              "(least largest ratio r* of an excitation to its limit); then, within "
              f"{MARGIN_TOLERANCE:g} of r*, the least torsional excitation at the design "
@@ -200,6 +199,7 @@ class _Search:
         self.box = box
         self.named = list(driveline.named_geometries().values())
         self._last: tuple[tuple[float, ...], list[ColumnGeometry]] | None = None
+        self._last_ratios: tuple[tuple[float, ...], np.ndarray] | None = None
 
     @property
     def shafts(self) -> int:
@@ -230,6 +230,14 @@ class _Search:
 
     def ratios(self, x: np.ndarray, samples: int = SEARCH_SAMPLES) -> np.ndarray:
         """Excitation over limit, shape (positions, 3); infinite where no driveline is made."""
+        asked = (samples, *(float(v) for v in x))
+        if self._last_ratios is not None and self._last_ratios[0] == asked:
+            return self._last_ratios[1]  # the objective and the constraints at one point
+        ratio = self._ratios(x, samples)
+        self._last_ratios = (asked, ratio)
+        return ratio
+
+    def _ratios(self, x: np.ndarray, samples: int) -> np.ndarray:
         try:
             geometries = self.geometries(x)
         except ValueError:
@@ -278,45 +286,48 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
     scored = sorted((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in points)
     starts = [np.array(point) for _, point in scored[:REFINED_STARTS]]
-    sizes = np.array([step] * shafts + [max((high - low) / (LAYOUT_GRID - 1), 1e-6)
-                                        for low, high in bounds[shafts:]])
+    limits_box = [(None, None)] * shafts + [(float(low), float(high))
+                                            for low, high in bounds[shafts:]]
 
-    def descend(objective: Callable[[np.ndarray], float], start: np.ndarray,
-                shrink: float, tolerance: float) -> np.ndarray:
-        found = minimize(objective, start, method="Nelder-Mead", bounds=bounds,
-                         options={"xatol": tolerance, "fatol": tolerance**2, "maxfev": 4000,
-                                  "initial_simplex": _simplex(start, sizes * shrink, bounds)})
-        point: np.ndarray = np.clip(found.x, bounds[:, 0], bounds[:, 1])
+    def solve(objective: Callable[[np.ndarray], float],
+              constraint: Callable[[np.ndarray], np.ndarray], start: np.ndarray,
+              box: Sequence[tuple[float | None, float | None]]) -> np.ndarray:
+        found = minimize(objective, start, method="SLSQP", bounds=box,
+                         constraints=[{"type": "ineq", "fun": constraint}],
+                         options={"ftol": STAGE_FTOL, "maxiter": STAGE_ITERATIONS})
+        point: np.ndarray = found.x
         return point
 
     def worst(x: np.ndarray) -> float:
         return float(np.max(search.ratios(x)))
 
-    first = [descend(worst, start, 1.0, STAGE_TOLERANCE[0]) for start in starts]
+    # Tier 1 in epigraph form: least t with every ratio at most t.
+    first = [solve(lambda z: float(z[-1]),
+                   lambda z: z[-1] - search.ratios(z[:-1]).ravel(),
+                   np.append(start, worst(start)), [*limits_box, (None, None)])[:-1]
+             for start in starts]
     allowed = min(worst(x) for x in first) + MARGIN_TOLERANCE
 
-    def over(ratio: np.ndarray) -> float:
-        return max(float(np.max(ratio)) - allowed, 0.0)
-
-    def cancellation(x: np.ndarray) -> float:
-        ratio = search.ratios(x)
-        return float(ratio[0, 2]) + PENALTY * over(ratio)
+    def within(x: np.ndarray) -> np.ndarray:
+        margin: np.ndarray = allowed - search.ratios(x).ravel()
+        return margin
 
     def key(x: np.ndarray) -> tuple[bool, float, float]:
         ratio = search.ratios(x)
-        return (over(ratio) > HELD, round(float(ratio[0, 2]), 9), float(np.sum(ratio**2)))
+        return (float(np.max(ratio)) > allowed + HELD, round(float(ratio[0, 2]), 9),
+                float(np.sum(ratio**2)))
 
     candidates = []
     for x in _distinct(first, shafts):
-        second = descend(cancellation, x, 0.5, STAGE_TOLERANCE[1])
+        # Tier 2: the design position's torsional ratio (squared: smooth where it cancels).
+        second = solve(lambda x: float(search.ratios(x)[0, 2] ** 2), within, x, limits_box)
         held = float(search.ratios(second)[0, 2]) + HELD
 
-        def spread(x: np.ndarray, held: float = held) -> float:
-            ratio = search.ratios(x)
-            return float(np.sum(ratio**2)) + PENALTY * (
-                over(ratio) + max(float(ratio[0, 2]) - held, 0.0))
+        def kept(x: np.ndarray, held: float = held) -> np.ndarray:
+            return np.append(within(x), held - search.ratios(x)[0, 2])
 
-        candidates.append(descend(spread, second, 0.25, STAGE_TOLERANCE[2]))
+        candidates.append(solve(lambda x: float(np.sum(search.ratios(x) ** 2)), kept, second,
+                                limits_box))
     best = min(candidates, key=key)
     best_key = key(best)
     # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
@@ -346,17 +357,6 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
         rows=rows, criterion=CRITERION, box=box,
         layout_values=tuple(float(v) for v in best[shafts:]),
         given_layout_values=tuple(float(v) for v in given[shafts:]))
-
-
-def _simplex(start: np.ndarray, sizes: np.ndarray, bounds: np.ndarray) -> np.ndarray:
-    """A simplex from ``start`` along each axis, stepping inward where a bound is near."""
-    vertices = [start]
-    for axis, size in enumerate(sizes):
-        vertex = start.copy()
-        vertex[axis] += size if start[axis] + size <= bounds[axis, 1] else -size
-        vertices.append(vertex)
-    simplex: np.ndarray = np.vstack(vertices)
-    return simplex
 
 
 def _distinct(points: Sequence[np.ndarray], shafts: int) -> list[np.ndarray]:
