@@ -45,6 +45,15 @@ def pickup(**tables: dict[str, Any]) -> dict[str, Any]:
     ({"hardpoints": {"points_mm": [[100, 0, 0], [0, 0, 0], [-100, 0, 5]]}},
      "give either [measurements]"),
     ({"loads": {"torque_n_m": "lots"}}, "loads.torque_n_m"),
+    ({"layout": {"pinion_slope_deg": [4.0, 1.0]}},
+     "layout.pinion_slope_deg = (4, 1) deg is inverted (empty)"),
+    ({"layout": {"pinion_slope_deg": [0.0, 60.0]}},
+     "layout.pinion_slope_deg[1] = 60 is outside the allowed range [-45, 45] deg"),
+    ({"layout": {"pinion_slope_deg": [1.0]}}, "layout.pinion_slope_deg"),
+    ({"layout": {"centre_bearing_height_mm": [[-10.0, 10.0]]}},
+     "layout.centre_bearing_height_mm has 1 boxes; the driveline has 0 centre bearings"),
+    ({"layout": {"centre_bearing_height_mm": [10.0, -10.0]}},
+     "layout.centre_bearing_height_mm = (10, -10) mm is inverted"),
 ])
 def test_bad_driveline_case_exits_2_naming_the_key(tables: dict[str, Any], message: str,
                                                    tmp_path: Path) -> None:
@@ -100,7 +109,7 @@ KEYS = [("measurements", "gearbox_slope_deg"), ("measurements", "shaft_slope_deg
         ("measurements", "pinion_plan_deg"), ("tubes", "outside_diameter_mm"),
         ("tubes", "wall_mm"), ("tubes", "youngs_modulus_gpa"), ("speed", "max_shaft_speed_rpm"),
         ("loads", "torque_n_m"), ("loads", "centre_bearing_mm"), ("phasing", "yoke_phase_deg"),
-        ("rules", "end_tolerance_deg")]
+        ("rules", "end_tolerance_deg"), ("layout", "pinion_slope_deg")]
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
