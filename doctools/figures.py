@@ -208,6 +208,42 @@ def cross_check() -> bytes:
     return _png(figure)
 
 
+def driveline_conventions() -> bytes:
+    """The compound pickup in side and plan view, and its axle excitation against phasing."""
+    from sso._driveline.excitation import excitations
+
+    with open(ROOT / "cases" / "driveline_compound_pickup.toml", "rb") as file:
+        measured = tomllib.load(file)["measurements"]
+    driveline = sso.Driveline.from_measurements(
+        **measured, tubes=(sso.Tube(88.9, 2.1),), max_shaft_speed_rpm=3500.0,
+        torque_n_m=1500.0)
+    points = np.asarray(driveline.points_mm)
+    gamma = float(driveline.geometry.plane_angle_deg[0])
+    deltas = np.linspace(-90.0, 90.0, 181)
+    torsional = [excitations(driveline.geometry, (float(delta),), 3500.0).torsional_rad_s2
+                 for delta in deltas]
+    figure = _new_figure(8.0, 3.8)
+    views, right = figure.subplots(1, 2, width_ratios=(1.0, 1.2))
+    views.plot(points[:, 0], points[:, 2], "o-", label="side view: z (up)")
+    views.plot(points[:, 0], points[:, 1], "s--", label="plan view: y (left)")
+    views.annotate("gearbox", points[0, [0, 2]], fontsize=7)
+    views.annotate("pinion", points[-1, [0, 2]], fontsize=7)
+    views.set(title="x forward; slopes: front higher +", xlabel="x (mm)",
+              ylabel="mm")
+    views.invert_xaxis()
+    views.legend(fontsize=7)
+    right.plot(deltas, torsional, label="pinion's peak acceleration")
+    right.axhline(300.0, color="r", linestyle="--", label="torsional limit 300 rad/s^2")
+    right.axvline(0.0, color="C1", linestyle=":", label="yokes in phase")
+    right.axvline(gamma, color="C2", linestyle=":",
+                  label=f"delta = plane angle {gamma:.1f} deg")
+    right.set(title="pickup at 3,500 rpm: planes 82 deg apart",
+              xlabel="yoke phasing delta of the propshaft (deg)", ylabel="rad/s^2",
+              xticks=range(-90, 91, 30))
+    right.legend(fontsize=7)
+    return _png(figure)
+
+
 FIGURES: dict[str, Callable[[], bytes]] = {
     "speed_ratio.png": speed_ratio,
     "design_options.png": design_options,
@@ -217,6 +253,7 @@ FIGURES: dict[str, Callable[[], bytes]] = {
     "spline_teeth.png": spline_teeth,
     "robust_phasing.png": robust_phasing,
     "cross_check.png": cross_check,
+    "driveline_conventions.png": driveline_conventions,
 }
 
 

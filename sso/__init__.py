@@ -73,6 +73,15 @@ _EXPORTS: dict[str, str] = {
     "StartMovedWarning": "sso._shafts.options",
     "QuadratureWarning": "sso._shafts.quadrature",
     "write_report": "sso._reports.kinds",
+    "Driveline": "sso._driveline.model",
+    "NamedPosition": "sso._driveline.model",
+    "Tube": "sso._driveline.tube",
+    "analyse_driveline": "sso._driveline.figures",
+    "DrivelineResult": "sso._driveline.figures",
+    "PhasingAdvice": "sso._driveline.phasing",
+    "LayoutBox": "sso._driveline.layout_box",
+    "LayoutAdvice": "sso._driveline.layout_advice",
+    "DrivelineRun": "sso._run.driveline",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

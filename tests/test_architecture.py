@@ -25,6 +25,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("solvers",),
     ("shafts", "linkages"),
     ("column",),
+    ("driveline",),
     ("cases",),
     ("run",),
     ("reports",),

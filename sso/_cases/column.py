@@ -45,6 +45,7 @@ from sso._cases.schema import (
     Key,
     SavedCase,
     bounds_list,
+    case_document,
     choice,
     number,
     number_list,
@@ -184,7 +185,6 @@ COLUMN_KEYS: tuple[Key, ...] = (
     *solver_keys(COLUMN_SOLVER_DEFAULTS),
 )
 
-KEY_ORDER = {f"{key.table}.{key.name}": index for index, key in enumerate(COLUMN_KEYS)}
 """Place of each dotted label in the schema (the order :meth:`ColumnCase.to_dict` writes)."""
 
 
@@ -350,23 +350,7 @@ class ColumnCase(SavedCase):
 
         :func:`sso._cases.schema.parse_case` reads it back into an equal case.
         """
-        document: dict[str, Any] = {"kind": self.kind, "name": self.name,
-                                    "description": self.description,
-                                    "output": {"formats": list(self.formats)}}
-        # in the schema's order, whatever the file's: a case read back saves the same
-        for label, value in sorted(self.values.items(),
-                                   key=lambda item: KEY_ORDER.get(item[0], len(KEY_ORDER))):
-            if value is None:
-                continue
-            table, name = label.split(".", 1)
-            document.setdefault(table, {})[name] = _plain(value)
-        return document
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {name: _plain(item) for name, item in value.items()}
-    return [_plain(item) for item in value] if isinstance(value, tuple) else value
+        return case_document(self, COLUMN_KEYS)
 
 
 def _build(values: dict[str, Any], path: str) -> ColumnCase:

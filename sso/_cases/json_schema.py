@@ -35,6 +35,8 @@ from typing import Any
 
 from sso._cases.column_points import MAX_POINTS
 from sso._cases.column_robust import MAX_POSITIONS
+from sso._cases.driveline import MAX_POSITIONS as DRIVELINE_MAX_POSITIONS
+from sso._cases.driveline import MEASUREMENT_PARSERS
 from sso._cases.schema import (
     COMMON_KEYS,
     DEFAULT_KIND,
@@ -273,6 +275,26 @@ NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
     "sso._cases.column_robust.robust_objective": lambda: {
         "type": "string",
         "pattern": ROBUST_OBJECTIVE_PATTERN,
+    },
+    "sso._cases.driveline.bearing_pair": lambda: _pair(
+        {"type": "number", "minimum": 0.0, "maximum": 1e5}),
+    "sso._cases.driveline.positions_of_points": lambda: {
+        "type": "object",
+        "minProperties": 1,
+        "maxProperties": DRIVELINE_MAX_POSITIONS,
+        "additionalProperties": NAMED_PARSERS["sso._cases.column_points.point_list"](),
+    },
+    "sso._cases.driveline.positions_of_measurements": lambda: {
+        "type": "object",
+        "minProperties": 1,
+        "maxProperties": DRIVELINE_MAX_POSITIONS,
+        "additionalProperties": {
+            "type": "object",
+            "minProperties": 1,
+            "properties": {name: _value_schema(parse)
+                           for name, parse in MEASUREMENT_PARSERS.items()},
+            "additionalProperties": False,
+        },
     },
 }
 

@@ -284,7 +284,7 @@ def _quoted(items: tuple[str, ...]) -> str:
 COMMON_KEYS: tuple[Key, ...] = (
     Key("", "kind", lambda label, value: value, DEFAULT_KIND, "",
         "a registered kind: 'shaft_series', 'fourbar', 'slider_crank', 'quick_return', "
-        "'fourbar_design', 'column'"),
+        "'fourbar_design', 'column', 'driveline'"),
     Key("", "name", case_name, lambda values, path: _name_from_file(path), "",
         "1-100 of A-Z a-z 0-9 . _ -, starting with a letter or digit"),
     Key("", "description", text(), "", "", "free text"),
@@ -303,9 +303,36 @@ _REGISTERED: dict[str, CaseKind] = {}
 KIND_MODULES: dict[str, str] = {
     "shaft_series": "sso._cases.shaft_series",
     "column": "sso._cases.column",
+    "driveline": "sso._cases.driveline",
     **{kind: "sso._cases.mechanism"
        for kind in ("fourbar", "slider_crank", "quick_return", "fourbar_design")},
 }
+
+
+def case_document(case: Any, keys: tuple[Key, ...]) -> dict[str, Any]:
+    """A case of a kind that keeps its values by dotted label, in the case-file layout.
+
+    ``case`` has ``kind``, ``name``, ``description``, ``formats`` and ``values``; the
+    tables follow the order of ``keys`` whatever the file's (a case read back saves the
+    same), tuples become lists and values of ``None`` are left out.
+    """
+    document: dict[str, Any] = {"kind": case.kind, "name": case.name,
+                                "description": case.description,
+                                "output": {"formats": list(case.formats)}}
+    order = {key.label: index for index, key in enumerate(keys)}
+    for label, value in sorted(case.values.items(),
+                               key=lambda item: order.get(item[0], len(order))):
+        if value is None:
+            continue
+        table, name = label.split(".", 1)
+        document.setdefault(table, {})[name] = _plain_value(value)
+    return document
+
+
+def _plain_value(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {name: _plain_value(item) for name, item in value.items()}
+    return [_plain_value(item) for item in value] if isinstance(value, tuple) else value
 
 
 def register_case_kind(kind: str, keys: tuple[Key, ...],

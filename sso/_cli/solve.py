@@ -211,6 +211,11 @@ def _told(result: Any) -> _Told:
     if isinstance(result, MechanismRun):
         return _Told(result.mode, result.success, result.verdict, result.warnings,
                      (None, None, None))
+    from sso._run.driveline import DrivelineRun
+
+    if isinstance(result, DrivelineRun):
+        return _Told("analyse", result.success, result.verdict, result.warnings,
+                     (None, None, None))
     from sso._run.column import ColumnRun
 
     if not isinstance(result, ColumnRun):

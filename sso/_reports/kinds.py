@@ -223,3 +223,19 @@ register_report_kind("fourbar_design", _render_fourbar_design, CASE_REPORT)
 register_report_kind("mechanism_run", _render_mechanism_run, CASE_REPORT)
 register_report_kind("mechanism_table", _render_mechanism_table, CASE_REPORT)
 register_report_kind(RECORD_KIND, _render_record, CASE_REPORT)
+
+
+def _render_driveline(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso._reports.driveline_report import render_driveline_result
+
+    return render_driveline_result(result, formats)
+
+
+def _render_driveline_run(run: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+    from sso._reports.driveline_report import render_driveline_run
+
+    return render_driveline_run(run, formats)
+
+
+register_report_kind("driveline", _render_driveline, CASE_REPORT)
+register_report_kind("driveline_run", _render_driveline_run, CASE_REPORT)

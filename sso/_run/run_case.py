@@ -8,12 +8,13 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # each run imports only the module its case's kind needs
     from sso._run.column import ColumnRun
+    from sso._run.driveline import DrivelineRun
     from sso._run.mechanism_run import MechanismRun
     from sso._run.shaft_series import ShaftSeriesRun
 
 
 def run_case(path: str | Path, *, solve: bool = True
-             ) -> ShaftSeriesRun | MechanismRun | ColumnRun:
+             ) -> ShaftSeriesRun | MechanismRun | ColumnRun | DrivelineRun:
     """Read a case file and solve it, as ``sso run`` does (or evaluate it, as
     ``sso evaluate`` does), without writing anything.
 
@@ -27,7 +28,7 @@ def run_case(path: str | Path, *, solve: bool = True
 
     Returns
     -------
-    ShaftSeriesRun or MechanismRun or ColumnRun
+    ShaftSeriesRun or MechanismRun or ColumnRun or DrivelineRun
         The result of the case's kind; :func:`sso.write_report` writes its report, the
         same files ``sso run`` writes. Solver failures are recorded in it, not raised.
 
@@ -43,7 +44,8 @@ def run_case(path: str | Path, *, solve: bool = True
     return run_parsed_case(load_case(path), solve)
 
 
-def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | ColumnRun:
+def run_parsed_case(case: Any, solve: bool
+                    ) -> ShaftSeriesRun | MechanismRun | ColumnRun | DrivelineRun:
     """The result of a case already read and checked (see :func:`run_case`)."""
     from sso._cases.shaft_series import KIND as SHAFT_SERIES_KIND
 
@@ -57,6 +59,12 @@ def run_parsed_case(case: Any, solve: bool) -> ShaftSeriesRun | MechanismRun | C
         from sso._run.column import run_column
 
         return run_column(case, solve)
+    from sso._cases.schema import KIND_MODULES
+
+    if KIND_MODULES.get(case.kind) == "sso._cases.driveline":  # no import for other kinds
+        from sso._run.driveline import run_driveline
+
+        return run_driveline(case, solve)
     from sso._cases.mechanism import MECHANISM_KINDS
 
     if case.kind not in MECHANISM_KINDS:

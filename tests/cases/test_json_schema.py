@@ -26,6 +26,7 @@ VALIDATORS = (jsonschema.Draft202012Validator, jsonschema.Draft7Validator)
 KNOWN_KINDS = (
     "shaft_series",
     "column",
+    "driveline",
     "fourbar",
     "slider_crank",
     "quick_return",

@@ -194,12 +194,16 @@ def shipped_cases() -> str:
     counts = [len(list(cases.glob(pattern))) for pattern in
               ("**/*.toml", "paper_option*_*.toml", "column_*.toml", "mechanisms/*.toml")]
     total, paper, columns, mechanisms = counts
+    drivelines = sum('kind = "driveline"' in path.read_text(encoding="utf-8")
+                     for path in cases.glob("driveline_*.toml"))
     return (f"`cases/` ships {total}: {NUMBER_WORDS[paper]} of the paper's three options in the "
             f"exact and the paper model (`paper_option<1|2|3>_<exact|paper>.toml`, each with "
             "the paper's reported optimum as `reference`), a two-joint `steering_column.toml`, "
             "a four-joint truck `driveline_four_joint.toml`, "
             f"{NUMBER_WORDS[columns]} steering columns from hardpoints (`column_*.toml`, see "
-            "[steering columns](steering-columns.md)) and "
+            f"[steering columns](steering-columns.md)), {NUMBER_WORDS[drivelines]} drivelines "
+            "from a fitter's measurements (the other `driveline_*.toml`, see "
+            "[drivelines](drivelines.md)) and "
             f"{NUMBER_WORDS[mechanisms]} mechanism cases")
 
 

@@ -84,6 +84,11 @@ def column_run() -> sso.ColumnRun:
 
 MAKERS: dict[str, Callable[[], Any]] = {
     "ColumnRun": column_run,
+    "DrivelineRun": lambda: sso.run_case(CASES / "driveline_compound_pickup.toml"),
+    "DrivelineResult": lambda: sso.analyse_driveline(sso.Driveline.from_measurements(
+        gearbox_slope_deg=3.0, shaft_slope_deg=[0.0, 2.5], shaft_length_mm=[1200.0, 1400.0],
+        pinion_slope_deg=-1.5, tubes=(sso.Tube(101.6, 2.4), sso.Tube(101.6, 2.4)),
+        max_shaft_speed_rpm=2500.0, torque_n_m=3000.0, centre_bearing_mm=(80.0,))),
     "ShaftSeriesRun": lambda: sso.run_case(CASES / "paper_option3_exact.toml"),
     "MechanismRun": lambda: sso.run_case(CASES / "mechanisms" / "fourbar_swing_design.toml"),
     "OptimisationResult": lambda: sso.optimise(SERIES, 1, starts=2),
