@@ -127,7 +127,7 @@ def append_rows(path: Path, text: str | bytes) -> None:
     """Append rows (lines of ``sweep.csv``, or their UTF-8 bytes) in one write, flushed
     to disk."""
     data = text.encode("utf-8") if isinstance(text, str) else text
-    descriptor = os.open(path, os.O_WRONLY | os.O_APPEND)
+    descriptor = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW)
     try:
         view = memoryview(data)
         while view:
