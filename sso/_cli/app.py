@@ -61,12 +61,16 @@ is the same (within 0.3 MB)."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
-    args = build_parser().parse_args(argv)
+    """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments).
+
+    Its modules imported (:func:`sso._cli.main` is the entry point that takes the
+    signals before importing them).
+    """
     previous = interrupt_on_signals()
     thresholds = gc.get_threshold()
     gc.set_threshold(COMMAND_GC_THRESHOLD, *thresholds[1:])
     try:
+        args = build_parser().parse_args(argv)
         code: int = args.handle(args)
         return code
     except KeyboardInterrupt:
