@@ -215,6 +215,9 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
 
     Raises
     ------
+    ValueError
+        If a level exists and is not a folder (a file, a symbolic link that leads
+        nowhere or in a loop): the message says which and what it is.
     OSError
         If a level cannot be created (nothing new is left behind).
     """
@@ -223,15 +226,18 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
     for folder in (target, *target.parents):
         if folder.is_dir():
             break
+        if os.path.lexists(folder):
+            raise ValueError(f"{folder} {not_a_folder(folder)}; choose a folder")
         missing.append(folder)
     made: list[Path] = []
     try:
         for folder in reversed(missing):
             try:
                 folder.mkdir()
-            except FileExistsError:
+            except FileExistsError:  # made meanwhile by another process
                 if not folder.is_dir():
-                    raise
+                    raise ValueError(f"{folder} {not_a_folder(folder)}; choose a "
+                                     "folder") from None
             else:
                 made.append(folder)
     except BaseException:
@@ -242,6 +248,22 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
                 break
         raise
     return target
+
+
+def not_a_folder(path: str | os.PathLike[str]) -> str:
+    """What ``path``, which exists but is no folder, is, in words: "is a file, not a
+    folder", "is a symbolic link that leads nowhere (...)"."""
+    if os.path.islink(path):
+        try:
+            os.stat(path)
+        except OSError as error:
+            why = ("a loop of links" if error.errno == errno.ELOOP
+                   else f"to {os.readlink(path)}, which is missing")
+            return f"is a symbolic link that leads nowhere ({why}), not a folder"
+        return f"is a symbolic link to a file ({os.readlink(path)}), not a folder"
+    if os.path.isfile(path):
+        return "is a file, not a folder"
+    return "is not a folder (a FIFO, device or socket)"
 
 
 def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]:
@@ -315,7 +337,7 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
     target = Path(path)
     if not target.is_dir():
         if os.path.lexists(target):
-            raise ValueError(f"{target} is a file, not a folder; choose a folder for the {kind}")
+            raise ValueError(f"{target} {not_a_folder(target)}; choose a folder for the {kind}")
         return target
     entries = list(os.scandir(target))
     if not entries:
