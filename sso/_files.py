@@ -194,6 +194,11 @@ def read_input_bytes(path: str | os.PathLike[str],
     return data
 
 
+WRITTEN_SUFFIXES = (".json", ".csv", ".md", ".html", ".png", ".parquet")
+"""How the name of every file (and folder) sso writes into an output folder ends: a
+manifest listing any other name is not sso's (it would have sso delete, say, a
+user's notes.txt)."""
+
 FOLDER_MANIFEST = "sso-files.json"
 """The file in which a folder sso writes lists the files sso wrote there (and what
 the folder holds: a case's report, a sweep, a tolerance study)."""
@@ -288,10 +293,14 @@ def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]
         return None, frozenset()
     for name in data["files"]:
         if not _plain_name(name):
-            raise ValueError(f"{Path(path) / FOLDER_MANIFEST} lists {name!r}, which is not a "
-                             "file name in the folder (sso lists only the files it writes "
-                             "there); nothing was deleted. Choose another folder (--out), or "
-                             "remove that entry")
+            why = "which is not a file name in the folder"
+        elif not name.endswith(WRITTEN_SUFFIXES):
+            why = f"a name sso never writes (its files end in {', '.join(WRITTEN_SUFFIXES)})"
+        else:
+            continue
+        raise ValueError(f"{Path(path) / FOLDER_MANIFEST} lists {name!r}, {why}; sso lists "
+                         "only the files it writes there, and nothing was deleted. Choose "
+                         "another folder (--out), or remove that entry")
     return data["kind"], frozenset(data["files"])
 
 
@@ -299,6 +308,15 @@ def _plain_name(name: str) -> bool:
     """Whether ``name`` names an entry of a folder itself (no path, not . or ..)."""
     return (name not in ("", os.curdir, os.pardir) and os.sep not in name
             and (os.altsep is None or os.altsep not in name) and "\0" not in name)
+
+
+def _check_written_names(names: Iterable[str]) -> None:
+    """Raise ValueError unless each of ``names`` is a plain name ending as sso's files do."""
+    bad = [name for name in names if not _plain_name(name) or name == FOLDER_MANIFEST
+           or name.startswith(TEMPORARY_PREFIX) or not name.endswith(WRITTEN_SUFFIXES)]
+    if bad:
+        raise ValueError(f"file names {bad!r} cannot be written into an output folder (plain "
+                         f"names ending in {', '.join(WRITTEN_SUFFIXES)})")
 
 
 def check_report_folder(path: str | os.PathLike[str], kind: str,
@@ -395,6 +413,7 @@ def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...]
     ValueError
         As :func:`check_report_folder`.
     """
+    _check_written_names(names)
     target = check_report_folder(path, kind, folders=folders)
     make_folders(target)
     _, listed = sso_files(target)
@@ -447,10 +466,7 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
         If the folder cannot be written; ``path`` is then left as it was.
     """
     names = list(files)
-    bad = [name for name in names if name in ("", os.curdir, os.pardir, FOLDER_MANIFEST)
-           or os.sep in name or name.startswith(TEMPORARY_PREFIX)]
-    if bad:
-        raise ValueError(f"file names {bad!r} cannot be written into a report folder")
+    _check_written_names(names)
     target = check_report_folder(path, kind, adopt)
     make_folders(target.parent)
     _remove_stale_staging(target)
@@ -530,5 +546,6 @@ def _remove_stale_staging(target: Path) -> None:
     (only SIGKILL can; the caller holds the folder's lock, so no writer is alive)."""
     for entry in os.scandir(target.parent):
         match = _STAGING.fullmatch(entry.name)
-        if match and match["name"] == target.name and entry.is_dir(follow_symlinks=False):
+        if (match and match["name"] == target.name and entry.is_dir(follow_symlinks=False)
+                and entry.stat(follow_symlinks=False).st_uid == os.geteuid()):
             shutil.rmtree(entry.path, ignore_errors=True)

@@ -105,18 +105,33 @@ def _snapshot(folder: Path) -> dict[str, bytes]:
             for path in sorted(folder.rglob("*")) if path.is_file()}
 
 
-def test_a_manifest_naming_a_folder_deletes_nothing(report_folder, tmp_path):
+@pytest.mark.parametrize(("folder", "said"), [
+    ("sub", "lists 'sub', a name sso never writes"),
+    ("plots.png", "plots.png is a folder, where sso writes a file plots.png into a case report"),
+])
+def test_a_manifest_naming_a_folder_deletes_nothing(report_folder, tmp_path, folder, said):
     # The reproduction: "sub" in the manifest, the user's sub/s.txt, then
-    # sso report result.json --out (the same folder).
-    (report_folder / "sub").mkdir()
-    (report_folder / "sub" / "s.txt").write_bytes(NOTES)
-    _list_in_manifest(report_folder, "sub")
+    # sso report result.json --out (the same folder); and a folder under a name that
+    # sso gives its files.
+    (report_folder / folder).mkdir()
+    (report_folder / folder / "s.txt").write_bytes(NOTES)
+    _list_in_manifest(report_folder, folder)
     before = _snapshot(report_folder)
     done = sso("report", report_folder / "result.json", "--out", report_folder, cwd=tmp_path)
     assert done.returncode == 2, done.stderr
     assert "Traceback" not in done.stderr
-    assert "sub is a folder" in done.stderr and "nothing was deleted" in done.stderr
+    assert said in done.stderr and "nothing was deleted" in done.stderr
     assert _snapshot(report_folder) == before
+
+
+def test_a_manifest_naming_a_user_s_file_deletes_nothing(report_folder, tmp_path):
+    (report_folder / "notes.txt").write_bytes(NOTES)
+    _list_in_manifest(report_folder, "notes.txt")
+    done = sso("report", report_folder / "result.json", "--out", report_folder, cwd=tmp_path)
+    assert done.returncode == 2, done.stderr
+    assert "lists 'notes.txt', a name sso never writes (its files end in .json, .csv, .md, " \
+           ".html, .png, .parquet)" in done.stderr
+    assert (report_folder / "notes.txt").read_bytes() == NOTES
 
 
 @pytest.mark.parametrize("entry", ["../notes.txt", "/etc/hostname", "sub/s.txt", "..", ""])
