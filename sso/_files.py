@@ -280,8 +280,9 @@ def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]
     ------
     ValueError
         If the manifest lists an entry that is not a plain name in the folder (a
-        path into a subfolder or out of the folder, ``.``, ``..``, an empty name):
-        sso never writes one, so the manifest is not sso's as written.
+        path into a subfolder or out of the folder, ``.``, ``..``, an empty name), or
+        a name not ending in one of :data:`WRITTEN_SUFFIXES`: sso never writes one,
+        so the manifest is not sso's as written.
     """
     try:
         data = json.loads(read_input_bytes(Path(path) / FOLDER_MANIFEST))
@@ -366,7 +367,7 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
                          f"{found_kind} never share a folder. Choose another folder (--out), "
                          f"or delete this one if the {found_kind} is no longer needed")
     own = listed | set(adopt) | {FOLDER_MANIFEST}
-    misshapen = [_misshapen(entry, kind, folders) for entry in entries
+    misshapen = [_misshapen(entry, kind, folders, entry.name in listed) for entry in entries
                  if entry.name in own and not entry.is_symlink()]
     if any(misshapen):
         raise ValueError(f"{target}: {next(text for text in misshapen if text)}; nothing was "
@@ -386,14 +387,15 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
     return target
 
 
-def _misshapen(entry: os.DirEntry[str], kind: str, folders: tuple[str, ...]) -> str | None:
+def _misshapen(entry: os.DirEntry[str], kind: str, folders: tuple[str, ...],
+               listed: bool) -> str | None:
     """Why the entry sso lists (or adopts) is not what sso writes under its name, or None."""
     if entry.name in folders and not entry.is_dir():
         return f"{entry.name} is a file where sso writes a folder of that name"
     if entry.name not in folders and entry.is_dir():
         return (f"{entry.name} is a folder, where sso writes a file {entry.name} into a "
-                f"{kind} ({FOLDER_MANIFEST} lists that name); sso deletes only the regular "
-                "files it writes")
+                f"{kind}{f' ({FOLDER_MANIFEST} lists that name)' if listed else ''}; sso "
+                "deletes only the regular files it writes")
     if not (entry.is_dir() or entry.is_file()):
         return f"{entry.name} is not a regular file (a FIFO, device or socket)"
     return None
