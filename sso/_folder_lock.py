@@ -68,9 +68,11 @@ def folder_lock(folder: str | os.PathLike[str], purpose: str = "write") -> Itera
         If a live process holds the lock (the message names its pid), or the lock's
         name is taken by something that is not a lock file sso made (a symbolic
         link, a folder, a file with other contents or a second name): it is left
-        unchanged.
+        unchanged; or if the lock file cannot be opened (the system's reason).
+    ValueError
+        If a level of the lock file's folder is a file or a link leading nowhere.
     OSError
-        If the lock file cannot be created.
+        If the lock file's folder cannot be created.
     """
     import fcntl
 
