@@ -137,7 +137,9 @@ def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
 
     Only for a folder no other process is writing into (a sweep's own folder).
     """
-    stale = sorted(Path(folder).glob(f"{TEMPORARY_PREFIX}*"))
+    stale = sorted(Path(entry.path) for entry in os.scandir(folder)
+                   if entry.name.startswith(TEMPORARY_PREFIX)
+                   and entry.is_file(follow_symlinks=False))
     for path in stale:
         path.unlink(missing_ok=True)
     return stale
@@ -192,6 +194,11 @@ def read_input_bytes(path: str | os.PathLike[str],
     return data
 
 
+WRITTEN_SUFFIXES = (".json", ".csv", ".md", ".html", ".png", ".parquet")
+"""How the name of every file (and folder) sso writes into an output folder ends: a
+manifest listing any other name is not sso's (it would have sso delete, say, a
+user's notes.txt)."""
+
 FOLDER_MANIFEST = "sso-files.json"
 """The file in which a folder sso writes lists the files sso wrote there (and what
 the folder holds: a case's report, a sweep, a tolerance study)."""
@@ -213,6 +220,9 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
 
     Raises
     ------
+    ValueError
+        If a level exists and is not a folder (a file, a symbolic link that leads
+        nowhere or in a loop): the message says which and what it is.
     OSError
         If a level cannot be created (nothing new is left behind).
     """
@@ -221,15 +231,18 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
     for folder in (target, *target.parents):
         if folder.is_dir():
             break
+        if os.path.lexists(folder):
+            raise ValueError(f"{folder} {not_a_folder(folder)}; choose a folder")
         missing.append(folder)
     made: list[Path] = []
     try:
         for folder in reversed(missing):
             try:
                 folder.mkdir()
-            except FileExistsError:
+            except FileExistsError:  # made meanwhile by another process
                 if not folder.is_dir():
-                    raise
+                    raise ValueError(f"{folder} {not_a_folder(folder)}; choose a "
+                                     "folder") from None
             else:
                 made.append(folder)
     except BaseException:
@@ -242,10 +255,34 @@ def make_folders(path: str | os.PathLike[str]) -> Path:
     return target
 
 
+def not_a_folder(path: str | os.PathLike[str]) -> str:
+    """What ``path``, which exists but is no folder, is, in words: "is a file, not a
+    folder", "is a symbolic link that leads nowhere (...)"."""
+    if os.path.islink(path):
+        try:
+            os.stat(path)
+        except OSError as error:
+            why = ("a loop of links" if error.errno == errno.ELOOP
+                   else f"to {os.readlink(path)}, which is missing")
+            return f"is a symbolic link that leads nowhere ({why}), not a folder"
+        return f"is a symbolic link to a file ({os.readlink(path)}), not a folder"
+    if os.path.isfile(path):
+        return "is a file, not a folder"
+    return "is not a folder (a FIFO, device or socket)"
+
+
 def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]:
     """What the folder ``path`` holds by its manifest: (kind, names of sso's files).
 
     ``(None, empty)`` when the folder has no readable manifest written by sso.
+
+    Raises
+    ------
+    ValueError
+        If the manifest lists an entry that is not a plain name in the folder (a
+        path into a subfolder or out of the folder, ``.``, ``..``, an empty name), or
+        a name not ending in one of :data:`WRITTEN_SUFFIXES`: sso never writes one,
+        so the manifest is not sso's as written.
     """
     try:
         data = json.loads(read_input_bytes(Path(path) / FOLDER_MANIFEST))
@@ -255,16 +292,44 @@ def sso_files(path: str | os.PathLike[str]) -> tuple[str | None, frozenset[str]]
             or not isinstance(data.get("kind"), str) or not isinstance(data.get("files"), list)
             or not all(isinstance(name, str) for name in data["files"])):
         return None, frozenset()
+    for name in data["files"]:
+        if not _plain_name(name):
+            why = "which is not a file name in the folder"
+        elif not name.endswith(WRITTEN_SUFFIXES):
+            why = f"a name sso never writes (its files end in {', '.join(WRITTEN_SUFFIXES)})"
+        else:
+            continue
+        raise ValueError(f"{Path(path) / FOLDER_MANIFEST} lists {name!r}, {why}; sso lists "
+                         "only the files it writes there, and nothing was deleted. Choose "
+                         "another folder (--out), or remove that entry")
     return data["kind"], frozenset(data["files"])
 
 
+def _plain_name(name: str) -> bool:
+    """Whether ``name`` names an entry of a folder itself (no path, not . or ..)."""
+    return (name not in ("", os.curdir, os.pardir) and os.sep not in name
+            and (os.altsep is None or os.altsep not in name) and "\0" not in name)
+
+
+def _check_written_names(names: Iterable[str]) -> None:
+    """Raise ValueError unless each of ``names`` is a plain name ending as sso's files do."""
+    bad = [name for name in names if not _plain_name(name) or name == FOLDER_MANIFEST
+           or name.startswith(TEMPORARY_PREFIX) or not name.endswith(WRITTEN_SUFFIXES)]
+    if bad:
+        raise ValueError(f"file names {bad!r} cannot be written into an output folder (plain "
+                         f"names ending in {', '.join(WRITTEN_SUFFIXES)})")
+
+
 def check_report_folder(path: str | os.PathLike[str], kind: str,
-                        adopt: tuple[str, ...] = ()) -> Path:
+                        adopt: tuple[str, ...] = (), folders: tuple[str, ...] = ()) -> Path:
     """``path`` as a Path, if sso may write a ``kind`` folder there.
 
     It may if ``path`` is missing, an empty folder, or a folder whose every entry is
-    a file sso wrote there for the same kind (listed in its :data:`FOLDER_MANIFEST`),
-    a temporary file of an interrupted write (``.sso-tmp-*``) or one of ``adopt``.
+    a regular file sso wrote there for the same kind (listed in its
+    :data:`FOLDER_MANIFEST`), a temporary file of an interrupted write
+    (``.sso-tmp-*``), one of ``adopt``, or a folder named in ``folders`` that the
+    manifest lists. Nothing else is ever replaced or deleted: the manifest naming a
+    folder sso does not write there, or a link, does not make it sso's.
 
     Parameters
     ----------
@@ -275,19 +340,23 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
     adopt : tuple of str
         Names to treat as sso's even if unlisted (``sso report`` reading the
         ``result.json`` it will write again).
+    folders : tuple of str
+        Names of the folders sso writes into a ``kind`` folder (a sweep's
+        ``sweep.parquet``); every other name it writes is a regular file.
 
     Raises
     ------
     ValueError
         If ``path`` is a file; if its manifest says it holds another kind (a sweep
-        where a case's report would go); or naming every entry that sso did not
-        write (a subfolder, a link, a file missing from the manifest). Nothing is
-        deleted.
+        where a case's report would go) or lists an entry that is not a plain name;
+        if a name sso writes as a file is a folder there, or one it writes as a
+        folder is a file; or naming every entry that sso did not write (a folder, a
+        link, a file missing from the manifest). Nothing is deleted.
     """
     target = Path(path)
     if not target.is_dir():
         if os.path.lexists(target):
-            raise ValueError(f"{target} is a file, not a folder; choose a folder for the {kind}")
+            raise ValueError(f"{target} {not_a_folder(target)}; choose a folder for the {kind}")
         return target
     entries = list(os.scandir(target))
     if not entries:
@@ -298,10 +367,14 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
                          f"{found_kind} never share a folder. Choose another folder (--out), "
                          f"or delete this one if the {found_kind} is no longer needed")
     own = listed | set(adopt) | {FOLDER_MANIFEST}
-    # A listed entry may be a folder sso wrote (a sweep's Parquet parts, sweep.parquet/).
+    misshapen = [_misshapen(entry, kind, folders, entry.name in listed) for entry in entries
+                 if entry.name in own and not entry.is_symlink()]
+    if any(misshapen):
+        raise ValueError(f"{target}: {next(text for text in misshapen if text)}; nothing was "
+                         "deleted. Choose another folder (--out), or move it out")
     foreign = sorted(entry.name for entry in entries
                      if entry.is_symlink()
-                     or not (entry.is_file() or (entry.is_dir() and entry.name in listed))
+                     or not (entry.is_file() or (entry.is_dir() and entry.name in folders))
                      or not (entry.name in own or entry.name.startswith(TEMPORARY_PREFIX)))
     if foreign:
         shown_names = ", ".join(foreign[:8]) + (f" and {len(foreign) - 8} more"
@@ -314,9 +387,25 @@ def check_report_folder(path: str | os.PathLike[str], kind: str,
     return target
 
 
-def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...]) -> Path:
+def _misshapen(entry: os.DirEntry[str], kind: str, folders: tuple[str, ...],
+               listed: bool) -> str | None:
+    """Why the entry sso lists (or adopts) is not what sso writes under its name, or None."""
+    if entry.name in folders and not entry.is_dir():
+        return f"{entry.name} is a file where sso writes a folder of that name"
+    if entry.name not in folders and entry.is_dir():
+        return (f"{entry.name} is a folder, where sso writes a file {entry.name} into a "
+                f"{kind}{f' ({FOLDER_MANIFEST} lists that name)' if listed else ''}; sso "
+                "deletes only the regular files it writes")
+    if not (entry.is_dir() or entry.is_file()):
+        return f"{entry.name} is not a regular file (a FIFO, device or socket)"
+    return None
+
+
+def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...],
+                 folders: tuple[str, ...] = ()) -> Path:
     """Check ``path`` (:func:`check_report_folder`), create it, and add ``names`` to its
-    manifest, before a writer that fills the folder over time (a sweep) writes them.
+    manifest, before a writer that fills the folder over time (a sweep) writes them;
+    ``folders`` are those of ``names`` it writes as folders.
 
     The caller holds the folder's lock (:func:`sso._folder_lock.folder_lock`) over
     the claim and the writes.
@@ -326,7 +415,8 @@ def claim_folder(path: str | os.PathLike[str], kind: str, names: tuple[str, ...]
     ValueError
         As :func:`check_report_folder`.
     """
-    target = check_report_folder(path, kind)
+    _check_written_names(names)
+    target = check_report_folder(path, kind, folders=folders)
     make_folders(target)
     _, listed = sso_files(target)
     write_bytes_atomic(target / FOLDER_MANIFEST, _manifest(kind, listed | set(names)))
@@ -378,10 +468,7 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
         If the folder cannot be written; ``path`` is then left as it was.
     """
     names = list(files)
-    bad = [name for name in names if name in ("", os.curdir, os.pardir, FOLDER_MANIFEST)
-           or os.sep in name or name.startswith(TEMPORARY_PREFIX)]
-    if bad:
-        raise ValueError(f"file names {bad!r} cannot be written into a report folder")
+    _check_written_names(names)
     target = check_report_folder(path, kind, adopt)
     make_folders(target.parent)
     _remove_stale_staging(target)
@@ -461,5 +548,6 @@ def _remove_stale_staging(target: Path) -> None:
     (only SIGKILL can; the caller holds the folder's lock, so no writer is alive)."""
     for entry in os.scandir(target.parent):
         match = _STAGING.fullmatch(entry.name)
-        if match and match["name"] == target.name and entry.is_dir(follow_symlinks=False):
+        if (match and match["name"] == target.name and entry.is_dir(follow_symlinks=False)
+                and entry.stat(follow_symlinks=False).st_uid == os.geteuid()):
             shutil.rmtree(entry.path, ignore_errors=True)

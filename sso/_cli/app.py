@@ -2,7 +2,9 @@
 
 Exit codes: 0 every case solved and its solvers agree; 1 a solver failed or the
 solvers disagreed (the report says so); 2 bad input (an unreadable or invalid
-case or result file, bad arguments). Bad input never shows a traceback.
+case or result file, bad arguments); 130 interrupted (Ctrl-C or SIGTERM, at any time:
+:func:`sso._cli.main` takes both signals before it imports this module). Bad input
+never shows a traceback.
 
 Each subcommand is one :class:`sso._cli.common.Command` in a module of its own
 (:mod:`sso._cli.solve`: run and evaluate; :mod:`sso._cli.validate`;
@@ -38,7 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Shaft Series Optimisation: choose Hooke-joint operating angles and "
                     "phases so the output shaft turns evenly.",
         epilog="Exit codes: 0 all cases solved and cross-checks agree; 1 a solver failed or "
-               "the solvers disagreed; 2 bad input. 'sso COMMAND --help' describes a command.")
+               "the solvers disagreed; 2 bad input; 130 interrupted (Ctrl-C, SIGTERM). "
+               "'sso COMMAND --help' describes a command.")
     parser.add_argument("--version", action="version", version=f"sso {installed_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for command in COMMANDS:
@@ -61,12 +64,16 @@ is the same (within 0.3 MB)."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments)."""
-    args = build_parser().parse_args(argv)
+    """Run the ``sso`` command; returns the exit code (argparse exits 2 on bad arguments).
+
+    Its modules imported (:func:`sso._cli.main` is the entry point that takes the
+    signals before importing them).
+    """
     previous = interrupt_on_signals()
     thresholds = gc.get_threshold()
     gc.set_threshold(COMMAND_GC_THRESHOLD, *thresholds[1:])
     try:
+        args = build_parser().parse_args(argv)
         code: int = args.handle(args)
         return code
     except KeyboardInterrupt:

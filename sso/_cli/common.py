@@ -8,12 +8,13 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from sso._cli.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
 from sso._limits import OUTPUT_FORMATS
 
-EXIT_OK = 0
-EXIT_FAILED = 1
-EXIT_BAD_INPUT = 2
-EXIT_INTERRUPTED = 130
+__all__ = ["EXIT_BAD_INPUT", "EXIT_FAILED", "EXIT_INTERRUPTED", "EXIT_OK", "Command",
+           "add_report_arguments", "list_argument", "print_error", "print_warnings",
+           "report_formats", "say", "DEFAULT_OUT", "REPORT_FOLDER_HELP"]
+
 DEFAULT_OUT = "results"
 REPORT_FOLDER_HELP = f"write each report into DIR/<case name>/ (default: {DEFAULT_OUT})"
 

@@ -81,7 +81,12 @@ class ResourceEstimate:
 
     def describe(self) -> str:
         """One line: the estimate in words."""
-        return f"{self.task}: about {self.memory_mb:,.0f} MB and {self.solves:,} solves"
+        return f"{self.task}: about {megabytes(self.memory_mb)} MB and {self.solves:,} solves"
+
+
+def megabytes(value: float) -> str:
+    """A memory in MB as a person reads it: whole MB from 10 MB, else 2 digits (0.0029)."""
+    return f"{value:,.0f}" if value >= 10 else f"{value:.2g}"
 
 
 def memory_limit_mb(value: Any = None) -> float:
@@ -123,9 +128,13 @@ def check_memory(estimate: ResourceEstimate, limit_mb: Any = None) -> ResourceEs
     """
     limit = memory_limit_mb(limit_mb)
     if estimate.memory_mb > limit:
+        # The limit as given (0.0001 MB, not "0 MB"), and, below 1 MB, that it is in MB.
+        unit_hint = (f" (the limit is in MB: {DEFAULT_MEMORY_LIMIT_MB:,.0f}, the default, "
+                     f"is {DEFAULT_MEMORY_LIMIT_MB / 1024:g} GB)" if limit < 1 else "")
         raise ValueError(
-            f"{estimate.describe()}, above the memory limit of {limit:,.0f} MB; "
-            f"{estimate.lower_it}, or raise the limit (memory_limit_mb, --memory-limit or "
+            f"{estimate.describe()}, above the memory limit of {limit:,.6g} MB{unit_hint}; "
+            f"{estimate.lower_it}, or raise the limit to at least "
+            f"{megabytes(estimate.memory_mb)} MB (memory_limit_mb, --memory-limit or "
             f"{MEMORY_LIMIT_VARIABLE})")
     return estimate
 

@@ -39,6 +39,7 @@ from functools import partial
 from typing import Any
 
 from sso._limits import NO_WORKER_TIMEOUT_S, NO_WORKER_TIMEOUT_VARIABLE
+from sso._studies.dask_handshake import check_dask_scheduler
 from sso._studies.worker_memory import keep_freed_memory
 
 # Thread counts of the numeric libraries in a worker process. One thread each, as
@@ -141,16 +142,23 @@ def runs_in_pool(client: Any, workers: int, tasks: int) -> bool:
 def connect(address: str) -> Any:
     """A ``dask.distributed.Client`` connected to the scheduler at ``address``.
 
+    A ``tcp://`` address is first checked to be a Dask scheduler from the first
+    bytes it sends (:func:`sso._studies.dask_handshake.check_dask_scheduler`), so
+    that a service that is not Dask ends in a clear error, not in distributed's
+    reading of its bytes.
+
     Raises
     ------
     ValueError
-        If dask.distributed is not installed or the scheduler cannot be reached.
+        If dask.distributed is not installed, the scheduler cannot be reached, or
+        the address is not a Dask scheduler's.
     """
     try:
         from distributed import Client
     except ImportError:
         raise ValueError("scheduler: dask.distributed is not installed; install the "
                          "'dask' extra (pip install 'sso[dask]')") from None
+    check_dask_scheduler(address)
     try:
         # distributed's Client has no annotations
         return Client(address, timeout="10s")  # type: ignore[no-untyped-call]

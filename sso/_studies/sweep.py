@@ -346,7 +346,7 @@ def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, 
         sweep (a case's report, the user's files), holds a sweep without ``resume``, or holds
         another sweep or rows that do not belong to this one.
     """
-    claim_folder(out_dir, SWEEP_FOLDER, SWEEP_FILES)
+    claim_folder(out_dir, SWEEP_FOLDER, SWEEP_FILES, folders=(PARQUET_NAME,))
     remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
     csv_path = out_dir / CSV_NAME
     if resume:

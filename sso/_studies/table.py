@@ -127,7 +127,7 @@ def append_rows(path: Path, text: str | bytes) -> None:
     """Append rows (lines of ``sweep.csv``, or their UTF-8 bytes) in one write, flushed
     to disk."""
     data = text.encode("utf-8") if isinstance(text, str) else text
-    descriptor = os.open(path, os.O_WRONLY | os.O_APPEND)
+    descriptor = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW)
     try:
         view = memoryview(data)
         while view:
@@ -214,6 +214,36 @@ def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any], header: Seque
                          axis_cells)
 
 
+class _GuardedReader:
+    """A ``csv.reader`` whose errors (a cell beyond ``csv.field_size_limit()``, 131,072
+    characters; a NUL) are a ValueError naming the file and the line."""
+
+    def __init__(self, reader: Any, csv_path: Path) -> None:
+        self._reader = reader
+        self._path = csv_path
+
+    @property
+    def line_num(self) -> int:
+        """Lines read so far (the csv reader's count)."""
+        return int(self._reader.line_num)
+
+    def __iter__(self) -> _GuardedReader:
+        return self
+
+    def __next__(self) -> list[str]:
+        try:
+            return list(next(self._reader))
+        except csv.Error as error:
+            if "field larger than field limit" in str(error):
+                reason = (f"holds a cell longer than {csv.field_size_limit():,} characters, "
+                          "which sso never writes")
+            else:
+                reason = f"cannot be read as CSV ({error})"
+            raise ValueError(f"resume: {self._path} line {self._reader.line_num} {reason}: "
+                             "the file is damaged or not this sweep's; use another out_dir, or "
+                             "delete the folder to run the sweep afresh") from None
+
+
 def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points: int,
                   axis_cells: Callable[[int], list[str]]) -> dict[int, dict[str, str]]:
     data = csv_path.read_bytes()
@@ -226,7 +256,7 @@ def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points
     except UnicodeDecodeError as error:
         raise ValueError(f"resume: {csv_path} is not a sweep.csv written by sso ({error}); "
                          "use another out_dir") from None
-    reader = csv.reader(io.StringIO(text, newline=""))
+    reader = _GuardedReader(csv.reader(io.StringIO(text, newline="")), csv_path)
     found_header = next(reader, None)
     if found_header != list(header):
         raise ValueError(f"resume: the columns of {csv_path} are not those of this sweep "

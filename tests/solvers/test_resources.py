@@ -98,7 +98,7 @@ def test_optimise_batch_solves_in_parts_that_fit_with_the_same_answers():
 def test_optimise_batch_refuses_when_not_one_start_fits():
     with pytest.raises(ValueError, match=r"batch \(1 starts of 10 joints, 19 free angles\): "
                                          r"about 50 MB and 1 solves, above the memory limit "
-                                         r"of 50 MB"):
+                                         r"of 50\.01 MB; .*raise the limit to at least 50 MB"):
         sso.optimise_batch(np.full((3, 10), 20.0), np.zeros((3, 9)), memory_limit_mb=50.01)
     with pytest.raises(ValueError, match="memory_limit_mb = -1 is outside the allowed range"):
         sso.optimise_batch(np.full((3, 10), 20.0), np.zeros((3, 9)), memory_limit_mb=-1)
