@@ -12,11 +12,10 @@ from __future__ import annotations
 import csv
 import io
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from test_cli import sso
 
 from sso._studies.row_checks import RECHECKED_ROWS, cell_problem
 
@@ -35,11 +34,6 @@ name = "edited"
 [axes]
 "tilt.angle_deg" = [-4.0, 0.0, 4.0]
 """
-
-
-def sso(*arguments, cwd):
-    return subprocess.run([sys.executable, "-m", "sso._cli", *map(str, arguments)], cwd=cwd,
-                          capture_output=True, text=True, timeout=300)
 
 
 @pytest.fixture(scope="module")
