@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from sso._display import format_number
-from sso._limits import REPORT_DIGITS
+from sso._files import FileContents, StreamedFile
 from sso._reports.kinds import register_report_kind
 from sso._reports.summary import Block, Heading, Image, Paragraph, Table
 from sso._studies.report import (
@@ -27,6 +27,7 @@ from sso._studies.report import (
     _figure,
     _numbers,
     _png,
+    sample_table,
 )
 
 # (figure, label with unit), in the order of the study's figures.
@@ -38,30 +39,27 @@ FIGURES = (
 )
 
 
-def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    """Report files of a column's tolerance study, keyed by file name."""
-    files: dict[str, bytes] = {}
+def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, FileContents]:
+    """Report files of a column's tolerance study, keyed by file name (the samples' table
+    streamed as it is written)."""
+    files: dict[str, FileContents] = {}
     if "csv" in formats:
-        files[TOLERANCE_CSV] = _csv(result).encode("utf-8")
+        files[TOLERANCE_CSV] = _csv(result)
     images = {TOLERANCE_PLOT: _png(_histograms(result))} if "png" in formats else {}
     files.update(images)
     _add_documents(files, formats, _blocks(result, tuple(images)), images)
     return files
 
 
-def _csv(result: Any) -> str:
+def _csv(result: Any) -> StreamedFile:
     joints = result.geometry.joint_count
     header = ["sample", *(f"beta_deg[{k}]" for k in range(joints)),
               *(f"plane_angle_deg[{k}]" for k in range(joints - 1)),
               *(f"yoke_phase_error_deg[{k}]" for k in range(joints - 1)),
               *(name for name, _ in FIGURES)]
-    table = np.column_stack([result.beta_deg, result.plane_angle_deg,
-                             result.yoke_phase_error_deg,
-                             *(getattr(result, name) for name, _ in FIGURES)])
-    lines = [",".join(header)]
-    lines += [",".join([str(index), *(f"{value:.{REPORT_DIGITS}g}" for value in row.tolist())])
-              for index, row in enumerate(table)]
-    return "\n".join(lines) + "\n"
+    return sample_table(header, (result.beta_deg, result.plane_angle_deg,
+                                 result.yoke_phase_error_deg,
+                                 *(getattr(result, name) for name, _ in FIGURES)))
 
 
 def _blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:

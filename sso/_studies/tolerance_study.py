@@ -237,30 +237,15 @@ def tolerance_study(
     check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
                                     worker_count if client is None else 1), memory_limit_mb)
 
-    beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
-                                       samples, seed)
-    reflected = int(np.count_nonzero((beta_deg < 0.0).any(axis=1)))
-    beta_deg = np.abs(beta_deg)
-    beta_rad = np.radians(beta_deg)
-    phase_rad = np.radians(phase_deg)
+    beta_deg, phase_deg, reflected = drawn_samples(series, beta_tolerance, phase_tolerance,
+                                                   distribution, samples, seed)
     # The exact model's RE is the closed form of the chain matrix (0 quadrature angles).
-    quadrature_samples = (rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model,
-                                          *quadrature).samples
+    quadrature_samples = (rule_for_bounds(np.radians(beta_deg.max(axis=0)).tolist(),
+                                          series.model, *quadrature).samples
                           if series.model == "paper" else 0)
-    chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
-                             phase_rad[start:start + chunk_size], series.model, quadrature_samples,
-                             speed_rpm)
-              for start in range(0, samples, chunk_size)]
-    metrics = np.empty((len(METRICS), samples))
-    bar = ProgressBar(samples, "samples", interactive() if progress is None else progress)
-    try:
-        for index, values, error in run_tasks(evaluate_chunk, chunks, client, worker_count):
-            if error is not None:
-                raise RuntimeError(f"tolerance study: chunk {index} failed: {error}") from error
-            metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
-            bar.advance(values.shape[1])
-    finally:
-        bar.close()
+    metrics = evaluate_samples(beta_deg, phase_deg, series.model, quadrature_samples, speed_rpm,
+                               chunk_size, client, worker_count,
+                               interactive() if progress is None else progress)
 
     result = ToleranceResult(
         design=series, nominal=series.evaluate(speed_rpm, quadrature_rtol=quadrature[0],
@@ -295,3 +280,69 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     return (case.series(), validate_speed("input_speed_rpm", speed),
             (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},
             f"the design as given (start) in case {case.name!r}")
+
+
+def drawn_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
+                  phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
+                  seed: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """The sampled operating angles and phases (deg; an angle below 0 reflected to its
+    magnitude) and how many samples had one reflected (:func:`draw_samples`)."""
+    beta_deg, phase_deg = draw_samples(series, beta_tolerance_deg, phase_tolerance_deg,
+                                       distribution, samples, seed)
+    reflected = int(np.count_nonzero((beta_deg < 0.0).any(axis=1)))
+    return np.abs(beta_deg), phase_deg, reflected
+
+
+def evaluate_samples(beta_deg: np.ndarray, phase_deg: np.ndarray, model: str,
+                     quadrature_samples: int, speed_rpm: float,
+                     chunk_size: int = DEFAULT_CHUNK_SAMPLES, client: Any = None,
+                     workers: int = 1, progress: bool = False) -> np.ndarray:
+    """The figures (:data:`METRICS`, rows) of every sample, shape ``(3, samples)``: the
+    same numbers for any chunk size, executor or worker count."""
+    samples = len(beta_deg)
+    beta_rad = np.radians(beta_deg)
+    phase_rad = np.radians(phase_deg)
+    chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
+                             phase_rad[start:start + chunk_size], model, quadrature_samples,
+                             speed_rpm)
+              for start in range(0, samples, chunk_size)]
+    metrics = np.empty((len(METRICS), samples))
+    bar = ProgressBar(samples, "samples", progress)
+    try:
+        for index, values, error in run_tasks(evaluate_chunk, chunks, client, workers):
+            if error is not None:
+                raise RuntimeError(f"tolerance study: chunk {index} failed: {error}") from error
+            metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
+            bar.advance(values.shape[1])
+    finally:
+        bar.close()
+    return metrics
+
+
+def redrawn_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
+                    phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
+                    seed: int, quadrature_samples: int,
+                    speed_rpm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The samples of a saved study drawn and evaluated again in this process: angles
+    (deg), figures and the samples reflected, as :func:`tolerance_study` made them.
+
+    Raises
+    ------
+    ValueError
+        If the settings are out of range, or the samples would need more memory than
+        the limit (``SSO_MEMORY_LIMIT_MB``).
+    """
+    samples = validate_count("samples", samples, 1, MAX_SAMPLES)
+    check_choice("distribution", distribution, DISTRIBUTIONS)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed = {seed!r} must be a whole number >= 0")
+    figure_samples = 1 if series.model == "exact" else max(MIN_FIGURE_SAMPLES,
+                                                            4 * quadrature_samples)
+    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples, 1), None)
+    beta_deg, phase_deg, reflected = drawn_samples(
+        series, per_item_tolerances("beta_tolerance_deg", beta_tolerance_deg, series.n_joints),
+        per_item_tolerances("phase_tolerance_deg", phase_tolerance_deg, series.n_joints - 1),
+        distribution, samples, seed)
+    metrics = evaluate_samples(beta_deg, phase_deg, series.model, quadrature_samples,
+                               speed_rpm)
+    return beta_deg, phase_deg, metrics, reflected

@@ -1,0 +1,79 @@
+"""The saved form of a Monte Carlo study: its settings and summary, not its samples.
+
+A study of a million samples would save some 200 MB of numbers in ``result.json``
+(more than ``sso report`` reads back). Its record holds instead what makes the
+samples (design, tolerances, distribution, seed, count) and their summary
+(percentiles, mean and largest value of each figure); the samples themselves are in
+the study's table (``tolerance.csv``). Reading the record back draws the samples again
+from the seed (the same numbers: a study's chunking, executor and worker count never
+change them) and checks the saved summary against them, so a report read back
+certifies nothing it did not compute.
+"""
+
+from __future__ import annotations
+
+import math
+import typing
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from sso._record import FIELD_RULES, RecordError, check_field, decode, record_classes
+from sso._solvers.crosscheck import allowed_objective_gap
+from sso._validation import shown
+
+SHAFT_SAMPLE_FIELDS = ("beta_deg", "phase_deg", "residual_error", "fluctuation",
+                       "max_output_accel_rad_s2")
+"""The per-sample arrays of a shaft series' study (:class:`sso.ToleranceResult`)."""
+SUMMARY_RULE = "1e-14 + 1e-6 * |figure|"
+
+
+def read_saved_fields(cls: type, saved: Mapping[str, Any], names: Sequence[str],
+                      extra: Sequence[str], where: str) -> dict[str, Any]:
+    """The fields ``names`` of ``cls`` decoded from ``saved`` (each checked as the
+    record's codec checks it), which must hold exactly those, ``extra`` and nothing else.
+
+    Raises
+    ------
+    sso._record.RecordError
+        Naming the field missing, unknown, of the wrong type or out of range.
+    """
+    expected = {*names, *extra}
+    unknown = sorted(set(saved) - expected)
+    if unknown:
+        raise RecordError(f"{where}.{unknown[0]} is not a field of {cls.__name__}; allowed: "
+                          f"{', '.join(sorted(expected))}")
+    missing = sorted(expected - set(saved))
+    if missing:
+        raise RecordError(f"{where}.{missing[0]} is missing (a field of {cls.__name__})")
+    hints = typing.get_type_hints(cls, localns=record_classes())
+    arguments = {name: decode(saved[name], hints[name], f"{where}.{name}") for name in names}
+    for name, value in arguments.items():
+        check_field(f"{where}.{name}", name, value, arguments, FIELD_RULES)
+    return arguments
+
+
+def check_summary(saved: Any, computed: Mapping[str, Any], where: str) -> None:
+    """Refuse a saved summary that is not ``computed`` (the same nesting of names, every
+    number within ``1e-14 + 1e-6 * |figure|``).
+
+    Raises
+    ------
+    sso._record.RecordError
+        Naming the first figure that differs, or the part missing or unknown.
+    """
+    if isinstance(computed, Mapping):
+        if not isinstance(saved, Mapping) or set(saved) != set(computed):
+            raise RecordError(f"{where} = {shown(saved)}; allowed: an object of "
+                              f"{', '.join(sorted(computed))}")
+        for key, value in computed.items():
+            check_summary(saved[key], value, f"{where}.{key}")
+        return
+    if isinstance(saved, bool) or not isinstance(saved, (int, float)) \
+            or not math.isfinite(saved):
+        raise RecordError(f"{where} = {shown(saved)}; allowed: a finite number")
+    allowed = allowed_objective_gap((float(saved), float(computed)))
+    if not abs(saved - computed) <= allowed:
+        raise RecordError(f"{where} = {saved!r} is not the figure of the samples drawn again "
+                          f"from the study's seed: {computed!r} (allowed difference "
+                          f"{allowed:.3g}: {SUMMARY_RULE}); the file was changed after sso "
+                          "wrote it")
