@@ -457,14 +457,8 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
     hints = _hints(cls)
     fields = _init_fields(cls)
     derived = tuple(getattr(cls, "_record_derived", ()))
-    expected = {field.name for field in fields} | set(derived) | {"type"}
-    unknown = sorted(set(value) - expected)
-    if unknown:
-        raise RecordError(f"{_join(path, unknown[0])} is not a field of {cls.__name__}; "
-                          f"allowed: {', '.join(sorted(expected - {'type'}))}")
-    missing = sorted(expected - set(value))
-    if missing:
-        raise RecordError(f"{_join(path, missing[0])} is missing (a field of {cls.__name__})")
+    check_field_names(cls, value, {field.name for field in fields} | set(derived) | {"type"},
+                      path)
     arguments = {field.name: decode(value[field.name], hints[field.name],
                                     _join(path, field.name)) for field in fields}
     rules = {**FIELD_RULES, **getattr(cls, "_record_rules", {})}
@@ -479,6 +473,24 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
                         _join(path, name_derived))
         made.__dict__[name_derived] = cached
     return made
+
+
+def check_field_names(cls: type, value: Mapping[str, Any], expected: set[str],
+                      path: str) -> None:
+    """Refuse a saved object of ``cls`` that lacks a name of ``expected`` or has another.
+
+    Raises
+    ------
+    RecordError
+        Naming the first unknown field (and the allowed ones), else the first missing.
+    """
+    unknown = sorted(set(value) - expected)
+    if unknown:
+        raise RecordError(f"{_join(path, unknown[0])} is not a field of {cls.__name__}; "
+                          f"allowed: {', '.join(sorted(expected - {'type'}))}")
+    missing = sorted(expected - set(value))
+    if missing:
+        raise RecordError(f"{_join(path, missing[0])} is missing (a field of {cls.__name__})")
 
 
 def _join(path: str, name: str) -> str:

@@ -17,7 +17,14 @@ import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from sso._record import FIELD_RULES, RecordError, check_field, decode, record_classes
+from sso._record import (
+    FIELD_RULES,
+    RecordError,
+    check_field,
+    check_field_names,
+    decode,
+    record_classes,
+)
 from sso._solvers.crosscheck import allowed_objective_gap
 from sso._validation import shown
 
@@ -37,14 +44,7 @@ def read_saved_fields(cls: type, saved: Mapping[str, Any], names: Sequence[str],
     sso._record.RecordError
         Naming the field missing, unknown, of the wrong type or out of range.
     """
-    expected = {*names, *extra}
-    unknown = sorted(set(saved) - expected)
-    if unknown:
-        raise RecordError(f"{where}.{unknown[0]} is not a field of {cls.__name__}; allowed: "
-                          f"{', '.join(sorted(expected))}")
-    missing = sorted(expected - set(saved))
-    if missing:
-        raise RecordError(f"{where}.{missing[0]} is missing (a field of {cls.__name__})")
+    check_field_names(cls, saved, {*names, *extra}, where)
     hints = typing.get_type_hints(cls, localns=record_classes())
     arguments = {name: decode(saved[name], hints[name], f"{where}.{name}") for name in names}
     for name, value in arguments.items():

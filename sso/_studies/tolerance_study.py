@@ -46,7 +46,7 @@ from sso._shafts.perturbed import (
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
 from sso._solvers.progress import ProgressBar, interactive
-from sso._solvers.resources import check_memory
+from sso._solvers.resources import ResourceEstimate, check_memory
 from sso._studies.axes import base_case
 from sso._studies.column_tolerance import (
     ColumnToleranceResult,
@@ -225,17 +225,9 @@ def tolerance_study(
     phase_tolerance = per_item_tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
-    # The exact model's figures are closed forms (one value per sample, no angle
-    # grid). The paper model's quadrature count is fixed after the draw; until then,
-    # estimate with the nominal design's count (the figures grid is never coarser
-    # than its minimum).
-    if series.model == "exact":
-        figure_samples = 1
-    else:
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
-            np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
-    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
-                                    worker_count if client is None else 1), memory_limit_mb)
+    check_memory(study_estimate(series, samples, quadrature,
+                                worker_count if client is None else 1, chunk_size),
+                 memory_limit_mb)
 
     beta_deg, phase_deg, reflected = drawn_samples(series, beta_tolerance, phase_tolerance,
                                                    distribution, samples, seed)
@@ -280,6 +272,24 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     return (case.series(), validate_speed("input_speed_rpm", speed),
             (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},
             f"the design as given (start) in case {case.name!r}")
+
+
+def study_estimate(series: ShaftSeries, samples: int, quadrature: tuple[float, float],
+                   workers: int = 1,
+                   chunk_size: int = DEFAULT_CHUNK_SAMPLES) -> ResourceEstimate:
+    """The memory (whole process) and evaluations of a study of ``series``.
+
+    The exact model's figures are closed forms (one value per sample, no angle grid).
+    The paper model's quadrature count is fixed after the draw; until then, estimate
+    with the nominal design's count (the figures grid is never coarser than its
+    minimum).
+    """
+    if series.model == "exact":
+        figure_samples = 1
+    else:
+        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
+            np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
+    return tolerance_estimate(samples, series.n_joints, figure_samples, workers, chunk_size)
 
 
 def drawn_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
