@@ -21,8 +21,8 @@ and the figures in chunks, on local processes or a Dask cluster
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -46,19 +46,22 @@ from sso._limits import (
     DEFAULT_YOKE_PHASE_TOLERANCE_DEG,
     OUTPUT_FORMATS,
 )
-from sso._record import Record
+from sso._record import Record, encode
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory
 from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks, validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import SampledFigures
+from sso._studies.saved_samples import check_summary, read_saved_fields
 from sso._validation import as_float_tuple, check_in_range, finite_float, validate_count
 
 MAX_COLUMN_SAMPLES = 2_000_000
 """Most samples of a column study (its hardpoint draws take 8 (3 n + 6) bytes each)."""
 COLUMN_METRICS = ("residual_error", "speed_fluctuation_percent", "torque_fluctuation_percent",
                   "largest_transmission_error_deg")
+COLUMN_SAMPLE_FIELDS = ("beta_deg", "plane_angle_deg", "yoke_phase_error_deg", *COLUMN_METRICS)
+"""The per-sample arrays of a column's study, kept in its table, not its record."""
 METRIC_LABELS = {
     "residual_error": "residual error RE (dimensionless)",
     "speed_fluctuation_percent": "speed-ratio fluctuation, lock to lock (%)",
@@ -151,6 +154,49 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
     report_kind: ClassVar[str] = "column_tolerance"
     _metrics: ClassVar[tuple[str, ...]] = COLUMN_METRICS
 
+    def _record_save(self) -> dict[str, Any]:
+        """The saved form (``result.json``): every field but the per-sample arrays, the
+        number of samples and their summary; the samples are in ``tolerance.csv`` and
+        are drawn again from the seed on reading (:meth:`_record_load`)."""
+        saved = {item.name: encode(getattr(self, item.name))
+                 for item in fields(self) if item.init and item.name not in COLUMN_SAMPLE_FIELDS}
+        return {**saved, "samples": self.samples, "summary": self._sample_summary()}
+
+    @classmethod
+    def _record_load(cls, saved: Mapping[str, Any], where: str) -> ColumnToleranceResult:
+        """A saved study read back: its built columns drawn and evaluated again from its
+        column, tolerances and seed, its nominal figures computed again, and the saved
+        summary and nominal figures checked against them.
+
+        Raises
+        ------
+        ValueError
+            Naming the field missing, unknown, out of range, or not that of the
+            samples drawn again (beyond ``1e-14 + 1e-6 * |figure|``).
+        """
+        names = [item.name for item in fields(cls)
+                 if item.init and item.name not in COLUMN_SAMPLE_FIELDS]
+        arguments = read_saved_fields(cls, saved, names, ("samples", "summary"), where)
+        count = validate_count("samples", saved["samples"], 1, MAX_COLUMN_SAMPLES)
+        tolerances = Tolerances(hardpoint_mm=arguments["hardpoint_mm"],
+                                yoke_phase_deg=arguments["yoke_phase_tolerance_deg"],
+                                seed=arguments["seed"], distribution=arguments["distribution"])
+        geometry, yoke = arguments["geometry"], arguments["yoke_phase_deg"]
+        check_memory(tolerance_estimate(count, 2 * geometry.joint_count + 3, 1, 1), None)
+        check_summary(arguments["nominal"],
+                      nominal_figures(geometry, yoke, arguments["straight_ahead_deg"],
+                                      arguments["lock_deg"]), f"{where}.nominal",
+                      "the nominal column, computed again")
+        beta_deg, gamma_deg, phase_errors, figures = built_column_samples(
+            geometry, yoke, tolerances, count, arguments["straight_ahead_deg"],
+            arguments["lock_deg"])
+        made = cls(**arguments, beta_deg=beta_deg, plane_angle_deg=gamma_deg,
+                   yoke_phase_error_deg=phase_errors, residual_error=figures[0],
+                   speed_fluctuation_percent=figures[1], torque_fluctuation_percent=figures[2],
+                   largest_transmission_error_deg=figures[3])
+        check_summary(saved["summary"], made._sample_summary(), f"{where}.summary")
+        return made
+
     def _repr_text(self) -> str:
         cells = ", ".join(f"p{q:g} {format_number(value, 3)}"
                           for q, value in self.percentile_table()["residual_error"].items())
@@ -241,40 +287,11 @@ def column_tolerance_study(
     check_memory(tolerance_estimate(count, 2 * geometry.joint_count + 3, 1,
                                     worker_count if client is None else 1), memory_limit_mb)
 
-    rng = np.random.default_rng(tolerances.seed)
-    points = np.asarray(geometry.points_mm)
-    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
-                          (count, *points.shape))
-    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
-                               (count, geometry.joint_count - 1))
-    try:
-        beta_deg, gamma_deg = built_angles(points + offsets)
-    except ValueError as refused:
-        raise ValueError(f"hardpoint_mm = {tolerances.hardpoint_mm:g} mm is too large for this "
-                         f"column: {refused}") from None
-    phase_rad = np.radians(90.0 + np.asarray(yoke) + phase_errors - gamma_deg)
-    beta_rad = np.radians(beta_deg)
     centre = finite_float("straight_ahead_deg", straight_ahead_deg)
-    chunks = [ColumnChunk(beta_rad[start:start + chunk_size], phase_rad[start:start + chunk_size],
-                          centre, nominal_range.lock_deg)
-              for start in range(0, count, chunk_size)]
-    figures = np.empty((len(COLUMN_METRICS), count))
-    bar = ProgressBar(count, "samples", interactive() if progress is None else progress)
-    try:
-        for index, values, error in run_tasks(evaluate_column_chunk, chunks, client,
-                                              worker_count):
-            if error is not None:
-                raise RuntimeError(f"column tolerance study: chunk {index} failed: "
-                                   f"{error}") from error
-            figures[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
-            bar.advance(values.shape[1])
-    finally:
-        bar.close()
-    nominal = {"residual_error": float(matrix_residual_error(chain_matrix(
-        np.radians(geometry.beta_deg), np.radians(geometry.phase_deg_from_yoke(yoke))))),
-        "speed_fluctuation_percent": nominal_range.speed_fluctuation_percent,
-        "torque_fluctuation_percent": nominal_range.torque_fluctuation_percent,
-        "largest_transmission_error_deg": nominal_range.largest_transmission_error_deg}
+    beta_deg, gamma_deg, phase_errors, figures = built_column_samples(
+        geometry, yoke, tolerances, count, centre, nominal_range.lock_deg, chunk_size, client,
+        worker_count, interactive() if progress is None else progress)
+    nominal = nominal_figures(geometry, yoke, centre, nominal_range.lock_deg)
     result = ColumnToleranceResult(
         geometry=geometry, yoke_phase_deg=yoke, hardpoint_mm=tolerances.hardpoint_mm,
         yoke_phase_tolerance_deg=tolerances.yoke_phase_deg,
@@ -327,3 +344,59 @@ def study_settings(tolerances: Tolerances | None, case: Any, samples: int | None
     changes = {name: value for name, value in (("seed", seed), ("distribution", distribution))
                if value is not None}
     return (replace(chosen, **changes) if changes else chosen), count
+
+
+def built_column_samples(geometry: ColumnGeometry, yoke_phase_deg: Sequence[float],
+                         tolerances: Tolerances, count: int, straight_ahead_deg: float,
+                         lock_deg: float, chunk_size: int = DEFAULT_CHUNK_SAMPLES,
+                         client: Any = None, workers: int = 1, progress: bool = False,
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The built columns of a study: operating angles, bend-plane angles and yoke phase
+    errors (deg), and their figures (:data:`COLUMN_METRICS`, rows): the same numbers
+    for any chunk size, executor or worker count.
+
+    Raises
+    ------
+    ValueError
+        If a drawn sample is no column (the hardpoint tolerance is too large).
+    """
+    rng = np.random.default_rng(tolerances.seed)
+    points = np.asarray(geometry.points_mm)
+    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
+                          (count, *points.shape))
+    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
+                               (count, geometry.joint_count - 1))
+    try:
+        beta_deg, gamma_deg = built_angles(points + offsets)
+    except ValueError as refused:
+        raise ValueError(f"hardpoint_mm = {tolerances.hardpoint_mm:g} mm is too large for this "
+                         f"column: {refused}") from None
+    phase_rad = np.radians(90.0 + np.asarray(yoke_phase_deg) + phase_errors - gamma_deg)
+    beta_rad = np.radians(beta_deg)
+    chunks = [ColumnChunk(beta_rad[start:start + chunk_size], phase_rad[start:start + chunk_size],
+                          straight_ahead_deg, lock_deg)
+              for start in range(0, count, chunk_size)]
+    figures = np.empty((len(COLUMN_METRICS), count))
+    bar = ProgressBar(count, "samples", progress)
+    try:
+        for index, values, error in run_tasks(evaluate_column_chunk, chunks, client, workers):
+            if error is not None:
+                raise RuntimeError(f"column tolerance study: chunk {index} failed: "
+                                   f"{error}") from error
+            figures[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
+            bar.advance(values.shape[1])
+    finally:
+        bar.close()
+    return beta_deg, gamma_deg, phase_errors, figures
+
+
+def nominal_figures(geometry: ColumnGeometry, yoke_phase_deg: Sequence[float],
+                    straight_ahead_deg: float, lock_deg: float) -> dict[str, float]:
+    """The figures of :data:`COLUMN_METRICS` of the nominal column."""
+    steering = steering_range((geometry, yoke_phase_deg), lock_deg=lock_deg,
+                              straight_ahead_deg=straight_ahead_deg)
+    return {"residual_error": float(matrix_residual_error(chain_matrix(
+        np.radians(geometry.beta_deg), np.radians(geometry.phase_deg_from_yoke(yoke_phase_deg))))),
+        "speed_fluctuation_percent": steering.speed_fluctuation_percent,
+        "torque_fluctuation_percent": steering.torque_fluctuation_percent,
+        "largest_transmission_error_deg": steering.largest_transmission_error_deg}

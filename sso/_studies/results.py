@@ -256,6 +256,16 @@ class SampledFigures:
                                  strict=True))
                 for metric in self._metrics}
 
+    def _sample_summary(self) -> dict[str, Any]:
+        """Percentiles, mean and largest value of each figure over the samples (what a
+        saved study keeps of them)."""
+        return {"percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
+                                for metric, values in self.percentile_table().items()},
+                "mean": {metric: float(np.mean(getattr(self, metric)))
+                         for metric in self._metrics},
+                "max": {metric: float(np.max(getattr(self, metric)))
+                        for metric in self._metrics}}
+
 
 @dataclass(frozen=True, eq=False, repr=False)
 class ToleranceResult(SampledFigures, Record, Readable):
@@ -384,13 +394,6 @@ class ToleranceResult(SampledFigures, Record, Readable):
             raise RecordError(f"{where}.reflected_samples = {made.reflected_samples}; the "
                               f"samples drawn again from the study's seed reflect {reflected}")
         return made
-
-    def _sample_summary(self) -> dict[str, Any]:
-        """Percentiles, mean and largest value of each figure over the samples."""
-        return {"percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
-                                for metric, values in self.percentile_table().items()},
-                "mean": {metric: float(np.mean(getattr(self, metric))) for metric in METRICS},
-                "max": {metric: float(np.max(getattr(self, metric))) for metric in METRICS}}
 
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready summary: settings, nominal evaluation and percentiles.

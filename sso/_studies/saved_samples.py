@@ -52,9 +52,10 @@ def read_saved_fields(cls: type, saved: Mapping[str, Any], names: Sequence[str],
     return arguments
 
 
-def check_summary(saved: Any, computed: Mapping[str, Any], where: str) -> None:
-    """Refuse a saved summary that is not ``computed`` (the same nesting of names, every
-    number within ``1e-14 + 1e-6 * |figure|``).
+def check_summary(saved: Any, computed: Mapping[str, Any], where: str,
+                  source: str = "the samples drawn again from the study's seed") -> None:
+    """Refuse a saved summary that is not ``computed`` from ``source`` (the same nesting
+    of names, every number within ``1e-14 + 1e-6 * |figure|``).
 
     Raises
     ------
@@ -66,14 +67,14 @@ def check_summary(saved: Any, computed: Mapping[str, Any], where: str) -> None:
             raise RecordError(f"{where} = {shown(saved)}; allowed: an object of "
                               f"{', '.join(sorted(computed))}")
         for key, value in computed.items():
-            check_summary(saved[key], value, f"{where}.{key}")
+            check_summary(saved[key], value, f"{where}.{key}", source)
         return
     if isinstance(saved, bool) or not isinstance(saved, (int, float)) \
             or not math.isfinite(saved):
         raise RecordError(f"{where} = {shown(saved)}; allowed: a finite number")
     allowed = allowed_objective_gap((float(saved), float(computed)))
     if not abs(saved - computed) <= allowed:
-        raise RecordError(f"{where} = {saved!r} is not the figure of the samples drawn again "
-                          f"from the study's seed: {computed!r} (allowed difference "
+        raise RecordError(f"{where} = {saved!r} is not the figure of {source}: "
+                          f"{computed!r} (allowed difference "
                           f"{allowed:.3g}: {SUMMARY_RULE}); the file was changed after sso "
                           "wrote it")

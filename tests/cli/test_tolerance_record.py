@@ -115,12 +115,53 @@ def small_study(tmp_path_factory):
 ])
 def test_an_edited_study_record_is_refused_naming_the_field(small_study, tmp_path, edit,
                                                             message):
-    saved = json.loads(json.dumps(small_study))
+    _refused(json.loads(json.dumps(small_study)), edit, message, tmp_path)
+
+
+def _refused(saved: dict, edit, message: str, folder: Path) -> None:
+    """``sso report`` of ``saved`` after ``edit``: exit 2 with ``message``."""
     edit(saved)
-    path = tmp_path / "edited" / "result.json"
+    path = folder / "edited" / "result.json"
     path.parent.mkdir()
     path.write_text(json.dumps(saved), encoding="utf-8")
-    completed = sso("report", path, "--out", tmp_path / "report", cwd=tmp_path)
+    completed = sso("report", path, "--out", folder / "report", cwd=folder)
     assert completed.returncode == 2, completed.stdout
     assert message in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+COLUMN = ROOT / "cases" / "column_truck_three_joints.toml"
+
+
+@pytest.fixture(scope="module")
+def column_study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("column_study")
+    completed = sso("tolerance", COLUMN, "--samples", "2000", "--workers", "1", "--out", "out",
+                    "--quiet", cwd=folder)
+    assert completed.returncode == 0, completed.stderr
+    return folder / "out" / COLUMN.stem
+
+
+def test_a_column_study_keeps_its_samples_in_its_table_and_reads_back(column_study):
+    # The record holds the built columns' settings and summary; tolerance.csv the 2,000
+    # samples; sso report draws them again and writes the same report.
+    record = column_study / "result.json"
+    assert record.stat().st_size < RECORD_BYTES
+    assert "beta_deg" not in json.loads(record.read_text())
+    with open(column_study / "tolerance.csv", "rb") as handle:
+        assert sum(1 for _ in handle) == 2001
+    written = (column_study / "report.md").read_bytes()
+    again = sso("report", record, cwd=column_study)
+    assert again.returncode == 0, again.stderr
+    assert (column_study / "report.md").read_bytes() == written
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda saved: saved["nominal"].update(residual_error=1e-3),
+     "nominal.residual_error = 0.001 is not the figure of the nominal column, computed again"),
+    (lambda saved: saved["summary"]["mean"].update(residual_error=1e-3),
+     "summary.mean.residual_error = 0.001 is not the figure of the samples drawn again"),
+    (lambda saved: saved.update(hardpoint_mm=0.25), "summary.percentiles.residual_error.5 = "),
+])
+def test_an_edited_column_study_record_is_refused(column_study, tmp_path, edit, message):
+    _refused(json.loads((column_study / "result.json").read_text()), edit, message, tmp_path)
