@@ -46,7 +46,8 @@ def result_classes() -> dict[str, type[Record]]:
 
 def read_saved_result(path: str | Path) -> Record:
     """The result saved in ``path`` (a ``result.json``), equal to the one saved, its
-    figures computed again from its designs (:func:`sso._reports.figure_checks.check_figures`).
+    figures computed again from its designs (:func:`sso._reports.figure_checks.check_figures`;
+    a sweep's rows: :func:`sso._studies.row_checks.check_saved_rows`).
 
     Raises
     ------
@@ -56,6 +57,8 @@ def read_saved_result(path: str | Path) -> Record:
         not that of the design it belongs to (named).
     """
     from sso._reports.figure_checks import check_figures
+    from sso._studies.results import SweepResult
+    from sso._studies.row_checks import check_saved_rows
 
     saved = read_json_object(path)
     if "type" not in saved and "schema_version" in saved:
@@ -71,6 +74,8 @@ def read_saved_result(path: str | Path) -> Record:
     try:
         result = classes[kind].from_dict(saved)
         check_figures(result)
+        if isinstance(result, SweepResult):
+            check_saved_rows(result)
     except RecordError as error:
         raise RecordError(f"{path}: {error}") from None
     except RecursionError:

@@ -133,3 +133,36 @@ def test_every_shipped_case_reads_back(tmp_path):
         again = sso("report", f"out/{stem}/result.json", "--out", f"again/{stem}",
                     "--formats", "md", cwd=tmp_path)
         assert again.returncode == 0, again.stderr
+
+
+@pytest.fixture(scope="module")
+def saved_sweep(tmp_path_factory):
+    import sso
+
+    folder = tmp_path_factory.mktemp("sweep")
+    result = sso.sweep(SERIES_CASE, {"design.beta_deg[1]": [10.0, 15.0, 20.0]},
+                       action="evaluate", workers=1, plots=False, progress=False)
+    sso.write_report(result, folder / "report", formats=("json", "md"))
+    return json.loads((folder / "report" / "result.json").read_text())
+
+
+@pytest.mark.parametrize("cells, message", [
+    ({"residual_error": -5.0}, "rows[1] (point 1): residual_error = '-5.0' is negative"),
+    ({"success": "maybe"}, "rows[1] (point 1): success = 'maybe' is not true or false"),
+    ({"residual_error": 1e-3}, "rows[1] (point 1): residual_error = 0.001 is not the RE of "
+                               "the row's design, computed again: 0.00162601519694"),
+])
+def test_a_saved_sweeps_edited_row_is_refused(saved_sweep, tmp_path, cells, message):
+    # The same for a sweep's rows (issue 34 item 3): a SweepResult saved by
+    # sso.write_report and read back by sso report. 3 rows < RECHECKED_ROWS: every
+    # finished row is computed again.
+    document = copy.deepcopy(saved_sweep)
+    document["rows"][1].update(cells)
+    completed = _report(tmp_path, document)
+    assert completed.returncode == 2, completed.stdout
+    assert message in completed.stderr
+
+
+def test_a_saved_sweep_as_written_is_rendered(saved_sweep, tmp_path):
+    completed = _report(tmp_path, saved_sweep)
+    assert completed.returncode == 0, completed.stderr
