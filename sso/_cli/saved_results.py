@@ -47,7 +47,7 @@ def result_classes() -> dict[str, type[Record]]:
 def read_saved_result(path: str | Path) -> Record:
     """The result saved in ``path`` (a ``result.json``), equal to the one saved, its
     figures computed again from its designs (:func:`sso._reports.figure_checks.check_figures`;
-    a sweep's rows: :func:`sso._studies.row_checks.check_saved_rows`).
+    a sweep's rows: :func:`sso._studies.saved_rows.check_saved_rows`).
 
     Raises
     ------
@@ -58,7 +58,7 @@ def read_saved_result(path: str | Path) -> Record:
     """
     from sso._reports.figure_checks import check_figures
     from sso._studies.results import SweepResult
-    from sso._studies.row_checks import check_saved_rows
+    from sso._studies.saved_rows import check_saved_rows
 
     saved = read_json_object(path)
     if "type" not in saved and "schema_version" in saved:

@@ -27,6 +27,7 @@ from sso._studies.columns import RowTable
 from sso._studies.parquet_output import PARQUET_NAME, read_frame
 from sso._studies.saved_samples import SHAFT_SAMPLE_FIELDS, check_summary, read_saved_fields
 from sso._studies.table import CSV_NAME
+from sso._studies.tolerance_samples import redrawn_samples
 from sso._validation import shown
 
 
@@ -373,8 +374,6 @@ class ToleranceResult(SampledFigures, Record, Readable):
             figure is not that of the samples drawn again (beyond ``1e-14 + 1e-6 *
             |figure|``).
         """
-        from sso._studies.tolerance_study import redrawn_samples
-
         names = [field.name for field in fields(cls)
                  if field.init and field.name not in SHAFT_SAMPLE_FIELDS]
         arguments = read_saved_fields(cls, saved, names, ("samples", "summary"), where)

@@ -31,22 +31,17 @@ from sso._limits import (
     OUTPUT_FORMATS,
 )
 from sso._reports.kinds import write_report
-from sso._shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso._shafts.optimise import OptimisationResult
 from sso._shafts.perturbed import (
     DEFAULT_TOLERANCES,
     DISTRIBUTIONS,
     MAX_SAMPLES,
-    METRICS,
-    ToleranceChunk,
-    draw_samples,
-    evaluate_chunk,
     per_item_tolerances,
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._solvers.progress import ProgressBar, interactive
-from sso._solvers.resources import ResourceEstimate, check_memory
+from sso._solvers.progress import interactive
+from sso._solvers.resources import check_memory
 from sso._studies.axes import base_case
 from sso._studies.column_tolerance import (
     ColumnToleranceResult,
@@ -54,10 +49,10 @@ from sso._studies.column_tolerance import (
     is_column_design,
     study_settings,
 )
-from sso._studies.estimate import tolerance_estimate
-from sso._studies.execution import run_tasks, validate_workers
+from sso._studies.execution import validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import ToleranceResult
+from sso._studies.tolerance_samples import drawn_samples, evaluate_samples, study_estimate
 from sso._validation import (
     as_float_tuple,
     check_choice,
@@ -272,87 +267,3 @@ def _nominal(design: Any, input_speed_rpm: Any) -> tuple[ShaftSeries, float, tup
     return (case.series(), validate_speed("input_speed_rpm", speed),
             (case.quadrature_rtol, case.quadrature_atol), case.tolerance_study or {},
             f"the design as given (start) in case {case.name!r}")
-
-
-def study_estimate(series: ShaftSeries, samples: int, quadrature: tuple[float, float],
-                   workers: int = 1,
-                   chunk_size: int = DEFAULT_CHUNK_SAMPLES) -> ResourceEstimate:
-    """The memory (whole process) and evaluations of a study of ``series``.
-
-    The exact model's figures are closed forms (one value per sample, no angle grid).
-    The paper model's quadrature count is fixed after the draw; until then, estimate
-    with the nominal design's count (the figures grid is never coarser than its
-    minimum).
-    """
-    if series.model == "exact":
-        figure_samples = 1
-    else:
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
-            np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
-    return tolerance_estimate(samples, series.n_joints, figure_samples, workers, chunk_size)
-
-
-def drawn_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
-                  phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
-                  seed: int) -> tuple[np.ndarray, np.ndarray, int]:
-    """The sampled operating angles and phases (deg; an angle below 0 reflected to its
-    magnitude) and how many samples had one reflected (:func:`draw_samples`)."""
-    beta_deg, phase_deg = draw_samples(series, beta_tolerance_deg, phase_tolerance_deg,
-                                       distribution, samples, seed)
-    reflected = int(np.count_nonzero((beta_deg < 0.0).any(axis=1)))
-    return np.abs(beta_deg), phase_deg, reflected
-
-
-def evaluate_samples(beta_deg: np.ndarray, phase_deg: np.ndarray, model: str,
-                     quadrature_samples: int, speed_rpm: float,
-                     chunk_size: int = DEFAULT_CHUNK_SAMPLES, client: Any = None,
-                     workers: int = 1, progress: bool = False) -> np.ndarray:
-    """The figures (:data:`METRICS`, rows) of every sample, shape ``(3, samples)``: the
-    same numbers for any chunk size, executor or worker count."""
-    samples = len(beta_deg)
-    beta_rad = np.radians(beta_deg)
-    phase_rad = np.radians(phase_deg)
-    chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
-                             phase_rad[start:start + chunk_size], model, quadrature_samples,
-                             speed_rpm)
-              for start in range(0, samples, chunk_size)]
-    metrics = np.empty((len(METRICS), samples))
-    bar = ProgressBar(samples, "samples", progress)
-    try:
-        for index, values, error in run_tasks(evaluate_chunk, chunks, client, workers):
-            if error is not None:
-                raise RuntimeError(f"tolerance study: chunk {index} failed: {error}") from error
-            metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
-            bar.advance(values.shape[1])
-    finally:
-        bar.close()
-    return metrics
-
-
-def redrawn_samples(series: ShaftSeries, beta_tolerance_deg: Sequence[float],
-                    phase_tolerance_deg: Sequence[float], distribution: str, samples: int,
-                    seed: int, quadrature_samples: int,
-                    speed_rpm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """The samples of a saved study drawn and evaluated again in this process: angles
-    (deg), figures and the samples reflected, as :func:`tolerance_study` made them.
-
-    Raises
-    ------
-    ValueError
-        If the settings are out of range, or the samples would need more memory than
-        the limit (``SSO_MEMORY_LIMIT_MB``).
-    """
-    samples = validate_count("samples", samples, 1, MAX_SAMPLES)
-    check_choice("distribution", distribution, DISTRIBUTIONS)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ValueError(f"seed = {seed!r} must be a whole number >= 0")
-    figure_samples = 1 if series.model == "exact" else max(MIN_FIGURE_SAMPLES,
-                                                            4 * quadrature_samples)
-    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples, 1), None)
-    beta_deg, phase_deg, reflected = drawn_samples(
-        series, per_item_tolerances("beta_tolerance_deg", beta_tolerance_deg, series.n_joints),
-        per_item_tolerances("phase_tolerance_deg", phase_tolerance_deg, series.n_joints - 1),
-        distribution, samples, seed)
-    metrics = evaluate_samples(beta_deg, phase_deg, series.model, quadrature_samples,
-                               speed_rpm)
-    return beta_deg, phase_deg, metrics, reflected
