@@ -12,7 +12,9 @@ no class keeps a hand-written JSON form that could drift from its fields:
   figures, is left out and reloads as its default);
   a class with a checked form of its own (a case: the case file's tables, read
   back through the case-file checks) defines ``_record_save()`` and the class
-  method ``_record_load(saved, where)`` instead;
+  method ``_record_load(saved, where)`` instead (and ``_record_fields_saved()``, the
+  names of the fields it saves and the schema of the others, where it saves fields:
+  a study whose samples are drawn again on reading);
 - a float that is NaN or infinite is ``{"float": "nan" | "inf" | "-inf"}`` (strict
   JSON has no such numbers), a numpy array ``{"dtype", "shape", "data"}``, a tuple
   a list;
@@ -629,6 +631,17 @@ def json_schema(results: tuple[type, ...]) -> JsonSchema:
         if cls.__name__ in definitions:
             continue
         properties: dict[str, JsonSchema] = {"type": {"const": cls.__name__}}
+        if hasattr(cls, "_record_fields_saved"):  # a form of its own, of named fields
+            names, extra = cls._record_fields_saved()
+            hints = _hints(cls)
+            properties.update({name: _type_schema(hints[name], pending) for name in names})
+            properties.update(extra)
+            if cls in results:
+                properties["version"] = {"const": RECORD_VERSION}
+            definitions[cls.__name__] = {"type": "object", "additionalProperties": False,
+                                         "required": ["type", *names, *extra],
+                                         "properties": properties}
+            continue
         if hasattr(cls, "_record_save"):
             definitions[cls.__name__] = {
                 "type": "object", "required": ["type"], "properties": properties,

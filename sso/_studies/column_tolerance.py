@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -53,7 +53,12 @@ from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks, validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import SampledFigures
-from sso._studies.saved_samples import check_summary, read_saved_fields
+from sso._studies.saved_samples import (
+    EXTRA_SCHEMA,
+    check_summary,
+    read_saved_fields,
+    saved_field_names,
+)
 from sso._validation import as_float_tuple, check_in_range, finite_float, validate_count
 
 MAX_COLUMN_SAMPLES = 2_000_000
@@ -158,9 +163,14 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
         """The saved form (``result.json``): every field but the per-sample arrays, the
         number of samples and their summary; the samples are in ``tolerance.csv`` and
         are drawn again from the seed on reading (:meth:`_record_load`)."""
-        saved = {item.name: encode(getattr(self, item.name))
-                 for item in fields(self) if item.init and item.name not in COLUMN_SAMPLE_FIELDS}
+        saved = {name: encode(getattr(self, name))
+                 for name in saved_field_names(type(self), COLUMN_SAMPLE_FIELDS)}
         return {**saved, "samples": self.samples, "summary": self._sample_summary()}
+
+    @classmethod
+    def _record_fields_saved(cls) -> tuple[list[str], dict[str, Any]]:
+        """The saved form's fields of the class and the others (with their schema)."""
+        return saved_field_names(cls, COLUMN_SAMPLE_FIELDS), EXTRA_SCHEMA
 
     @classmethod
     def _record_load(cls, saved: Mapping[str, Any], where: str) -> ColumnToleranceResult:
@@ -174,9 +184,8 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
             Naming the field missing, unknown, out of range, or not that of the
             samples drawn again (beyond ``1e-14 + 1e-6 * |figure|``).
         """
-        names = [item.name for item in fields(cls)
-                 if item.init and item.name not in COLUMN_SAMPLE_FIELDS]
-        arguments = read_saved_fields(cls, saved, names, ("samples", "summary"), where)
+        names, extra = cls._record_fields_saved()
+        arguments = read_saved_fields(cls, saved, names, tuple(extra), where)
         count = validate_count("samples", saved["samples"], 1, MAX_COLUMN_SAMPLES)
         tolerances = Tolerances(hardpoint_mm=arguments["hardpoint_mm"],
                                 yoke_phase_deg=arguments["yoke_phase_tolerance_deg"],

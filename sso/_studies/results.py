@@ -8,7 +8,7 @@ Kept apart from the code that computes them, so the report writers
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from importlib import import_module
 from pathlib import Path
 from typing import Any, ClassVar, overload
@@ -25,7 +25,13 @@ from sso._shafts.series import ShaftSeries
 from sso._studies.axes import Axis
 from sso._studies.columns import RowTable
 from sso._studies.parquet_output import PARQUET_NAME, read_frame
-from sso._studies.saved_samples import SHAFT_SAMPLE_FIELDS, check_summary, read_saved_fields
+from sso._studies.saved_samples import (
+    EXTRA_SCHEMA,
+    SHAFT_SAMPLE_FIELDS,
+    check_summary,
+    read_saved_fields,
+    saved_field_names,
+)
 from sso._studies.table import CSV_NAME
 from sso._studies.tolerance_samples import redrawn_samples
 from sso._validation import shown
@@ -357,9 +363,14 @@ class ToleranceResult(SampledFigures, Record, Readable):
         few kilobytes whatever the number of samples, and is read back by drawing the
         samples again from its seed (:meth:`_record_load`).
         """
-        saved = {field.name: encode(getattr(self, field.name))
-                 for field in fields(self) if field.init and field.name not in SHAFT_SAMPLE_FIELDS}
+        saved = {name: encode(getattr(self, name))
+                 for name in saved_field_names(type(self), SHAFT_SAMPLE_FIELDS)}
         return {**saved, "samples": self.samples, "summary": self._sample_summary()}
+
+    @classmethod
+    def _record_fields_saved(cls) -> tuple[list[str], dict[str, Any]]:
+        """The saved form's fields of the class and the others (with their schema)."""
+        return saved_field_names(cls, SHAFT_SAMPLE_FIELDS), EXTRA_SCHEMA
 
     @classmethod
     def _record_load(cls, saved: Mapping[str, Any], where: str) -> ToleranceResult:
@@ -374,9 +385,8 @@ class ToleranceResult(SampledFigures, Record, Readable):
             figure is not that of the samples drawn again (beyond ``1e-14 + 1e-6 *
             |figure|``).
         """
-        names = [field.name for field in fields(cls)
-                 if field.init and field.name not in SHAFT_SAMPLE_FIELDS]
-        arguments = read_saved_fields(cls, saved, names, ("samples", "summary"), where)
+        names, extra = cls._record_fields_saved()
+        arguments = read_saved_fields(cls, saved, names, tuple(extra), where)
         samples = saved["samples"]
         if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
             raise RecordError(f"{where}.samples = {shown(samples)}; allowed: a whole number "

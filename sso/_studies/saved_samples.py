@@ -12,6 +12,7 @@ certifies nothing it did not compute.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import typing
 from collections.abc import Mapping, Sequence
@@ -32,6 +33,26 @@ SHAFT_SAMPLE_FIELDS = ("beta_deg", "phase_deg", "residual_error", "fluctuation",
                        "max_output_accel_rad_s2")
 """The per-sample arrays of a shaft series' study (:class:`sso.ToleranceResult`)."""
 SUMMARY_RULE = "1e-14 + 1e-6 * |figure|"
+_FIGURES_SCHEMA = {"type": "object", "additionalProperties": {"type": "number"}}
+EXTRA_SCHEMA: dict[str, Any] = {
+    "samples": {"type": "integer", "minimum": 1,
+                "description": "samples drawn (they are in the study's tolerance.csv)"},
+    "summary": {
+        "type": "object", "additionalProperties": False,
+        "required": ["percentiles", "mean", "max"],
+        "description": "of each figure over the samples: checked on reading against the "
+                       "samples drawn again from the seed",
+        "properties": {"percentiles": {"type": "object",
+                                       "additionalProperties": _FIGURES_SCHEMA},
+                       "mean": _FIGURES_SCHEMA, "max": _FIGURES_SCHEMA}},
+}
+"""The saved form's fields beyond the class's own (the JSON Schema of each)."""
+
+
+def saved_field_names(cls: type, sample_fields: Sequence[str]) -> list[str]:
+    """The fields of the study class ``cls`` its record holds: all but its samples."""
+    return [item.name for item in dataclasses.fields(cls)
+            if item.init and item.name not in sample_fields]
 
 
 def read_saved_fields(cls: type, saved: Mapping[str, Any], names: Sequence[str],

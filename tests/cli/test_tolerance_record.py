@@ -20,6 +20,7 @@ import pytest
 from test_cli import sso
 
 from sso._cases.schema import load_case
+from sso._cli.saved_results import shipped_schema
 from sso._studies.tolerance_study import study_estimate
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -165,3 +166,10 @@ def test_a_column_study_keeps_its_samples_in_its_table_and_reads_back(column_stu
 ])
 def test_an_edited_column_study_record_is_refused(column_study, tmp_path, edit, message):
     _refused(json.loads((column_study / "result.json").read_text()), edit, message, tmp_path)
+
+
+def test_a_study_record_meets_the_shipped_schema(small_study, column_study):
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = shipped_schema()
+    jsonschema.validate(small_study, schema)
+    jsonschema.validate(json.loads((column_study / "result.json").read_text()), schema)
