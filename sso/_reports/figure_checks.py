@@ -12,7 +12,9 @@ have (an RE below zero, not finite):
   ``optimum``, a compared design's ``evaluation`` and speed curve, a tolerance
   study's ``nominal``): each figure of :meth:`sso.ShaftSeries.evaluate`;
 * a column's assemblies and best phasing (the RE of the chain matrix at its
-  hardpoints) and its closed-form least RE (:func:`sso.can_cancel`).
+  hardpoints) and its closed-form least RE (:func:`sso.can_cancel`);
+* a mechanism run's tables (each linkage's table, curve and positions, analysed
+  again over the case's crank angles).
 
 Round-off is the solvers' agreement rule
 (:func:`sso._solvers.crosscheck.allowed_objective_gap`): an RE agrees within
@@ -36,8 +38,10 @@ from sso._column.chain_matrix import residual_error
 from sso._column.geometry import ColumnGeometry
 from sso._column.phasing import PhasingResult
 from sso._limits import DEFAULT_QUADRATURE_ATOL, DEFAULT_QUADRATURE_RTOL
+from sso._linkages.table import MechanismTable
 from sso._record import RecordError
 from sso._run.column import ColumnRun
+from sso._run.mechanism_run import MechanismRun, linkage_curves
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation
 from sso._shafts.optimise import OptimisationResult
@@ -120,6 +124,13 @@ class _Checker:
                        _join(path, "x"))
             _least_re(_join(path, "minimum_residual_error"), node.minimum_residual_error,
                       node.geometry)
+        if isinstance(node, MechanismRun):  # each linkage's tables, analysed again
+            for index, linkage in enumerate(node.linkages):
+                fresh = linkage_curves(linkage.role, linkage.mechanism, node.case)
+                for name in ("table", "curve", "positions"):
+                    _compare_table(_join(path, f"linkages[{index}].{name}"),
+                                   getattr(linkage, name), getattr(fresh, name),
+                                   _join(path, f"linkages[{index}].mechanism"))
         if isinstance(node, ColumnRun):  # its parts at its own hardpoints
             _least_re(_join(path, "cancel.minimum_residual_error"),
                       node.cancel.minimum_residual_error, node.geometry)
@@ -194,6 +205,31 @@ def _compare_array(path: str, saved: np.ndarray, computed: np.ndarray,
                           f"of {design_path}, computed again: {float(computed[first])!r} "
                           f"(allowed difference: {FIGURE_RULE}); the file was changed after "
                           "sso wrote it")
+
+
+def _compare_table(path: str, saved: MechanismTable, computed: MechanismTable,
+                   design_path: str) -> None:
+    if list(saved.columns) != list(computed.columns):
+        raise RecordError(f"{path} has the columns {list(saved.columns)}, not the "
+                          f"{list(computed.columns)} of {design_path}, analysed again")
+    for name, values in computed.columns.items():
+        held = saved.columns[name]
+        if held.shape != values.shape:
+            raise RecordError(f"{path}.columns.{name} holds {held.size} values, not the "
+                              f"{values.size} of {design_path}, analysed again")
+        if values.dtype == bool or held.dtype == bool:
+            wrong = np.flatnonzero(held != values)
+        else:
+            numbers, again = held.astype(float), values.astype(float)
+            allowed = FIGURE_ATOL + 1e-6 * np.maximum(np.abs(numbers), np.abs(again))
+            same = (np.abs(numbers - again) <= allowed) | (np.isnan(numbers) & np.isnan(again))
+            wrong = np.flatnonzero(~same)
+        if wrong.size:
+            first = int(wrong[0])
+            raise RecordError(f"{path}.columns.{name}[{first}] = {held[first].item()!r} is not the "
+                              f"figure of {design_path}, analysed again: {values[first].item()!r} "
+                              f"(allowed difference: {FIGURE_RULE}); the file was changed "
+                              "after sso wrote it")
 
 
 def _column_re(path: str, saved: float, geometry: ColumnGeometry, yoke_phase_deg: Any,

@@ -166,3 +166,18 @@ def test_a_saved_sweeps_edited_row_is_refused(saved_sweep, tmp_path, cells, mess
 def test_a_saved_sweep_as_written_is_rendered(saved_sweep, tmp_path):
     completed = _report(tmp_path, saved_sweep)
     assert completed.returncode == 0, completed.stderr
+
+
+def test_an_edited_mechanism_table_is_refused(tmp_path):
+    # Mechanism tables, cheap to analyse again (issue 34 item 3): a four-bar's coupler
+    # angle at its second crank angle edited by 1 deg.
+    completed = sso("run", ROOT / "cases" / "mechanisms" / "fourbar_crank2.toml", "--out",
+                    tmp_path / "run", "--formats", "json", "--quiet", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stderr
+    document = json.loads((tmp_path / "run" / "fourbar_crank2" / "result.json").read_text())
+    data = document["linkages"][0]["table"]["columns"]["coupler_angle_deg"]["data"]
+    data[1] += 1.0
+    refused = _report(tmp_path, document)
+    assert refused.returncode == 2, refused.stdout
+    assert (f"linkages[0].table.columns.coupler_angle_deg[1] = {data[1]!r} is not the figure "
+            "of linkages[0].mechanism, analysed again") in refused.stderr
