@@ -190,19 +190,25 @@ def _compare(path: str, saved: float, computed: float, design_path: str, rule: s
                           "the file was changed after sso wrote it")
 
 
-def _compare_array(path: str, saved: np.ndarray, computed: np.ndarray,
-                   design_path: str) -> None:
-    saved_values = np.asarray(saved, dtype=float)
-    if saved_values.shape != computed.shape:
-        raise RecordError(f"{path} holds {saved_values.size} values, not the "
-                          f"{computed.size} of the speed curve of {design_path}")
-    gap = np.abs(saved_values - computed)
-    allowed = FIGURE_ATOL + 1e-6 * np.maximum(np.abs(saved_values), np.abs(computed))
-    wrong = np.flatnonzero(~(gap <= allowed))
+def _compare_array(path: str, saved: np.ndarray, computed: np.ndarray, design_path: str,
+                   what: str = "the speed curve") -> None:
+    """Refuse ``saved`` unless each value is ``computed``'s within round-off
+    (:data:`FIGURE_RULE`; NaN where it is NaN, a boolean exactly)."""
+    held, again = np.asarray(saved), np.asarray(computed)
+    if held.shape != again.shape:
+        raise RecordError(f"{path} holds {held.size} values, not the {again.size} of "
+                          f"{what} of {design_path}")
+    if held.dtype == bool or again.dtype == bool:
+        same = held == again
+    else:
+        numbers, figures = held.astype(float), again.astype(float)
+        allowed = FIGURE_ATOL + 1e-6 * np.maximum(np.abs(numbers), np.abs(figures))
+        same = (np.abs(numbers - figures) <= allowed) | (np.isnan(numbers) & np.isnan(figures))
+    wrong = np.flatnonzero(~same)
     if wrong.size:
         first = int(wrong[0])
-        raise RecordError(f"{path}[{first}] = {float(saved_values[first])!r} is not the speed "
-                          f"of {design_path}, computed again: {float(computed[first])!r} "
+        raise RecordError(f"{path}[{first}] = {held[first].item()!r} is not the figure of "
+                          f"{what} of {design_path}, computed again: {again[first].item()!r} "
                           f"(allowed difference: {FIGURE_RULE}); the file was changed after "
                           "sso wrote it")
 
@@ -213,23 +219,8 @@ def _compare_table(path: str, saved: MechanismTable, computed: MechanismTable,
         raise RecordError(f"{path} has the columns {list(saved.columns)}, not the "
                           f"{list(computed.columns)} of {design_path}, analysed again")
     for name, values in computed.columns.items():
-        held = saved.columns[name]
-        if held.shape != values.shape:
-            raise RecordError(f"{path}.columns.{name} holds {held.size} values, not the "
-                              f"{values.size} of {design_path}, analysed again")
-        if values.dtype == bool or held.dtype == bool:
-            wrong = np.flatnonzero(held != values)
-        else:
-            numbers, again = held.astype(float), values.astype(float)
-            allowed = FIGURE_ATOL + 1e-6 * np.maximum(np.abs(numbers), np.abs(again))
-            same = (np.abs(numbers - again) <= allowed) | (np.isnan(numbers) & np.isnan(again))
-            wrong = np.flatnonzero(~same)
-        if wrong.size:
-            first = int(wrong[0])
-            raise RecordError(f"{path}.columns.{name}[{first}] = {held[first].item()!r} is not the "
-                              f"figure of {design_path}, analysed again: {values[first].item()!r} "
-                              f"(allowed difference: {FIGURE_RULE}); the file was changed "
-                              "after sso wrote it")
+        _compare_array(f"{path}.columns.{name}", saved.columns[name], values, design_path,
+                       "the table")
 
 
 def _column_re(path: str, saved: float, geometry: ColumnGeometry, yoke_phase_deg: Any,

@@ -99,8 +99,8 @@ def test_an_edited_speed_curve_is_refused(saved, tmp_path):
     document["compared"][0]["output_speed_rpm"]["data"][5] = 25.0
     completed = _report(tmp_path, document)
     assert completed.returncode == 2
-    assert ("compared[0].output_speed_rpm[5] = 25.0 is not the speed of compared[0].series"
-            in completed.stderr)
+    assert ("compared[0].output_speed_rpm[5] = 25.0 is not the figure of the speed curve of "
+            "compared[0].series" in completed.stderr)
 
 
 @pytest.mark.parametrize("path, value, message", [
@@ -180,4 +180,4 @@ def test_an_edited_mechanism_table_is_refused(tmp_path):
     refused = _report(tmp_path, document)
     assert refused.returncode == 2, refused.stdout
     assert (f"linkages[0].table.columns.coupler_angle_deg[1] = {data[1]!r} is not the figure "
-            "of linkages[0].mechanism, analysed again") in refused.stderr
+            "of the table of linkages[0].mechanism, computed again") in refused.stderr
