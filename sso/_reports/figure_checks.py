@@ -99,7 +99,14 @@ class _Checker:
             self.in_optimisation = True  # its solvers' fun is the RE of their series
         for name, value in _fields(node):  # a part's own figures first
             self.visit(value, _join(path, name), depth + 1)
-        self.check(node, path)
+        try:
+            self.check(node, path)
+        except RecordError:
+            raise
+        except (ValueError, TypeError, ArithmeticError, IndexError, KeyError) as error:
+            raise RecordError(f"{path or 'result'}: its figures cannot be computed again from "
+                              f"its design ({error}); the file was changed after sso wrote "
+                              "it") from None
 
     def check(self, node: Any, path: str) -> None:
         if (self.in_optimisation and isinstance(node, Solution)
@@ -126,7 +133,11 @@ class _Checker:
                       node.geometry)
         if isinstance(node, MechanismRun):  # each linkage's tables, analysed again
             for index, linkage in enumerate(node.linkages):
-                fresh = linkage_curves(linkage.role, linkage.mechanism, node.case)
+                try:
+                    fresh = linkage_curves(linkage.role, linkage.mechanism, node.case)
+                except ValueError as error:
+                    raise RecordError(f"{_join(path, f'linkages[{index}].mechanism')}: not the "
+                                      f"linkage its tables were analysed from ({error})") from None
                 for name in ("table", "curve", "positions"):
                     _compare_table(_join(path, f"linkages[{index}].{name}"),
                                    getattr(linkage, name), getattr(fresh, name),
