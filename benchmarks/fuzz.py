@@ -255,6 +255,7 @@ def main() -> None:
     print(f"{args.sweeps} damaged sweep.csv files (sweep --resume): "
           f"{dict(sorted(sweep_counts.items(), key=str))}")
     print(f"reports outside --out: {escapes}; {time.perf_counter() - started:.0f} s")
+    print(f"kinds of traceback (by the first 80 characters of the output): {len(examples)}")
     for text in list(examples.values())[:20]:
         print("----- traceback example\n" + text)
 
