@@ -1,13 +1,17 @@
-"""Fuzz the four input files and count exit codes; a traceback is a defect.
+"""Fuzz the input files and count exit codes; a traceback is a defect.
 
-``python -m benchmarks.fuzz [--cases N] [--results N] [--seed S]`` mutates the shipped
-case files (``cases/**/*.toml``) and ``result.json`` files written from them, runs
-each through the ``sso`` command in this process (``run_sso`` of tests/fuzzing.py:
-``validate``, then ``evaluate`` for files that validate; ``report`` for result
-files) and prints the counts by exit code. A run "tracebacks" when an exception
-escapes ``main`` or its output contains ``Traceback``. It also checks that no
-report lands outside ``--out``. Defaults: 10,000 case files, 2,000 result files
-(the target: 0 tracebacks).
+``python -m benchmarks.fuzz [--cases N] [--results N] [--sweeps N] [--seed S]`` mutates
+the shipped case files (``cases/**/*.toml``), ``result.json`` files written from them
+(case runs of every kind and tolerance studies: fields replaced by other types, huge
+numbers and deep nesting, text cut anywhere) and the ``sweep.csv`` of a finished
+sweep (cells, lines and bytes damaged: ``mutate_sweep_csv`` of tests/fuzzing.py),
+runs each through the ``sso`` command in this process (``run_sso`` of
+tests/fuzzing.py: ``validate``, then ``evaluate`` for case files that validate;
+``report`` for result files; ``sweep --resume`` for sweep files) and prints the
+counts by exit code. A run "tracebacks" when an exception escapes ``main`` or its
+output contains ``Traceback``. It also checks that no report lands outside
+``--out``. Defaults: 10,000 case files, 2,000 result files, 2,000 sweep files (the
+target: 0 tracebacks).
 """
 
 from __future__ import annotations
@@ -28,7 +32,11 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
-from fuzzing import run_sso, toml_document  # noqa: E402  (the tests' helpers, shared)
+from fuzzing import (  # noqa: E402  (the tests' helpers, shared)
+    mutate_sweep_csv,
+    run_sso,
+    toml_document,
+)
 
 PARENT = "." * 2  # spelt out, a parent folder reads as a path leaving the repository
 NASTY_TEXT = (
@@ -120,6 +128,8 @@ def _mutate_tree(rng: random.Random, tree: Any, nasty: Callable[[], Any]) -> Non
 
 def mutate_json(rng: random.Random, text: str) -> str:
     """One random mutation of a result file: of its text, or of its parsed values."""
+    if rng.random() < 0.1:
+        return text[:rng.randrange(len(text) + 1)]  # a file cut short
     if rng.random() < 0.25:
         data = list(text)
         for _ in range(rng.randint(1, 5)):
@@ -144,20 +154,64 @@ def seed_results(work: Path) -> list[str]:
         shutil.rmtree(out, ignore_errors=True)
     run_sso(["run", str(ROOT / "cases/steering_column.toml"), "--formats", "json",
                        "--quiet", "--out", str(work / "seed")])
+    for case in ("paper_option1_exact.toml", "paper_option1_paper.toml",
+                 "column_truck_three_joints.toml"):
+        run_sso(["tolerance", str(ROOT / "cases" / case), "--samples", "200", "--workers", "1",
+                 "--no-plots", "--quiet", "--out", str(work / "tolerance")])
     texts.extend(path.read_text() for path in (work / "seed").glob("*/result.json"))
+    texts.extend(path.read_text() for path in (work / "tolerance").glob("*/result.json"))
     return texts
+
+
+SWEEP = """name = "fuzzed"
+case = "{case}"
+action = "evaluate"
+[axes]
+"design.beta_deg[1]" = {{ start = 10, stop = 25, num = 6 }}
+"""
+
+
+def seed_sweep(work: Path) -> Path:
+    """The folder of a finished 6-point sweep (sweep.toml beside it, in ``work``)."""
+    (work / "sweep.toml").write_text(
+        SWEEP.format(case=ROOT / "cases" / "paper_option1_exact.toml"), encoding="utf-8")
+    code, text = run_sso(["sweep", str(work / "sweep.toml"), "--workers", "1", "--no-plots",
+                          "--quiet", "--out", str(work / "sweep")])
+    assert code == 0, text
+    return work / "sweep" / "fuzzed"
+
+
+def fuzz_sweeps(rng: random.Random, work: Path, count: int, counts: collections.Counter[Any],
+                examples: dict[str, str]) -> None:
+    """``sso sweep --resume`` of ``count`` damaged copies of a finished sweep's folder."""
+    finished = seed_sweep(work)
+    text = (finished / "sweep.csv").read_text(encoding="utf-8")
+    for index in range(count):
+        folder = work / f"s{index}"
+        copy = folder / "out" / "fuzzed"
+        shutil.copytree(finished, copy)
+        damaged = mutate_sweep_csv(rng, text)
+        (copy / "sweep.csv").write_bytes(damaged.encode("utf-8"))
+        code, output = run_sso(["sweep", str(work / "sweep.toml"), "--resume", "--workers",
+                                "1", "--no-plots", "--quiet", "--out", str(folder / "out")])
+        counts[code] += 1
+        if code == "traceback":
+            examples.setdefault(output[:80], damaged[:400] + "\n---\n" + output)
+        shutil.rmtree(folder)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", type=int, default=10_000)
     parser.add_argument("--results", type=int, default=2_000)
+    parser.add_argument("--sweeps", type=int, default=2_000)
     parser.add_argument("--seed", type=int, default=11)
     args = parser.parse_args()
     rng = random.Random(args.seed)
     sources = [path.read_text() for path in sorted(ROOT.glob("cases/**/*.toml"))]
     case_counts: collections.Counter[Any] = collections.Counter()
     report_counts: collections.Counter[Any] = collections.Counter()
+    sweep_counts: collections.Counter[Any] = collections.Counter()
     escapes = 0
     examples: dict[str, str] = {}
     started = time.perf_counter()
@@ -193,11 +247,15 @@ def main() -> None:
             if {item.name for item in folder.iterdir()} - {"out", "result.json"}:
                 escapes += 1
             shutil.rmtree(folder)
+        fuzz_sweeps(rng, work, args.sweeps, sweep_counts, examples)
     print(f"{args.cases} fuzzed case files (validate, then evaluate): "
           f"{dict(sorted(case_counts.items(), key=str))}")
     print(f"{args.results} fuzzed result.json files (report): "
           f"{dict(sorted(report_counts.items(), key=str))}")
+    print(f"{args.sweeps} damaged sweep.csv files (sweep --resume): "
+          f"{dict(sorted(sweep_counts.items(), key=str))}")
     print(f"reports outside --out: {escapes}; {time.perf_counter() - started:.0f} s")
+    print(f"kinds of traceback (by the first 80 characters of the output): {len(examples)}")
     for text in list(examples.values())[:20]:
         print("----- traceback example\n" + text)
 

@@ -11,7 +11,8 @@ import re
 import shutil
 import stat
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 from sso._interrupts import interrupts_held
@@ -20,7 +21,22 @@ from sso._limits import MAX_INPUT_FILE_BYTES
 TEMPORARY_PREFIX = ".sso-tmp-"
 
 
-def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
+@dataclass(frozen=True)
+class StreamedFile:
+    """A file's contents given as the chunks ``chunks()`` yields, written as they come,
+    so that a large file (a study's table) is never held whole in memory.
+
+    ``chunks`` is called afresh for each write (a failed folder swap may write again).
+    """
+
+    chunks: Callable[[], Iterator[bytes]]
+
+
+FileContents = bytes | StreamedFile
+"""What a file written by :func:`write_bytes_atomic` or :func:`replace_folder` holds."""
+
+
+def write_bytes_atomic(path: str | os.PathLike[str], data: FileContents) -> Path:
     """Write ``data`` to ``path`` so that readers see the old file or the whole new one.
 
     The data go to a temporary file in the same folder (same file system), are
@@ -34,8 +50,8 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     ----------
     path : path-like
         Target file; its folder must exist.
-    data : bytes
-        Complete new contents.
+    data : bytes or StreamedFile
+        Complete new contents (a :class:`StreamedFile`: written chunk by chunk).
 
     Returns
     -------
@@ -105,15 +121,23 @@ def _probe_nameless(folder: str | os.PathLike[str]) -> bool:
         os.close(descriptor)
 
 
-def _write_all(descriptor: int, data: bytes) -> None:
+def _write_all(descriptor: int, data: FileContents) -> None:
     os.fchmod(descriptor, 0o644)
-    view = memoryview(data)
-    while view:
-        view = view[os.write(descriptor, view):]
+    for chunk in _chunks(data):
+        view = memoryview(chunk)
+        while view:
+            view = view[os.write(descriptor, view):]
     os.fsync(descriptor)
 
 
-def _write_named_temporary(target: Path, data: bytes) -> Path:
+def _chunks(data: FileContents) -> Iterator[bytes]:
+    if isinstance(data, StreamedFile):
+        yield from data.chunks()
+    else:
+        yield data
+
+
+def _write_named_temporary(target: Path, data: FileContents) -> Path:
     # Ctrl-C and SIGTERM wait until the named temporary file is renamed or removed, so
     # an interrupted run never leaves one (only SIGKILL can).
     with interrupts_held():
@@ -428,7 +452,7 @@ def _manifest(kind: str, names: Iterable[str]) -> bytes:
     return (json.dumps(document, indent=2) + "\n").encode("utf-8")
 
 
-def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kind: str,
+def replace_folder(path: str | os.PathLike[str], files: Mapping[str, FileContents], kind: str,
                    adopt: tuple[str, ...] = ()) -> list[Path]:
     """Make ``path`` a folder holding exactly ``files`` (and their manifest), never
     losing the old one on failure and never a file sso did not write.
@@ -447,8 +471,9 @@ def replace_folder(path: str | os.PathLike[str], files: Mapping[str, bytes], kin
     ----------
     path : path-like
         The folder; its parents are created if missing.
-    files : mapping of str to bytes
-        File name (no folders) to complete contents.
+    files : mapping of str to bytes or StreamedFile
+        File name (no folders) to complete contents (a :class:`StreamedFile`'s
+        chunks are written as they come).
     kind : str
         What the folder holds (see :func:`check_report_folder`).
     adopt : tuple of str
@@ -495,13 +520,14 @@ def _movable(folder: Path) -> bool:
     return not (here == there or here.startswith(there.rstrip(os.sep) + os.sep))
 
 
-def _swap(target: Path, contents: Mapping[str, bytes]) -> None:
+def _swap(target: Path, contents: Mapping[str, FileContents]) -> None:
     staging = Path(tempfile.mkdtemp(prefix=f"{TEMPORARY_PREFIX}new-", suffix=f"-{target.name}",
                                     dir=target.parent))
     try:
         for name, data in contents.items():
             with open(staging / name, "wb") as handle:
-                handle.write(data)
+                for chunk in _chunks(data):
+                    handle.write(chunk)
                 handle.flush()
                 os.fsync(handle.fileno())
             os.chmod(staging / name, 0o644)
@@ -528,10 +554,10 @@ def _swap(target: Path, contents: Mapping[str, bytes]) -> None:
         raise
 
 
-def _replace_files(target: Path, contents: Mapping[str, bytes]) -> None:
+def _replace_files(target: Path, contents: Mapping[str, FileContents]) -> None:
     """Replace the files of ``target`` one by one; its manifest lists every file present
     at every moment (first the old and the new, last the new only)."""
-    kind = json.loads(contents[FOLDER_MANIFEST])["kind"]
+    kind = json.loads(b"".join(_chunks(contents[FOLDER_MANIFEST])))["kind"]
     present = {entry.name for entry in os.scandir(target)} - {FOLDER_MANIFEST}
     with interrupts_held():
         write_bytes_atomic(target / FOLDER_MANIFEST, _manifest(kind, present | set(contents)))

@@ -12,7 +12,9 @@ no class keeps a hand-written JSON form that could drift from its fields:
   figures, is left out and reloads as its default);
   a class with a checked form of its own (a case: the case file's tables, read
   back through the case-file checks) defines ``_record_save()`` and the class
-  method ``_record_load(saved, where)`` instead;
+  method ``_record_load(saved, where)`` instead (and ``_record_fields_saved()``, the
+  names of the fields it saves and the schema of the others, where it saves fields:
+  a study whose samples are drawn again on reading);
 - a float that is NaN or infinite is ``{"float": "nan" | "inf" | "-inf"}`` (strict
   JSON has no such numbers), a numpy array ``{"dtype", "shape", "data"}``, a tuple
   a list;
@@ -457,14 +459,8 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
     hints = _hints(cls)
     fields = _init_fields(cls)
     derived = tuple(getattr(cls, "_record_derived", ()))
-    expected = {field.name for field in fields} | set(derived) | {"type"}
-    unknown = sorted(set(value) - expected)
-    if unknown:
-        raise RecordError(f"{_join(path, unknown[0])} is not a field of {cls.__name__}; "
-                          f"allowed: {', '.join(sorted(expected - {'type'}))}")
-    missing = sorted(expected - set(value))
-    if missing:
-        raise RecordError(f"{_join(path, missing[0])} is missing (a field of {cls.__name__})")
+    check_field_names(cls, value, {field.name for field in fields} | set(derived) | {"type"},
+                      path)
     arguments = {field.name: decode(value[field.name], hints[field.name],
                                     _join(path, field.name)) for field in fields}
     rules = {**FIELD_RULES, **getattr(cls, "_record_rules", {})}
@@ -479,6 +475,24 @@ def _decode_object(value: Any, declared: type, path: str) -> Any:
                         _join(path, name_derived))
         made.__dict__[name_derived] = cached
     return made
+
+
+def check_field_names(cls: type, value: Mapping[str, Any], expected: set[str],
+                      path: str) -> None:
+    """Refuse a saved object of ``cls`` that lacks a name of ``expected`` or has another.
+
+    Raises
+    ------
+    RecordError
+        Naming the first unknown field (and the allowed ones), else the first missing.
+    """
+    unknown = sorted(set(value) - expected)
+    if unknown:
+        raise RecordError(f"{_join(path, unknown[0])} is not a field of {cls.__name__}; "
+                          f"allowed: {', '.join(sorted(expected - {'type'}))}")
+    missing = sorted(expected - set(value))
+    if missing:
+        raise RecordError(f"{_join(path, missing[0])} is missing (a field of {cls.__name__})")
 
 
 def _join(path: str, name: str) -> str:
@@ -617,6 +631,17 @@ def json_schema(results: tuple[type, ...]) -> JsonSchema:
         if cls.__name__ in definitions:
             continue
         properties: dict[str, JsonSchema] = {"type": {"const": cls.__name__}}
+        if hasattr(cls, "_record_fields_saved"):  # a form of its own, of named fields
+            names, extra = cls._record_fields_saved()
+            hints = _hints(cls)
+            properties.update({name: _type_schema(hints[name], pending) for name in names})
+            properties.update(extra)
+            if cls in results:
+                properties["version"] = {"const": RECORD_VERSION}
+            definitions[cls.__name__] = {"type": "object", "additionalProperties": False,
+                                         "required": ["type", *names, *extra],
+                                         "properties": properties}
+            continue
         if hasattr(cls, "_record_save"):
             definitions[cls.__name__] = {
                 "type": "object", "required": ["type"], "properties": properties,

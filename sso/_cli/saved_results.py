@@ -45,14 +45,21 @@ def result_classes() -> dict[str, type[Record]]:
 
 
 def read_saved_result(path: str | Path) -> Record:
-    """The result saved in ``path`` (a ``result.json``), equal to the one saved.
+    """The result saved in ``path`` (a ``result.json``), equal to the one saved, its
+    figures computed again from its designs (:func:`sso._reports.figure_checks.check_figures`;
+    a sweep's rows: :func:`sso._studies.saved_rows.check_saved_rows`).
 
     Raises
     ------
     RecordError
         If the file is unreadable, not JSON, names no public result type, or a
-        field is missing, unknown, of the wrong type or out of range (named).
+        field is missing, unknown, of the wrong type or out of range, or a figure is
+        not that of the design it belongs to (named).
     """
+    from sso._reports.figure_checks import check_figures
+    from sso._studies.results import SweepResult
+    from sso._studies.saved_rows import check_saved_rows
+
     saved = read_json_object(path)
     if "type" not in saved and "schema_version" in saved:
         raise RecordError(f"{path}: a result document of an earlier sso (schema_version = "
@@ -65,11 +72,15 @@ def read_saved_result(path: str | Path) -> Record:
         raise RecordError(f"{path}: type = {shown(kind)}; allowed: "
                           f"{', '.join(sorted(classes))}")
     try:
-        return classes[kind].from_dict(saved)
+        result = classes[kind].from_dict(saved)
+        check_figures(result)
+        if isinstance(result, SweepResult):
+            check_saved_rows(result)
     except RecordError as error:
         raise RecordError(f"{path}: {error}") from None
     except RecursionError:
         raise RecordError(f"{path}: objects are nested too deeply to read") from None
+    return result
 
 
 def result_schema() -> dict[str, Any]:

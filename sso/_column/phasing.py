@@ -26,6 +26,7 @@ from sso._record import NON_NEGATIVE, FieldRule, Record
 if TYPE_CHECKING:
     from sso._shafts.optimise import OptimisationResult
 from sso._shafts.optimise import OptimisationResult, optimise
+from sso._solvers.crosscheck import allowed_objective_gap
 
 # Phase bounds of the NLP: one and a half periods, so every minimum (period 180 deg)
 # lies strictly inside them at least once and no start stalls on a bound.
@@ -57,7 +58,9 @@ class PhasingResult(Record, Readable):
         RE of the best phasing (dimensionless).
     success : bool
         The optimisation converged, its solvers agree, and ``fun`` is within
-        ``1e-12`` of the closed-form least RE.
+        round-off of the closed-form least RE (the solvers' own agreement rule,
+        :func:`sso._solvers.crosscheck.allowed_objective_gap`: relative to the RE's
+        size).
     message : str
     yoke_phase_deg : tuple of float
         Same as ``x``.
@@ -251,7 +254,7 @@ def optimise_phasing(geometry: ColumnGeometry, *, starts: int = DEFAULT_STARTS,
         optima = np.asarray(closed, dtype=float)
     fun = float(run.fun)
     gap = fun - verdict.minimum_residual_error
-    reached = gap <= 1e-12
+    reached = gap <= allowed_objective_gap((fun, verdict.minimum_residual_error))
     message = (f"{run.best.message}; RE {fun:.6g}, closed-form least RE "
                f"{verdict.minimum_residual_error:.6g} (gap {gap:.3g})")
     return PhasingResult(

@@ -22,17 +22,17 @@ class attribute.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from sso._files import replace_folder
+from sso._files import FileContents, replace_folder
 from sso._folder_lock import folder_lock
 from sso._limits import OUTPUT_FORMATS
 from sso._record import Record
 
-Renderer = Callable[[Any, tuple[str, ...]], dict[str, bytes]]
+Renderer = Callable[[Any, tuple[str, ...]], Mapping[str, FileContents]]
 
 RESULT_FILE = "result.json"
 """The saved result in every report folder; :meth:`sso._record.Record.from_dict` reads it."""
@@ -49,7 +49,7 @@ class ReportKind:
     name : str
         The kind, as results name it in ``report_kind``.
     render : callable
-        ``render(result, formats) -> {file name: bytes}``.
+        ``render(result, formats) -> {file name: bytes or StreamedFile}``.
     folder : str
         What its report folder holds, as the folder's manifest names it
         (:func:`sso._files.replace_folder`): :data:`CASE_REPORT` for every kind of
@@ -111,11 +111,13 @@ def validate_formats(formats: Any) -> tuple[str, ...]:
     return chosen
 
 
-def render_report(result: Any, formats: Sequence[str] | None = None) -> dict[str, bytes]:
-    """Contents of the report files of ``result`` (nothing is written)."""
+def render_report(result: Any,
+                  formats: Sequence[str] | None = None) -> dict[str, FileContents]:
+    """Contents of the report files of ``result`` (nothing is written; a large table is
+    a :class:`sso._files.StreamedFile`, made as it is written)."""
     kind = report_kind_of(result)
     chosen = validate_formats(formats)
-    files = kind.render(result, chosen)
+    files = dict(kind.render(result, chosen))
     if "json" in chosen:  # the saved result comes first
         files = {RESULT_FILE: record_json(result).encode("utf-8"),
                  **{name: data for name, data in files.items() if name != RESULT_FILE}}

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 from sso._display import format_number
 from sso._limits import DEFAULT_KKT_TOLERANCE, DEFAULT_OBJECTIVE_ATOL, DEFAULT_OBJECTIVE_RTOL
@@ -12,6 +12,19 @@ DEFAULT_DESIGN_TOLERANCE = 1e-5
 """Largest difference of a design variable (solver units: rad for a shaft series) between
 two answers at one isolated minimum that counts as the same design; both solvers meet
 their stopping tests far closer than this on a strict minimum."""
+
+
+def allowed_objective_gap(objectives: Iterable[float],
+                          objective_rtol: float = DEFAULT_OBJECTIVE_RTOL,
+                          objective_atol: float = DEFAULT_OBJECTIVE_ATOL) -> float:
+    """The largest spread of ``objectives`` that still counts as one value (round-off).
+
+    ``objective_atol + objective_rtol * max|objective|``: relative to the figures'
+    size, so an RE of 26,919 agrees with another 1e-7 away as an RE of 1e-3 agrees
+    with one 1e-15 away. The cross-check of two solvers and the column's test of its
+    closed-form least RE both use it.
+    """
+    return objective_atol + objective_rtol * max(abs(value) for value in objectives)
 
 
 def crosscheck(
@@ -51,7 +64,7 @@ def crosscheck(
     objective = {name: solution.fun for name, solution in solutions.items()}
     kkt = {name: solution.kkt for name, solution in solutions.items()}
     gap = max(objective.values()) - min(objective.values())
-    allowed_gap = objective_atol + objective_rtol * max(abs(value) for value in objective.values())
+    allowed_gap = allowed_objective_gap(objective.values(), objective_rtol, objective_atol)
     failed = [name for name, solution in solutions.items() if not solution.success]
     not_stationary = [name for name, value in kkt.items() if value > kkt_tolerance]
     infeasible = [name for name, solution in solutions.items()

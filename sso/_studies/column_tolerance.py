@@ -24,7 +24,7 @@ matters, and the largest one halved and re-sampled (:mod:`sso._studies.column_yi
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
@@ -53,7 +53,7 @@ from sso._limits import (
     DEFAULT_YOKE_PHASE_TOLERANCE_DEG,
     OUTPUT_FORMATS,
 )
-from sso._record import Record
+from sso._record import Record, encode
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory
 from sso._studies.column_yields import HalvedTolerance, judge_study
@@ -62,6 +62,12 @@ from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks, validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import SampledFigures
+from sso._studies.saved_samples import (
+    EXTRA_SCHEMA,
+    check_summary,
+    read_saved_fields,
+    saved_field_names,
+)
 from sso._validation import (
     as_float_tuple,
     check_in_range,
@@ -73,6 +79,8 @@ from sso._validation import (
 MAX_COLUMN_SAMPLES = 2_000_000
 """Most samples of a column study (its hardpoint draws take 8 (3 n + 6) bytes each)."""
 COLUMN_METRICS = BUILT_FIGURES
+COLUMN_SAMPLE_FIELDS = ("beta_deg", "plane_angle_deg", "yoke_phase_error_deg", *COLUMN_METRICS)
+"""The per-sample arrays of a column's study, kept in its table, not its record."""
 METRIC_LABELS = {
     "residual_error": "residual error RE (dimensionless)",
     "speed_fluctuation_percent": "speed-ratio fluctuation, lock to lock (%)",
@@ -213,6 +221,57 @@ class ColumnToleranceResult(SampledFigures, Record, Readable):
     report_kind: ClassVar[str] = "column_tolerance"
     _metrics: ClassVar[tuple[str, ...]] = COLUMN_METRICS
 
+    def _record_save(self) -> dict[str, Any]:
+        """The saved form (``result.json``): every field but the per-sample arrays, the
+        number of samples and their summary; the samples are in ``tolerance.csv`` and
+        are drawn again from the seed on reading (:meth:`_record_load`)."""
+        saved = {name: encode(getattr(self, name))
+                 for name in saved_field_names(type(self), COLUMN_SAMPLE_FIELDS)}
+        return {**saved, "samples": self.samples, "summary": self._sample_summary()}
+
+    @classmethod
+    def _record_fields_saved(cls) -> tuple[list[str], dict[str, Any]]:
+        """The saved form's fields of the class and the others (with their schema)."""
+        return saved_field_names(cls, COLUMN_SAMPLE_FIELDS), EXTRA_SCHEMA
+
+    @classmethod
+    def _record_load(cls, saved: Mapping[str, Any], where: str) -> ColumnToleranceResult:
+        """A saved study read back: its built columns drawn and evaluated again from its
+        column, tolerances and seed, its nominal figures computed again, and the saved
+        summary and nominal figures checked against them.
+
+        Raises
+        ------
+        ValueError
+            Naming the field missing, unknown, out of range, or not that of the
+            samples drawn again (beyond ``1e-14 + 1e-6 * |figure|``).
+        """
+        names, extra = cls._record_fields_saved()
+        arguments = read_saved_fields(cls, saved, names, tuple(extra), where)
+        count = validate_count("samples", saved["samples"], 1, MAX_COLUMN_SAMPLES)
+        tolerances = Tolerances(hardpoint_mm=arguments["hardpoint_mm"],
+                                yoke_phase_deg=arguments["yoke_phase_tolerance_deg"],
+                                seed=arguments["seed"], distribution=arguments["distribution"])
+        geometry, yoke = arguments["geometry"], arguments["yoke_phase_deg"]
+        check_memory(tolerance_estimate(count, 2 * geometry.joint_count + 3, 1, 1), None)
+        check_summary(arguments["nominal"],
+                      nominal_figures(geometry, yoke, arguments["straight_ahead_deg"],
+                                      arguments["lock_deg"]), f"{where}.nominal",
+                      "the nominal column, computed again")
+        offsets, phase_errors = drawn_errors(geometry, tolerances, count)
+        beta_deg, gamma_deg, figures = built_figures(
+            BuiltSample(np.asarray(geometry.points_mm) + offsets, np.asarray(yoke), phase_errors,
+                        arguments["straight_ahead_deg"], arguments["lock_deg"]),
+            tolerances.hardpoint_mm, DEFAULT_CHUNK_SAMPLES, None, 1, lambda done: None)
+        made = cls(**arguments, beta_deg=beta_deg, plane_angle_deg=gamma_deg,
+                   yoke_phase_error_deg=phase_errors, residual_error=figures[0],
+                   speed_fluctuation_percent=figures[1], torque_fluctuation_percent=figures[2],
+                   largest_transmission_error_deg=figures[3])
+        check_summary(saved["summary"], made._sample_summary(), f"{where}.summary")
+        if made.yields is not None:
+            check_judgement(made, tolerances, offsets, f"{where}.yields")
+        return made
+
     def _repr_text(self) -> str:
         cells = ", ".join(f"p{q:g} {format_number(value, 3)}"
                           for q, value in self.percentile_table()["residual_error"].items())
@@ -320,12 +379,8 @@ def column_tolerance_study(
     check_memory(tolerance_estimate(count, 2 * geometry.joint_count + 3, 1,
                                     worker_count if client is None else 1), memory_limit_mb)
 
-    rng = np.random.default_rng(tolerances.seed)
     points = np.asarray(geometry.points_mm)
-    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
-                          (count, *points.shape))
-    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
-                               (count, geometry.joint_count - 1))
+    offsets, phase_errors = drawn_errors(geometry, tolerances, count)
     centre = finite_float("straight_ahead_deg", straight_ahead_deg)
     bar = ProgressBar(count, "samples", interactive() if progress is None else progress)
 
@@ -351,11 +406,7 @@ def column_tolerance_study(
     judged = judge_study(offsets, phase_errors, limited_figures(beta_deg, figures),
                          column_limits(limits), required_yield, tolerances.hardpoint_mm,
                          tolerances.yoke_phase_deg, limited)
-    nominal = {"residual_error": float(matrix_residual_error(chain_matrix(
-        np.radians(geometry.beta_deg), np.radians(geometry.phase_deg_from_yoke(yoke))))),
-        "speed_fluctuation_percent": nominal_range.speed_fluctuation_percent,
-        "torque_fluctuation_percent": nominal_range.torque_fluctuation_percent,
-        "largest_transmission_error_deg": nominal_range.largest_transmission_error_deg}
+    nominal = nominal_figures(geometry, yoke, centre, nominal_range.lock_deg)
     result = ColumnToleranceResult(
         geometry=geometry, yoke_phase_deg=yoke, hardpoint_mm=tolerances.hardpoint_mm,
         yoke_phase_tolerance_deg=tolerances.yoke_phase_deg,
@@ -409,3 +460,62 @@ def study_settings(tolerances: Tolerances | None, case: Any, samples: int | None
     changes = {name: value for name, value in (("seed", seed), ("distribution", distribution))
                if value is not None}
     return (replace(chosen, **changes) if changes else chosen), count
+
+
+def drawn_errors(geometry: ColumnGeometry, tolerances: Tolerances,
+                 count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The study's draws from its seed: hardpoint errors ``(count, n + 2, 3)`` (mm), then
+    yoke phase errors ``(count, n - 1)`` (deg), as :meth:`sso.Tolerances.sample` draws."""
+    rng = np.random.default_rng(tolerances.seed)
+    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
+                          (count, *np.shape(geometry.points_mm)))
+    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
+                               (count, geometry.joint_count - 1))
+    return offsets, phase_errors
+
+
+def check_judgement(study: ColumnToleranceResult, tolerances: Tolerances,
+                    offsets_mm: np.ndarray, where: str) -> None:
+    """Check a saved study's yields, sensitivity and halved tolerances against the same
+    judgement made again on its samples drawn again (the same limits and required
+    yield).
+
+    Raises
+    ------
+    ValueError
+        Naming the field whose saved value is not the one computed again.
+    """
+    assert study.yields is not None
+    points = np.asarray(study.geometry.points_mm)
+    yoke = np.asarray(study.yoke_phase_deg)
+
+    def limited(offsets: np.ndarray, phase_errors: np.ndarray) -> dict[str, np.ndarray]:
+        beta_deg, _, figures = built_figures(
+            BuiltSample(points + offsets, yoke, phase_errors, study.straight_ahead_deg,
+                        study.lock_deg),
+            tolerances.hardpoint_mm, DEFAULT_CHUNK_SAMPLES, None, 1, lambda done: None)
+        return limited_figures(beta_deg, figures)
+
+    limits = tuple((item.figure, item.label, item.unit, item.limit)
+                   for item in study.yields.limits if item.limit is not None)
+    again = judge_study(offsets_mm, study.yoke_phase_error_deg,
+                        limited_figures(study.beta_deg, np.stack(
+                            [getattr(study, name) for name in COLUMN_METRICS])),
+                        limits, study.yields.required, tolerances.hardpoint_mm,
+                        tolerances.yoke_phase_deg, limited)
+    for name in ("yields", "sensitivity", "halved"):
+        if getattr(again, name) != getattr(study, name):
+            raise ValueError(f"{where.rsplit('.', 1)[0]}.{name}: the saved value is not the "
+                             "one computed again from the study's samples drawn again")
+
+
+def nominal_figures(geometry: ColumnGeometry, yoke_phase_deg: Sequence[float],
+                    straight_ahead_deg: float, lock_deg: float) -> dict[str, float]:
+    """The figures of :data:`COLUMN_METRICS` of the nominal column."""
+    steering = steering_range((geometry, yoke_phase_deg), lock_deg=lock_deg,
+                              straight_ahead_deg=straight_ahead_deg)
+    return {"residual_error": float(matrix_residual_error(chain_matrix(
+        np.radians(geometry.beta_deg), np.radians(geometry.phase_deg_from_yoke(yoke_phase_deg))))),
+        "speed_fluctuation_percent": steering.speed_fluctuation_percent,
+        "torque_fluctuation_percent": steering.torque_fluctuation_percent,
+        "largest_transmission_error_deg": steering.largest_transmission_error_deg}

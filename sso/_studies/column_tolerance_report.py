@@ -18,7 +18,7 @@ import numpy as np
 
 from sso._column.yields import percent
 from sso._display import format_number
-from sso._limits import REPORT_DIGITS
+from sso._files import FileContents, StreamedFile
 from sso._reports.kinds import register_report_kind
 from sso._reports.summary import Block, Heading, Image, Paragraph, Table
 from sso._studies.column_yields_report import (
@@ -36,6 +36,7 @@ from sso._studies.report import (
     _figure,
     _numbers,
     _png,
+    sample_table,
 )
 
 # (figure, label with unit), in the order of the study's figures.
@@ -47,11 +48,12 @@ FIGURES = (
 )
 
 
-def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    """Report files of a column's tolerance study, keyed by file name."""
-    files: dict[str, bytes] = {}
+def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, FileContents]:
+    """Report files of a column's tolerance study, keyed by file name (the samples' table
+    streamed as it is written)."""
+    files: dict[str, FileContents] = {}
     if "csv" in formats:
-        files[TOLERANCE_CSV] = _csv(result).encode("utf-8")
+        files[TOLERANCE_CSV] = _csv(result)
     images = {TOLERANCE_PLOT: _png(_histograms(result))} if "png" in formats else {}
     sensitivity = sensitivity_figure(result, _figure) if "png" in formats else None
     if sensitivity is not None:
@@ -61,19 +63,15 @@ def render_column_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, 
     return files
 
 
-def _csv(result: Any) -> str:
+def _csv(result: Any) -> StreamedFile:
     joints = result.geometry.joint_count
     header = ["sample", *(f"beta_deg[{k}]" for k in range(joints)),
               *(f"plane_angle_deg[{k}]" for k in range(joints - 1)),
               *(f"yoke_phase_error_deg[{k}]" for k in range(joints - 1)),
               *(name for name, _ in FIGURES)]
-    table = np.column_stack([result.beta_deg, result.plane_angle_deg,
-                             result.yoke_phase_error_deg,
-                             *(getattr(result, name) for name, _ in FIGURES)])
-    lines = [",".join(header)]
-    lines += [",".join([str(index), *(f"{value:.{REPORT_DIGITS}g}" for value in row.tolist())])
-              for index, row in enumerate(table)]
-    return "\n".join(lines) + "\n"
+    return sample_table(header, (result.beta_deg, result.plane_angle_deg,
+                                 result.yoke_phase_error_deg,
+                                 *(getattr(result, name) for name, _ in FIGURES)))
 
 
 def _blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:

@@ -7,6 +7,7 @@ of :mod:`sso._solvers.resources` then refuses work above the memory limit.
 
 from __future__ import annotations
 
+from sso._limits import DEFAULT_CHUNK_SAMPLES
 from sso._solvers.resources import (
     BLOCK_ARRAYS,
     FLOAT_BYTES,
@@ -17,10 +18,14 @@ from sso._solvers.resources import (
 )
 
 # Arrays of shape (samples, angles) a tolerance study holds at once in the calling
-# process: the offsets, the angles in deg and in rad (both kept), a copy while
-# chunking, and the CSV text of every sample (about 25 characters a number).
-TOLERANCE_ARRAYS = 4
-CSV_BYTES_PER_NUMBER = 25
+# process: the sampled angles in deg and in rad. Its table is formatted and written
+# 10,000 rows at a time (sso._studies.report.TABLE_ROWS) and its record holds no
+# samples, so neither grows with the samples.
+TOLERANCE_ARRAYS = 2
+# The process itself before it draws a sample: Python, numpy, sso and matplotlib for the
+# histogram. `sso tolerance` of 10,000 samples peaked at 89 MB, of 1,000,000 at 179 MB
+# (the exact model; getrusage of the process, 2 Dec 2026): 80 MB and 91 bytes a sample.
+PROCESS_MB = 80.0
 # A sweep point held by the calling process: the point (0.2 KB, measured with
 # tracemalloc for two axes), its formatted CSV row (1.5 KB for 29 columns, measured)
 # and its typed row in the result (about as much again), rounded up.
@@ -37,8 +42,9 @@ ARRAY_CHUNK_BYTES_PER_POINT = 2048
 
 
 def tolerance_estimate(samples: int, joints: int, figure_samples: int,
-                       workers: int) -> ResourceEstimate:
-    """Memory and evaluations of a tolerance study of ``samples`` samples.
+                       workers: int, chunk_size: int = DEFAULT_CHUNK_SAMPLES) -> ResourceEstimate:
+    """Memory (of the whole process) and evaluations of a tolerance study of ``samples``
+    samples.
 
     Parameters
     ----------
@@ -48,16 +54,17 @@ def tolerance_estimate(samples: int, joints: int, figure_samples: int,
         Input angles per revolution each sample is evaluated at.
     workers : int
         Processes evaluating blocks at once.
+    chunk_size : int
+        Samples per task; a task evaluates at most one block of them at a time.
     """
     angles = 2 * joints - 1
-    held = samples * (TOLERANCE_ARRAYS * angles * FLOAT_BYTES
-                      + 3 * FLOAT_BYTES + CSV_BYTES_PER_NUMBER * (angles + 3))
-    block = min(samples, block_samples(figure_samples))
+    held = samples * (TOLERANCE_ARRAYS * angles * FLOAT_BYTES + 3 * FLOAT_BYTES)
+    block = min(samples, chunk_size, block_samples(figure_samples))
     evaluating = workers * BLOCK_ARRAYS * FLOAT_BYTES * block * figure_samples
     per_sample = held / samples
     return ResourceEstimate(
         task=f"tolerance study ({samples:,} samples of {joints} joints)",
-        memory_mb=(held + evaluating) / MB,
+        memory_mb=PROCESS_MB + (held + evaluating) / MB,
         solves=samples,
         lower_it=f"lower samples (each needs about {per_sample / 1024:.1f} KB)")
 

@@ -21,12 +21,13 @@ import io
 import json
 import math
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
 
 from sso._display import format_number
+from sso._files import FileContents, StreamedFile
 from sso._limits import REPORT_DIGITS, ROUND_OFF_FLOOR
 from sso._reports.documents import render_documents
 from sso._reports.kinds import register_report_kind
@@ -41,6 +42,8 @@ TOLERANCE_FOLDER = "tolerance study"
 SWEEP_PLOT = "sweep_re.png"
 TOLERANCE_PLOT = "tolerance_histogram.png"
 TOLERANCE_CSV = "tolerance.csv"
+TABLE_ROWS = 10_000
+"""Rows of a study's table formatted at once while it is written (about 0.7 MB of text)."""
 TOLERANCE_JSON = "tolerance.json"
 PANEL_SIZE_IN = (3.6, 2.7)
 SINGLE_SIZE_IN = (7.0, 4.5)
@@ -72,9 +75,9 @@ COLUMN_TABLE_COLUMNS = (
 )
 
 
-def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
+def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, FileContents]:
     """Report files of a :class:`sso.SweepResult`, keyed by file name."""
-    files: dict[str, bytes] = {}
+    files: dict[str, FileContents] = {}
     if "csv" in formats:
         header = columns([axis.path for axis in result.axes], _kind(result))
         table = getattr(result.rows, "table", None)  # a sweep's rows, held as columns
@@ -89,11 +92,12 @@ def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     return files
 
 
-def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
-    """Report files of a :class:`sso.ToleranceResult`, keyed by file name."""
-    files: dict[str, bytes] = {}
+def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, FileContents]:
+    """Report files of a :class:`sso.ToleranceResult`, keyed by file name; the samples'
+    table streamed as it is written (:data:`TABLE_ROWS` rows at a time)."""
+    files: dict[str, FileContents] = {}
     if "csv" in formats:
-        files[TOLERANCE_CSV] = _tolerance_csv(result).encode("utf-8")
+        files[TOLERANCE_CSV] = _tolerance_csv(result)
     if "json" in formats:
         summary = json.dumps(result._document_dict(), indent=2) + "\n"
         files[TOLERANCE_JSON] = summary.encode("utf-8")
@@ -103,22 +107,35 @@ def render_tolerance(result: Any, formats: tuple[str, ...]) -> dict[str, bytes]:
     return files
 
 
-def _add_documents(files: dict[str, bytes], formats: tuple[str, ...], blocks: list[Block],
+def _add_documents(files: dict[str, FileContents], formats: tuple[str, ...], blocks: list[Block],
                    images: dict[str, bytes]) -> None:
     files.update(render_documents(blocks, images, formats))
 
 
-def _tolerance_csv(result: Any) -> str:
+def _tolerance_csv(result: Any) -> StreamedFile:
     joints = result.design.n_joints
     header = ["sample", *(f"beta_deg[{k}]" for k in range(joints)),
               *(f"phase_deg[{k}]" for k in range(joints - 1)),
               "residual_error", "fluctuation", "max_output_accel_rad_s2"]
-    table = np.column_stack([result.beta_deg, result.phase_deg, result.residual_error,
-                             result.fluctuation, result.max_output_accel_rad_s2])
-    lines = [",".join(header)]
-    lines += [",".join([str(index), *(f"{value:.{REPORT_DIGITS}g}" for value in row.tolist())])
-              for index, row in enumerate(table)]
-    return "\n".join(lines) + "\n"
+    return sample_table(header, (result.beta_deg, result.phase_deg, result.residual_error,
+                                 result.fluctuation, result.max_output_accel_rad_s2))
+
+
+def sample_table(header: Sequence[str], columns: Sequence[np.ndarray]) -> StreamedFile:
+    """A study's table of samples (``tolerance.csv``): the sample index, then ``columns``
+    (arrays of one value, or one row of values, per sample) to 6 significant digits,
+    formatted :data:`TABLE_ROWS` rows at a time as the file is written."""
+
+    def chunks() -> Iterator[bytes]:
+        yield (",".join(["sample", *header[1:]]) + "\n").encode("utf-8")
+        samples = len(columns[0])
+        for start in range(0, samples, TABLE_ROWS):
+            block = np.column_stack([column[start:start + TABLE_ROWS] for column in columns])
+            lines = [",".join([str(index), *(f"{value:.{REPORT_DIGITS}g}" for value in row)])
+                     for index, row in enumerate(block.tolist(), start)]
+            yield ("\n".join(lines) + "\n").encode("utf-8")
+
+    return StreamedFile(chunks)
 
 
 def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:

@@ -7,7 +7,7 @@ Kept apart from the code that computes them, so the report writers
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import import_module
 from pathlib import Path
@@ -18,14 +18,23 @@ import numpy as np
 import sso._studies.report  # noqa: F401  (registers the "sweep" and "tolerance" report kinds)
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
 from sso._limits import ROUND_OFF_FLOOR
-from sso._record import Record
+from sso._record import Record, RecordError, encode
 from sso._shafts.evaluation import Evaluation
 from sso._shafts.perturbed import METRICS
 from sso._shafts.series import ShaftSeries
 from sso._studies.axes import Axis
 from sso._studies.columns import RowTable
 from sso._studies.parquet_output import PARQUET_NAME, read_frame
+from sso._studies.saved_samples import (
+    EXTRA_SCHEMA,
+    SHAFT_SAMPLE_FIELDS,
+    check_summary,
+    read_saved_fields,
+    saved_field_names,
+)
 from sso._studies.table import CSV_NAME
+from sso._studies.tolerance_samples import redrawn_samples
+from sso._validation import shown
 
 
 class SweepRows(Sequence[dict[str, Any]]):
@@ -254,6 +263,16 @@ class SampledFigures:
                                  strict=True))
                 for metric in self._metrics}
 
+    def _sample_summary(self) -> dict[str, Any]:
+        """Percentiles, mean and largest value of each figure over the samples (what a
+        saved study keeps of them)."""
+        return {"percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
+                                for metric, values in self.percentile_table().items()},
+                "mean": {metric: float(np.mean(getattr(self, metric)))
+                         for metric in self._metrics},
+                "max": {metric: float(np.max(getattr(self, metric)))
+                        for metric in self._metrics}}
+
 
 @dataclass(frozen=True, eq=False, repr=False)
 class ToleranceResult(SampledFigures, Record, Readable):
@@ -336,6 +355,55 @@ class ToleranceResult(SampledFigures, Record, Readable):
                      f"{self.reflected_samples}")
         return [headline, design, deviations, reflected, TextTable(header, rows)]
 
+    def _record_save(self) -> dict[str, Any]:
+        """The saved form (``result.json``): every field but the per-sample arrays, the
+        number of samples and their summary (:meth:`_sample_summary`).
+
+        The samples are in the study's table (``tolerance.csv``); the record stays a
+        few kilobytes whatever the number of samples, and is read back by drawing the
+        samples again from its seed (:meth:`_record_load`).
+        """
+        saved = {name: encode(getattr(self, name))
+                 for name in saved_field_names(type(self), SHAFT_SAMPLE_FIELDS)}
+        return {**saved, "samples": self.samples, "summary": self._sample_summary()}
+
+    @classmethod
+    def _record_fields_saved(cls) -> tuple[list[str], dict[str, Any]]:
+        """The saved form's fields of the class and the others (with their schema)."""
+        return saved_field_names(cls, SHAFT_SAMPLE_FIELDS), EXTRA_SCHEMA
+
+    @classmethod
+    def _record_load(cls, saved: Mapping[str, Any], where: str) -> ToleranceResult:
+        """A saved study read back: its samples drawn and evaluated again from its design,
+        tolerances and seed (the same numbers; the study's chunking never changes
+        them), and its saved summary checked against them.
+
+        Raises
+        ------
+        ValueError
+            Naming the field that is missing, unknown, out of range, or whose summary
+            figure is not that of the samples drawn again (beyond ``1e-14 + 1e-6 *
+            |figure|``).
+        """
+        names, extra = cls._record_fields_saved()
+        arguments = read_saved_fields(cls, saved, names, tuple(extra), where)
+        samples = saved["samples"]
+        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
+            raise RecordError(f"{where}.samples = {shown(samples)}; allowed: a whole number "
+                              ">= 1")
+        beta_deg, phase_deg, metrics, reflected = redrawn_samples(
+            arguments["design"], arguments["beta_tolerance_deg"],
+            arguments["phase_tolerance_deg"], arguments["distribution"], samples,
+            arguments["seed"], arguments["quadrature_samples"], arguments["input_speed_rpm"])
+        made = cls(**arguments, beta_deg=beta_deg, phase_deg=phase_deg,
+                   residual_error=metrics[0], fluctuation=metrics[1],
+                   max_output_accel_rad_s2=metrics[2])
+        check_summary(saved["summary"], made._sample_summary(), f"{where}.summary")
+        if reflected != made.reflected_samples:
+            raise RecordError(f"{where}.reflected_samples = {made.reflected_samples}; the "
+                              f"samples drawn again from the study's seed reflect {reflected}")
+        return made
+
     def _document_dict(self) -> dict[str, Any]:
         """JSON-ready summary: settings, nominal evaluation and percentiles.
 
@@ -351,10 +419,7 @@ class ToleranceResult(SampledFigures, Record, Readable):
             "seed": self.seed,
             "input_speed_rpm": self.input_speed_rpm,
             "quadrature_samples": self.quadrature_samples,
-            "percentiles": {metric: {f"{q:g}": value for q, value in values.items()}
-                            for metric, values in self.percentile_table().items()},
-            "mean": {metric: float(np.mean(getattr(self, metric))) for metric in METRICS},
-            "max": {metric: float(np.max(getattr(self, metric))) for metric in METRICS},
+            **self._sample_summary(),
             "elapsed_s": self.elapsed_s,
             "files": [str(path) for path in self.files],
             "study_of": self.study_of,

@@ -46,6 +46,7 @@ from sso._studies.parquet_output import (
 )
 from sso._studies.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
 from sso._studies.results import SweepResult, SweepRows
+from sso._studies.row_checks import recheck_row
 from sso._studies.shared_rows import shared_columns
 from sso._studies.table import (
     CSV_NAME,
@@ -258,11 +259,19 @@ class _Job:
     chunk_size: int | None
     progress: bool
 
+    def point(self, index: int) -> dict[str, Any]:
+        """The axis values of point ``index`` (case key -> value)."""
+        positions = value_positions(self.axes, self.mode, [index])
+        return {axis.path: axis.values[int(position[0])]
+                for axis, position in zip(self.axes, positions, strict=True)}
+
     def axis_cells(self, index: int) -> list[str]:
         """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them."""
-        positions = value_positions(self.axes, self.mode, [index])
-        return [format_cell(axis.values[int(position[0])])
-                for axis, position in zip(self.axes, positions, strict=True)]
+        return [format_cell(value) for value in self.point(index).values()]
+
+    def recheck(self, index: int, row: Mapping[str, str]) -> str | None:
+        """What disagrees when the RE of point ``index``'s kept row is computed again."""
+        return recheck_row(self.document, self.point(index), row)
 
     def chunks(self, pending: np.ndarray) -> list[SweepChunk]:
         """The tasks of the pending points (sorted), each with the slice of every axis
@@ -350,7 +359,7 @@ def _open_folder(out_dir: Path, resume: bool, job: _Job) -> dict[int, dict[str, 
     remove_stale_temporaries(out_dir)  # of a sweep killed mid-write (we hold the lock)
     csv_path = out_dir / CSV_NAME
     if resume:
-        rows = done_rows(out_dir, job.identity, job.header, job.axis_cells)
+        rows = done_rows(out_dir, job.identity, job.header, job.axis_cells, job.recheck)
     elif csv_path.exists() or (out_dir / MANIFEST_NAME).exists():
         raise ValueError(f"out_dir = {str(out_dir)!r} already holds a sweep; pass "
                          "resume=True (--resume) to complete it, or choose another folder")

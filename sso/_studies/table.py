@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from sso._limits import SOLVERS
+from sso._studies.row_checks import cell_problem, recheck_sample
 
 SCHEMA_VERSION = 2
 CSV_NAME = "sweep.csv"
@@ -164,13 +165,18 @@ def manifest(document: Mapping[str, Any], axes: Sequence[Any], mode: str, action
 
 
 def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any], header: Sequence[str],
-              axis_cells: Callable[[int], list[str]]) -> dict[int, dict[str, str]]:
+              axis_cells: Callable[[int], list[str]],
+              recheck: Callable[[int, Mapping[str, str]], str | None] | None = None,
+              ) -> dict[int, dict[str, str]]:
     """Finished rows of an earlier run of the same sweep in ``out_dir``, by point.
 
     Every row is checked: its cells, its point index (in the sweep's range, done at
-    most once), its axis values (those of its point) and its ``sweep_hash`` (this
-    sweep's). A last line without its end (an append cut short by a killed run) is
-    removed from the file; its point is computed again.
+    most once), its axis values (those of its point), its ``sweep_hash`` (this
+    sweep's) and the type and range of each figure
+    (:func:`sso._studies.row_checks.cell_problem`); then a sample of the finished
+    rows is computed again (``recheck``, :func:`sso._studies.row_checks.recheck_sample`).
+    A last line without its end (an append cut short by a killed run) is removed
+    from the file; its point is computed again. Nothing else in the file changes.
 
     Parameters
     ----------
@@ -181,12 +187,16 @@ def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any], header: Seque
         This sweep's columns.
     axis_cells : callable
         Point index -> the formatted axis cells of that point.
+    recheck : callable, optional
+        ``recheck(point, row)``: what disagrees when the row's figures are computed
+        again from its design, or None (None: no row is computed again).
 
     Raises
     ------
     ValueError
         If ``out_dir`` holds a different sweep, a CSV without its manifest, or a
-        row that does not belong to this sweep (the message names the line).
+        row that does not belong to this sweep or whose figures cannot be true (the
+        message names the line and the field).
     """
     csv_path = out_dir / CSV_NAME
     manifest_path = out_dir / MANIFEST_NAME
@@ -210,8 +220,16 @@ def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any], header: Seque
                          "the same sweep")
     if not csv_path.exists():
         return {}
-    return _checked_rows(csv_path, header, expected[HASH_COLUMN], expected["points"],
-                         axis_cells)
+    rows, lines = _checked_rows(csv_path, header, expected[HASH_COLUMN], expected["points"],
+                                axis_cells)
+    if recheck is not None:
+        disagreement = recheck_sample(rows, expected[HASH_COLUMN], recheck)
+        if disagreement is not None:
+            point, problem = disagreement
+            raise ValueError(f"resume: {csv_path} line {lines[point]} (point {point}): "
+                             f"{problem}; the file was changed after sso wrote it; use "
+                             "another out_dir")
+    return rows
 
 
 class _GuardedReader:
@@ -245,7 +263,9 @@ class _GuardedReader:
 
 
 def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points: int,
-                  axis_cells: Callable[[int], list[str]]) -> dict[int, dict[str, str]]:
+                  axis_cells: Callable[[int], list[str]],
+                  ) -> tuple[dict[int, dict[str, str]], dict[int, int]]:
+    """The finished rows by point, and the line of each."""
     data = csv_path.read_bytes()
     if data and not data.endswith(b"\n"):
         kept = data.rfind(b"\n") + 1
@@ -266,6 +286,7 @@ def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points
     status_at = header.index("status")
     axes = slice(1, status_at)
     rows: dict[int, dict[str, str]] = {}
+    lines: dict[int, int] = {}
     for cells in reader:
         line = reader.line_num
         where = f"resume: {csv_path} line {line}"
@@ -292,5 +313,13 @@ def _checked_rows(csv_path: Path, header: Sequence[str], sweep_hash: str, points
         if earlier is not None and earlier["status"] in DONE_STATUSES:
             raise ValueError(f"{where}: point {index} is there twice; the file is damaged "
                              "or merged from two runs; use another out_dir")
+        for column, text in zip(header[status_at + 1:hash_at], cells[status_at + 1:hash_at],
+                                strict=True):
+            problem = cell_problem(column, text, status)
+            if problem is not None:
+                raise ValueError(f"{where} (point {index}): {problem}; the file was changed "
+                                 "after sso wrote it; use another out_dir")
         rows[index] = dict(zip(header, cells, strict=True))
-    return {index: row for index, row in rows.items() if row["status"] in DONE_STATUSES}
+        lines[index] = line
+    done = {index: row for index, row in rows.items() if row["status"] in DONE_STATUSES}
+    return done, lines

@@ -32,21 +32,16 @@ from sso._limits import (
     OUTPUT_FORMATS,
 )
 from sso._reports.kinds import write_report
-from sso._shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso._shafts.optimise import OptimisationResult
 from sso._shafts.perturbed import (
     DEFAULT_TOLERANCES,
     DISTRIBUTIONS,
     MAX_SAMPLES,
-    METRICS,
-    ToleranceChunk,
-    draw_samples,
-    evaluate_chunk,
     per_item_tolerances,
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._solvers.progress import ProgressBar, interactive
+from sso._solvers.progress import interactive
 from sso._solvers.resources import check_memory
 from sso._studies.axes import base_case
 from sso._studies.column_tolerance import (
@@ -55,10 +50,10 @@ from sso._studies.column_tolerance import (
     is_column_design,
     study_settings,
 )
-from sso._studies.estimate import tolerance_estimate
-from sso._studies.execution import run_tasks, validate_workers
+from sso._studies.execution import validate_workers
 from sso._studies.report import TOLERANCE_FOLDER
 from sso._studies.results import ToleranceResult
+from sso._studies.tolerance_samples import drawn_samples, evaluate_samples, study_estimate
 from sso._validation import (
     as_float_tuple,
     check_choice,
@@ -243,42 +238,19 @@ def tolerance_study(
     phase_tolerance = per_item_tolerances("phase_tolerance_deg", settings["phase_tolerance_deg"],
                                   series.n_joints - 1)
     worker_count = validate_workers(workers)
-    # The exact model's figures are closed forms (one value per sample, no angle
-    # grid). The paper model's quadrature count is fixed after the draw; until then,
-    # estimate with the nominal design's count (the figures grid is never coarser
-    # than its minimum).
-    if series.model == "exact":
-        figure_samples = 1
-    else:
-        figure_samples = max(MIN_FIGURE_SAMPLES, 4 * rule_for_bounds(
-            np.abs(series.beta_rad).tolist(), series.model, *quadrature).samples)
-    check_memory(tolerance_estimate(samples, series.n_joints, figure_samples,
-                                    worker_count if client is None else 1), memory_limit_mb)
+    check_memory(study_estimate(series, samples, quadrature,
+                                worker_count if client is None else 1, chunk_size),
+                 memory_limit_mb)
 
-    beta_deg, phase_deg = draw_samples(series, beta_tolerance, phase_tolerance, distribution,
-                                       samples, seed)
-    reflected = int(np.count_nonzero((beta_deg < 0.0).any(axis=1)))
-    beta_deg = np.abs(beta_deg)
-    beta_rad = np.radians(beta_deg)
-    phase_rad = np.radians(phase_deg)
+    beta_deg, phase_deg, reflected = drawn_samples(series, beta_tolerance, phase_tolerance,
+                                                   distribution, samples, seed)
     # The exact model's RE is the closed form of the chain matrix (0 quadrature angles).
-    quadrature_samples = (rule_for_bounds(np.abs(beta_rad).max(axis=0).tolist(), series.model,
-                                          *quadrature).samples
+    quadrature_samples = (rule_for_bounds(np.radians(beta_deg.max(axis=0)).tolist(),
+                                          series.model, *quadrature).samples
                           if series.model == "paper" else 0)
-    chunks = [ToleranceChunk(beta_rad[start:start + chunk_size],
-                             phase_rad[start:start + chunk_size], series.model, quadrature_samples,
-                             speed_rpm)
-              for start in range(0, samples, chunk_size)]
-    metrics = np.empty((len(METRICS), samples))
-    bar = ProgressBar(samples, "samples", interactive() if progress is None else progress)
-    try:
-        for index, values, error in run_tasks(evaluate_chunk, chunks, client, worker_count):
-            if error is not None:
-                raise RuntimeError(f"tolerance study: chunk {index} failed: {error}") from error
-            metrics[:, index * chunk_size:index * chunk_size + values.shape[1]] = values
-            bar.advance(values.shape[1])
-    finally:
-        bar.close()
+    metrics = evaluate_samples(beta_deg, phase_deg, series.model, quadrature_samples, speed_rpm,
+                               chunk_size, client, worker_count,
+                               interactive() if progress is None else progress)
 
     result = ToleranceResult(
         design=series, nominal=series.evaluate(speed_rpm, quadrature_rtol=quadrature[0],

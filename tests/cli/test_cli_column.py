@@ -167,3 +167,28 @@ def test_validate_warns_of_hardpoints_in_metres_and_of_a_joint_under_half_a_degr
             in completed.stderr)
     assert ("warning: small: hardpoints.points_mm[1]: joint 1 runs at 0.3 deg, below about "
             "0.5 deg (needle bearings that hardly roll brinell the trunnions" in completed.stderr)
+
+
+def test_extreme_column_at_the_closed_form_optimum_is_solved(tmp_path):
+    # Issue 34 item 9: joints at 89.999 and 20 deg (planar; the points of
+    # tests/column/column_cases.planar_points([89.999, 20.0])). Both solvers stop at the
+    # closed-form optimum, RE 26,919.2, 1.04e-7 (3.9e-12 relative) from sso.can_cancel's
+    # least RE: sso run exits 0 and the saved run succeeds (it exited 1, "solvers
+    # disagree", while the test of that gap was absolute).
+    case = write_case(tmp_path, """kind = "column"
+name = "extreme"
+
+[hardpoints]
+points_mm = [[0.0, 0.0, 0.0], [400.0, 0.0, 0.0], [400.0069813170076, 399.99999993907653, 0.0],
+             [263.2054842996526, 775.879435947234, 0.0]]
+
+[phasing]
+yoke_phase_deg = [0.0]
+mode = "free"
+""")
+    completed = sso("run", case, "--out", tmp_path / "out", "--formats", "json", cwd=tmp_path)
+    assert completed.returncode == 0, completed.stdout + completed.stderr
+    run = saved_run(tmp_path / "out" / "extreme")
+    assert run.success
+    assert run.phasing is not None and run.phasing.success, run.phasing
+    assert run.phasing.fun == pytest.approx(26919.2, abs=0.05)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from column_cases import load, random_column
+from column_cases import load, planar_points, random_column
 from cross_and_yoke import residual_error as simulated_residual_error
 
 from sso._column.geometry import ColumnGeometry
@@ -129,3 +129,21 @@ def test_bad_input_is_refused():
     single = ColumnGeometry([[0, 0, 0], [100, 0, 0], [200, 30, 0]])
     with pytest.raises(ValueError, match="1 joint"):
         optimise_phasing(single)
+
+
+def test_extreme_joints_at_the_closed_form_optimum_agree_relative_to_the_figure():
+    # Issue 34 item 9: joints at 89.999 and 20 deg. Both solvers end at the closed-form
+    # optimum, RE 26,919.2, 1.04e-7 above sso.can_cancel's least RE (3.9e-12 of it):
+    # round-off of a figure that size, so success by the solvers' own agreement rule
+    # (objective_atol + objective_rtol * |RE|), not the former absolute gap <= 1e-12.
+    points = planar_points([89.999, 20.0])
+    result = optimise_phasing(ColumnGeometry(points))
+    assert result.minimum_residual_error == pytest.approx(26919.2, abs=0.05)
+    gap = result.fun - result.minimum_residual_error
+    assert 1e-12 < abs(gap) <= 1e-11 * result.minimum_residual_error
+    assert result.success, result.message
+    # The independent 3D cross-and-yoke simulation gives the same RE at that phasing.
+    # Its rectangle rule must resolve a speed-ratio spike about cos(89.999 deg) = 1.7e-5
+    # rad wide: 2**20 angles give 26919.210616041, 2**21 give 26919.210615988.
+    simulated = simulated_residual_error(points, result.yoke_phase_deg, samples=2**21)
+    assert simulated == pytest.approx(result.fun, rel=1e-10)

@@ -116,7 +116,8 @@ def _write(folder, rows, identity=None):
 
 def _row(point, status="ok", value=None):
     beta = AXES[0].values[point] if value is None else value
-    return {"point": point, "design.beta_deg[0]": beta, "status": status}
+    figures = {NUMBER_COLUMN: 1e-3, "design_beta_deg": [beta]} if status == "ok" else {}
+    return {"point": point, "design.beta_deg[0]": beta, "status": status, **figures}
 
 
 def test_resume_takes_the_finished_rows_of_the_same_sweep_only(tmp_path):
