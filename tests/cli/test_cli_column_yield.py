@@ -130,3 +130,18 @@ def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample(tmp_pa
     assert "FAILED: recommended assembly's built columns: FAILS the required yield" in markdown
     assert "'within' judges each design as drawn. Built as production builds it" in markdown
     assert "| tolerance-aware (p95), on the splines (whole teeth) | 53.0 % |" in markdown
+
+
+def test_a_saved_yield_that_is_not_its_samples_is_refused_by_sso_report(car_study, tmp_path):
+    # issue 34 item 3 with issue 35's yields: the report draws the samples again from the
+    # seed and judges them again, so an edited count is named, not rendered
+    _, folder = car_study
+    saved = json.loads((folder / "result.json").read_text())
+    saved["yields"]["limits"][0]["passed"] += 1
+    forged = tmp_path / "result.json"
+    forged.write_text(json.dumps(saved))
+    done = _sso("report", forged, "--out", tmp_path / "report", cwd=tmp_path)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr
+    assert "result.yields: the saved value is not the one computed again" in done.stderr
+    assert not (tmp_path / "report").exists()
