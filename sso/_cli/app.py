@@ -67,6 +67,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     thresholds = gc.get_threshold()
     gc.set_threshold(COMMAND_GC_THRESHOLD, *thresholds[1:])
     try:
+        if getattr(args, "quiet", False):
+            from sso._solvers.progress import silenced
+
+            with silenced():
+                quiet_code: int = args.handle(args)
+            return quiet_code
         code: int = args.handle(args)
         return code
     except KeyboardInterrupt:

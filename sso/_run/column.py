@@ -37,6 +37,7 @@ from sso._display import Part, TextTable, format_number, format_numbers
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
+from sso._solvers.progress import ProgressBar, interactive
 
 MODES = ("optimise", "evaluate")
 ANALYSED_VERDICT = "assembly as built analysed; no optimisation"
@@ -225,6 +226,10 @@ class ColumnRun(CaseRun):
                 f"recommended: {self.assembly(self.recommended).label}"]
 
 
+RUN_PROGRESS_DELAY_S = 2.0
+"""A run shows its progress bar once it has taken this long (short runs draw nothing), s."""
+
+
 def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
     """Optimise (``sso run``) or analyse as built (``sso evaluate``) a column case.
 
@@ -249,57 +254,85 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
     success = True
     recommended = "as_built"
     phasing = moved = robust = splines = nominal_splines = None
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        if optimising:
-            from sso._column.phasing import optimise_phasing
+    steps = _steps(case, optimising)
+    bar = ProgressBar(len(steps), "steps", interactive(), delay_s=RUN_PROGRESS_DELAY_S,
+                      description=f"{case.name}: {steps[0]} ")
 
-            phasing = optimise_phasing(geometry, **case.solver_options())
-            phasing.exact_optimum_extent_deg  # noqa: B018 - the set's ends are found with the run
-            assemblies.append(_assembly(geometry, "best", "best yoke phasing (continuous)",
-                                        phasing.yoke_phase_deg))
-            success = success and phasing.success
-            verdicts.append(f"phasing: {phasing.message}")
-            recommended = "best"
-        if optimising and case.has_joint_boxes:
-            from sso._column.joint_centres import optimise_joint_centres
+    def next_step() -> None:
+        bar.advance(1)
+        if bar.done < len(steps):
+            bar.describe(f"{case.name}: {steps[bar.done]} ")
 
-            moved = optimise_joint_centres(geometry, **case.joint_position_options())
-            success = success and moved.success
-            verdicts.append(f"joint positions: {moved.message}")
-        teeth_assembly = None
-        if has_robust_part(case):
-            outcome = robust_part(case, optimising, list(as_built), phasing)
-            robust = outcome.part
-            success = success and outcome.success
-            verdicts += outcome.verdicts
-            teeth_assembly = outcome.teeth
-        if case.teeth is not None:
-            from sso._column.splines import best_spline_teeth
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            if optimising:
+                from sso._column.phasing import optimise_phasing
 
-            splines = best_spline_teeth(geometry, case.teeth)
-            label = "best on the splines (whole teeth)"
-            if teeth_assembly is not None:
-                # the fitter gets the teeth of the objective the case optimised
-                nominal_splines = splines
-                label, splines = teeth_assembly
-            assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
-            recommended = "splines"
-        by_role = {assembly.role: assembly for assembly in assemblies}
-        excitation = {role: excitation_table(geometry.series(by_role[role].yoke_phase_deg),
-                                             case.excitation_speeds_rpm(),
-                                             case.values["excitation.vehicle"],
-                                             case.values["excitation.application"])
-                      for role in dict.fromkeys(("as_built", recommended))}
+                phasing = optimise_phasing(geometry, **case.solver_options())
+                # the set's ends are found with the run
+                phasing.exact_optimum_extent_deg  # noqa: B018
+                assemblies.append(_assembly(geometry, "best", "best yoke phasing (continuous)",
+                                            phasing.yoke_phase_deg))
+                success = success and phasing.success
+                verdicts.append(f"phasing: {phasing.message}")
+                recommended = "best"
+                next_step()
+            if optimising and case.has_joint_boxes:
+                from sso._column.joint_centres import optimise_joint_centres
+
+                moved = optimise_joint_centres(geometry, **case.joint_position_options())
+                success = success and moved.success
+                verdicts.append(f"joint positions: {moved.message}")
+                next_step()
+            teeth_assembly = None
+            if has_robust_part(case):
+                outcome = robust_part(case, optimising, list(as_built), phasing)
+                robust = outcome.part
+                success = success and outcome.success
+                verdicts += outcome.verdicts
+                teeth_assembly = outcome.teeth
+                next_step()
+            if case.teeth is not None:
+                from sso._column.splines import best_spline_teeth
+
+                splines = best_spline_teeth(geometry, case.teeth)
+                label = "best on the splines (whole teeth)"
+                if teeth_assembly is not None:
+                    # the fitter gets the teeth of the objective the case optimised
+                    nominal_splines = splines
+                    label, splines = teeth_assembly
+                assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
+                recommended = "splines"
+                next_step()
+            by_role = {assembly.role: assembly for assembly in assemblies}
+            excitation = {role: excitation_table(geometry.series(by_role[role].yoke_phase_deg),
+                                                 case.excitation_speeds_rpm(),
+                                                 case.values["excitation.vehicle"],
+                                                 case.values["excitation.application"])
+                          for role in dict.fromkeys(("as_built", recommended))}
+            next_step()
+        steering = _steering(geometry, case, assemblies, robust)
+        next_step()
+    finally:
+        bar.close()
     return ColumnRun(
         case=case, mode="optimise" if optimising else "evaluate", geometry=geometry,
         cancel=can_cancel(geometry.beta_deg), assemblies=tuple(assemblies), phasing=phasing,
         splines=splines, nominal_splines=nominal_splines, joint_centres=moved, robust=robust,
-        excitation=excitation, steering=_steering(geometry, case, assemblies, robust),
+        excitation=excitation, steering=steering,
         recommended=recommended, success=success,
         verdict="; ".join(verdicts) if verdicts else ANALYSED_VERDICT,
         warnings=tuple(dict.fromkeys([*case.warnings, *(str(item.message) for item in caught)])),
         versions=package_versions(), created_utc=created_utc())
+
+
+def _steps(case: ColumnCase, optimising: bool) -> list[str]:
+    """What a run of ``case`` does, in order (the steps of its progress bar)."""
+    optional = ((optimising, "phasing"), (optimising and case.has_joint_boxes, "joint positions"),
+                (has_robust_part(case), "positions, tolerances and feel"),
+                (case.teeth is not None, "spline teeth"))
+    return [name for wanted, name in optional if wanted] + ["excitation", "steering figures"]
 
 
 def _assembly(geometry: ColumnGeometry, role: str, label: str,

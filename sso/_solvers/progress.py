@@ -1,19 +1,62 @@
-"""A one-line progress bar on stderr for interactive runs."""
+"""Progress of long work on stderr for interactive runs, drawn by tqdm.
+
+A bar shows the units done, the rate and the time left, on one line redrawn in
+place. It is drawn only when stderr is a terminal, no CI system runs us and the
+caller has not silenced progress (:func:`silenced`, which ``--quiet`` wraps every
+command in); piped or redirected output never holds a bar.
+"""
 
 from __future__ import annotations
 
 import os
 import sys
-import time
-from typing import TextIO
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import TYPE_CHECKING, TextIO
+
+if TYPE_CHECKING:
+    from tqdm import tqdm
 
 BAR_WIDTH = 30
+BAR_FORMAT = ("{desc}[{bar:" + str(BAR_WIDTH) + "}] {n_fmt}/{total_fmt}{unit}{postfix}, "
+              "{rate_fmt}, {remaining} left")
+"""Done out of total, the rate and the time left (tqdm's fields)."""
+
+DEFAULT_SIZE = (100, 24)
+EVERY_STEP_DRAWN = 100
+"""Up to this many units every one is drawn (a run's steps); more are drawn at most
+five times a second."""
+
+_SILENCED: ContextVar[bool] = ContextVar("sso_progress_silenced", default=False)
+
+
+@contextmanager
+def silenced() -> Iterator[None]:
+    """No bar is drawn inside this block (``--quiet``)."""
+    token = _SILENCED.set(True)
+    try:
+        yield
+    finally:
+        _SILENCED.reset(token)
 
 
 def interactive(stream: TextIO | None = None) -> bool:
-    """True when ``stream`` (stderr) is a terminal and no CI system is running us."""
+    """True when ``stream`` (stderr) is a terminal, no CI system is running us and
+    progress is not :func:`silenced`."""
     stream = sys.stderr if stream is None else stream
-    return bool(getattr(stream, "isatty", lambda: False)()) and not os.environ.get("CI")
+    return (bool(getattr(stream, "isatty", lambda: False)()) and not os.environ.get("CI")
+            and not _SILENCED.get())
+
+
+def _size(stream: TextIO) -> tuple[int, int]:
+    """The terminal's columns and lines, each :data:`DEFAULT_SIZE`'s where it reports
+    none (a new pseudo-terminal reports 0 by 0, on which tqdm would draw nothing)."""
+    try:
+        columns, lines = os.get_terminal_size(stream.fileno())
+    except (AttributeError, OSError, ValueError):  # no file descriptor, or not a terminal
+        columns = lines = 0
+    return (columns if columns > 0 else DEFAULT_SIZE[0], lines if lines > 0 else DEFAULT_SIZE[1])
 
 
 class ProgressBar:
@@ -22,46 +65,53 @@ class ProgressBar:
     Parameters
     ----------
     total : int
-        Units of work (points or samples) to do in this run.
+        Units of work (points, samples, runs or steps) to do in this run.
     unit : str
         What a unit is called ("points", "samples").
     enabled : bool
-        Draw the bar at all.
+        Draw the bar at all (:func:`silenced` overrides it).
     stream : file, optional
         Where to draw (default stderr).
+    delay_s : float, optional
+        Draw nothing until this much time has passed (work that may finish quickly,
+        such as a case run, shows a bar only when it is long), s.
+    description : str, optional
+        The work under way, shown before the bar (:meth:`describe` changes it).
     """
 
-    def __init__(self, total: int, unit: str, enabled: bool, stream: TextIO | None = None):
+    def __init__(self, total: int, unit: str, enabled: bool, stream: TextIO | None = None,
+                 delay_s: float = 0.0, description: str = ""):
         self.total = total
         self.unit = unit
-        self.enabled = enabled and total > 0
-        self.stream = sys.stderr if stream is None else stream
+        self.enabled = enabled and total > 0 and not _SILENCED.get()
         self.done = 0
         self.failed = 0
-        self.started = time.perf_counter()
-        self._draw()
+        self._bar: tqdm[None] | None = None
+        if self.enabled:
+            from tqdm import tqdm  # only where a bar is drawn: a run's cold start skips it
+
+            stream = sys.stderr if stream is None else stream
+            columns, lines = _size(stream)
+            self._bar = tqdm(total=total, desc=description, unit=f" {unit}", file=stream,
+                             delay=delay_s,
+                             bar_format=BAR_FORMAT, ncols=columns, nrows=lines,
+                             mininterval=0.0 if total <= EVERY_STEP_DRAWN else 0.2)
 
     def advance(self, count: int, failed: int = 0) -> None:
         """Record ``count`` more units done, ``failed`` of which failed."""
         self.done += count
         self.failed += failed
-        self._draw()
+        if self._bar is not None:
+            if failed:
+                self._bar.set_postfix_str(f"{self.failed} failed", refresh=False)
+            self._bar.update(count)
+
+    def describe(self, text: str) -> None:
+        """Name the work under way (``"phasing "``), shown before the bar."""
+        if self._bar is not None:
+            self._bar.set_description_str(text, refresh=False)
 
     def close(self) -> None:
         """End the bar's line."""
-        if self.enabled:
-            self.stream.write("\n")
-            self.stream.flush()
-
-    def _draw(self) -> None:
-        if not self.enabled:
-            return
-        elapsed_s = time.perf_counter() - self.started
-        fraction = self.done / self.total
-        filled = int(BAR_WIDTH * fraction)
-        rate = self.done / elapsed_s if elapsed_s > 0 else 0.0
-        left = f"{(self.total - self.done) / rate:.0f} s left" if rate > 0 else "starting"
-        failed = f", {self.failed} failed" if self.failed else ""
-        self.stream.write(f"\r[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] {self.done}/"
-                          f"{self.total} {self.unit}{failed}, {rate:.1f}/s, {left}   ")
-        self.stream.flush()
+        if self._bar is not None:
+            self._bar.close()
