@@ -37,6 +37,8 @@ class Outcome:
     residual_errors: tuple[str, str, str] = ("", "", "")
     seconds: float = 0.0
     folder: str = ""
+    headline: tuple[str, ...] = ()
+    """The figures an engineer signs and the trade, where the result has them (a column)."""
 
 
 def _configure_run(parser: argparse.ArgumentParser) -> None:
@@ -172,7 +174,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
         # the recommended teeth were searched for the case's own objective: say it
         optimum += f" ({told.objective_note})"
     return Outcome(case.name, status, code, (initial, optimum, reference),
-                   time.perf_counter() - started, str(folder))
+                   time.perf_counter() - started, str(folder), told.headline)
 
 
 @dataclass(frozen=True)
@@ -188,6 +190,8 @@ class _Told:
     objective_note: str | None = None
     """The objective the recommended teeth were searched for, at the teeth and continuous
     (a column with positions, tolerances or a steering feel), else None."""
+    headline: tuple[str, ...] = ()
+    """The figures an engineer signs (as built to recommended) and the trade (a column)."""
 
 
 def _told(result: Any) -> _Told:
@@ -214,9 +218,12 @@ def _told(result: Any) -> _Told:
     note = None if optimum is None or optimum.objective is None else (
         f"{optimum.objective} {format_number(optimum.objective_at_teeth, 3)} at the teeth, "
         f"{format_number(optimum.objective_continuous, 3)} continuous")
+    figures, trade = result.headline
     return _Told(result.mode, result.success, result.verdict, result.warnings,
                  (result.initial.residual_error,
-                  None if optimum is None else optimum.residual_error, None), note)
+                  None if optimum is None else optimum.residual_error, None), note,
+                 (f"as built to recommended: {figures}" if optimum is not None else figures,
+                  *([trade] if trade is not None else [])))
 
 
 def _status(told: _Told) -> tuple[str, int]:
@@ -248,7 +255,8 @@ def _print_summary(outcomes: list[Outcome], optimising: bool) -> None:
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip()
              for row in rows]
     lines.insert(1, "  ".join("-" * width for width in widths))
-    print("\n" + "\n".join(lines), flush=True)
+    headlines = [f"{outcome.case}: {line}" for outcome in outcomes for line in outcome.headline]
+    print("\n" + "\n".join([*headlines, *([""] if headlines else []), *lines]), flush=True)
 
 
 def _run(args: argparse.Namespace) -> int:

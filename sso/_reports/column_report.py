@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import io
 from collections.abc import Sequence
+from typing import Any
 
 from sso._column.geometry import shaft_name
 from sso._column.joint_centres import JointCentresResult
@@ -51,6 +52,7 @@ VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate
                 "zoom, double-click for the first view; the pointer names each part. Shafts "
                 "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
                 "positions (dashed), the joint boxes and the moved column (green).")
+NUMERICS_HEADING = "Numerics, for whoever checks them"
 CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k = 0), the "
               "intermediate shafts 1 to n-1 and the output shaft (k = n); gamma_k is the angle "
               "about intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); "
@@ -95,14 +97,18 @@ def excitation_csv(run: ColumnRun) -> str:
 
 def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report of a column run."""
+    figures, trade = run.headline
+    compared = ("" if run.recommended == "as_built" else
+                f" (as built to {run.assembly(run.recommended).label})")
     blocks = opening_blocks(run.case.name, run.case.description, _case_table(run), run.success,
-                            run.verdict)
+                            figures + compared)
+    if trade is not None:
+        blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),
                _shaft_table(run), Paragraph(CONVENTION), _scene(run),
                Heading(2, "Can phasing cancel the fluctuation?"), _cancel_table(run),
                Heading(2, "Assemblies compared"), _assembly_table(run),
-               Heading(2, "Yoke phasing for the fitter"), _phasing_table(run),
-               *_exact_set_blocks(run)]
+               Heading(2, "Yoke phasing for the fitter"), _phasing_table(run)]
     splines = run.splines
     if splines is not None:
         subject = ("the best continuous phasing" if splines.objective == "RE"
@@ -116,12 +122,16 @@ def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
                              f"{len(splines.ties)} tied)."),
                    Heading(3, "Assembly instructions"),
                    *[Paragraph(item.text) for item in splines.instructions]]
-    if run.joint_centres is not None:
-        blocks += [Heading(2, "Joint positions moved within their boxes"),
-                   *_joint_blocks(run.joint_centres)]
+    moved = run.joint_centres
+    if moved is not None:
+        blocks += [Heading(2, "Joint positions moved within their boxes"), *_joint_blocks(moved)]
     blocks += steering_blocks(run)
     blocks += robust_blocks(run)
-    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(run)]
+    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(run),
+               Heading(2, NUMERICS_HEADING), Paragraph(run.verdict), *_exact_set_blocks(run),
+               *([] if moved is None or moved.exact_optima is None
+                 else [Heading(3, "Joint positions: the set of exact optima"),
+                       *exact_optima_blocks(moved.exact_optima)])]
     images = [Image(name, CAPTIONS[name]) for name in image_files]
     return blocks + closing_blocks(run.warnings, run.versions, images)
 
@@ -200,14 +210,15 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
         return []
     ends = "; ".join(f"shaft {shaft + 1}: "
                      + ("every phasing" if high - low >= 180.0 else
+                        f"a single value, {number(low, '.3f')} deg"
+                        if number(low, ".3f") == number(high, ".3f") else
                         f"{number(low, '.3f')} to {number(high, '.3f')} deg")
                      for shaft, (low, high) in enumerate(extent))
     rows = tuple((str(shaft + 1), side, number(value, ".3f"), _angles(witness),
                   number(end.witness_residual_error, ".3g"))
                  for shaft, ((low, high), pair, found) in enumerate(
                      zip(extent, witnesses, exact.extent_search.ends, strict=True))
-                 for side, value, witness, end in zip(("from", "to"), (low, high), pair, found,
-                                                      strict=True))
+                 for side, value, witness, end in _sides((low, high), pair, found))
     return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
                       f"{exact.dimension}; the best phasing above is the one "
                       f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
@@ -220,6 +231,16 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
                       f"optimum (every shaft's delta, deg)."),
             Table(("intermediate shaft", "end", "delta (deg)", "witness delta (deg)",
                    "witness RE"), rows)]
+
+
+def _sides(ends: tuple[float, float], witnesses: Sequence[Sequence[float]],
+           found: Sequence[Any]) -> list[tuple[str, float, Sequence[float], Any]]:
+    """Each end of a set's extent in delta with its witness; one ("from = to") where
+    the two read as a single value."""
+    sides = list(zip(("from", "to"), ends, witnesses, found, strict=True))
+    if number(ends[0], ".3f") == number(ends[1], ".3f"):
+        return [("from = to", *sides[0][1:])]
+    return sides
 
 
 def _phasing_table(run: ColumnRun) -> Table:
@@ -269,10 +290,9 @@ def _joint_blocks(moved: JointCentresResult) -> list[Block]:
                ("largest bound violation", number(moved.constraint_violation, ".3g")),
                ("cross-check", moved.crosscheck.message if moved.crosscheck else
                 "one solver, no cross-check"))
-    exact = [] if moved.exact_optima is None else exact_optima_blocks(moved.exact_optima)
     return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
                    "beta given (deg)", "beta moved (deg)"), tuple(rows)),
-            Table(("item", "value"), summary), *exact]
+            Table(("item", "value"), summary)]
 
 
 def _excitation_blocks(run: ColumnRun) -> list[Block]:

@@ -228,7 +228,8 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
     method = (f"The extent below is that of the whole set within the bounds: {EXTENT_METHOD} "
               f"({search.probes} probes per bound, {search.solves} least-squares solves). "
               f"Each end's witness is the exact optimum found with the variable at that end.")
-    rows = tuple((name, unit, number(low.value, ".6g"), number(high.value, ".6g"),
+    rows = tuple((name, unit, number(low.value, ".6g"),
+                  SINGLE_VALUE if _single(low.value, high.value) else number(high.value, ".6g"),
                   number(chosen, ".6g"), f"{end_kind(low)} / {end_kind(high)}")
                  for name, unit, (low, high), chosen in zip(exact.variables, exact.units,
                                                             search.ends, exact.chosen,
@@ -236,12 +237,22 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
     witnesses = tuple((name, side, number(end.value, ".6g"), end_kind(end),
                        ", ".join(number(value, ".6g") for value in end.witness),
                        number(end.witness_residual_error, ".3g"))
-                      for name, pair in zip(exact.variables, search.ends, strict=True)
-                      for side, end in zip(("from", "to"), pair, strict=True))
+                      for name, (low, high) in zip(exact.variables, search.ends, strict=True)
+                      for side, end in ((("from = to", low),) if _single(low.value, high.value)
+                                         else (("from", low), ("to", high))))
     return [Paragraph(text), Paragraph(method),
             Table(("variable", "unit", "set from", "set to", "chosen", "ends"), rows),
             Table(("variable", "end", "value", "kind",
                    f"witness ({', '.join(exact.variables)})", "witness RE"), witnesses)]
+
+
+SINGLE_VALUE = "a single value"
+"""The "set to" cell of a variable the whole set holds at one value (from = to)."""
+
+
+def _single(low: float, high: float) -> bool:
+    """Whether a set's two ends read as one value in a report (six digits)."""
+    return number(low, ".6g") == number(high, ".6g")
 
 
 def _crosscheck_text(result: OptimisationResult) -> str:

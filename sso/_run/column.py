@@ -36,6 +36,7 @@ from sso._column.steering_criteria import SteeringAssessment, assess_steering
 from sso._display import Part, TextTable, format_number, format_numbers
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
+from sso._run.column_figures import SignedFigure, figure_lines, signed_figures
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
 from sso._solvers.progress import ProgressBar, interactive
 
@@ -209,6 +210,24 @@ class ColumnRun(CaseRun):
                              splines.continuous_residual_error)
         return RunFigure(label, value)
 
+    @property
+    def signed_figures(self) -> tuple[SignedFigure, ...]:
+        """The figures an engineer signs, as given and recommended (the same design
+        twice for an analysis): fluctuation, transmission error, excitation at the top
+        speed, then RE (:mod:`sso._run.column_figures`)."""
+        designs = {design.role: design for design in self.steering.designs}
+        role = self.recommended
+        return signed_figures(designs["as_built"], designs[role], self.excitation["as_built"],
+                              self.excitation[role],
+                              (self.assembly("as_built").residual_error,
+                               self.assembly(role).residual_error))
+
+    @property
+    def headline(self) -> tuple[str, str | None]:
+        """The signed figures in one line (as given to recommended), and the trade of
+        the design recommended in another (None when it makes nothing worse)."""
+        return figure_lines(self.signed_figures, self.recommended != "as_built")
+
     def _repr_text(self) -> str:
         optimum = self.optimum
         figures = f"as built RE {format_number(self.initial.residual_error, 4)}" + (
@@ -220,10 +239,15 @@ class ColumnRun(CaseRun):
         rows = tuple((assembly.label, format_numbers(assembly.yoke_phase_deg),
                       format_number(assembly.residual_error))
                      for assembly in self.assemblies)
+        figures, trade = self.headline
+        compared = ("" if self.recommended == "as_built" else
+                    f" (as built to {self.assembly(self.recommended).label})")
         return [f"Case {self.case.name} (column, {self.mode}): "
-                f"{'OK' if self.success else 'FAILED'}: {self.verdict}",
+                f"{'OK' if self.success else 'FAILED'}: {figures}{compared}",
+                *([trade] if trade is not None else []),
                 TextTable(("assembly", "yoke phasing delta (deg)", "RE"), rows),
-                f"recommended: {self.assembly(self.recommended).label}"]
+                f"recommended: {self.assembly(self.recommended).label}",
+                f"numerics: {self.verdict}"]
 
 
 RUN_PROGRESS_DELAY_S = 2.0
