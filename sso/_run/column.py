@@ -370,12 +370,15 @@ def _assembly(geometry: ColumnGeometry, role: str, label: str,
 def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: Sequence[Assembly],
               robust: ColumnRobustPart | None) -> SteeringAssessment:
     """Steering figures and criteria of every assembly, and of the robust part's designs
-    not among them."""
+    not among them (by role, or by name and phasing: the assembly recommended on the
+    splines is often one of the robust designs' teeth, and is listed once)."""
     designs = [(assembly.role, assembly.label, assembly.yoke_phase_deg)
                for assembly in assemblies]
     roles = {assembly.role for assembly in assemblies} | {"nominal"}
+    listed = {(assembly.label, assembly.yoke_phase_deg) for assembly in assemblies}
     designs += [(design.role, design.label, design.yoke_phase_deg)
                 for design in (robust.designs if robust is not None else ())
-                if design.role not in roles]
+                if design.role not in roles
+                and (design.label, design.yoke_phase_deg) not in listed]
     return assess_steering(geometry, designs, limits=case.steering_limits(),
                            **case.steering_options())

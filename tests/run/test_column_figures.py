@@ -105,3 +105,13 @@ def test_no_trade_where_nothing_gets_worse():
     rounding = SignedFigure("drive inertial excitation at 100 rpm", "rad/s2", 11.16, 11.1601)
     assert not better.worse and not rounding.worse  # +0.001 %, under WORSE_FRACTION
     assert SignedFigure("coast", "rad/s2", 100.0, 112.0).growth() == "+12 %"
+
+
+def test_the_assembly_on_the_splines_is_one_row_of_the_steering_table():
+    # cases/column_truck_three_positions.toml recommends the positions' phasing on the
+    # splines, which is also one of its robust designs (issue 35, item 8: the row twice).
+    run = sso.run_case(ROOT / "cases" / "column_truck_three_positions.toml")
+    labels = [design.label for design in run.steering.designs]
+    assert len(labels) == len(set(labels))
+    assert labels.count("one phasing for every position (worst), on the splines "
+                        "(whole teeth)") == 1
