@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from sso._column.geometry import ColumnGeometry
-from sso._reports.plots import _new_figure, _png
+from sso._reports.plots import _new_figure, _png, legend_below
 from sso._run.column import ColumnRun
 
 # Half the side of a bend-plane patch, as a fraction of the column's extent.
@@ -22,6 +22,10 @@ ROLE_STYLES = {"as_built": {"linestyle": "--", "linewidth": 1.4},
                "recommended": {"linestyle": "-", "linewidth": 2.2}}
 FIGURE_COLOURS = {"drive_rad_s2": "#1f77b4", "coast_rad_s2": "#ff7f0e",
                   "torsional_rad_s2": "#2ca02c", "exact_output_accel_rad_s2": "#d62728"}
+PANELS = (("inertial", ("drive_rad_s2", "coast_rad_s2"), "inertial_limit_rad_s2"),
+          ("torsional", ("torsional_rad_s2", "exact_output_accel_rad_s2"),
+           "torsional_limit_rad_s2"))
+"""Each panel of ``excitation.png``: its kind, its figures, the limit that judges them."""
 FIGURE_NAMES = {"drive_rad_s2": "drive (SAE AE-7)", "coast_rad_s2": "coast (SAE AE-7)",
                 "torsional_rad_s2": "torsional (SAE AE-7)",
                 "exact_output_accel_rad_s2": "exact output acceleration"}
@@ -153,8 +157,15 @@ def _equal_aspect(axes: Any, points: np.ndarray) -> None:
 
 
 def _excitation(run: ColumnRun) -> bytes:
-    figure = _new_figure()
-    axes = figure.add_subplot()
+    return _png(excitation_figure(run))
+
+
+def excitation_figure(run: ColumnRun) -> Any:
+    """The figure of ``excitation.png``: the inertial figures (drive, coast) against the
+    inertial limit in one panel, the torsional ones against the torsional limit in
+    another, so no curve is read against a limit that does not judge it."""
+    figure = _new_figure("constrained")
+    panels = figure.subplots(1, len(PANELS), sharex=True, sharey=True)
     labels = {assembly.role: assembly.label for assembly in run.assemblies}
     first = next(iter(run.excitation.values()))[0]
     vehicle = next(iter(run.excitation.values())).vehicle
@@ -166,25 +177,27 @@ def _excitation(run: ColumnRun) -> bytes:
                   for name in FIGURE_COLOURS)
     floor = 1e-6 * (first.torsional_limit_rad_s2
                     if first.torsional_limit_rad_s2 is not None else max(largest, 1e-300))
-    for role, table in run.excitation.items():
-        style = ROLE_STYLES["recommended" if role == run.recommended else "as_built"]
-        speeds = [row.input_speed_rpm for row in table]
-        for figure_name, colour in FIGURE_COLOURS.items():
-            values = np.array([getattr(row, figure_name) for row in table])
-            below = " (below the plot)" if np.all(values < floor) else ""
-            axes.plot(speeds, np.maximum(values, floor), color=colour, **style,
-                      label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
-    if judged:
-        axes.axhline(first.inertial_limit_rad_s2, color="black", linestyle=":",
-                     linewidth=1.5, label=f"inertial limit ({vehicle})")
-        axes.axhline(first.torsional_limit_rad_s2, color="grey", linestyle="-.",
-                     linewidth=1.5, label=f"torsional limit ({vehicle})")
-    axes.set_yscale("log")
-    axes.set_xlabel("input speed (rpm)")
-    axes.set_ylabel("angular acceleration excitation (rad/s^2)")
-    axes.set_title("Excitation over the rpm range against the published driveline limits"
-                   if judged else "Excitation over the rpm range (steering column: the "
-                   "driveline limits do not apply)")
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=7, loc="lower right")
-    return _png(figure)
+    for axes, (title, names, limit_name) in zip(panels, PANELS, strict=True):
+        for role, table in run.excitation.items():
+            style = ROLE_STYLES["recommended" if role == run.recommended else "as_built"]
+            speeds = [row.input_speed_rpm for row in table]
+            for figure_name in names:
+                values = np.array([getattr(row, figure_name) for row in table])
+                below = " (below the plot)" if np.all(values < floor) else ""
+                axes.plot(speeds, np.maximum(values, floor), color=FIGURE_COLOURS[figure_name],
+                          **style, label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
+        limit = getattr(first, limit_name)
+        if judged and limit is not None:
+            axes.axhline(limit, color="black", linestyle=":", linewidth=1.5,
+                         label=f"{title} limit ({vehicle}): {limit:g} rad/s^2")
+        axes.set_yscale("log")
+        axes.set_xlabel("input speed (rpm)")
+        axes.set_title(f"{title}: {', '.join(FIGURE_NAMES[name] for name in names)}",
+                       fontsize=9)
+        axes.grid(True, which="both", alpha=0.3)
+    panels[0].set_ylabel("angular acceleration excitation (rad/s^2)")
+    figure.suptitle("Excitation over the rpm range, each against its own published driveline "
+                    "limit" if judged else "Excitation over the rpm range (steering column: "
+                    "the driveline limits do not apply)", fontsize=10)
+    legend_below(figure, panels)
+    return figure

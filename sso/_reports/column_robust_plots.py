@@ -6,10 +6,12 @@ on the figures of :mod:`sso._reports.plots`.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from sso._column.positions import PositionsResult
-from sso._reports.plots import _new_figure, _png
+from sso._reports.plots import _new_figure, _png, legend_below
 from sso._run.column import ColumnRun
 from sso._run.column_robust import ColumnRobustPart, FeelPart, PositionsPart, TolerancesPart
 
@@ -29,7 +31,7 @@ def render_robust_plots(run: ColumnRun) -> dict[str, bytes]:
         images["positions.png"] = _positions(robust, robust.positions, robust.positions.result)
     if robust.tolerances is not None:
         images["tolerance_study.png"] = _tolerance_study(robust, robust.tolerances)
-    images["phase_error.png"] = _phase_error(robust)
+    images["phase_error.png"] = _png(phase_error_figure(robust))
     if robust.feel is not None:
         images["steering_feel.png"] = _steering_feel(robust, robust.feel)
     return images
@@ -95,8 +97,9 @@ def _tolerance_study(robust: ColumnRobustPart, tolerances: TolerancesPart) -> by
     return _png(figure)
 
 
-def _phase_error(robust: ColumnRobustPart) -> bytes:
-    figure = _new_figure()
+def phase_error_figure(robust: ColumnRobustPart) -> Any:
+    """The figure of ``phase_error.png``, its legend in a strip below the panels."""
+    figure = _new_figure("constrained")
     curves = robust.phase_error.curves
     errors = np.asarray(robust.phase_error.errors_deg)
     names = list(next(iter(curves.values())))
@@ -115,9 +118,9 @@ def _phase_error(robust: ColumnRobustPart) -> bytes:
         axes.set_title(f"intermediate shaft {shaft}", fontsize=10)
         axes.grid(True, alpha=0.3)
     grid[0].set_ylabel("RE (other phasings at nominal)")
-    grid[0].legend(fontsize=8, loc="upper center")
+    legend_below(figure, grid[0])
     figure.suptitle("RE against each yoke phasing's error")
-    return _png(figure)
+    return figure
 
 
 def _steering_feel(robust: ColumnRobustPart, feel: FeelPart) -> bytes:
