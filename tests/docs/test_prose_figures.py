@@ -203,7 +203,9 @@ def shipped_cases() -> str:
             "the paper's reported optimum as `reference`), a two-joint `steering_column.toml`, "
             "a four-joint truck `driveline_four_joint.toml`, "
             f"{NUMBER_WORDS[columns]} steering columns from hardpoints (`column_*.toml`, see "
-            "[steering columns](steering-columns.md)) and "
+            "[steering columns](steering-columns.md)), a three-joint truck driveline from "
+            "hardpoints whose best phasing trades drive for torsional excitation "
+            "(`driveline_truck_three_joints.toml`) and "
             f"{NUMBER_WORDS[mechanisms]} mechanism cases")
 
 
@@ -275,7 +277,7 @@ def test_the_column_solver_tolerance_keeps_slsqp_within_the_cross_check():
     text = page_text("docs/robust.md")
     solver_tol = short_e(DEFAULT_COLUMN_SOLVER_TOL, 1)
     assert f"The default solver tolerance is `{solver_tol}`" in text
-    assert ("(200 samples, seed 1, the mean and the p95 objective) SLSQP's stationarity error "
+    assert ("(200 samples, seed 1, the mean and the CVaR95 objective) SLSQP's stationarity error "
             f"at `{solver_tol}` stays below {short_e(0.1 * DEFAULT_KKT_TOLERANCE, 1)}, a "
             f"tenth of the cross-check's {short_e(DEFAULT_KKT_TOLERANCE, 1)}.") in text
 

@@ -5,7 +5,7 @@ the figure's, and no drawn point of any curve inside it.
 The figures are those the reports save for the shipped cases whose plots had
 legends over their curves or cut off: steering.png's legend of eight assemblies and
 phase_error.png (cases/column_truck_three_positions.toml), excitation.png with its
-limits (cases/column_truck_driveline.toml) and polar.png
+limits (cases/driveline_truck_three_joints.toml) and polar.png
 (cases/paper_option3_exact.toml, whose legend read "25 to" at the figure's edge).
 """
 
@@ -69,7 +69,7 @@ def test_the_phase_error_legend_is_clear(positions):
 
 
 def test_each_excitation_panel_has_its_own_limit_and_a_clear_legend():
-    run = sso.run_case(CASES / "column_truck_driveline.toml")
+    run = sso.run_case(CASES / "driveline_truck_three_joints.toml")
     figure = excitation_figure(run)
     # 2 assemblies x 4 figures, and the two limits (truck: 2000 and 500 rad/s^2)
     assert assert_legends_clear(figure) == 10

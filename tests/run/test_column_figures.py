@@ -1,7 +1,7 @@
 """The figures an engineer signs lead a column run's summary and report, and the trade
 of the design recommended is said (issue 35, items 5 and 6).
 
-The situation: cases/column_truck_driveline.toml, a truck's three-joint driveline
+The situation: cases/driveline_truck_three_joints.toml, a truck's three-joint driveline
 with its yokes in phase, at 500 to 2,500 rpm. Its best 36-tooth phasing cuts the
 torsional excitation at 2,500 rpm but raises the drive inertial excitation. The
 excitation at 2,500 rpm is checked here against the SAE AE-7 small-angle form
@@ -25,7 +25,7 @@ from sso._reports.markdown import render_markdown
 from sso._run.column_figures import SignedFigure
 
 ROOT = Path(__file__).resolve().parents[2]
-DRIVELINE = ROOT / "cases" / "column_truck_driveline.toml"
+DRIVELINE = ROOT / "cases" / "driveline_truck_three_joints.toml"
 TOP_RPM = 2500.0
 
 
@@ -85,7 +85,7 @@ def test_summary_and_report_lead_with_signed_figures_and_say_the_trade(driveline
              "150.3 to 806.7 rad/s2 (5.37 times)")
     summary = driveline.summary()
     first, second = summary.splitlines()[:2]
-    assert first.startswith("Case column_truck_driveline (column, optimise): OK: speed-ratio "
+    assert first.startswith("Case driveline_truck_three_joints (column, optimise): OK: speed-ratio "
                             "fluctuation (lock to lock) 0.6428 to 0.04498 %; largest "
                             "transmission error (lock to lock) 0.1812 to 0.009469 deg;")
     assert "torsional excitation at 2500 rpm 438.8 to 30.38 rad/s2; RE " in first
