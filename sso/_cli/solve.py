@@ -201,10 +201,14 @@ def _told(result: Any) -> _Told:
     from sso._run.shaft_series import ShaftSeriesRun
 
     if isinstance(result, ShaftSeriesRun):
+        from sso._reports.shaft_report import shaft_headline
+
         designs = (result.design(role) for role in ("initial", "optimum", "reference"))
         errors = tuple(None if design is None else design.evaluation.residual_error
                        for design in designs)
-        return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
+        figures, trade = shaft_headline(result.designs)
+        return _Told(result.mode, result.success, result.verdict, result.warnings, errors,
+                     headline=(figures, *([trade] if trade is not None else [])))
     from sso._run.mechanism_run import MechanismRun
 
     if isinstance(result, MechanismRun):
@@ -222,7 +226,7 @@ def _told(result: Any) -> _Told:
     return _Told(result.mode, result.success, result.verdict, result.warnings,
                  (result.initial.residual_error,
                   None if optimum is None else optimum.residual_error, None), note,
-                 (f"as built to recommended: {figures}" if optimum is not None else figures,
+                 (f"{figures} (as built to recommended)" if optimum is not None else figures,
                   *([trade] if trade is not None else [])))
 
 

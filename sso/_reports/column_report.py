@@ -19,6 +19,7 @@ from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT,
 from sso._reports.documents import report_files
 from sso._reports.shaft_report import exact_optima_blocks
 from sso._reports.summary import (
+    NUMERICS_HEADING,
     Block,
     Heading,
     Image,
@@ -52,7 +53,6 @@ VIEW_CAPTION = ("The column in vehicle coordinates (mm), to turn: drag to rotate
                 "zoom, double-click for the first view; the pointer names each part. Shafts "
                 "(blue), joints and end points, each joint's bend plane (orange), the named tilt "
                 "positions (dashed), the joint boxes and the moved column (green).")
-NUMERICS_HEADING = "Numerics, for whoever checks them"
 CONVENTION = ("Conventions: shaft k runs from P(k) to P(k+1): the input shaft (k = 0), the "
               "intermediate shafts 1 to n-1 and the output shaft (k = n); gamma_k is the angle "
               "about intermediate shaft k from bend plane k to bend plane k+1 (right-hand rule); "

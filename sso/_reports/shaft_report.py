@@ -16,6 +16,7 @@ from typing import Any
 
 from sso._reports import documents
 from sso._reports.summary import (
+    NUMERICS_HEADING,
     Block,
     Heading,
     Image,
@@ -26,6 +27,7 @@ from sso._reports.summary import (
     opening_blocks,
 )
 from sso._run.shaft_series import ShaftSeriesRun
+from sso._run.signed_figures import figure_lines, shaft_series_figures
 from sso._shafts.curves import ComparedDesign
 from sso._shafts.exact_optima import EXTENT_METHOD, ExactOptimumSet, end_kind
 from sso._shafts.optimise import OptimisationResult
@@ -89,20 +91,34 @@ def report_files(report: ShaftReport, formats: tuple[str, ...]) -> dict[str, byt
 
 def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report."""
+    figures, trade = shaft_headline(report.designs)
     blocks = opening_blocks(report.name, report.description,
-                            Table(("item", "value"), report.case_rows), report.success,
-                            report.verdict)
+                            Table(("item", "value"), report.case_rows), report.success, figures)
+    if trade is not None:
+        blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Designs"), _design_table(report.designs),
-               Heading(2, "Figures of merit"), _figure_table(report.designs)]
+               Heading(2, "Figures of merit"), _figure_table(report.designs),
+               Heading(2, NUMERICS_HEADING), Paragraph(report.verdict)]
     if report.optimisation is not None and report.optimisation.exact_optima is not None:
-        blocks += [Heading(2, "Exact optima"),
+        blocks += [Heading(3, "Exact optima"),
                    *exact_optima_blocks(report.optimisation.exact_optima)]
     if report.optimisation is not None:
-        blocks += [Heading(2, "Solvers"), _solver_table(report.optimisation),
-                   Heading(2, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
-                   Heading(2, "Every run"), _runs_table(report.optimisation)]
+        blocks += [Heading(3, "Solvers"), _solver_table(report.optimisation),
+                   Heading(3, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
+                   Heading(3, "Every run"), _runs_table(report.optimisation)]
     images = [Image(name, _caption(name)) for name in image_files]
     return blocks + closing_blocks(report.warnings, report.versions, images)
+
+
+def shaft_headline(designs: Sequence[ComparedDesign]) -> tuple[str, str | None]:
+    """The signed figures of the design as given to the optimum in one line (the design
+    as given alone without an optimum), and the trade of the optimum (None: none)."""
+    by_role = {design.role: design for design in designs}
+    optimum = by_role.get("optimum")
+    figures, trade = figure_lines(shaft_series_figures(
+        by_role["initial"].evaluation, None if optimum is None else optimum.evaluation),
+        optimum is not None)
+    return (figures if optimum is None else f"{figures} (initial design to optimum)"), trade
 
 
 def _of_run(run: ShaftSeriesRun) -> ShaftReport:

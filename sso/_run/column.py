@@ -36,8 +36,8 @@ from sso._column.steering_criteria import SteeringAssessment, assess_steering
 from sso._display import Part, TextTable, format_number, format_numbers
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
-from sso._run.column_figures import SignedFigure, figure_lines, signed_figures
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
+from sso._run.signed_figures import SignedFigure, figure_lines, signed_figures
 from sso._solvers.progress import ProgressBar, interactive
 
 MODES = ("optimise", "evaluate")
@@ -214,7 +214,7 @@ class ColumnRun(CaseRun):
     def signed_figures(self) -> tuple[SignedFigure, ...]:
         """The figures an engineer signs, as given and recommended (the same design
         twice for an analysis): fluctuation, transmission error, excitation at the top
-        speed, then RE (:mod:`sso._run.column_figures`)."""
+        speed, then RE (:mod:`sso._run.signed_figures`)."""
         designs = {design.role: design for design in self.steering.designs}
         role = self.recommended
         return signed_figures(designs["as_built"], designs[role], self.excitation["as_built"],

@@ -20,9 +20,10 @@ import numpy as np
 import pytest
 
 import sso
-from sso._reports.column_report import NUMERICS_HEADING, column_blocks
+from sso._reports.column_report import column_blocks
 from sso._reports.markdown import render_markdown
-from sso._run.column_figures import SignedFigure
+from sso._reports.summary import NUMERICS_HEADING
+from sso._run.signed_figures import SignedFigure
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVELINE = ROOT / "cases" / "driveline_truck_three_joints.toml"

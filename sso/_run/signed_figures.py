@@ -1,4 +1,4 @@
-"""The figures an engineer signs of a column run, and the trade of the design recommended.
+"""The figures an engineer signs of a run, and the trade of the design recommended.
 
 A column run's verdict leads with what a steering or driveline engineer signs off:
 the speed-ratio and output-torque fluctuation (%), the largest transmission error
@@ -13,11 +13,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from sso._column.excitation import ExcitationTable
-from sso._column.steering_criteria import AssessedDesign
 from sso._display import format_number
 from sso._limits import ROUND_OFF_FLOOR
+
+if TYPE_CHECKING:  # a shaft series' report uses this module and loads no column module
+    from sso._column.excitation import ExcitationTable
+    from sso._column.steering_criteria import AssessedDesign
+    from sso._shafts.evaluation import Evaluation
 
 SIGNED_CRITERIA = {"speed-ratio fluctuation, lock to lock (peak to peak)":
                    "speed-ratio fluctuation (lock to lock)",
@@ -128,3 +132,18 @@ def signed_figures(given: AssessedDesign, recommended: AssessedDesign,
                 for attribute, name in EXCITATION_FIGURES]
     figures.append(SignedFigure("RE", "", *residual_errors))
     return tuple(figures)
+
+
+def shaft_series_figures(initial: Evaluation, optimum: Evaluation | None
+                         ) -> tuple[SignedFigure, ...]:
+    """The signed figures of a shaft series, as given and optimised (the design as given
+    twice without an optimum): speed fluctuation, transmission error, output
+    acceleration at the input speed, then RE."""
+    best = initial if optimum is None else optimum
+    return (SignedFigure("speed fluctuation (peak to peak)", "%", 100.0 * initial.fluctuation,
+                         100.0 * best.fluctuation),
+            SignedFigure("transmission error, max |out - in|", "deg",
+                         initial.transmission_error_deg, best.transmission_error_deg),
+            SignedFigure(f"output acceleration at {initial.input_speed_rpm:g} rpm", "rad/s2",
+                         initial.max_output_accel_rad_s2, best.max_output_accel_rad_s2),
+            SignedFigure("RE", "", initial.residual_error, best.residual_error))
