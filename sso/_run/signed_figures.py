@@ -34,6 +34,9 @@ WORSE_FRACTION = 1e-3
 """A figure counts as made worse when it grows by more than this fraction of its value
 as given (changes within it are rounding of the figures, not a trade)."""
 SIGNED_DIGITS = 4
+ROUND_OFF_FRACTION = 1e-9
+"""A figure at most this fraction of the larger of its two values is round-off, shown 0
+(the plots' rule too: :data:`sso._reports.plots.ROUND_OFF`)."""
 EXCITATION_FIGURES = (("drive_rad_s2", "drive inertial excitation"),
                       ("coast_rad_s2", "coast inertial excitation"),
                       ("torsional_rad_s2", "torsional excitation"))
@@ -70,8 +73,17 @@ class SignedFigure:
     def change(self) -> str:
         """``name as_given to recommended unit``, four significant digits."""
         unit = f" {self.unit}" if self.unit else ""
-        return (f"{self.name} {format_number(self.as_given, SIGNED_DIGITS)} to "
-                f"{format_number(self.recommended, SIGNED_DIGITS)}{unit}")
+        return (f"{self.name} {self._shown(self.as_given)} to "
+                f"{self._shown(self.recommended)}{unit}")
+
+    def _shown(self, value: float) -> str:
+        """Four digits; a figure at round-off of the larger of the two is 0 (its digits
+        are those of the machine's rounding, not of the design). RE keeps its own
+        convention, ``< 1e-15``."""
+        scale = max(abs(self.as_given), abs(self.recommended))
+        if self.unit and abs(value) <= ROUND_OFF_FRACTION * scale:
+            return "0"
+        return format_number(value, SIGNED_DIGITS)
 
     def value(self) -> str:
         """``name as_given unit`` (a design analysed as given, no recommendation)."""
