@@ -96,3 +96,14 @@ def test_several_unknown_keys_are_all_named():
     for part in ("unknown key foo", "unknown key hardpoints.bar",
                  "unknown key solver.strats; did you mean solver.starts?"):
         assert part in message
+
+
+@pytest.mark.parametrize("document", [
+    {"name": "radians", "design": {"beta_deg": [0.0524, 0.0873]},
+     "units": {"confirm": ["design.beta_deg"]}},
+    column(steering={"lock_deg": 1.5}, units={"confirm": ["steering.lock_deg"]}),
+])
+def test_a_confirmation_is_saved_with_the_case_and_read_back(document):
+    case = parse_case(document)
+    again = parse_case(case.to_dict())
+    assert again == case and unit_warnings(again) == []
