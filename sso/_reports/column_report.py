@@ -219,16 +219,20 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
                  for shaft, ((low, high), pair, found) in enumerate(
                      zip(extent, witnesses, exact.extent_search.ends, strict=True))
                  for side, value, witness, end in _sides((low, high), pair, found))
-    return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
-                      f"{exact.dimension}; the best phasing above is the one "
-                      f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
-                      f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
-                      f"steps each way from the chosen phasing to the first where no exact "
-                      f"optimum is found, then "
-                      f"bisection; {exact.extent_search.solves} least-squares solves): "
-                      f"{ends}. Each end is the furthest phasing at which an exact optimum "
-                      f"was found, a lower estimate; its witness below is that exact "
-                      f"optimum (every shaft's delta, deg)."),
+    text = (f"RE = 0 is reached on a set of exact optima of dimension "
+            f"{exact.dimension}; the best phasing above is the one "
+            f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
+            f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
+            f"steps each way from the chosen phasing to the first where no exact "
+            f"optimum is found, then "
+            f"bisection; {exact.extent_search.solves} least-squares solves): "
+            f"{ends}.")
+    if all(side == "from = to" for _, side, *_ in rows):
+        return [Paragraph(f"{text} Each shaft's delta is a single value: no other phasing "
+                          "near the chosen one reaches RE = 0.")]
+    return [Paragraph(f"{text} Each end is the furthest phasing at which an exact optimum "
+                      "was found, a lower estimate; its witness below is that exact "
+                      "optimum (every shaft's delta, deg)."),
             Table(("intermediate shaft", "end", "delta (deg)", "witness delta (deg)",
                    "witness RE"), rows)]
 

@@ -256,6 +256,10 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
                       for name, (low, high) in zip(exact.variables, search.ends, strict=True)
                       for side, end in ((("from = to", low),) if _single(low.value, high.value)
                                          else (("from", low), ("to", high))))
+    if all(_single(low.value, high.value) for low, high in search.ends):
+        return [Paragraph(f"{text} Every variable holds a single value over the set "
+                          f"({search.solves} least-squares solves found no other exact "
+                          "optimum near the chosen one), so there is no extent to show.")]
     return [Paragraph(text), Paragraph(method),
             Table(("variable", "unit", "set from", "set to", "chosen", "ends"), rows),
             Table(("variable", "end", "value", "kind",
