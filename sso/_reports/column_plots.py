@@ -40,15 +40,20 @@ def render_column_plots(run: ColumnRun) -> dict[str, bytes]:
         ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's
         plots (:mod:`sso._reports.column_robust_plots`) when the run has one.
     """
-    from sso._reports.column_robust_plots import render_robust_plots
-    from sso._reports.column_steering_plots import steering_plot
+    return {name: _png(figure) for name, figure in column_figures(run).items()}
+
+
+def column_figures(run: ColumnRun) -> dict[str, Any]:
+    """The figures of :func:`render_column_plots`, keyed by file name."""
+    from sso._reports.column_robust_plots import robust_figures
+    from sso._reports.column_steering_plots import steering_figure
     from sso._reports.column_steering_report import STEERING_PLOT
 
-    return {"column_3d.png": _column_3d(run), "excitation.png": _excitation(run),
-            STEERING_PLOT: steering_plot(run.steering), **render_robust_plots(run)}
+    return {"column_3d.png": _column_3d(run), "excitation.png": excitation_figure(run),
+            STEERING_PLOT: steering_figure(run.steering), **robust_figures(run)}
 
 
-def _column_3d(run: ColumnRun) -> bytes:
+def _column_3d(run: ColumnRun) -> Any:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     figure = _new_figure()
@@ -86,7 +91,7 @@ def _column_3d(run: ColumnRun) -> bytes:
     axes.set_title(f"Column: operating angles {angles} deg; bend planes (orange) turned by "
                    f"{gammas} deg", fontsize=10)
     axes.legend(loc="upper left", fontsize=9)
-    return _png(figure)
+    return figure
 
 
 def position_geometries(run: ColumnRun) -> dict[str, ColumnGeometry]:
@@ -154,10 +159,6 @@ def _equal_aspect(axes: Any, points: np.ndarray) -> None:
     axes.set_ylim(centre[1] - half, centre[1] + half)
     axes.set_zlim(centre[2] - half, centre[2] + half)
     axes.set_box_aspect((1.0, 1.0, 1.0))
-
-
-def _excitation(run: ColumnRun) -> bytes:
-    return _png(excitation_figure(run))
 
 
 def excitation_figure(run: ColumnRun) -> Any:

@@ -46,8 +46,13 @@ def render_plots(designs: Sequence[ComparedDesign], name: str,
     dict of str to bytes
         ``"polar.png"`` and ``"cartesian.png"``, each ``WIDTH_PX`` x ``HEIGHT_PX``.
     """
-    plot = SpeedPlot(tuple(designs), name, heading)
-    return {"polar.png": _polar(plot), "cartesian.png": _cartesian(plot)}
+    figures = speed_figures(SpeedPlot(tuple(designs), name, heading))
+    return {file: _png(figure) for file, figure in figures.items()}
+
+
+def speed_figures(plot: SpeedPlot) -> dict[str, Any]:
+    """The figures of :func:`render_plots`, keyed by file name."""
+    return {"polar.png": polar_figure(plot), "cartesian.png": _cartesian(plot)}
 
 
 class SpeedPlot:
@@ -121,7 +126,7 @@ def _plot_speeds(axes: Any, angle: np.ndarray, plot: SpeedPlot) -> tuple[float, 
     return float(every_speed.min()), float(every_speed.max())
 
 
-def _cartesian(plot: SpeedPlot) -> bytes:
+def _cartesian(plot: SpeedPlot) -> Any:
     figure = _new_figure()
     optimum = plot.optimum()
     if optimum is not None:
@@ -157,11 +162,7 @@ def _cartesian(plot: SpeedPlot) -> bytes:
     axis_with_angles.set_xlim(0.0, 360.0)
     axis_with_angles.set_xticks(np.arange(0.0, 361.0, 45.0))
     figure.tight_layout()
-    return _png(figure)
-
-
-def _polar(plot: SpeedPlot) -> bytes:
-    return _png(polar_figure(plot))
+    return figure
 
 
 def polar_figure(plot: SpeedPlot) -> Any:

@@ -86,3 +86,30 @@ def test_the_polar_legend_is_whole_and_clear():
     figure = polar_figure(SpeedPlot(tuple(run.designs), "paper_option3_exact",
                                     "exact model, option 3 (both), input 25 rpm"))
     assert assert_legends_clear(figure) == 1 + len(run.designs)  # the input shaft too
+
+
+def test_every_plot_of_the_column_reports_has_clear_legends(positions):
+    from sso._reports.column_plots import column_figures
+
+    driveline = sso.run_case(CASES / "driveline_truck_three_joints.toml")
+    figures = {**{f"driveline {name}": figure
+                  for name, figure in column_figures(driveline).items()},
+               **column_figures(positions)}
+    assert {"steering.png", "excitation.png", "positions.png", "tolerance_study.png",
+            "phase_error.png", "steering_feel.png", "column_3d.png"} <= set(figures)
+    failures = {}
+    for name, figure in figures.items():
+        try:
+            assert_legends_clear(figure)
+        except AssertionError as error:
+            failures[name] = str(error).splitlines()[0]
+    assert failures == {}
+
+
+def test_every_plot_of_a_shaft_series_report_has_clear_legends():
+    from sso._reports.plots import speed_figures
+
+    run = sso.run_case(CASES / "paper_option3_exact.toml")
+    for figure in speed_figures(SpeedPlot(tuple(run.designs), "paper_option3_exact",
+                                          "exact model, option 3 (both), input 25 rpm")).values():
+        assert assert_legends_clear(figure) == 1 + len(run.designs)
