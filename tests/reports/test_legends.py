@@ -113,3 +113,18 @@ def test_every_plot_of_a_shaft_series_report_has_clear_legends():
     for figure in speed_figures(SpeedPlot(tuple(run.designs), "paper_option3_exact",
                                           "exact model, option 3 (both), input 25 rpm")).values():
         assert assert_legends_clear(figure) == 1 + len(run.designs)
+
+
+@pytest.mark.parametrize("case", ["fourbar_crank2", "quickreturn", "slidercrank_r2_0p050m",
+                                  "fourbar_swing_design"])
+def test_every_plot_of_a_mechanism_report_has_clear_legends(case):
+    from sso._reports.mechanism_plots import mechanism_figures
+
+    run = sso.run_case(CASES / "mechanisms" / f"{case}.toml")
+    failures = {}
+    for name, figure in mechanism_figures(run).items():
+        try:
+            assert_legends_clear(figure)
+        except AssertionError as error:
+            failures[name] = str(error).splitlines()[0]
+    assert failures == {}
