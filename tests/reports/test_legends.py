@@ -128,3 +128,16 @@ def test_every_plot_of_a_mechanism_report_has_clear_legends(case):
         except AssertionError as error:
             failures[name] = str(error).splitlines()[0]
     assert failures == {}
+
+
+def test_the_sweep_and_tolerance_study_plots_have_clear_legends():
+    from sso._studies.report import _figures_figure, _sweep_figure, _tolerance_figure
+
+    study = sso.tolerance_study(CASES / "paper_option3_exact.toml", samples=500, workers=1)
+    assert assert_legends_clear(_tolerance_figure(study)) == 1  # nominal
+    sweep = sso.sweep(CASES / "column_truck_three_joints.toml",
+                      {"hardpoints.points_mm[1][2]": [1234.3, 1244.3],
+                       "hardpoints.points_mm[2][2]": [868.8, 878.8]},
+                      action="evaluate", workers=1)
+    assert assert_legends_clear(_sweep_figure(sweep)) >= 2
+    assert assert_legends_clear(_figures_figure(sweep)) == 2  # one line per P2 z value
