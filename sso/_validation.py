@@ -398,9 +398,14 @@ def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
 SHORTEST_SHAFT_MM = 10.0
 """Below this a shaft given in mm was most likely typed in metres (steering columns and
 drivelines have shafts of tens to thousands of mm; an sso plausibility check)."""
-LARGEST_RADIAN_ANGLE = 0.5 * math.pi
-"""Operating and phase angles all at most this (in magnitude) look like radians: a joint
-bent 0.05 deg or a phase of 1.57 deg is no design anyone means, 0.05 or 1.57 rad is."""
+LARGEST_RADIAN_ANGLE = 1.58
+"""Operating angles all at most this (in magnitude) look like radians: a joint bent
+0.05 deg is no design anyone means, 0.05 rad (3 deg) is; a joint bends less than 90 deg,
+pi/2 = 1.5708 rad (rounded up, so that a rounded pi/2 counts)."""
+LARGEST_RADIAN_PHASE = 6.29
+"""Phase angles all at most this (in magnitude), not all whole numbers, look like
+radians: phases in deg are 0, 90 or tens of deg (a yoke turns by whole spline teeth),
+in radians up to a turn, 2 pi = 6.2832 (rounded up)."""
 SMALLEST_LOCK_DEG = 10.0
 """A steering lock below this many deg looks like turns: vehicles steer a quarter turn
 (racing cars) to about three turns (trucks) from straight ahead to each lock."""
@@ -460,7 +465,8 @@ def metres_for_mm(key: str, shortest_mm: float, what: str) -> UnitSuspicion | No
                          "mm long; give mm")
 
 
-def radians_for_deg(key: str, angles_deg: Iterable[float]) -> UnitSuspicion | None:
+def radians_for_deg(key: str, angles_deg: Iterable[float],
+                    largest: float = LARGEST_RADIAN_ANGLE) -> UnitSuspicion | None:
     """Operating or phase angles given in radians where deg are asked for.
 
     Parameters
@@ -473,18 +479,19 @@ def radians_for_deg(key: str, angles_deg: Iterable[float]) -> UnitSuspicion | No
     Returns
     -------
     UnitSuspicion or None
-        None when any angle exceeds :data:`LARGEST_RADIAN_ANGLE` in magnitude, or
-        every angle is a whole number (0, 1 deg) or 0.
+        None when any angle exceeds ``largest`` in magnitude (:data:`LARGEST_RADIAN_ANGLE`
+        for operating angles, :data:`LARGEST_RADIAN_PHASE` for phases), or every angle
+        is a whole number (0, 1 deg) or 0.
     """
     angles = [float(angle) for angle in angles_deg]
-    if not angles or any(abs(angle) > LARGEST_RADIAN_ANGLE for angle in angles) \
+    if not angles or any(abs(angle) > largest for angle in angles) \
             or all(angle == round(angle) for angle in angles):
         return None
     given = ", ".join(f"{angle:g}" for angle in angles)
     converted = ", ".join(f"{math.degrees(angle):.4g}" for angle in angles)
     return UnitSuspicion(key, f"[{given}]", f"radians ([{given}] rad = [{converted}] deg)",
-                         f"every angle is within {LARGEST_RADIAN_ANGLE:.4g} deg, where an "
-                         "operating or phase angle in deg is tens of deg; give deg")
+                         f"every angle is within {largest:.4g} deg and not all are whole, "
+                         "where an operating or phase angle in deg is tens of deg; give deg")
 
 
 def turns_for_deg(key: str, lock_deg: float) -> UnitSuspicion | None:

@@ -18,7 +18,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from sso._validation import UnitSuspicion, radians_for_deg, shown, turns_for_deg
+from sso._validation import (
+    LARGEST_RADIAN_PHASE,
+    UnitSuspicion,
+    radians_for_deg,
+    shown,
+    turns_for_deg,
+)
 
 UNITS_TABLE = "units"
 CONFIRM_LABEL = "units.confirm"
@@ -35,14 +41,20 @@ def _radians(label: str, value: Any) -> UnitSuspicion | None:
     return radians_for_deg(label, _flat(value))
 
 
+def _radian_phases(label: str, value: Any) -> UnitSuspicion | None:
+    return radians_for_deg(label, _flat(value), LARGEST_RADIAN_PHASE)
+
+
 def _turns(label: str, value: Any) -> UnitSuspicion | None:
     return turns_for_deg(label, float(value))
 
 
 UNIT_RULES: dict[str, Callable[[str, Any], UnitSuspicion | None]] = {
     **{label: _radians for label in (
-        "design.beta_deg", "design.phase_deg", "bounds.beta_deg", "reference.beta_deg",
-        "reference.phase_deg", "phasing.yoke_phase_deg")},
+        "design.beta_deg", "bounds.beta_deg", "reference.beta_deg")},
+    **{label: _radian_phases for label in (
+        "design.phase_deg", "bounds.phase_deg", "reference.phase_deg",
+        "phasing.yoke_phase_deg")},
     "steering.lock_deg": _turns,
     "feel.lock_deg": _turns,
 }

@@ -107,3 +107,13 @@ def test_a_confirmation_is_saved_with_the_case_and_read_back(document):
     case = parse_case(document)
     again = parse_case(case.to_dict())
     assert again == case and unit_warnings(again) == []
+
+
+def test_phases_in_radians_warn_up_to_a_turn():
+    # pi/2 and pi rad: beyond the operating angles' pi/2, within a phase's 2 pi
+    case = parse_case({"name": "phases", "design": {"beta_deg": [22.0, 30.0, 25.0],
+                                                    "phase_deg": [1.5708, 3.1416]},
+                       "bounds": {"phase_deg": [0.0, 6.2832]}})
+    texts = unit_warnings(case)
+    assert [text.split(" = ")[0] for text in texts] == ["design.phase_deg", "bounds.phase_deg"]
+    assert "[1.5708, 3.1416] rad = [90, 180] deg" in texts[0]
