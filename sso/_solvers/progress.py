@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -20,8 +21,11 @@ if TYPE_CHECKING:
 
 BAR_WIDTH = 30
 BAR_FORMAT = ("{desc}[{bar:" + str(BAR_WIDTH) + "}] {n_fmt}/{total_fmt}{unit}{postfix}, "
-              "{rate_fmt}, {remaining} left")
-"""Done out of total, the rate and the time left (tqdm's fields)."""
+              "{rate_fmt}, {elapsed} elapsed, {remaining} left")
+"""Done out of total, the rate, the time so far and the time left (tqdm's fields)."""
+TICK_S = 1.0
+"""A bar shown after a delay is redrawn this often between its updates, s: a step that
+takes minutes (a tolerance study on a busy machine) still shows the time going by."""
 
 DEFAULT_SIZE = (100, 24)
 EVERY_STEP_DRAWN = 100
@@ -96,6 +100,21 @@ class ProgressBar:
                              delay=delay_s,
                              bar_format=BAR_FORMAT, ncols=columns, nrows=lines,
                              mininterval=0.0 if total <= EVERY_STEP_DRAWN else 0.2)
+        self._stop = threading.Event()
+        self._ticker: threading.Thread | None = None
+        if self._bar is not None and delay_s > 0.0:
+            # work of few, long steps: without updates tqdm would draw nothing until a
+            # step ends, so a daemon thread draws the bar once the delay has passed
+            self._ticker = threading.Thread(target=self._tick, args=(delay_s,), daemon=True,
+                                            name="sso-progress")
+            self._ticker.start()
+
+    def _tick(self, delay_s: float) -> None:
+        if self._stop.wait(delay_s):
+            return
+        while self._bar is not None and not self._stop.is_set():
+            self._bar.update(0)  # as an update draws it: the bar then ends its line on close
+            self._stop.wait(TICK_S)
 
     def advance(self, count: int, failed: int = 0) -> None:
         """Record ``count`` more units done, ``failed`` of which failed."""
@@ -112,6 +131,9 @@ class ProgressBar:
             self._bar.set_description_str(text, refresh=False)
 
     def close(self) -> None:
-        """End the bar's line."""
+        """End the bar's line (a bar never drawn leaves nothing)."""
+        self._stop.set()
+        if self._ticker is not None:
+            self._ticker.join()
         if self._bar is not None:
             self._bar.close()

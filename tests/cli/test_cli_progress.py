@@ -17,16 +17,18 @@ import struct
 import subprocess
 import sys
 import termios
+import time
 from pathlib import Path
 
 import sso
 from sso._run import column as column_run
+from sso._solvers.progress import ProgressBar
 
 ROOT = Path(__file__).resolve().parents[2]
 POSITIONS = ROOT / "cases" / "column_truck_three_positions.toml"
 SAMPLES = 20000
 BAR = re.compile(r"\[[^\]]{30}\] (\d+)/(\d+) (\w+)(?:, \d+ failed)?, +[\d.?]+ ?\w*/s, "
-                 r"[\d:?]+ left")
+                 r"[\d:]+ elapsed, [\d:?]+ left")
 
 
 def terminal_pair() -> tuple[int, int]:
@@ -105,3 +107,27 @@ def test_a_case_run_names_each_step_on_a_terminal(monkeypatch):
     for step in ("phasing", "positions, tolerances and feel", "spline teeth", "excitation",
                  "steering figures"):
         assert f"column_truck_three_positions: {step} [" in text
+
+
+def test_a_long_step_shows_the_time_going_by_before_it_ends():
+    # A bar with a delay is drawn once the delay has passed, though no step has ended
+    # (a tolerance step of 48 s on a busy machine, issue 35): here 0.1 s, then 1.5 s.
+    master, slave = terminal_pair()
+    shown = b""
+    with os.fdopen(slave, "w", encoding="utf-8") as terminal:
+        bar = ProgressBar(3, "steps", True, stream=terminal, delay_s=0.1,
+                          description="truck: tolerances ")
+        time.sleep(1.5)  # a step under way, no update
+        drawn_before_any_update = b""
+        while select.select([master], [], [], 0.2)[0]:
+            drawn_before_any_update += os.read(master, 65536)
+        bar.advance(3)
+        bar.close()
+        while select.select([master], [], [], 0.2)[0]:
+            shown += os.read(master, 65536)
+    os.close(master)
+    early = drawn_before_any_update.decode("utf-8", errors="replace")
+    assert BAR.findall(early)[0][:3] == ("0", "3", "steps"), early
+    assert "truck: tolerances [" in early
+    assert BAR.findall(shown.decode("utf-8", errors="replace"))[-1][:3] == ("3", "3", "steps")
+    assert shown.endswith(b"\r\n")  # the line ended
