@@ -38,7 +38,7 @@ from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
 from sso._run.signed_figures import SignedFigure, figure_lines, signed_figures
-from sso._solvers.progress import ProgressBar, interactive
+from sso._solvers.progress import Steps
 
 MODES = ("optimise", "evaluate")
 ANALYSED_VERDICT = "assembly as built analysed; no optimisation"
@@ -250,10 +250,6 @@ class ColumnRun(CaseRun):
                 f"numerics: {self.verdict}"]
 
 
-RUN_PROGRESS_DELAY_S = 2.0
-"""A run shows its progress bar once it has taken this long (short runs draw nothing), s."""
-
-
 def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
     """Optimise (``sso run``) or analyse as built (``sso evaluate``) a column case.
 
@@ -278,16 +274,7 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
     success = True
     recommended = "as_built"
     phasing = moved = robust = splines = nominal_splines = None
-    steps = _steps(case, optimising)
-    bar = ProgressBar(len(steps), "steps", interactive(), delay_s=RUN_PROGRESS_DELAY_S,
-                      description=f"{case.name}: {steps[0]} ")
-
-    def next_step() -> None:
-        bar.advance(1)
-        if bar.done < len(steps):
-            bar.describe(f"{case.name}: {steps[bar.done]} ")
-
-    try:
+    with Steps(case.name, _steps(case, optimising)) as steps:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             if optimising:
@@ -301,14 +288,14 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
                 success = success and phasing.success
                 verdicts.append(f"phasing: {phasing.message}")
                 recommended = "best"
-                next_step()
+                steps.finished()
             if optimising and case.has_joint_boxes:
                 from sso._column.joint_centres import optimise_joint_centres
 
                 moved = optimise_joint_centres(geometry, **case.joint_position_options())
                 success = success and moved.success
                 verdicts.append(f"joint positions: {moved.message}")
-                next_step()
+                steps.finished()
             teeth_assembly = None
             if has_robust_part(case):
                 outcome = robust_part(case, optimising, list(as_built), phasing)
@@ -316,7 +303,7 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
                 success = success and outcome.success
                 verdicts += outcome.verdicts
                 teeth_assembly = outcome.teeth
-                next_step()
+                steps.finished()
             if case.teeth is not None:
                 from sso._column.splines import best_spline_teeth
 
@@ -328,18 +315,16 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
                     label, splines = teeth_assembly
                 assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
                 recommended = "splines"
-                next_step()
+                steps.finished()
             by_role = {assembly.role: assembly for assembly in assemblies}
             excitation = {role: excitation_table(geometry.series(by_role[role].yoke_phase_deg),
                                                  case.excitation_speeds_rpm(),
                                                  case.values["excitation.vehicle"],
                                                  case.values["excitation.application"])
                           for role in dict.fromkeys(("as_built", recommended))}
-            next_step()
+            steps.finished()
         steering = _steering(geometry, case, assemblies, robust)
-        next_step()
-    finally:
-        bar.close()
+        steps.finished()
     return ColumnRun(
         case=case, mode="optimise" if optimising else "evaluate", geometry=geometry,
         cancel=can_cancel(geometry.beta_deg), assemblies=tuple(assemblies), phasing=phasing,

@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import TYPE_CHECKING, TextIO
@@ -137,3 +137,44 @@ class ProgressBar:
             self._ticker.join()
         if self._bar is not None:
             self._bar.close()
+
+
+RUN_DELAY_S = 2.0
+"""A case run shows its steps' bar once it has taken this long (short runs draw nothing), s."""
+
+
+class Steps:
+    """The named steps of one case run, as a bar shown once the run has taken
+    :data:`RUN_DELAY_S`: the step under way, steps done, rate, time so far and left.
+
+    Use it as a context manager (the bar's line ends on leaving) and call
+    :meth:`finished` after each step.
+
+    Parameters
+    ----------
+    case_name : str
+        The case, named before the step.
+    names : sequence of str
+        The steps, in order (at least one).
+    """
+
+    def __init__(self, case_name: str, names: Sequence[str]) -> None:
+        self.case_name = case_name
+        self.names = tuple(names)
+        self.bar = ProgressBar(len(self.names), "steps", interactive(), delay_s=RUN_DELAY_S,
+                               description=self._label(0))
+
+    def _label(self, index: int) -> str:
+        return f"{self.case_name}: {self.names[index]} "
+
+    def finished(self) -> None:
+        """The step under way is done; the next one, if any, is named."""
+        self.bar.advance(1)
+        if self.bar.done < len(self.names):
+            self.bar.describe(self._label(self.bar.done))
+
+    def __enter__(self) -> Steps:
+        return self
+
+    def __exit__(self, *exception: object) -> None:
+        self.bar.close()

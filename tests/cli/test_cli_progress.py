@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 import sso
-from sso._run import column as column_run
+from sso._solvers import progress
 from sso._solvers.progress import ProgressBar
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -89,9 +89,9 @@ def test_no_progress_when_stderr_is_not_a_terminal(tmp_path):
 
 
 def test_a_case_run_names_each_step_on_a_terminal(monkeypatch):
-    # A run draws its bar once it has taken RUN_PROGRESS_DELAY_S (2 s); at no delay
-    # this short run draws it too, on a real terminal as stderr.
-    monkeypatch.setattr(column_run, "RUN_PROGRESS_DELAY_S", 0.0)
+    # A run draws its bar once it has taken RUN_DELAY_S (2 s); at no delay this short
+    # run draws it too, on a real terminal as stderr.
+    monkeypatch.setattr(progress, "RUN_DELAY_S", 0.0)
     monkeypatch.delenv("CI", raising=False)
     master, slave = terminal_pair()
     shown = b""
@@ -131,3 +131,22 @@ def test_a_long_step_shows_the_time_going_by_before_it_ends():
     assert "truck: tolerances [" in early
     assert BAR.findall(shown.decode("utf-8", errors="replace"))[-1][:3] == ("3", "3", "steps")
     assert shown.endswith(b"\r\n")  # the line ended
+
+
+def test_a_shaft_series_and_a_mechanism_run_name_their_steps(monkeypatch):
+    monkeypatch.setattr(progress, "RUN_DELAY_S", 0.0)
+    monkeypatch.delenv("CI", raising=False)
+    for case, steps in (("paper_option3_exact.toml", ("optimisation", "reference")),
+                        ("mechanisms/fourbar_swing_design.toml", ("design", "tables"))):
+        master, slave = terminal_pair()
+        shown = b""
+        with os.fdopen(slave, "w", encoding="utf-8") as terminal:
+            monkeypatch.setattr(sys, "stderr", terminal)
+            run = sso.run_case(ROOT / "cases" / case)
+            while select.select([master], [], [], 0.2)[0]:
+                shown += os.read(master, 65536)
+        os.close(master)
+        text = shown.decode("utf-8", errors="replace")
+        assert BAR.findall(text)[-1][:3] == ("2", "2", "steps"), text
+        for step in steps:
+            assert f"{run.case.name}: {step} [" in text
