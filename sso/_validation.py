@@ -6,6 +6,7 @@ import functools
 import math
 import reprlib
 from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -390,3 +391,120 @@ def check_chain_conditioning(field: str, beta_deg: Iterable[float]) -> None:
         f"{math.degrees(math.atan(LARGEST_TANGENT_SUM)):.10g} deg): lower the operating "
         "angles nearest 90 deg"
     )
+
+
+# ---------------------------------------------------------------- units that look wrong
+
+SHORTEST_SHAFT_MM = 10.0
+"""Below this a shaft given in mm was most likely typed in metres (steering columns and
+drivelines have shafts of tens to thousands of mm; an sso plausibility check)."""
+LARGEST_RADIAN_ANGLE = 1.58
+"""Operating angles all at most this (in magnitude) look like radians: a joint bent
+0.05 deg is no design anyone means, 0.05 rad (3 deg) is; a joint bends less than 90 deg,
+pi/2 = 1.5708 rad (rounded up, so that a rounded pi/2 counts)."""
+LARGEST_RADIAN_PHASE = 6.29
+"""Phase angles all at most this (in magnitude), not all whole numbers, look like
+radians: phases in deg are 0, 90 or tens of deg (a yoke turns by whole spline teeth),
+in radians up to a turn, 2 pi = 6.2832 (rounded up)."""
+SMALLEST_LOCK_DEG = 10.0
+"""A steering lock below this many deg looks like turns: vehicles steer a quarter turn
+(racing cars) to about three turns (trucks) from straight ahead to each lock."""
+
+
+@dataclass(frozen=True)
+class UnitSuspicion:
+    """A value implausible in its unit, and the unit it looks like.
+
+    Attributes
+    ----------
+    key : str
+        The key as the user wrote it (``"steering.lock_deg"``).
+    value : str
+        The value as given (``"1.5"``).
+    looks_like : str
+        The unit the value looks like, with the value in the key's unit
+        (``"turns (1.5 turns = 540 deg)"``).
+    reason : str
+        Why the value is implausible in the key's unit.
+    """
+
+    key: str
+    value: str
+    looks_like: str
+    reason: str
+
+    @property
+    def text(self) -> str:
+        """One line naming the key, the value, the unit it looks like and how to keep it."""
+        return (f"{self.key} = {self.value} looks like {self.looks_like}: {self.reason}; "
+                f"if it is meant, list \"{self.key}\" in [units] confirm")
+
+
+def metres_for_mm(key: str, shortest_mm: float, what: str) -> UnitSuspicion | None:
+    """Lengths given in metres where mm are asked for, told by the shortest shaft.
+
+    Parameters
+    ----------
+    key : str
+        The points' key.
+    shortest_mm : float
+        The shortest shaft the points make, mm.
+    what : str
+        Which shaft it is (``"intermediate shaft 1, P1 to P2"``).
+
+    Returns
+    -------
+    UnitSuspicion or None
+        None when the shaft is at least :data:`SHORTEST_SHAFT_MM` long.
+    """
+    if shortest_mm >= SHORTEST_SHAFT_MM:
+        return None
+    return UnitSuspicion(key, f"points {shortest_mm:.3g} mm apart ({what})",
+                         f"metres ({shortest_mm:.3g} m = {1000.0 * shortest_mm:.4g} mm)",
+                         "shafts of steering columns and drivelines are tens to thousands of "
+                         "mm long; give mm")
+
+
+def radians_for_deg(key: str, angles_deg: Iterable[float],
+                    largest: float = LARGEST_RADIAN_ANGLE) -> UnitSuspicion | None:
+    """Operating or phase angles given in radians where deg are asked for.
+
+    Parameters
+    ----------
+    key : str
+        The angles' key.
+    angles_deg : iterable of float
+        The values as given (bounds flattened).
+
+    Returns
+    -------
+    UnitSuspicion or None
+        None when any angle exceeds ``largest`` in magnitude (:data:`LARGEST_RADIAN_ANGLE`
+        for operating angles, :data:`LARGEST_RADIAN_PHASE` for phases), or every angle
+        is a whole number (0, 1 deg) or 0.
+    """
+    angles = [float(angle) for angle in angles_deg]
+    if not angles or any(abs(angle) > largest for angle in angles) \
+            or all(angle == round(angle) for angle in angles):
+        return None
+    given = ", ".join(f"{angle:g}" for angle in angles)
+    converted = ", ".join(f"{math.degrees(angle):.4g}" for angle in angles)
+    return UnitSuspicion(key, f"[{given}]", f"radians ([{given}] rad = [{converted}] deg)",
+                         f"every angle is within {largest:.4g} deg and not all are whole, "
+                         "where an operating or phase angle in deg is tens of deg; give deg")
+
+
+def turns_for_deg(key: str, lock_deg: float) -> UnitSuspicion | None:
+    """A steering lock given in turns where deg are asked for.
+
+    Returns
+    -------
+    UnitSuspicion or None
+        None when the lock is at least :data:`SMALLEST_LOCK_DEG`.
+    """
+    if lock_deg >= SMALLEST_LOCK_DEG:
+        return None
+    return UnitSuspicion(key, f"{lock_deg:g}",
+                         f"turns ({lock_deg:g} turns = {360.0 * lock_deg:g} deg)",
+                         "a steering lock is a quarter turn to about three turns (90 to 1080 "
+                         "deg) from straight ahead; give deg")

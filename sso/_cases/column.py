@@ -386,13 +386,22 @@ def _build(values: dict[str, Any], path: str) -> ColumnCase:
 
 
 def _practice_warnings(values: dict[str, Any], geometry: ColumnGeometry) -> tuple[str, ...]:
-    """Where the hardpoints, and every named position, leave practice."""
+    """Where the hardpoints, and every named position, leave practice (hardpoints that
+    look like metres unless ``[units] confirm`` names them)."""
     limit = values["limits.max_operating_angle_deg"]
     columns = {"hardpoints.points_mm": geometry}
     for name, points in (values.get("hardpoints.positions") or {}).items():
         columns[f"hardpoints.positions.{name}"] = ColumnGeometry(points)
-    return tuple(note.text for label, column in columns.items()
-                 for note in practice_notes(column, max_operating_angle_deg=limit, label=label))
+    confirmed = values["units.confirm"]
+    return tuple(note.unit.text if note.unit is not None else note.text
+                 for label, column in columns.items()
+                 for note in practice_notes(column, max_operating_angle_deg=limit, label=label)
+                 if not (note.unit is not None and _points_key(label) in confirmed))
+
+
+def _points_key(label: str) -> str:
+    """The case key of a column's points: ``hardpoints.positions`` for every named one."""
+    return label if label == "hardpoints.points_mm" else "hardpoints.positions"
 
 
 def _check_count(label: str, items: tuple[Any, ...], expected: int, what: str) -> None:

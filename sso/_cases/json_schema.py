@@ -259,6 +259,11 @@ NAMED_PARSERS: dict[str, Callable[[], JsonSchema]] = {
         "items": {"type": "integer", "minimum": 1, "maximum": MAX_TEETH},
         "minItems": 1,
     },
+    "sso._cases.units.confirmed_labels": lambda: {
+        "type": "array",
+        "items": {"type": "string"},
+        "uniqueItems": True,
+    },
     "sso._cases.column._rpm_range": lambda: _pair({"type": "number", "exclusiveMinimum": 0.0}),
     "sso._cases.column.yield_fraction": lambda: _number(0.0, 1.0, True, False),
     "sso._cases.column_robust.positions_table": lambda: {

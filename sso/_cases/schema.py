@@ -24,11 +24,18 @@ import difflib
 import re
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import import_module
 from pathlib import Path
 from typing import Any
 
+from sso._cases.units import (
+    CONFIRM_LABEL,
+    UNITS_TABLE,
+    check_confirmed,
+    confirmed_labels,
+    unit_warnings,
+)
 from sso._files import read_input_bytes
 from sso._limits import INPUT_MAGNITUDE_RANGE, MAX_JOINTS, OUTPUT_FORMATS
 from sso._validation import finite_float, per_item_bounds, shown
@@ -290,6 +297,9 @@ COMMON_KEYS: tuple[Key, ...] = (
     Key("", "description", text(), "", "", "free text"),
     Key("output", "formats", choice_list(OUTPUT_FORMATS), OUTPUT_FORMATS, "",
         "non-empty list of 'json', 'csv', 'md', 'html', 'png'"),
+    Key(UNITS_TABLE, "confirm", confirmed_labels, (), "",
+        "list of dotted keys whose values are meant as given, though they look like another "
+        "unit (silences that key's unit warning)"),
 )
 
 
@@ -521,12 +531,15 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
             if key.table in found.optional_tables and key.table not in document:
                 continue
             raise CaseError(path, f"{key.label} is missing: give {key.allowed}")
+    given = dict(values)
     try:
+        check_confirmed(given.get(CONFIRM_LABEL, ()), {key.label for key in keys})
         for key in keys:
             if key.label not in values and key.default is not REQUIRED:
                 values[key.label] = (key.default(values, path) if callable(key.default)
                                      else key.default)
         case = found.build(values, path)
+        case = replace(case, warnings=unit_warnings(given, values[CONFIRM_LABEL]) + case.warnings)
     except ValueError as error:
         raise CaseError(path, str(error), _line_of_first_label(source, str(error), keys)) from None
     except (TypeError, ArithmeticError, RecursionError) as error:
@@ -538,28 +551,35 @@ def parse_case(document: Mapping[str, Any], path: str = "<case>", source: str = 
 
 def _refuse_unknown_keys(document: Mapping[str, Any], keys: tuple[Key, ...], path: str,
                          source: str) -> None:
+    """Refuse every unknown key and table at once, each named with its suggestion."""
     tables = {key.table for key in keys if key.table}
     labels = [key.label for key in keys]
+    found: list[tuple[str, int | None]] = []
     for name, value in document.items():
         if name in tables:
             if not isinstance(value, dict):
                 raise CaseError(path, f"{name} = {shown(value)} must be a table ([{name}])",
                                 _line_of_key(source, "", name))
             known = [key.name for key in keys if key.table == name]
-            for inner in value:
-                if inner not in known:
-                    raise CaseError(path, _unknown_message(f"{name}.{inner}", inner, known,
-                                                           labels, name),
-                                    _line_of_key(source, name, inner))
+            found.extend((_unknown_message(f"{name}.{inner}", inner, known, labels, name),
+                          _line_of_key(source, name, inner))
+                         for inner in value if inner not in known)
         elif not any(key.label == name for key in keys if not key.table):
             top_level = [key.name for key in keys if not key.table]
             if isinstance(value, dict):
                 suggestion = difflib.get_close_matches(name, sorted(tables), n=1, cutoff=0.6)
                 hint = f"; did you mean [{suggestion[0]}]?" if suggestion else ""
-                raise CaseError(path, f"unknown table [{name}]{hint} Tables: "
-                                f"{', '.join(sorted(tables))}", _line_of_table(source, name))
-            raise CaseError(path, _unknown_message(name, name, top_level, labels, ""),
-                            _line_of_key(source, "", name))
+                found.append((f"unknown table [{name}]{hint} Tables: {', '.join(sorted(tables))}",
+                              _line_of_table(source, name)))
+            else:
+                found.append((_unknown_message(name, name, top_level, labels, ""),
+                              _line_of_key(source, "", name)))
+    if len(found) == 1:
+        raise CaseError(path, found[0][0], found[0][1])
+    if found:
+        raise CaseError(path, f"{len(found)} unknown keys or tables: " + "; ".join(
+            message if line is None else f"line {line}: {message}" for message, line in found),
+            found[0][1])
 
 
 def _unknown_message(label: str, name: str, same_table: list[str], every_label: list[str],

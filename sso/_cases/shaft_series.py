@@ -129,6 +129,9 @@ class Case(SavedCase):
     tolerance_study : dict or None
         Keyword arguments of :func:`sso.tolerance_study` from the ``[tolerance]`` table
         (only the keys given), or None without one.
+    units_confirmed : tuple of str
+        The keys of ``[units] confirm``: values meant as given, though they look like
+        another unit (:mod:`sso._cases.units`).
     """
 
     kind: str
@@ -158,6 +161,7 @@ class Case(SavedCase):
     source: str
     warnings: tuple[str, ...] = field(default=(), compare=False)
     tolerance_study: dict[str, Any] | None = None
+    units_confirmed: tuple[str, ...] = ()
 
     def series(self) -> ShaftSeries:
         """The design as given, as a :class:`sso.ShaftSeries`."""
@@ -235,6 +239,8 @@ class Case(SavedCase):
             document["reference"] = {"label": self.reference_label,
                                      "beta_deg": list(self.reference_beta_deg),
                                      "phase_deg": list(self.reference_phase_deg)}
+        if self.units_confirmed:
+            document["units"] = {"confirm": list(self.units_confirmed)}
         if self.tolerance_study is not None:
             document["tolerance"] = {name: _plain_list(self.tolerance_study[argument])
                                      for name, argument in TOLERANCE_ARGUMENTS.items()
@@ -395,6 +401,7 @@ def _build_shaft_series(values: dict[str, Any], path: str) -> Case:
         source=path,
         tolerance_study=_tolerance_study(values),
         warnings=tuple(dict.fromkeys(str(warning.message) for warning in caught)),
+        units_confirmed=values["units.confirm"],
     )
 
 

@@ -74,6 +74,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     gc.set_threshold(COMMAND_GC_THRESHOLD, *thresholds[1:])
     try:
         args = build_parser().parse_args(argv)
+        if getattr(args, "quiet", False):
+            from sso._solvers.progress import silenced
+
+            with silenced():
+                quiet_code: int = args.handle(args)
+            return quiet_code
         code: int = args.handle(args)
         return code
     except KeyboardInterrupt:

@@ -37,6 +37,8 @@ class Outcome:
     residual_errors: tuple[str, str, str] = ("", "", "")
     seconds: float = 0.0
     folder: str = ""
+    headline: tuple[str, ...] = ()
+    """The figures an engineer signs and the trade, where the result has them (a column)."""
 
 
 def _configure_run(parser: argparse.ArgumentParser) -> None:
@@ -174,7 +176,7 @@ def _solve_in(args: argparse.Namespace, case: Any, folder: Path, optimising: boo
         # the recommended teeth were searched for the case's own objective: say it
         optimum += f" ({told.objective_note})"
     return Outcome(case.name, status, code, (initial, optimum, reference),
-                   time.perf_counter() - started, str(folder))
+                   time.perf_counter() - started, str(folder), told.headline)
 
 
 @dataclass(frozen=True)
@@ -193,6 +195,8 @@ class _Told:
     shortfall: str | None = None
     """Why the recommended column's built columns are not shown to reach the required
     yield (``[limits] yield``), else None."""
+    headline: tuple[str, ...] = ()
+    """The figures an engineer signs (as built to recommended) and the trade (a column)."""
 
 
 def _told(result: Any) -> _Told:
@@ -202,10 +206,14 @@ def _told(result: Any) -> _Told:
     from sso._run.shaft_series import ShaftSeriesRun
 
     if isinstance(result, ShaftSeriesRun):
+        from sso._reports.shaft_report import shaft_headline
+
         designs = (result.design(role) for role in ("initial", "optimum", "reference"))
         errors = tuple(None if design is None else design.evaluation.residual_error
                        for design in designs)
-        return _Told(result.mode, result.success, result.verdict, result.warnings, errors)
+        figures, trade = shaft_headline(result.designs)
+        return _Told(result.mode, result.success, result.verdict, result.warnings, errors,
+                     headline=(figures, *([trade] if trade is not None else [])))
     from sso._run.mechanism_run import MechanismRun
 
     if isinstance(result, MechanismRun):
@@ -227,9 +235,12 @@ def _told(result: Any) -> _Told:
     yields = result.recommended_yields if result.mode == "optimise" else None
     shortfall = None if yields is None or yields.signed_off else (
         f"the recommended assembly's built columns ([tolerances] sample): {yields.sentence}")
+    figures, trade = result.headline
     return _Told(result.mode, result.success, result.verdict, result.warnings,
                  (result.initial.residual_error,
-                  None if optimum is None else optimum.residual_error, None), note, shortfall)
+                  None if optimum is None else optimum.residual_error, None), note, shortfall,
+                 (f"{figures} (as built to recommended)" if optimum is not None else figures,
+                  *([trade] if trade is not None else [])))
 
 
 def _status(told: _Told) -> tuple[str, int]:
@@ -263,7 +274,8 @@ def _print_summary(outcomes: list[Outcome], optimising: bool) -> None:
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths, strict=True)).rstrip()
              for row in rows]
     lines.insert(1, "  ".join("-" * width for width in widths))
-    print("\n" + "\n".join(lines), flush=True)
+    headlines = [f"{outcome.case}: {line}" for outcome in outcomes for line in outcome.headline]
+    print("\n" + "\n".join([*headlines, *([""] if headlines else []), *lines]), flush=True)
 
 
 def _run(args: argparse.Namespace) -> int:

@@ -14,7 +14,9 @@ advice comes from:
   at about 30 to 40 deg; no standard fixes it, so give the supplier's figure);
 * a shaft shorter than 10 mm: steering columns and drivelines have shafts of tens to
   thousands of mm, so hardpoints that make one this short were most likely typed in
-  metres (an sso plausibility check, not a published limit).
+  metres (an sso plausibility check, not a published limit:
+  :func:`sso._validation.metres_for_mm`, one of the case files' unit checks, which a
+  case may confirm with ``[units] confirm``).
 
 ``sso.optimise(geometry, ...)`` raises each note as a :class:`PracticeWarning` at the
 caller's line; a column case lists them in its warnings.
@@ -26,9 +28,9 @@ from dataclasses import dataclass
 
 from sso._column.geometry import ColumnGeometry, shaft_name
 from sso._limits import DEFAULT_MAX_OPERATING_ANGLE_DEG
+from sso._validation import UnitSuspicion, metres_for_mm
 
 MIN_OPERATING_ANGLE_DEG = 0.5
-SHORTEST_SHAFT_MM = 10.0
 BRINELLING_SOURCE = ("needle bearings that hardly roll brinell the trunnions; driveline makers "
                      "(Dana Spicer's driveshaft installation guides) advise at least 1/2 deg")
 MAKER_LIMIT_SOURCE = ("the maker's rating of the joint; the default of 35 deg is a typical "
@@ -55,11 +57,15 @@ class PracticeNote:
         What looks wrong, with the figures.
     source : str
         Where the advice comes from.
+    unit : UnitSuspicion or None
+        Set when the note is a value implausible in its unit (hardpoints in
+        metres): a case may confirm it (``[units] confirm``).
     """
 
     key: str
     reason: str
     source: str
+    unit: UnitSuspicion | None = None
 
     @property
     def text(self) -> str:
@@ -105,9 +111,10 @@ def practice_notes(geometry: ColumnGeometry, *,
                 f"{max_operating_angle_deg:g} deg", MAKER_LIMIT_SOURCE))
     lengths = geometry.shaft_length_mm
     shortest = min(range(len(lengths)), key=lambda index: lengths[index])
-    if lengths[shortest] < SHORTEST_SHAFT_MM:
+    what = f"{shaft_name(shortest, len(lengths))}, P{shortest} to P{shortest + 1}"
+    metres = metres_for_mm(label, lengths[shortest], what)
+    if metres is not None:
         notes.append(PracticeNote(
-            label, f"the shortest shaft ({shaft_name(shortest, len(lengths))}, P{shortest} to "
-            f"P{shortest + 1}) is {lengths[shortest]:.3g} mm long: the hardpoints look like "
-            "metres; give them in mm", METRES_SOURCE))
+            label, f"the shortest shaft ({what}) is {lengths[shortest]:.3g} mm long: the "
+            "hardpoints look like metres; give them in mm", METRES_SOURCE, unit=metres))
     return tuple(notes)

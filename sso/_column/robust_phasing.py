@@ -122,16 +122,22 @@ class RobustResult(PhasingOutcome):
     def design_label(self) -> str:
         """The robust phasing in words, as a report names it."""
         if self.exact_choice is None:
-            return f"tolerance-aware ({self.robust_objective})"
+            return f"tolerance-aware (least {self.objective_short})"
         return "tolerance-aware (the exact optimum of lowest p95 RE)"
+
+    @property
+    def objective_short(self) -> str:
+        """What ``fun`` measures, short: ``"mean RE"`` or ``"CVaR95 of RE"`` (never
+        ``"p95"``, which names a 95th percentile wherever sso prints it)."""
+        return objective_short_name(self.robust_objective, self.level)
 
     @property
     def objective_name(self) -> str:
         """What ``fun`` measures, in words."""
         if self.robust_objective == "mean":
             return "mean RE over the built columns"
-        return (f"{self.robust_objective} objective (CVaR of RE at {self.level:g}) over the "
-                "built columns")
+        return (f"{self.objective_short} over the built columns (the mean of the worst "
+                f"{100.0 * (1.0 - self.level):.3g} %)")
 
     def phasing_objective(self) -> Callable[[np.ndarray], np.ndarray]:
         """The robust objective over the same seeded built columns, as a function of
@@ -238,7 +244,8 @@ def optimise_robust(geometry: ColumnGeometry, tolerances: Tolerances, *,
     nominal_study = SampleStudy.of(nominal.fun, nominal_values)
     chosen_within = ("" if within is None else
                      f"{within.exact_optimum_criterion}, within the set of exact optima; ")
-    message = (f"{solved.best.message}; {chosen_within}{robust_objective} objective "
+    message = (f"{solved.best.message}; {chosen_within}"
+               f"{objective_short_name(robust_objective, level)} "
                f"{objective_value(robust_values):.6g} (nominal optimum "
                f"{objective_value(nominal_values):.6g}); p95 {robust_study.p95:.6g} against "
                f"{nominal_study.p95:.6g}; nominal RE {nominal_re:.6g} against {nominal.fun:.6g}")
@@ -269,6 +276,12 @@ def _phasing_run(phasing: PhasingResult) -> ScenarioRun:
                                   for name, solution in run.solutions.items()},
                        runs=tuple(in_yoke_terms(solution) for solution in run.runs),
                        crosscheck=run.crosscheck)
+
+
+def objective_short_name(robust_objective: str, level: float) -> str:
+    """``"mean RE"``, or ``"CVaR95 of RE"`` for the objective ``"p95"`` at level 0.95
+    (the mean of the worst 5 %, not the 95th percentile)."""
+    return "mean RE" if robust_objective == "mean" else f"CVaR{100.0 * level:g} of RE"
 
 
 def _objective(robust_objective: Any, samples: int) -> tuple[str, float]:

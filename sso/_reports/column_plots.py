@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from sso._column.geometry import ColumnGeometry
-from sso._reports.plots import _new_figure, _png
+from sso._reports.plots import _new_figure, _png, legend_below
 from sso._run.column import ColumnRun
 
 # Half the side of a bend-plane patch, as a fraction of the column's extent.
@@ -22,6 +22,10 @@ ROLE_STYLES = {"as_built": {"linestyle": "--", "linewidth": 1.4},
                "recommended": {"linestyle": "-", "linewidth": 2.2}}
 FIGURE_COLOURS = {"drive_rad_s2": "#1f77b4", "coast_rad_s2": "#ff7f0e",
                   "torsional_rad_s2": "#2ca02c", "exact_output_accel_rad_s2": "#d62728"}
+PANELS = (("inertial", ("drive_rad_s2", "coast_rad_s2"), "inertial_limit_rad_s2"),
+          ("torsional", ("torsional_rad_s2", "exact_output_accel_rad_s2"),
+           "torsional_limit_rad_s2"))
+"""Each panel of ``excitation.png``: its kind, its figures, the limit that judges them."""
 FIGURE_NAMES = {"drive_rad_s2": "drive (SAE AE-7)", "coast_rad_s2": "coast (SAE AE-7)",
                 "torsional_rad_s2": "torsional (SAE AE-7)",
                 "exact_output_accel_rad_s2": "exact output acceleration"}
@@ -36,15 +40,20 @@ def render_column_plots(run: ColumnRun) -> dict[str, bytes]:
         ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's
         plots (:mod:`sso._reports.column_robust_plots`) when the run has one.
     """
-    from sso._reports.column_robust_plots import render_robust_plots
-    from sso._reports.column_steering_plots import steering_plot
+    return {name: _png(figure) for name, figure in column_figures(run).items()}
+
+
+def column_figures(run: ColumnRun) -> dict[str, Any]:
+    """The figures of :func:`render_column_plots`, keyed by file name."""
+    from sso._reports.column_robust_plots import robust_figures
+    from sso._reports.column_steering_plots import steering_figure
     from sso._reports.column_steering_report import STEERING_PLOT
 
-    return {"column_3d.png": _column_3d(run), "excitation.png": _excitation(run),
-            STEERING_PLOT: steering_plot(run.steering), **render_robust_plots(run)}
+    return {"column_3d.png": _column_3d(run), "excitation.png": excitation_figure(run),
+            STEERING_PLOT: steering_figure(run.steering), **robust_figures(run)}
 
 
-def _column_3d(run: ColumnRun) -> bytes:
+def _column_3d(run: ColumnRun) -> Any:
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     figure = _new_figure()
@@ -82,7 +91,7 @@ def _column_3d(run: ColumnRun) -> bytes:
     axes.set_title(f"Column: operating angles {angles} deg; bend planes (orange) turned by "
                    f"{gammas} deg", fontsize=10)
     axes.legend(loc="upper left", fontsize=9)
-    return _png(figure)
+    return figure
 
 
 def position_geometries(run: ColumnRun) -> dict[str, ColumnGeometry]:
@@ -152,9 +161,12 @@ def _equal_aspect(axes: Any, points: np.ndarray) -> None:
     axes.set_box_aspect((1.0, 1.0, 1.0))
 
 
-def _excitation(run: ColumnRun) -> bytes:
-    figure = _new_figure()
-    axes = figure.add_subplot()
+def excitation_figure(run: ColumnRun) -> Any:
+    """The figure of ``excitation.png``: the inertial figures (drive, coast) against the
+    inertial limit in one panel, the torsional ones against the torsional limit in
+    another, so no curve is read against a limit that does not judge it."""
+    figure = _new_figure("constrained")
+    panels = figure.subplots(1, len(PANELS), sharex=True, sharey=True)
     labels = {assembly.role: assembly.label for assembly in run.assemblies}
     first = next(iter(run.excitation.values()))[0]
     vehicle = next(iter(run.excitation.values())).vehicle
@@ -166,25 +178,27 @@ def _excitation(run: ColumnRun) -> bytes:
                   for name in FIGURE_COLOURS)
     floor = 1e-6 * (first.torsional_limit_rad_s2
                     if first.torsional_limit_rad_s2 is not None else max(largest, 1e-300))
-    for role, table in run.excitation.items():
-        style = ROLE_STYLES["recommended" if role == run.recommended else "as_built"]
-        speeds = [row.input_speed_rpm for row in table]
-        for figure_name, colour in FIGURE_COLOURS.items():
-            values = np.array([getattr(row, figure_name) for row in table])
-            below = " (below the plot)" if np.all(values < floor) else ""
-            axes.plot(speeds, np.maximum(values, floor), color=colour, **style,
-                      label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
-    if judged:
-        axes.axhline(first.inertial_limit_rad_s2, color="black", linestyle=":",
-                     linewidth=1.5, label=f"inertial limit ({vehicle})")
-        axes.axhline(first.torsional_limit_rad_s2, color="grey", linestyle="-.",
-                     linewidth=1.5, label=f"torsional limit ({vehicle})")
-    axes.set_yscale("log")
-    axes.set_xlabel("input speed (rpm)")
-    axes.set_ylabel("angular acceleration excitation (rad/s^2)")
-    axes.set_title("Excitation over the rpm range against the published driveline limits"
-                   if judged else "Excitation over the rpm range (steering column: the "
-                   "driveline limits do not apply)")
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=7, loc="lower right")
-    return _png(figure)
+    for axes, (title, names, limit_name) in zip(panels, PANELS, strict=True):
+        for role, table in run.excitation.items():
+            style = ROLE_STYLES["recommended" if role == run.recommended else "as_built"]
+            speeds = [row.input_speed_rpm for row in table]
+            for figure_name in names:
+                values = np.array([getattr(row, figure_name) for row in table])
+                below = " (below the plot)" if np.all(values < floor) else ""
+                axes.plot(speeds, np.maximum(values, floor), color=FIGURE_COLOURS[figure_name],
+                          **style, label=f"{FIGURE_NAMES[figure_name]}, {labels[role]}{below}")
+        limit = getattr(first, limit_name)
+        if judged and limit is not None:
+            axes.axhline(limit, color="black", linestyle=":", linewidth=1.5,
+                         label=f"{title} limit ({vehicle}): {limit:g} rad/s^2")
+        axes.set_yscale("log")
+        axes.set_xlabel("input speed (rpm)")
+        axes.set_title(f"{title}: {', '.join(FIGURE_NAMES[name] for name in names)}",
+                       fontsize=9)
+        axes.grid(True, which="both", alpha=0.3)
+    panels[0].set_ylabel("angular acceleration excitation (rad/s^2)")
+    figure.suptitle("Excitation over the rpm range, each against its own published driveline "
+                    "limit" if judged else "Excitation over the rpm range (steering column: "
+                    "the driveline limits do not apply)", fontsize=10)
+    legend_below(figure, panels)
+    return figure

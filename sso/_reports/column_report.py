@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import io
 from collections.abc import Sequence
+from typing import Any
 
 from sso._column.geometry import shaft_name
 from sso._column.joint_centres import JointCentresResult
@@ -19,6 +20,7 @@ from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT,
 from sso._reports.documents import report_files
 from sso._reports.shaft_report import exact_optima_blocks
 from sso._reports.summary import (
+    NUMERICS_HEADING,
     Block,
     Heading,
     Image,
@@ -97,17 +99,21 @@ def excitation_csv(run: ColumnRun) -> str:
 def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report of a column run."""
     yields = run.recommended_yields if run.mode == "optimise" else None
+    figures, trade = run.headline
+    compared = ("" if run.recommended == "as_built" else
+                f" (as built to {run.assembly(run.recommended).label})")
     blocks = opening_blocks(
         run.case.name, run.case.description, _case_table(run),
         run.success and (yields is None or yields.signed_off),
-        run.verdict if yields is None else
-        f"recommended assembly's built columns: {yields.sentence}; {run.verdict}")
+        figures + compared if yields is None else
+        f"{figures}{compared}; recommended assembly's built columns: {yields.sentence}")
+    if trade is not None:
+        blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),
                _shaft_table(run), Paragraph(CONVENTION), _scene(run),
                Heading(2, "Can phasing cancel the fluctuation?"), _cancel_table(run),
                Heading(2, "Assemblies compared"), _assembly_table(run),
-               Heading(2, "Yoke phasing for the fitter"), *fitter_blocks(run),
-               *_exact_set_blocks(run)]
+               Heading(2, "Yoke phasing for the fitter"), *fitter_blocks(run)]
     splines = run.splines
     if splines is not None:
         subject = ("the best continuous phasing" if splines.objective == "RE"
@@ -121,12 +127,16 @@ def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
                              f"{len(splines.ties)} tied)."),
                    Heading(3, "Assembly instructions"),
                    *[Paragraph(item.text) for item in splines.instructions]]
-    if run.joint_centres is not None:
-        blocks += [Heading(2, "Joint positions moved within their boxes"),
-                   *_joint_blocks(run.joint_centres)]
+    moved = run.joint_centres
+    if moved is not None:
+        blocks += [Heading(2, "Joint positions moved within their boxes"), *_joint_blocks(moved)]
     blocks += steering_blocks(run)
     blocks += robust_blocks(run)
-    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(run)]
+    blocks += [Heading(2, "Excitation over rpm"), *_excitation_blocks(run),
+               Heading(2, NUMERICS_HEADING), Paragraph(run.verdict), *_exact_set_blocks(run),
+               *([] if moved is None or moved.exact_optima is None
+                 else [Heading(3, "Joint positions: the set of exact optima"),
+                       *exact_optima_blocks(moved.exact_optima)])]
     images = [Image(name, CAPTIONS[name]) for name in image_files]
     return blocks + closing_blocks(run.warnings, run.versions, images)
 
@@ -205,26 +215,41 @@ def _exact_set_blocks(run: ColumnRun) -> list[Block]:
         return []
     ends = "; ".join(f"shaft {shaft + 1}: "
                      + ("every phasing" if high - low >= 180.0 else
+                        f"a single value, {number(low, '.3f')} deg"
+                        if number(low, ".3f") == number(high, ".3f") else
                         f"{number(low, '.3f')} to {number(high, '.3f')} deg")
                      for shaft, (low, high) in enumerate(extent))
     rows = tuple((str(shaft + 1), side, number(value, ".3f"), _angles(witness),
                   number(end.witness_residual_error, ".3g"))
                  for shaft, ((low, high), pair, found) in enumerate(
                      zip(extent, witnesses, exact.extent_search.ends, strict=True))
-                 for side, value, witness, end in zip(("from", "to"), (low, high), pair, found,
-                                                      strict=True))
-    return [Paragraph(f"RE = 0 is reached on a set of exact optima of dimension "
-                      f"{exact.dimension}; the best continuous phasing is the one "
-                      f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
-                      f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
-                      f"steps each way from the chosen phasing to the first where no exact "
-                      f"optimum is found, then "
-                      f"bisection; {exact.extent_search.solves} least-squares solves): "
-                      f"{ends}. Each end is the furthest phasing at which an exact optimum "
-                      f"was found, a lower estimate; its witness below is that exact "
-                      f"optimum (every shaft's delta, deg)."),
+                 for side, value, witness, end in _sides((low, high), pair, found))
+    text = (f"RE = 0 is reached on a set of exact optima of dimension "
+            f"{exact.dimension}; the best continuous phasing is the one "
+            f"{phasing.exact_optimum_criterion}. The set's extent in delta about "
+            f"it, sought modulo 180 deg ({number(180.0 / EXTENT_GRID, '.3g')} deg "
+            f"steps each way from the chosen phasing to the first where no exact "
+            f"optimum is found, then "
+            f"bisection; {exact.extent_search.solves} least-squares solves): "
+            f"{ends}.")
+    if all(side == "from = to" for _, side, *_ in rows):
+        return [Paragraph(f"{text} Each shaft's delta is a single value: no other phasing "
+                          "near the chosen one reaches RE = 0.")]
+    return [Paragraph(f"{text} Each end is the furthest phasing at which an exact optimum "
+                      "was found, a lower estimate; its witness below is that exact "
+                      "optimum (every shaft's delta, deg)."),
             Table(("intermediate shaft", "end", "delta (deg)", "witness delta (deg)",
                    "witness RE"), rows)]
+
+
+def _sides(ends: tuple[float, float], witnesses: Sequence[Sequence[float]],
+           found: Sequence[Any]) -> list[tuple[str, float, Sequence[float], Any]]:
+    """Each end of a set's extent in delta with its witness; one ("from = to") where
+    the two read as a single value."""
+    sides = list(zip(("from", "to"), ends, witnesses, found, strict=True))
+    if number(ends[0], ".3f") == number(ends[1], ".3f"):
+        return [("from = to", *sides[0][1:])]
+    return sides
 
 
 def _joint_blocks(moved: JointCentresResult) -> list[Block]:
@@ -246,10 +271,9 @@ def _joint_blocks(moved: JointCentresResult) -> list[Block]:
                ("largest bound violation", number(moved.constraint_violation, ".3g")),
                ("cross-check", moved.crosscheck.message if moved.crosscheck else
                 "one solver, no cross-check"))
-    exact = [] if moved.exact_optima is None else exact_optima_blocks(moved.exact_optima)
     return [Table(("joint", "given x, y, z (mm)", "moved x, y, z (mm)", "travel (mm)",
                    "beta given (deg)", "beta moved (deg)"), tuple(rows)),
-            Table(("item", "value"), summary), *exact]
+            Table(("item", "value"), summary)]
 
 
 def _excitation_blocks(run: ColumnRun) -> list[Block]:

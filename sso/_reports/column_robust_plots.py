@@ -6,10 +6,12 @@ on the figures of :mod:`sso._reports.plots`.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from sso._column.positions import PositionsResult
-from sso._reports.plots import _new_figure, _png
+from sso._reports.plots import _new_figure, legend_below
 from sso._run.column import ColumnRun
 from sso._run.column_robust import ColumnRobustPart, FeelPart, PositionsPart, TolerancesPart
 
@@ -19,20 +21,20 @@ DESIGN_COLOURS = {"nominal": "#1f77b4", "as_built": "#7f7f7f", "positions": "#2c
 RE_FLOOR = 1e-12
 
 
-def render_robust_plots(run: ColumnRun) -> dict[str, bytes]:
-    """PNG images of the robust part, keyed by file name (none without one)."""
+def robust_figures(run: ColumnRun) -> dict[str, Any]:
+    """The figures of the robust part, keyed by file name (none without one)."""
     robust = run.robust
     if robust is None:
         return {}
-    images = {}
+    figures = {}
     if robust.positions is not None and robust.positions.result is not None:
-        images["positions.png"] = _positions(robust, robust.positions, robust.positions.result)
+        figures["positions.png"] = _positions(robust, robust.positions, robust.positions.result)
     if robust.tolerances is not None:
-        images["tolerance_study.png"] = _tolerance_study(robust, robust.tolerances)
-    images["phase_error.png"] = _phase_error(robust)
+        figures["tolerance_study.png"] = _tolerance_study(robust, robust.tolerances)
+    figures["phase_error.png"] = phase_error_figure(robust)
     if robust.feel is not None:
-        images["steering_feel.png"] = _steering_feel(robust, robust.feel)
-    return images
+        figures["steering_feel.png"] = _steering_feel(robust, robust.feel)
+    return figures
 
 
 def _colour(role: str) -> str:
@@ -40,8 +42,8 @@ def _colour(role: str) -> str:
 
 
 def _positions(robust: ColumnRobustPart, positions: PositionsPart,
-               result: PositionsResult) -> bytes:
-    figure = _new_figure()
+               result: PositionsResult) -> Any:
+    figure = _new_figure("constrained")
     axes = figure.add_subplot()
     names = list(positions.geometries)
     bars = [(f"{name}'s own optimum", single.position_re, "#bbbbbb", hatch)
@@ -63,13 +65,12 @@ def _positions(robust: ColumnRobustPart, positions: PositionsPart,
     axes.set_title("RE at every position: each position's own optimum\nagainst the designs "
                    "compared", fontsize=10)
     axes.grid(True, axis="y", which="both", alpha=0.3)
-    figure.subplots_adjust(right=0.66)
-    axes.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
-    return _png(figure)
+    legend_below(figure, axes)
+    return figure
 
 
-def _tolerance_study(robust: ColumnRobustPart, tolerances: TolerancesPart) -> bytes:
-    figure = _new_figure()
+def _tolerance_study(robust: ColumnRobustPart, tolerances: TolerancesPart) -> Any:
+    figure = _new_figure("constrained")
     axes = figure.add_subplot()
     by_role = {design.role: design for design in robust.designs}
     for role, values in tolerances.samples_re.items():
@@ -91,12 +92,13 @@ def _tolerance_study(robust: ColumnRobustPart, tolerances: TolerancesPart) -> by
                    f"{settings.hardpoint_mm:g} mm, yoke phasing {settings.yoke_phase_deg:g} "
                    f"deg ({settings.distribution}, seed {settings.seed})", fontsize=10)
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=8, loc="upper left")
-    return _png(figure)
+    legend_below(figure, axes)
+    return figure
 
 
-def _phase_error(robust: ColumnRobustPart) -> bytes:
-    figure = _new_figure()
+def phase_error_figure(robust: ColumnRobustPart) -> Any:
+    """The figure of ``phase_error.png``, its legend in a strip below the panels."""
+    figure = _new_figure("constrained")
     curves = robust.phase_error.curves
     errors = np.asarray(robust.phase_error.errors_deg)
     names = list(next(iter(curves.values())))
@@ -115,12 +117,12 @@ def _phase_error(robust: ColumnRobustPart) -> bytes:
         axes.set_title(f"intermediate shaft {shaft}", fontsize=10)
         axes.grid(True, alpha=0.3)
     grid[0].set_ylabel("RE (other phasings at nominal)")
-    grid[0].legend(fontsize=8, loc="upper center")
+    legend_below(figure, grid[0])
     figure.suptitle("RE against each yoke phasing's error")
-    return _png(figure)
+    return figure
 
 
-def _steering_feel(robust: ColumnRobustPart, feel: FeelPart) -> bytes:
+def _steering_feel(robust: ColumnRobustPart, feel: FeelPart) -> Any:
     figure = _new_figure()
     wheel = np.asarray(feel.wheel_deg)
     window, lock = feel.window_deg, feel.lock_deg
@@ -142,4 +144,4 @@ def _steering_feel(robust: ColumnRobustPart, feel: FeelPart) -> bytes:
     figure.legend(handles, names, fontsize=8, loc="lower center", ncol=2)
     figure.suptitle(f"Steering feel: straight ahead at theta = {feel.straight_ahead_deg:g}"
                     f" deg, windows +-{window:g} deg")
-    return _png(figure)
+    return figure

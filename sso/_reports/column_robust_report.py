@@ -144,7 +144,7 @@ def _tolerance_blocks(robust: ColumnRobustPart, tolerances: TolerancesPart) -> l
                        f"{'yes' if at_or_below else 'NO'}" if equivalents else "")
         exact = (None if result.exact_choice is None
                  else result.exact_choice.optimisation.exact_optima)
-        chosen = (f"{result.robust_objective}, CVaR" if exact is None else
+        chosen = (f"least {result.objective_short}" if exact is None else
                   f"{result.exact_optimum_criterion}, chosen within the set of exact optima of "
                   f"dimension {exact.dimension} from {exact.starts} found")
         blocks.append(Paragraph(

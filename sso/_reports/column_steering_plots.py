@@ -6,8 +6,10 @@ Drawn from the run's :class:`sso.SteeringAssessment` alone, on the figures of
 
 from __future__ import annotations
 
+from typing import Any
+
 from sso._column.steering_criteria import SteeringAssessment
-from sso._reports.plots import _new_figure, _png
+from sso._reports.plots import _new_figure, _png, legend_below
 
 # Assemblies often coincide (as built = best on the splines): a dash each keeps every
 # one visible.
@@ -19,7 +21,12 @@ CURVES = (("speed_ratio", "speed ratio out / in"),
 
 def steering_plot(steering: SteeringAssessment) -> bytes:
     """PNG of the steering curves of every assembly (one line each) against wheel angle."""
-    figure = _new_figure()
+    return _png(steering_figure(steering))
+
+
+def steering_figure(steering: SteeringAssessment) -> Any:
+    """The figure of :func:`steering_plot`, its legend in a strip below the panels."""
+    figure = _new_figure("constrained")
     axes = figure.subplots(len(CURVES), 1, sharex=True)
     for index, design in enumerate(steering.designs):
         figures = design.range
@@ -33,6 +40,5 @@ def steering_plot(steering: SteeringAssessment) -> bytes:
                         "driver sees it)")
     axes[0].set_title(f"Lock to lock (+-{steering.lock_deg:g} deg): every assembly compared",
                       fontsize=10)
-    axes[0].legend(fontsize=7, loc="upper right")
-    figure.tight_layout()
-    return _png(figure)
+    legend_below(figure, axes[0])
+    return figure

@@ -42,13 +42,18 @@ def render_mechanism_plots(run: MechanismRun) -> dict[str, bytes]:
         ``transmission_angle.png`` (four-bar, quick-return), ``piston_motion.png``
         and ``rod_motion.png`` (slider-crank), ``slider_motion.png`` (quick-return).
     """
+    return {name: _png(figure) for name, figure in mechanism_figures(run).items()}
+
+
+def mechanism_figures(run: MechanismRun) -> dict[str, Any]:
+    """The figures of :func:`render_mechanism_plots`, keyed by file name."""
     linkage = linkage_of(run.linkages[0].mechanism)
-    images = {"linkage.png": _linkage_plot(run)}
+    figures = {"linkage.png": _linkage_plot(run)}
     for file_name, title, panels in linkage.series_plots:
-        images[file_name] = _series_plot(run, title, panels)
+        figures[file_name] = _series_plot(run, title, panels)
     if linkage.transmission_plot:
-        images["transmission_angle.png"] = _transmission_plot(run)
-    return images
+        figures["transmission_angle.png"] = _transmission_plot(run)
+    return figures
 
 
 def _column(table: MechanismTable, column: str) -> np.ndarray | None:
@@ -90,7 +95,7 @@ def _angle_axis(axes: Any, run: MechanismRun) -> None:
     axes.set_xticks(np.arange(start, stop + 1e-9, step))
 
 
-def _series_plot(run: MechanismRun, title: str, panels: tuple[Panel, ...]) -> bytes:
+def _series_plot(run: MechanismRun, title: str, panels: tuple[Panel, ...]) -> Any:
     figure = _new_figure()
     if len(panels) > 3:
         figure.set_size_inches(figure.get_size_inches()[0], 9.0)
@@ -116,10 +121,10 @@ def _series_plot(run: MechanismRun, title: str, panels: tuple[Panel, ...]) -> by
                            "crank angles", fontsize="medium")
     _angle_axis(axes_list[-1], run)
     figure.tight_layout()
-    return _png(figure)
+    return figure
 
 
-def _transmission_plot(run: MechanismRun) -> bytes:
+def _transmission_plot(run: MechanismRun) -> Any:
     figure = _new_figure()
     axes = figure.subplots(1, 1)
     values_of_case = run.case.values
@@ -155,12 +160,12 @@ def _transmission_plot(run: MechanismRun) -> bytes:
     axes.legend(loc="upper right", fontsize="small", framealpha=0.9)
     _angle_axis(axes, run)
     figure.tight_layout()
-    return _png(figure)
+    return figure
 
 
 # ---------------------------------------------------------------- link positions
 
-def _linkage_plot(run: MechanismRun) -> bytes:
+def _linkage_plot(run: MechanismRun) -> Any:
     figure = _new_figure()
     axes_list = figure.subplots(1, len(run.linkages), squeeze=False)[0]
     plotted: Sequence[float] = run.case.values["plots.crank_angles_deg"]
@@ -188,7 +193,7 @@ def _linkage_plot(run: MechanismRun) -> bytes:
     figure.suptitle(f"{run.case.name}: link positions at crank angles "
                     f"{angles_text} deg (fading with angle)", fontsize="medium")
     figure.tight_layout(rect=(0.0, 0.09, 1.0, 1.0))
-    return _png(figure)
+    return figure
 
 
 def _lengths(mechanism: Mechanism) -> str:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import io
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -46,11 +46,16 @@ def render_plots(designs: Sequence[ComparedDesign], name: str,
     dict of str to bytes
         ``"polar.png"`` and ``"cartesian.png"``, each ``WIDTH_PX`` x ``HEIGHT_PX``.
     """
-    plot = _Plot(tuple(designs), name, heading)
-    return {"polar.png": _polar(plot), "cartesian.png": _cartesian(plot)}
+    figures = speed_figures(SpeedPlot(tuple(designs), name, heading))
+    return {file: _png(figure) for file, figure in figures.items()}
 
 
-class _Plot:
+def speed_figures(plot: SpeedPlot) -> dict[str, Any]:
+    """The figures of :func:`render_plots`, keyed by file name."""
+    return {"polar.png": polar_figure(plot), "cartesian.png": _cartesian(plot)}
+
+
+class SpeedPlot:
     """The designs of one report, with what every plot of them reads."""
 
     def __init__(self, designs: tuple[ComparedDesign, ...], name: str, heading: str) -> None:
@@ -67,13 +72,34 @@ class _Plot:
         return next((design for design in self.designs if design.role == "optimum"), None)
 
 
-def _new_figure() -> Any:
+def _new_figure(layout: Literal["constrained"] | None = None) -> Any:
     import matplotlib
 
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 
-    return Figure(figsize=(WIDTH_PX / DPI, HEIGHT_PX / DPI), dpi=DPI)
+    return Figure(figsize=(WIDTH_PX / DPI, HEIGHT_PX / DPI), dpi=DPI, layout=layout)
+
+
+LONG_LABEL = 55
+"""Legend entries longer than this (characters) go one to a row, shorter ones two."""
+
+
+def legend_below(figure: Any, axes: Any, title: str | None = None) -> Any:
+    """The legend of ``axes``' curves (each label once) in a strip of its own below the
+    plots: inside the figure and off every curve, however many entries it has.
+
+    ``figure`` must use the constrained layout (``_new_figure("constrained")``), which
+    shrinks the plots to make room for the strip.
+    """
+    entries: dict[str, Any] = {}
+    for panel in np.atleast_1d(axes):
+        for handle, label in zip(*panel.get_legend_handles_labels(), strict=True):
+            entries.setdefault(label, handle)
+    columns = 1 if max((len(label) for label in entries), default=0) > LONG_LABEL else 2
+    return figure.legend(list(entries.values()), list(entries), loc="outside lower center",
+                         ncols=min(columns, max(len(entries), 1)), fontsize="small",
+                         title=title, title_fontsize="small", alignment="left")
 
 
 def _png(figure: Any) -> bytes:
@@ -88,7 +114,7 @@ def _legend_label(design: ComparedDesign) -> str:
             f"{evaluation.speed_max_rpm:.4g} rpm, RE {evaluation.residual_error:.3g}")
 
 
-def _plot_speeds(axes: Any, angle: np.ndarray, plot: _Plot) -> tuple[float, float]:
+def _plot_speeds(axes: Any, angle: np.ndarray, plot: SpeedPlot) -> tuple[float, float]:
     """Draw the input speed and every design's output speed; return the speed range (rpm)."""
     axes.plot(angle, np.full_like(angle, plot.input_speed_rpm),
               label=f"input shaft: {plot.input_speed_rpm:g} rpm", **INPUT_STYLE)
@@ -100,7 +126,7 @@ def _plot_speeds(axes: Any, angle: np.ndarray, plot: _Plot) -> tuple[float, floa
     return float(every_speed.min()), float(every_speed.max())
 
 
-def _cartesian(plot: _Plot) -> bytes:
+def _cartesian(plot: SpeedPlot) -> Any:
     figure = _new_figure()
     optimum = plot.optimum()
     if optimum is not None:
@@ -136,12 +162,14 @@ def _cartesian(plot: _Plot) -> bytes:
     axis_with_angles.set_xlim(0.0, 360.0)
     axis_with_angles.set_xticks(np.arange(0.0, 361.0, 45.0))
     figure.tight_layout()
-    return _png(figure)
+    return figure
 
 
-def _polar(plot: _Plot) -> bytes:
-    figure = _new_figure()
-    axes = figure.add_axes((0.06, 0.06, 0.46, 0.74), projection="polar")
+def polar_figure(plot: SpeedPlot) -> Any:
+    """The figure of ``polar.png``: speeds around one input revolution, the legend and
+    how to read the axes below it."""
+    figure = _new_figure("constrained")
+    axes = figure.add_subplot(projection="polar")
     low, high = _plot_speeds(axes, np.radians(plot.input_angle_deg), plot)
     # The radius starts at 0: a scale from the least speed would magnify the ripple
     # (the cartesian plot zooms on it, and says so).
@@ -153,9 +181,7 @@ def _polar(plot: _Plot) -> bytes:
     axes.tick_params(axis="y", labelsize="small")
     axes.grid(True, alpha=0.5)
     figure.suptitle(plot.title("speeds around one input revolution"))
-    figure.legend(*axes.get_legend_handles_labels(), loc="center left",
-                  bbox_to_anchor=(0.57, 0.55), fontsize="small", framealpha=0.9)
-    figure.text(0.575, 0.38, "angle: input shaft angle (deg), counter-clockwise from 0\n"
-                "radius: shaft speed (rpm), from 0 at the centre\n"
-                f"(speeds {low:.4g} to {high:.4g} rpm)", fontsize="small", va="top", ha="left")
-    return _png(figure)
+    legend_below(figure, axes, title="angle: input shaft angle (deg), counter-clockwise from 0; "
+                 f"radius: shaft speed (rpm), from 0 at the centre (speeds {low:.4g} to "
+                 f"{high:.4g} rpm)")
+    return figure

@@ -16,6 +16,7 @@ from typing import Any
 
 from sso._reports import documents
 from sso._reports.summary import (
+    NUMERICS_HEADING,
     Block,
     Heading,
     Image,
@@ -26,6 +27,7 @@ from sso._reports.summary import (
     opening_blocks,
 )
 from sso._run.shaft_series import ShaftSeriesRun
+from sso._run.signed_figures import figure_lines, shaft_series_figures
 from sso._shafts.curves import ComparedDesign
 from sso._shafts.exact_optima import EXTENT_METHOD, ExactOptimumSet, end_kind
 from sso._shafts.optimise import OptimisationResult
@@ -89,20 +91,34 @@ def report_files(report: ShaftReport, formats: tuple[str, ...]) -> dict[str, byt
 
 def report_blocks(report: ShaftReport, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report."""
+    figures, trade = shaft_headline(report.designs)
     blocks = opening_blocks(report.name, report.description,
-                            Table(("item", "value"), report.case_rows), report.success,
-                            report.verdict)
+                            Table(("item", "value"), report.case_rows), report.success, figures)
+    if trade is not None:
+        blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Designs"), _design_table(report.designs),
-               Heading(2, "Figures of merit"), _figure_table(report.designs)]
+               Heading(2, "Figures of merit"), _figure_table(report.designs),
+               Heading(2, NUMERICS_HEADING), Paragraph(report.verdict)]
     if report.optimisation is not None and report.optimisation.exact_optima is not None:
-        blocks += [Heading(2, "Exact optima"),
+        blocks += [Heading(3, "Exact optima"),
                    *exact_optima_blocks(report.optimisation.exact_optima)]
     if report.optimisation is not None:
-        blocks += [Heading(2, "Solvers"), _solver_table(report.optimisation),
-                   Heading(2, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
-                   Heading(2, "Every run"), _runs_table(report.optimisation)]
+        blocks += [Heading(3, "Solvers"), _solver_table(report.optimisation),
+                   Heading(3, "Cross-check"), Paragraph(_crosscheck_text(report.optimisation)),
+                   Heading(3, "Every run"), _runs_table(report.optimisation)]
     images = [Image(name, _caption(name)) for name in image_files]
     return blocks + closing_blocks(report.warnings, report.versions, images)
+
+
+def shaft_headline(designs: Sequence[ComparedDesign]) -> tuple[str, str | None]:
+    """The signed figures of the design as given to the optimum in one line (the design
+    as given alone without an optimum), and the trade of the optimum (None: none)."""
+    by_role = {design.role: design for design in designs}
+    optimum = by_role.get("optimum")
+    figures, trade = figure_lines(shaft_series_figures(
+        by_role["initial"].evaluation, None if optimum is None else optimum.evaluation),
+        optimum is not None)
+    return (figures if optimum is None else f"{figures} (initial design to optimum)"), trade
 
 
 def _of_run(run: ShaftSeriesRun) -> ShaftReport:
@@ -228,7 +244,8 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
     method = (f"The extent below is that of the whole set within the bounds: {EXTENT_METHOD} "
               f"({search.probes} probes per bound, {search.solves} least-squares solves). "
               f"Each end's witness is the exact optimum found with the variable at that end.")
-    rows = tuple((name, unit, number(low.value, ".6g"), number(high.value, ".6g"),
+    rows = tuple((name, unit, number(low.value, ".6g"),
+                  SINGLE_VALUE if _single(low.value, high.value) else number(high.value, ".6g"),
                   number(chosen, ".6g"), f"{end_kind(low)} / {end_kind(high)}")
                  for name, unit, (low, high), chosen in zip(exact.variables, exact.units,
                                                             search.ends, exact.chosen,
@@ -236,12 +253,26 @@ def exact_optima_blocks(exact: ExactOptimumSet) -> list[Block]:
     witnesses = tuple((name, side, number(end.value, ".6g"), end_kind(end),
                        ", ".join(number(value, ".6g") for value in end.witness),
                        number(end.witness_residual_error, ".3g"))
-                      for name, pair in zip(exact.variables, search.ends, strict=True)
-                      for side, end in zip(("from", "to"), pair, strict=True))
+                      for name, (low, high) in zip(exact.variables, search.ends, strict=True)
+                      for side, end in ((("from = to", low),) if _single(low.value, high.value)
+                                         else (("from", low), ("to", high))))
+    if all(_single(low.value, high.value) for low, high in search.ends):
+        return [Paragraph(f"{text} Every variable holds a single value over the set "
+                          f"({search.solves} least-squares solves found no other exact "
+                          "optimum near the chosen one), so there is no extent to show.")]
     return [Paragraph(text), Paragraph(method),
             Table(("variable", "unit", "set from", "set to", "chosen", "ends"), rows),
             Table(("variable", "end", "value", "kind",
                    f"witness ({', '.join(exact.variables)})", "witness RE"), witnesses)]
+
+
+SINGLE_VALUE = "a single value"
+"""The "set to" cell of a variable the whole set holds at one value (from = to)."""
+
+
+def _single(low: float, high: float) -> bool:
+    """Whether a set's two ends read as one value in a report (six digits)."""
+    return number(low, ".6g") == number(high, ".6g")
 
 
 def _crosscheck_text(result: OptimisationResult) -> str:

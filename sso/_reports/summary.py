@@ -74,6 +74,11 @@ def number(value: Any, spec: str = ".6g") -> str:
     return format(value, spec)
 
 
+NUMERICS_HEADING = "Numerics, for whoever checks them"
+"""The section of a report that holds the solvers' own account (stationarity, sets of
+exact optima, cross-checks): after the figures an engineer signs."""
+
+
 def opening_blocks(name: str, description: str, case_table: Table, success: bool,
                    verdict: str) -> list[Block]:
     """The start every case report shares: title, description, case table, verdict."""

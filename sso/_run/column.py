@@ -38,6 +38,8 @@ from sso._display import Part, TextTable, format_number, format_numbers
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
+from sso._run.signed_figures import SignedFigure, figure_lines, signed_figures
+from sso._solvers.progress import Steps
 
 MODES = ("optimise", "evaluate")
 ANALYSED_VERDICT = "assembly as built analysed; no optimisation"
@@ -221,6 +223,24 @@ class ColumnRun(CaseRun):
                 return design.yields
         return None
 
+    @property
+    def signed_figures(self) -> tuple[SignedFigure, ...]:
+        """The figures an engineer signs, as given and recommended (the same design
+        twice for an analysis): fluctuation, transmission error, excitation at the top
+        speed, then RE (:mod:`sso._run.signed_figures`)."""
+        designs = {design.role: design for design in self.steering.designs}
+        role = self.recommended
+        return signed_figures(designs["as_built"], designs[role], self.excitation["as_built"],
+                              self.excitation[role],
+                              (self.assembly("as_built").residual_error,
+                               self.assembly(role).residual_error))
+
+    @property
+    def headline(self) -> tuple[str, str | None]:
+        """The signed figures in one line (as given to recommended), and the trade of
+        the design recommended in another (None when it makes nothing worse)."""
+        return figure_lines(self.signed_figures, self.recommended != "as_built")
+
     def _repr_text(self) -> str:
         optimum = self.optimum
         figures = f"as built RE {format_number(self.initial.residual_error, 4)}" + (
@@ -233,12 +253,17 @@ class ColumnRun(CaseRun):
                       format_number(assembly.residual_error))
                      for assembly in self.assemblies)
         yields = self.recommended_yields if self.mode == "optimise" else None
+        figures, trade = self.headline
+        compared = ("" if self.recommended == "as_built" else
+                    f" (as built to {self.assembly(self.recommended).label})")
         return [f"Case {self.case.name} (column, {self.mode}): "
-                f"{'OK' if self.success else 'FAILED'}: {self.verdict}",
+                f"{'OK' if self.success else 'FAILED'}: {figures}{compared}",
+                *([trade] if trade is not None else []),
                 TextTable(("assembly", "yoke phasing delta (deg)", "RE"), rows),
                 f"recommended: {self.assembly(self.recommended).label}",
                 *([] if yields is None else [f"its built columns ([tolerances] sample): "
-                                             f"{yields.sentence}"])]
+                                             f"{yields.sentence}"]),
+                f"numerics: {self.verdict}"]
 
 
 def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
@@ -265,57 +290,74 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
     success = True
     recommended = "as_built"
     phasing = moved = robust = splines = nominal_splines = None
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        if optimising:
-            from sso._column.phasing import optimise_phasing
+    with Steps(case.name, _steps(case, optimising)) as steps:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            if optimising:
+                from sso._column.phasing import optimise_phasing
 
-            phasing = optimise_phasing(geometry, **case.solver_options())
-            phasing.exact_optimum_extent_deg  # noqa: B018 - the set's ends are found with the run
-            assemblies.append(_assembly(geometry, "best", "best yoke phasing (continuous)",
-                                        phasing.yoke_phase_deg))
-            success = success and phasing.success
-            verdicts.append(f"phasing: {phasing.message}")
-            recommended = "best"
-        if optimising and case.has_joint_boxes:
-            from sso._column.joint_centres import optimise_joint_centres
+                phasing = optimise_phasing(geometry, **case.solver_options())
+                # the set's ends are found with the run
+                phasing.exact_optimum_extent_deg  # noqa: B018
+                assemblies.append(_assembly(geometry, "best", "best yoke phasing (continuous)",
+                                            phasing.yoke_phase_deg))
+                success = success and phasing.success
+                verdicts.append(f"phasing: {phasing.message}")
+                recommended = "best"
+                steps.finished()
+            if optimising and case.has_joint_boxes:
+                from sso._column.joint_centres import optimise_joint_centres
 
-            moved = optimise_joint_centres(geometry, **case.joint_position_options())
-            success = success and moved.success
-            verdicts.append(f"joint positions: {moved.message}")
-        teeth_assembly = None
-        if has_robust_part(case):
-            outcome = robust_part(case, optimising, list(as_built), phasing)
-            robust = outcome.part
-            success = success and outcome.success
-            verdicts += outcome.verdicts
-            teeth_assembly = outcome.teeth
-        if case.teeth is not None:
-            from sso._column.splines import best_spline_teeth
+                moved = optimise_joint_centres(geometry, **case.joint_position_options())
+                success = success and moved.success
+                verdicts.append(f"joint positions: {moved.message}")
+                steps.finished()
+            teeth_assembly = None
+            if has_robust_part(case):
+                outcome = robust_part(case, optimising, list(as_built), phasing)
+                robust = outcome.part
+                success = success and outcome.success
+                verdicts += outcome.verdicts
+                teeth_assembly = outcome.teeth
+                steps.finished()
+            if case.teeth is not None:
+                from sso._column.splines import best_spline_teeth
 
-            splines = best_spline_teeth(geometry, case.teeth)
-            label = "best on the splines (whole teeth)"
-            if teeth_assembly is not None:
-                # the fitter gets the teeth of the objective the case optimised
-                nominal_splines = splines
-                label, splines = teeth_assembly
-            assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
-            recommended = "splines"
-        by_role = {assembly.role: assembly for assembly in assemblies}
-        excitation = {role: excitation_table(geometry.series(by_role[role].yoke_phase_deg),
-                                             case.excitation_speeds_rpm(),
-                                             case.values["excitation.vehicle"],
-                                             case.values["excitation.application"])
-                      for role in dict.fromkeys(("as_built", recommended))}
+                splines = best_spline_teeth(geometry, case.teeth)
+                label = "best on the splines (whole teeth)"
+                if teeth_assembly is not None:
+                    # the fitter gets the teeth of the objective the case optimised
+                    nominal_splines = splines
+                    label, splines = teeth_assembly
+                assemblies.append(_assembly(geometry, "splines", label, splines.yoke_phase_deg))
+                recommended = "splines"
+                steps.finished()
+            by_role = {assembly.role: assembly for assembly in assemblies}
+            excitation = {role: excitation_table(geometry.series(by_role[role].yoke_phase_deg),
+                                                 case.excitation_speeds_rpm(),
+                                                 case.values["excitation.vehicle"],
+                                                 case.values["excitation.application"])
+                          for role in dict.fromkeys(("as_built", recommended))}
+            steps.finished()
+        steering = _steering(geometry, case, assemblies, robust)
+        steps.finished()
     return ColumnRun(
         case=case, mode="optimise" if optimising else "evaluate", geometry=geometry,
         cancel=can_cancel(geometry.beta_deg), assemblies=tuple(assemblies), phasing=phasing,
         splines=splines, nominal_splines=nominal_splines, joint_centres=moved, robust=robust,
-        excitation=excitation, steering=_steering(geometry, case, assemblies, robust),
+        excitation=excitation, steering=steering,
         recommended=recommended, success=success,
         verdict="; ".join(verdicts) if verdicts else ANALYSED_VERDICT,
         warnings=tuple(dict.fromkeys([*case.warnings, *(str(item.message) for item in caught)])),
         versions=package_versions(), created_utc=created_utc())
+
+
+def _steps(case: ColumnCase, optimising: bool) -> list[str]:
+    """What a run of ``case`` does, in order (the steps of its progress bar)."""
+    optional = ((optimising, "phasing"), (optimising and case.has_joint_boxes, "joint positions"),
+                (has_robust_part(case), "positions, tolerances and feel"),
+                (case.teeth is not None, "spline teeth"))
+    return [name for wanted, name in optional if wanted] + ["excitation", "steering figures"]
 
 
 def _assembly(geometry: ColumnGeometry, role: str, label: str,
@@ -329,12 +371,15 @@ def _assembly(geometry: ColumnGeometry, role: str, label: str,
 def _steering(geometry: ColumnGeometry, case: ColumnCase, assemblies: Sequence[Assembly],
               robust: ColumnRobustPart | None) -> SteeringAssessment:
     """Steering figures and criteria of every assembly, and of the robust part's designs
-    not among them."""
+    not among them (by role, or by name and phasing: the assembly recommended on the
+    splines is often one of the robust designs' teeth, and is listed once)."""
     designs = [(assembly.role, assembly.label, assembly.yoke_phase_deg)
                for assembly in assemblies]
     roles = {assembly.role for assembly in assemblies} | {"nominal"}
+    listed = {(assembly.label, assembly.yoke_phase_deg) for assembly in assemblies}
     designs += [(design.role, design.label, design.yoke_phase_deg)
                 for design in (robust.designs if robust is not None else ())
-                if design.role not in roles]
+                if design.role not in roles
+                and (design.label, design.yoke_phase_deg) not in listed]
     return assess_steering(geometry, designs, limits=case.steering_limits(),
                            **case.steering_options())

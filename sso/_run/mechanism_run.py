@@ -30,6 +30,7 @@ from sso._linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso._linkages.table import MechanismTable
 from sso._record import Record, register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
+from sso._solvers.progress import Steps
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""
@@ -183,30 +184,34 @@ def run_mechanism(case: MechanismCase, optimising: bool) -> MechanismRun:
     caught_messages: list[str] = []
     linkages: dict[str, Mechanism]
     design = None
-    if case.kind != DESIGN_KIND:
-        mode, linkages, verdict = "analyse", {"given": start}, _analysis_verdict(case)
-    elif optimising:
-        from sso._linkages.fourbar_swing import design_fourbar
+    designing = case.kind == DESIGN_KIND and optimising
+    with Steps(case.name, ["design", "tables"] if designing else ["tables"]) as steps:
+        if case.kind != DESIGN_KIND:
+            mode, linkages, verdict = "analyse", {"given": start}, _analysis_verdict(case)
+        elif optimising:
+            from sso._linkages.fourbar_swing import design_fourbar
 
-        if not isinstance(start, FourBar):
-            raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            design = design_fourbar(start, **case.design_options())
-        caught_messages = [str(warning.message) for warning in caught]
-        mode, linkages, verdict = "optimise", {"initial": start,
-                                               "optimum": design.optimum}, design.verdict
-    else:
-        mode, linkages = "evaluate", {"initial": start}
-        verdict = "start linkage analysed as given; no optimisation"
-    difference = None
-    if isinstance(start, SliderCrank) and start.offset == 0.0:
-        difference = slider_crank_method_difference(
-            start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg())
+            if not isinstance(start, FourBar):
+                raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                design = design_fourbar(start, **case.design_options())
+            caught_messages = [str(warning.message) for warning in caught]
+            mode, linkages, verdict = "optimise", {"initial": start,
+                                                   "optimum": design.optimum}, design.verdict
+            steps.finished()
+        else:
+            mode, linkages = "evaluate", {"initial": start}
+            verdict = "start linkage analysed as given; no optimisation"
+        difference = None
+        if isinstance(start, SliderCrank) and start.offset == 0.0:
+            difference = slider_crank_method_difference(
+                start.crank, start.rod, case.crank_speed_rad_s, case.crank_angles_deg())
+        curves = tuple(linkage_curves(role, mechanism, case)
+                       for role, mechanism in linkages.items())
+        steps.finished()
     return MechanismRun(
-        case=case, mode=mode, design=design,
-        linkages=tuple(linkage_curves(role, mechanism, case)
-                       for role, mechanism in linkages.items()),
+        case=case, mode=mode, design=design, linkages=curves,
         method_difference=difference, verdict=verdict,
         warnings=tuple(dict.fromkeys([*case.warnings, *caught_messages])),
         versions=package_versions(), created_utc=created_utc())

@@ -18,6 +18,7 @@ from sso._display import Part, TextTable, format_number, format_numbers
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.optimise import OptimisationResult, optimise
+from sso._solvers.progress import Steps
 
 MODES = ("optimise", "evaluate")
 EVALUATED_VERDICT = "evaluated as given; no optimisation"
@@ -105,7 +106,10 @@ def run_shaft_series(case: Case, optimising: bool) -> ShaftSeriesRun:
     options = {"quadrature_rtol": case.quadrature_rtol, "quadrature_atol": case.quadrature_atol}
     compared: list[ComparedDesign] = []
     optimisation = None
-    with warnings.catch_warnings(record=True) as caught:
+    reference = case.reference_series()
+    names = ["optimisation" if optimising else "evaluation",
+             *(["reference"] if reference is not None else [])]
+    with Steps(case.name, names) as steps, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if optimising:
             optimisation = optimise(case.series(), case.option, **case.optimise_options())
@@ -115,11 +119,12 @@ def run_shaft_series(case: Case, optimising: bool) -> ShaftSeriesRun:
             compared.append(compared_design(
                 "initial", "design (as given)", series,
                 series.evaluate(case.input_speed_rpm, **options)))
-        reference = case.reference_series()
+        steps.finished()
         if reference is not None:
             compared.append(compared_design(
                 "reference", case.reference_label, reference,
                 reference.evaluate(case.input_speed_rpm, **options)))
+            steps.finished()
     noted = [*case.warnings, *(optimisation.warnings if optimisation else ()),
              *(str(warning.message) for warning in caught)]
     return ShaftSeriesRun(case=case, mode="optimise" if optimising else "evaluate",

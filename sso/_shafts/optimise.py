@@ -172,8 +172,7 @@ class OptimisationResult(DesignResult):
         """The initial design and the optimum as a report shows them, with speed curves."""
         return (compared_design("initial", "initial design (as given)", self.initial_series,
                                 self.initial),
-                compared_design("optimum", f"optimum (found by {self.found_by})", self.best_series,
-                                self.optimum))
+                compared_design("optimum", "optimum", self.best_series, self.optimum))
 
     @property
     def best_series(self) -> ShaftSeries:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import io
 import json
 import math
+import re
 import textwrap
 from collections.abc import Iterator, Sequence
 from typing import Any
@@ -40,6 +41,7 @@ REPORT_ROWS = 50
 SWEEP_FOLDER = "sweep"
 TOLERANCE_FOLDER = "tolerance study"
 SWEEP_PLOT = "sweep_re.png"
+SWEEP_FIGURES_PLOT = "sweep_figures.png"
 TOLERANCE_PLOT = "tolerance_histogram.png"
 TOLERANCE_CSV = "tolerance.csv"
 TABLE_ROWS = 10_000
@@ -87,6 +89,8 @@ def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, FileContent
     if "json" in formats and result.manifest:
         files[MANIFEST_NAME] = (json.dumps(result.manifest, indent=2) + "\n").encode("utf-8")
     images = {SWEEP_PLOT: _png(_sweep_figure(result))} if "png" in formats else {}
+    if "png" in formats and _signed_columns(result):
+        images[SWEEP_FIGURES_PLOT] = _png(_figures_figure(result))
     files.update(images)
     _add_documents(files, formats, _sweep_blocks(result, tuple(images)), images)
     return files
@@ -152,6 +156,10 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
     if image_files:
         blocks.append(Image(image_files[0], "Residual error of each point against each swept "
                             f"value (log scale); values {FLOOR_LABEL}."))
+    if SWEEP_FIGURES_PLOT in image_files:
+        blocks.append(Image(SWEEP_FIGURES_PLOT, "The steering figures of each point (speed-ratio "
+                            "fluctuation, %; largest transmission error, deg) against the "
+                            "swept value."))
     paths = [axis.path for axis in result.axes]
     shown = [result.rows[index] for index in result.lowest_re_order()[:REPORT_ROWS].tolist()]
     table = COLUMN_TABLE_COLUMNS if _kind(result) == "column" else SWEEP_TABLE_COLUMNS
@@ -222,12 +230,12 @@ def _sweep_figure(result: Any) -> Any:
         outer, inner = 0, 1
         if _numeric(result.axes[0]) and not _numeric(result.axes[1]):
             outer, inner = 1, 0  # a numeric x axis reads better
-        panels = [(f"{result.axes[outer].path} = {_cell(value)}", inner,
+        panels = [(f"{axis_label(result.axes[outer].path)} = {_cell(value)}", inner,
                    ok & (positions[outer] == number))
                   for number, value in enumerate(result.axes[outer].values[:MOST_PANELS])]
         possible = len(result.axes[outer].values)
     else:
-        panels = [(f"against {axis.path}", number, ok)
+        panels = [(f"against {axis_label(axis.path)}", number, ok)
                   for number, axis in enumerate(result.axes[:MOST_PANELS])]
         possible = len(result.axes)
     count = len(panels)
@@ -261,6 +269,91 @@ def _sweep_figure(result: Any) -> Any:
             legend.setdefault(label, handle)
     figure.legend(list(legend.values()), list(legend), loc="outside lower center",
                   ncols=min(len(legend), 2), fontsize="small")
+    return figure
+
+
+SIGNED_SWEEP_COLUMNS = (
+    ("speed_fluctuation_percent", "speed-ratio fluctuation, lock to lock (%)"),
+    ("largest_transmission_error_deg", "largest |transmission error|, lock to lock (deg)"),
+)
+"""The figures an engineer signs that a sweep's rows may hold (a column case's), with
+their axis labels."""
+UNIT_SUFFIXES = {"mm": "mm", "deg": "deg", "rpm": "rpm", "percent": "%", "s": "s",
+                 "rad_s2": "rad/s^2"}
+POINT_PATH = re.compile(r"(?:hardpoints\.)?(?:positions\.(\w+)\.)?points_mm\[(\d+)\]\[([012])\]$")
+
+
+def axis_label(path: str) -> str:
+    """A swept key in words with its unit: ``hardpoints.points_mm[2][2]`` reads
+    ``P2 z (mm)``, ``design.beta_deg[0]`` ``beta_deg[0] (deg)`` (the key's last name,
+    its unit suffix moved into brackets)."""
+    point = POINT_PATH.search(path)
+    if point is not None:
+        position = f" at {point.group(1)}" if point.group(1) else ""
+        return f"P{point.group(2)} {'xyz'[int(point.group(3))]}{position} (mm)"
+    name = path.rsplit(".", 1)[-1]
+    index = name.find("[")
+    stem, indices = (name, "") if index < 0 else (name[:index], name[index:])
+    for suffix, unit in sorted(UNIT_SUFFIXES.items(), key=lambda item: -len(item[0])):
+        if stem.endswith(f"_{suffix}"):
+            words = stem[:-len(suffix) - 1].replace("_", " ")
+            return f"{words}{indices} ({unit})"
+    return stem.replace("_", " ") + indices
+
+
+def _signed_columns(result: Any) -> list[tuple[str, str]]:
+    """The signed figures the sweep's rows hold a value of."""
+    found = []
+    for name, label in SIGNED_SWEEP_COLUMNS:
+        try:
+            values = result.numbers(name)
+        except (KeyError, ValueError):
+            continue
+        if np.any(~np.isnan(values)):
+            found.append((name, label))
+    return found
+
+
+def _figures_figure(result: Any) -> Any:
+    """The signed figures (fluctuation %, transmission error deg) against the first
+    numeric axis, one panel each; one line per value of the other axis of a two-axis
+    product."""
+    signed = _signed_columns(result)
+    figure = _figure((PANEL_SIZE_IN[0] * len(signed) + 0.4, PANEL_SIZE_IN[1] + 1.2))
+    grid = figure.subplots(1, len(signed), squeeze=False)[0]
+    ok = result.column("status") == "ok"
+    numeric = [number for number, axis in enumerate(result.axes) if _numeric(axis)]
+    along = numeric[0] if numeric else 0
+    axis = result.axes[along]
+    x = (result.numbers(axis.path) if _numeric(axis)
+         else _category_positions(axis)[value_positions(
+             result.axes, result.mode, result.numbers("point").astype(int))[along]]
+         .astype(float))
+    groups: list[tuple[str, np.ndarray]] = [("", ok)]
+    if result.mode == "product" and len(result.axes) == 2:
+        other = 1 - along
+        positions = value_positions(result.axes, result.mode,
+                                    result.numbers("point").astype(int))[other]
+        groups = [(f"{axis_label(result.axes[other].path)} = {_cell(value)}",
+                   ok & (positions == number))
+                  for number, value in enumerate(result.axes[other].values[:MOST_PANELS])]
+    for panel, (name, label) in zip(grid, signed, strict=True):
+        values = result.numbers(name)
+        for group, selected in groups:
+            order = np.argsort(x[selected], kind="stable")
+            panel.plot(x[selected][order], values[selected][order], "o-", markersize=4,
+                       linewidth=1.2, label=group or label)
+        panel.set_xlabel(axis_label(axis.path))
+        panel.set_ylabel(label, fontsize="small")
+        panel.grid(True, alpha=0.3)
+    if len(groups) > 1:
+        legend: dict[str, Any] = {}
+        for handle, text in zip(*grid[0].get_legend_handles_labels(), strict=True):
+            legend.setdefault(text, handle)
+        figure.legend(list(legend.values()), list(legend), loc="outside lower center",
+                      ncols=min(len(legend), 2), fontsize="small")
+    figure.suptitle(f"Steering figures over the sweep ({len(result.rows)} points; failed points "
+                    "not shown)")
     return figure
 
 
@@ -300,7 +393,7 @@ def _sweep_panel(axes: Any, axis: Any, x: np.ndarray, re_values: np.ndarray,
                  label=f"round-off floor {ROUND_OFF_FLOOR:g}")
     axes.set_yscale("log")
     axes.set_title(title, fontsize="medium")
-    axes.set_xlabel(axis.path)
+    axes.set_xlabel(axis_label(axis.path))
     axes.set_ylabel("RE")
     axes.grid(True, which="major", alpha=0.3)
     if numeric:

@@ -44,7 +44,7 @@ from sso._studies.parquet_output import (
     start_parts,
     write_part,
 )
-from sso._studies.report import SWEEP_FOLDER, SWEEP_PLOT, render_sweep
+from sso._studies.report import SWEEP_FIGURES_PLOT, SWEEP_FOLDER, SWEEP_PLOT, render_sweep
 from sso._studies.results import SweepResult, SweepRows
 from sso._studies.row_checks import recheck_row
 from sso._studies.shared_rows import shared_columns
@@ -107,7 +107,8 @@ DASK_CHUNK_FLOOR = {"optimise": 10_000, "evaluate": 50_000}
 DASK_EVALUATE_CHUNK_CAP = 100_000
 MAX_CHUNK_SIZE = ARRAY_CHUNK_CAP
 DOCUMENT_FORMATS = ("md", "html", "png")
-SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, PARQUET_NAME)
+SWEEP_FILES = (CSV_NAME, MANIFEST_NAME, "report.md", "report.html", SWEEP_PLOT, SWEEP_FIGURES_PLOT,
+               PARQUET_NAME)
 """The files a sweep writes into its folder (its ``sso-files.json`` lists them; the
 Parquet parts are a folder); it refuses a folder holding anything else."""
 

@@ -151,8 +151,8 @@ def test_an_error_inside_the_positions_table_names_its_line(tmp_path):
 
 METRES_AND_SMALL = [
     ([[c / 1000.0 for c in point] for point in TRUCK],
-     "hardpoints.points_mm: the shortest shaft (output shaft, P3 to P4) is 0.15 mm long: "
-     "the hardpoints look like metres; give them in mm"),
+     "hardpoints.points_mm = points 0.15 mm apart (output shaft, P3 to P4) looks like metres "
+     "(0.15 m = 149.9 mm)"),
     ([[0, 0, 0], [400, 0, 0], [800, 2.0944, 0], [1200, 100, 30]],
      "hardpoints.points_mm[1]: joint 1 runs at 0.3 deg, below about 0.5 deg (needle bearings "
      "that hardly roll brinell the trunnions"),

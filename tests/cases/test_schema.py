@@ -12,8 +12,9 @@ from sso._cases.shaft_series import Case
 CASES = Path(__file__).resolve().parents[2] / "cases"
 # The shaft-series cases (the column cases are checked in tests/cases/test_column_case.py).
 # The shaft-series cases (the column's and the driveline kind's have tests of their own).
-SHIPPED = sorted(path for path in CASES.glob("*.toml") if not path.stem.startswith("column_")
-                 and 'kind = "driveline"' not in path.read_text(encoding="utf-8"))
+SHIPPED = sorted(path for path in CASES.glob("*.toml")
+                 if not any(f'kind = "{kind}"' in path.read_text(encoding="utf-8")
+                            for kind in ("column", "driveline")))
 MINIMAL = '[design]\nbeta_deg = [10.0, 20.0]\n'
 
 # docs/model.md, "The paper's three cases": reported optima.

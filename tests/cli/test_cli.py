@@ -210,12 +210,16 @@ def test_evaluate_builds_no_nlp(tmp_path, model, low_rpm, high_rpm):
 def test_every_shipped_case_solves_below_its_reference(tmp_path):
     # The shaft-series cases; the column and driveline cases have no reference
     # (tests/cli/test_cli_column.py, tests/driveline/test_driveline_cli.py).
-    shipped = sorted(path for path in CASES.glob("*.toml") if not path.stem.startswith("column_")
-                     and 'kind = "driveline"' not in path.read_text(encoding="utf-8"))
+    shipped = sorted(path for path in CASES.glob("*.toml")
+                     if load_case(path).kind == "shaft_series")
     completed = sso("run", *shipped, "--out", tmp_path, "--formats", "json", "--quiet",
                     cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    assert len(completed.stdout.strip().splitlines()) == 2 + len(shipped)
+    headlines, table = completed.stdout.strip().split("\n\n")
+    assert len(table.splitlines()) == 2 + len(shipped)
+    # each case's signed figures lead, before the table
+    assert [line.split(":")[0] for line in headlines.splitlines()] == [
+        path.stem for path in shipped]
     for path in shipped:
         run = ShaftSeriesRun.from_dict(json.loads(
             (tmp_path / path.stem / "result.json").read_text()))

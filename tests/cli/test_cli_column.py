@@ -162,9 +162,8 @@ def test_validate_warns_of_hardpoints_in_metres_and_of_a_joint_under_half_a_degr
                         "[400, 0, 0], [800, 2.0944, 0], [1200, 100, 30]]\n", "small.toml")
     completed = sso("validate", first, second, cwd=tmp_path)
     assert completed.returncode == 0, completed.stderr
-    assert ("warning: metres: hardpoints.points_mm: the shortest shaft (output shaft, P3 to "
-            "P4) is 0.15 mm long: the hardpoints look like metres; give them in mm"
-            in completed.stderr)
+    assert ("warning: metres: hardpoints.points_mm = points 0.15 mm apart (output shaft, P3 to "
+            "P4) looks like metres (0.15 m = 149.9 mm)" in completed.stderr)
     assert ("warning: small: hardpoints.points_mm[1]: joint 1 runs at 0.3 deg, below about "
             "0.5 deg (needle bearings that hardly roll brinell the trunnions" in completed.stderr)
 

@@ -30,7 +30,8 @@ def test_a_case_with_lm_alone_is_solved_by_lm(tmp_path):
     assert run.case.solvers == ("lm",) and result is not None
     assert list(result.solutions) == ["lm"]
     optimum = run.design("optimum")
-    assert optimum is not None and optimum.label == "optimum (found by lm from start 0)"
+    assert optimum is not None and optimum.label == "optimum"
+    assert result.found_by == "lm from start 0"
     assert run.success is True and result.crosscheck is None
     # Option 3 of the paper's case cancels: the optimum is at round-off zero.
     assert optimum.evaluation.residual_error < 1e-20

@@ -275,7 +275,7 @@ def test_the_column_solver_tolerance_keeps_slsqp_within_the_cross_check():
     text = page_text("docs/robust.md")
     solver_tol = short_e(DEFAULT_COLUMN_SOLVER_TOL, 1)
     assert f"The default solver tolerance is `{solver_tol}`" in text
-    assert ("(200 samples, seed 1, the mean and the p95 objective) SLSQP's stationarity error "
+    assert ("(200 samples, seed 1, the mean and the CVaR95 objective) SLSQP's stationarity error "
             f"at `{solver_tol}` stays below {short_e(0.1 * DEFAULT_KKT_TOLERANCE, 1)}, a "
             f"tenth of the cross-check's {short_e(DEFAULT_KKT_TOLERANCE, 1)}.") in text
 

@@ -191,6 +191,6 @@ def test_the_set_of_exact_optima_is_saved_without_its_callable(tmp_path):
     for (low, high), chosen in zip(exact.extent, exact.chosen, strict=True):
         assert low <= chosen <= high
     markdown = (tmp_path / "report" / "report.md").read_text()
-    assert "## Exact optima" in markdown
-    assert f"optimum (found by {result.found_by})" in markdown
+    assert "### Exact optima" in markdown  # in the numerics section
+    assert f"The reported optimum was found by {result.found_by}." in markdown
     assert "| solver | run |" in markdown
