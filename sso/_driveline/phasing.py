@@ -19,6 +19,12 @@ layout box (:class:`sso._driveline.layout_box.LayoutBox`) on a grid, then refine
 best points with SLSQP (SciPy) on the sampled figures, one stage per tier with the
 earlier tiers as constraints: the first in epigraph form (least ``t`` with every ratio
 at most ``t``), the second on the squared ratio (smooth where the joints cancel).
+
+The named positions are the column's geometry (one :class:`ColumnGeometry` each, sharing
+the yoke phasing as the column's positions do), but not the column's scenario NLP
+(:mod:`sso._column.scenarios`): that one minimises the closed-form RE with each
+scenario's joint angles and planes fixed, while here the figures are peaks over a
+revolution with a limit each, and the layout variables move the angles and planes.
 """
 
 from __future__ import annotations
