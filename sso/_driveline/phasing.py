@@ -58,7 +58,10 @@ SEARCH_SAMPLES = 512
 """Samples of a half revolution per peak while refining (the peak's sampling error is then
 below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
 LAYOUT_GRID = 5
-"""Grid points across each layout variable's box."""
+"""Grid points across each layout variable's box, at most."""
+GRID_BUDGET = 4000
+"""Grid points scanned at most where several layout variables multiply the phasings'
+(each layout variable then gets fewer points, two at least: its box's ends)."""
 STAGE_FTOL = 1e-12
 STAGE_ITERATIONS = 200
 """SLSQP's tolerance on each tier's objective and its iteration limit."""
@@ -285,10 +288,13 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
     search = _Search(driveline, box)
     shafts, bounds = search.shafts, search.bounds
     step = 10.0 if shafts <= 2 else 20.0
-    layouts = itertools.product(*(np.unique(np.linspace(low, high, LAYOUT_GRID))
+    phasings = list(itertools.product(np.arange(-90.0, 90.0, step), repeat=shafts))
+    layout_count = len(bounds) - shafts
+    across = LAYOUT_GRID if layout_count == 0 else max(2, min(LAYOUT_GRID, int(
+        (GRID_BUDGET / len(phasings)) ** (1.0 / layout_count))))
+    layouts = itertools.product(*(np.unique(np.linspace(low, high, across))
                                   for low, high in bounds[shafts:]))
-    points = [(*phasing, *layout) for layout in layouts
-              for phasing in itertools.product(np.arange(-90.0, 90.0, step), repeat=shafts)]
+    points = [(*phasing, *layout) for layout in layouts for phasing in phasings]
     scored = sorted((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in points)
     starts = [np.array(point) for _, point in scored[:REFINED_STARTS]]
