@@ -108,6 +108,10 @@ class PhasingAdvice:
         The driveline's phasing as given, deg.
     worst_ratio_given, worst_ratio_recommended : float
         Largest excitation over its limit, over every position and figure.
+    least_worst_ratio : float
+        The least largest ratio any phasing (and layout in the box) reaches: the first
+        tier's ``r*`` (the search's sampled figures); the recommendation is within
+        :data:`MARGIN_TOLERANCE` of it.
     rows : tuple of PhasingRow
     criterion : str
     box : LayoutBox or None
@@ -124,6 +128,7 @@ class PhasingAdvice:
     worst_ratio_recommended: float
     rows: tuple[PhasingRow, ...]
     criterion: str
+    least_worst_ratio: float
     box: LayoutBox | None = None
     layout_values: tuple[float, ...] = ()
     given_layout_values: tuple[float, ...] = ()
@@ -175,7 +180,8 @@ class PhasingAdvice:
             f"(given [{format_numbers(self.given_yoke_phase_deg)}])"
             + (f"; layout: {layout}" if layout else "")
             + f"; largest excitation over its limit {format_number(self.worst_ratio_given)} "
-            f"-> {format_number(self.worst_ratio_recommended)} ({self.criterion})",
+            f"-> {format_number(self.worst_ratio_recommended)} (least reachable "
+            f"{format_number(self.least_worst_ratio)}; {self.criterion})",
             TextTable(("position", "excitation", "given (rad/s^2)", "recommended (rad/s^2)",
                        "limit (rad/s^2)"),
                       tuple((row.position, row.figure, format_number(row.given_rad_s2),
@@ -318,7 +324,8 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
                    lambda z: z[-1] - search.ratios(z[:-1]).ravel(),
                    np.append(start, worst(start)), [*limits_box, (None, None)])[:-1]
              for start in starts]
-    allowed = min(worst(x) for x in first) + MARGIN_TOLERANCE
+    least = min(worst(x) for x in first)
+    allowed = least + MARGIN_TOLERANCE
 
     def within(x: np.ndarray) -> np.ndarray:
         margin: np.ndarray = allowed - search.ratios(x).ravel()
@@ -366,7 +373,7 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
         yoke_phase_deg=recommended, given_yoke_phase_deg=driveline.phasing_deg,
         worst_ratio_given=max(row.given_rad_s2 / row.limit_rad_s2 for row in rows),
         worst_ratio_recommended=max(row.recommended_rad_s2 / row.limit_rad_s2 for row in rows),
-        rows=rows, criterion=CRITERION, box=box,
+        rows=rows, criterion=CRITERION, least_worst_ratio=least, box=box,
         layout_values=tuple(float(v) for v in best[shafts:]),
         given_layout_values=tuple(float(v) for v in given[shafts:]))
 

@@ -7,6 +7,7 @@ import itertools
 import numpy as np
 import pytest
 from driveline_cases import TRUCK_TUBE, compound_pickup, planar_one_piece
+from driveline_vector_model import VectorDriveline
 
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.excitation import excitations
@@ -51,8 +52,14 @@ def test_a_free_pinion_on_a_planar_one_piece_is_set_for_equal_angles_in_phase() 
     assert advice is not None and layout is not None
     assert advice.yoke_phase_deg == (0.0,)
     assert advice.pinion_slope_deg == pytest.approx(3.0, abs=1e-3)
-    first, second = layout.driveline.geometry.beta_deg
+    # the laid-out points judged by the independent vector model: equal angles, and the
+    # pinion (shaft 2 with the gearbox at constant speed) without acceleration
+    vector = VectorDriveline([list(point) for point in layout.driveline.points_mm],
+                             list(advice.yoke_phase_deg))
+    first, second = vector.joint_angles_deg()
     assert first - second == pytest.approx(0.0, abs=1e-3)
+    drive, _ = vector.peaks(5000.0)
+    assert drive[-1] < 1.0  # rad/s^2; 668 as fitted
     # the axle no longer feels the shaft: 668 rad/s^2 as fitted (over the 300 limit)
     torsional = [row for row in advice.rows if row.figure == "torsional"]
     assert torsional[0].given_rad_s2 == pytest.approx(668.4, rel=1e-3)
