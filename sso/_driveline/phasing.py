@@ -360,6 +360,13 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
                 and candidate[2] <= best_key[2] + TEXTBOOK_TIE):
             best = point
             break
+    # A planar driveline's mirror phasing (every delta negated) gives the same figures:
+    # of the two, the one whose first turned propshaft turns positive is said.
+    wrapped = wrap_half_turn(best[:shafts])
+    turned = wrapped[np.abs(wrapped) > TIE]
+    mirror = np.array((*(-wrapped), *best[shafts:]))
+    if turned.size and turned[0] < 0.0 and _same_key(key(mirror), best_key):
+        best = mirror
     recommended = tuple(float(v) for v in wrap_half_turn(best[:shafts]))
     given = search.given()
     speed = driveline.max_shaft_speed_rpm
@@ -389,3 +396,9 @@ def _distinct(points: Sequence[np.ndarray], shafts: int) -> list[np.ndarray]:
                for other in kept):
             kept.append(point)
     return kept
+
+
+def _same_key(first: tuple[bool, float, float], second: tuple[bool, float, float]) -> bool:
+    """Two points' criterion keys equal within :data:`TIE`."""
+    return (first[0] == second[0] and abs(first[1] - second[1]) <= TIE
+            and abs(first[2] - second[2]) <= TIE)
