@@ -6,7 +6,7 @@ import itertools
 
 import numpy as np
 import pytest
-from driveline_cases import TRUCK_TUBE, compound_pickup, planar_one_piece
+from driveline_cases import TRUCK_TUBE, compound_pickup, planar_one_piece, truck_two_piece
 from driveline_vector_model import VectorDriveline
 
 from sso._column.geometry import ColumnGeometry
@@ -122,3 +122,17 @@ def test_a_centre_bearing_height_in_its_box_agrees_with_a_brute_force_scan() -> 
     difference = np.mod(np.subtract(advice.yoke_phase_deg, phasing) + 90.0, 180.0) - 90.0
     np.testing.assert_allclose(difference, 0.0, atol=0.5)
     assert advice.worst_ratio_recommended < advice.worst_ratio_given
+
+
+def test_of_two_mirror_phasings_of_a_planar_driveline_the_positive_one_is_said() -> None:
+    # A planar driveline seen from the other side is the same driveline with every yoke
+    # phasing negated: the same figures, so the advice must pick one by a stated rule.
+    driveline = truck_two_piece()
+    advice = recommend_phasing(driveline)
+    mirror = tuple(-delta for delta in advice.yoke_phase_deg)
+    said = excitations(driveline.geometry, advice.yoke_phase_deg, 2500.0)
+    mirrored = excitations(driveline.geometry, mirror, 2500.0)
+    assert mirrored.torsional_rad_s2 == pytest.approx(said.torsional_rad_s2, rel=1e-9)
+    assert mirrored.inertia_drive_rad_s2 == pytest.approx(said.inertia_drive_rad_s2, rel=1e-9)
+    turned = [delta for delta in advice.yoke_phase_deg if abs(delta) > 1e-6]
+    assert turned and turned[0] > 0.0
