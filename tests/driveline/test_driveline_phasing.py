@@ -127,7 +127,7 @@ def test_a_centre_bearing_height_in_its_box_agrees_with_a_brute_force_scan() -> 
 def test_of_two_mirror_phasings_of_a_planar_driveline_the_positive_one_is_said() -> None:
     # A planar driveline seen from the other side is the same driveline with every yoke
     # phasing negated: the same figures, so the advice must pick one by a stated rule.
-    driveline = truck_two_piece()
+    driveline = truck_two_piece(positions={"laden": {"pinion_slope_deg": -0.5}})
     advice = recommend_phasing(driveline)
     mirror = tuple(-delta for delta in advice.yoke_phase_deg)
     said = excitations(driveline.geometry, advice.yoke_phase_deg, 2500.0)
@@ -135,4 +135,4 @@ def test_of_two_mirror_phasings_of_a_planar_driveline_the_positive_one_is_said()
     assert mirrored.torsional_rad_s2 == pytest.approx(said.torsional_rad_s2, rel=1e-9)
     assert mirrored.inertia_drive_rad_s2 == pytest.approx(said.inertia_drive_rad_s2, rel=1e-9)
     turned = [delta for delta in advice.yoke_phase_deg if abs(delta) > 1e-6]
-    assert turned and turned[0] > 0.0
+    assert turned and 0.0 < turned[0] < 90.0  # here (67.1, 13.6) rather than its mirror
