@@ -11,8 +11,9 @@ The criterion is the driveline's, not the residual error, and it is lexicographi
    position (the joints cancelling at ride height: a planar shaft's pinion set for
    equal angles, its yokes in phase);
 3. then the least sum of the squared ratios over every position (so a figure that
-   nothing changes leaves the others as low as they go); a phasing of 0 or 90 deg per
-   shaft within :data:`TEXTBOOK_TIE` of the optimum in tiers 2 and 3 is preferred.
+   nothing changes leaves the others as low as they go); of the points within
+   :data:`AS_GOOD` of the optimum in tiers 2 and 3, a phasing of 0 or 90 deg per shaft
+   is said, and the layout nearest the one given is kept.
 
 The search scans the yoke phasings (the column's ``delta_k``, period 180 deg) and the
 layout box (:class:`sso._driveline.layout_box.LayoutBox`) on a grid, then refines the
@@ -57,9 +58,9 @@ GRID_SAMPLES = 64
 SEARCH_SAMPLES = 512
 """Samples of a half revolution per peak while refining (the peak's sampling error is then
 below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
-LAYOUT_GRID = 5
+LAYOUT_GRID = 9
 """Grid points across each layout variable's box, at most."""
-GRID_BUDGET = 4000
+GRID_BUDGET = 2000
 """Grid points scanned at most where several layout variables multiply the phasings'
 (each layout variable then gets fewer points, two at least: its box's ends)."""
 STAGE_FTOL = 1e-12
@@ -73,16 +74,18 @@ HELD = 1e-9
 """What a later stage may give up of an earlier stage's ratio."""
 TIE = 1e-9
 """Ratios (of an excitation to its limit) this close are equal."""
-TEXTBOOK_TIE = 1e-3
-"""A textbook phasing (0 or 90 deg per shaft) this close (in ratio to a limit, 0.1 % of
-it) to the optimum in the second and third tiers is as good: the rest is below what the
-limits, which are rules of thumb, can tell apart."""
+AS_GOOD = 1e-3
+"""A point this close (in ratio to a limit, 0.1 % of it) to the optimum in the second
+and third tiers is as good: the rest is below what the limits, which are rules of thumb,
+can tell apart. Of points as good, a textbook phasing (0 or 90 deg per shaft) is said,
+and the layout nearest the one given is kept."""
 CRITERION = ("first the largest margin under the excitation limits over every position "
              "(least largest ratio r* of an excitation to its limit); then, within "
              f"{MARGIN_TOLERANCE:g} of r*, the least torsional excitation at the design "
              "position (cancellation: equal angles, yokes in phase for a planar shaft); then "
-             "the least sum of squared ratios; a phasing of 0 or 90 deg per shaft within "
-             f"{TEXTBOOK_TIE:g} of that is preferred")
+             "the least sum of squared ratios; of points within "
+             f"{AS_GOOD:g} of that, a phasing of 0 or 90 deg per shaft and the layout "
+             "nearest the given one are preferred")
 
 
 @register_record
@@ -305,7 +308,20 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
     points = [(*phasing, *layout) for layout in layouts for phasing in phasings]
     scored = sorted((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in points)
-    starts = [np.array(point) for _, point in scored[:REFINED_STARTS]]
+    # The best grid points, and the best phasing at each of the best layouts (so that a
+    # layout where no phasing matters, such as a joint run straight, does not take every
+    # start).
+    best_layouts: dict[tuple[float, ...], tuple[float, ...]] = {}
+    for _, grid_point in scored:
+        best_layouts.setdefault(grid_point[shafts:], grid_point)
+    given_layout = search.given()[shafts:]
+    at_given = min((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
+                   for point in ((*phasing, *given_layout) for phasing in phasings))[1]
+    chosen = [at_given, *(grid_point for _, grid_point in scored[:REFINED_STARTS]
+                          if grid_point != at_given)]
+    chosen += [grid_point for grid_point in list(best_layouts.values())[:REFINED_STARTS]
+               if grid_point not in chosen]
+    starts = [np.array(grid_point) for grid_point in chosen]
     limits_box = [(None, None)] * shafts + [(float(low), float(high))
                                             for low, high in bounds[shafts:]]
 
@@ -349,15 +365,17 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
 
         candidates.append(solve(lambda x: float(np.sum(search.ratios(x) ** 2)), kept, second,
                                 limits_box))
-    best = min(candidates, key=key)
-    best_key = key(best)
+    best_key = min(key(x) for x in candidates)
+    # Of layouts as good, the one that changes the driveline least (a pinion may cancel
+    # nose up or nose down: the side it was fitted on is kept).
+    best = min((x for x in candidates if _as_good(key(x), best_key)),
+               key=lambda x: float(np.sum((x[shafts:] - given_layout) ** 2)))
     # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
     # as such, not as its round-off neighbour.
     for textbook in itertools.product((0.0, 90.0), repeat=shafts):
         point = np.array((*textbook, *best[shafts:]))
         candidate = key(point)
-        if (not candidate[0] and candidate[1] <= best_key[1] + TEXTBOOK_TIE
-                and candidate[2] <= best_key[2] + TEXTBOOK_TIE):
+        if _as_good(candidate, best_key):
             best = point
             break
     # A planar driveline's mirror phasing (every delta negated) gives the same figures:
@@ -402,3 +420,9 @@ def _same_key(first: tuple[bool, float, float], second: tuple[bool, float, float
     """Two points' criterion keys equal within :data:`TIE`."""
     return (first[0] == second[0] and abs(first[1] - second[1]) <= TIE
             and abs(first[2] - second[2]) <= TIE)
+
+
+def _as_good(candidate: tuple[bool, float, float], best: tuple[bool, float, float]) -> bool:
+    """A point's key within :data:`AS_GOOD` of the best key in the second and third tiers."""
+    return (not candidate[0] and candidate[1] <= best[1] + AS_GOOD
+            and candidate[2] <= best[2] + AS_GOOD)

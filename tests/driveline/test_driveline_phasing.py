@@ -136,3 +136,16 @@ def test_of_two_mirror_phasings_of_a_planar_driveline_the_positive_one_is_said()
     assert mirrored.inertia_drive_rad_s2 == pytest.approx(said.inertia_drive_rad_s2, rel=1e-9)
     turned = [delta for delta in advice.yoke_phase_deg if abs(delta) > 1e-6]
     assert turned and 0.0 < turned[0] < 90.0  # here (67.1, 13.6) rather than its mirror
+
+
+def test_of_two_pinion_slopes_that_cancel_alike_the_side_fitted_is_kept() -> None:
+    # Gearbox 3 deg nose up, shaft level: a pinion 3 deg nose up or 3 deg nose down both
+    # make equal 3 deg joints. Fitted 1 deg nose up in a box of -45 to 45 deg, the pinion
+    # stays nose up.
+    driveline = Driveline.from_measurements(
+        gearbox_slope_deg=3.0, shaft_slope_deg=[0.0], shaft_length_mm=[1400.0],
+        pinion_slope_deg=1.0, tubes=(Tube(88.9, 2.1),), max_shaft_speed_rpm=5000.0,
+        torque_n_m=800.0)
+    advice = recommend_phasing(driveline, LayoutBox(pinion_slope_deg=(-45.0, 45.0)))
+    assert advice.pinion_slope_deg == pytest.approx(3.0, abs=1e-3)
+    assert advice.yoke_phase_deg == (0.0,)
