@@ -220,8 +220,17 @@ class DrivelineCase(SavedCase):
         """One line for ``sso validate``."""
         driveline = self.driveline()
         angles = ", ".join(f"{beta:.3g}" for beta in driveline.geometry.beta_deg)
+        box = self.layout_box()
+        chosen = ("" if box is None else
+                  ", layout chosen by sso run: " + ", ".join(
+                      ([] if box.pinion_slope_deg is None else
+                       [f"pinion slope in [{box.pinion_slope_deg[0]:g}, "
+                        f"{box.pinion_slope_deg[1]:g}] deg"])
+                      + [f"centre bearing {index} height in [{low:g}, {high:g}] mm"
+                         for index, (low, high) in enumerate(box.centre_bearing_height_mm,
+                                                             start=1)]))
         return (f"driveline: {driveline.joint_count} joints, true angles {angles} deg, "
-                f"{driveline.max_shaft_speed_rpm:g} rpm")
+                f"{driveline.max_shaft_speed_rpm:g} rpm{chosen}")
 
     def with_overrides(self, solvers: tuple[str, ...] | None = None,
                        formats: tuple[str, ...] | None = None) -> DrivelineCase:

@@ -11,14 +11,21 @@ The criterion is the driveline's, not the residual error, and it is lexicographi
    position (the joints cancelling at ride height: a planar shaft's pinion set for
    equal angles, its yokes in phase);
 3. then the least sum of the squared ratios over every position (so a figure that
-   nothing changes leaves the others as low as they go); a phasing of 0 or 90 deg per
-   shaft within :data:`TEXTBOOK_TIE` of the optimum in tiers 2 and 3 is preferred.
+   nothing changes leaves the others as low as they go); of the points within
+   :data:`AS_GOOD` of the optimum in tiers 2 and 3, a phasing of 0 or 90 deg per shaft
+   is said, and the layout nearest the one given is kept.
 
 The search scans the yoke phasings (the column's ``delta_k``, period 180 deg) and the
 layout box (:class:`sso._driveline.layout_box.LayoutBox`) on a grid, then refines the
 best points with SLSQP (SciPy) on the sampled figures, one stage per tier with the
 earlier tiers as constraints: the first in epigraph form (least ``t`` with every ratio
 at most ``t``), the second on the squared ratio (smooth where the joints cancel).
+
+The named positions are the column's geometry (one :class:`ColumnGeometry` each, sharing
+the yoke phasing as the column's positions do), but not the column's scenario NLP
+(:mod:`sso._column.scenarios`): that one minimises the closed-form RE with each
+scenario's joint angles and planes fixed, while here the figures are peaks over a
+revolution with a limit each, and the layout variables move the angles and planes.
 """
 
 from __future__ import annotations
@@ -51,27 +58,34 @@ GRID_SAMPLES = 64
 SEARCH_SAMPLES = 512
 """Samples of a half revolution per peak while refining (the peak's sampling error is then
 below 1e-4 of it; the advice's figures are computed exactly afterwards)."""
-LAYOUT_GRID = 5
-"""Grid points across each layout variable's box."""
+LAYOUT_GRID = 9
+"""Grid points across each layout variable's box, at most."""
+GRID_BUDGET = 2000
+"""Grid points scanned at most where several layout variables multiply the phasings'
+(each layout variable then gets fewer points, two at least: its box's ends)."""
 STAGE_FTOL = 1e-12
-STAGE_ITERATIONS = 200
-"""SLSQP's tolerance on each tier's objective and its iteration limit."""
+STAGE_ITERATIONS = 60
+"""SLSQP's tolerance on each tier's objective and its iteration limit (where a tier ends
+at the limit, on a kink of the sampled peaks, it has long stopped moving: the car
+one-piece case gives the same pinion slope to 1e-11 deg with 200)."""
 SAME_POINT = 0.5
 """First-tier optima this close (deg of phasing, mm or deg of layout) are refined once."""
 HELD = 1e-9
 """What a later stage may give up of an earlier stage's ratio."""
 TIE = 1e-9
 """Ratios (of an excitation to its limit) this close are equal."""
-TEXTBOOK_TIE = 1e-3
-"""A textbook phasing (0 or 90 deg per shaft) this close (in ratio to a limit, 0.1 % of
-it) to the optimum in the second and third tiers is as good: the rest is below what the
-limits, which are rules of thumb, can tell apart."""
+AS_GOOD = 1e-3
+"""A point this close (in ratio to a limit, 0.1 % of it) to the optimum in the second
+and third tiers is as good: the rest is below what the limits, which are rules of thumb,
+can tell apart. Of points as good, a textbook phasing (0 or 90 deg per shaft) is said,
+and the layout nearest the one given is kept."""
 CRITERION = ("first the largest margin under the excitation limits over every position "
              "(least largest ratio r* of an excitation to its limit); then, within "
              f"{MARGIN_TOLERANCE:g} of r*, the least torsional excitation at the design "
              "position (cancellation: equal angles, yokes in phase for a planar shaft); then "
-             "the least sum of squared ratios; a phasing of 0 or 90 deg per shaft within "
-             f"{TEXTBOOK_TIE:g} of that is preferred")
+             "the least sum of squared ratios; of points within "
+             f"{AS_GOOD:g} of that, a phasing of 0 or 90 deg per shaft and the layout "
+             "nearest the given one are preferred")
 
 
 @register_record
@@ -99,6 +113,10 @@ class PhasingAdvice:
         The driveline's phasing as given, deg.
     worst_ratio_given, worst_ratio_recommended : float
         Largest excitation over its limit, over every position and figure.
+    least_worst_ratio : float
+        The least largest ratio any phasing (and layout in the box) reaches: the first
+        tier's ``r*`` (the search's sampled figures); the recommendation is within
+        :data:`MARGIN_TOLERANCE` of it.
     rows : tuple of PhasingRow
     criterion : str
     box : LayoutBox or None
@@ -115,6 +133,7 @@ class PhasingAdvice:
     worst_ratio_recommended: float
     rows: tuple[PhasingRow, ...]
     criterion: str
+    least_worst_ratio: float
     box: LayoutBox | None = None
     layout_values: tuple[float, ...] = ()
     given_layout_values: tuple[float, ...] = ()
@@ -166,7 +185,8 @@ class PhasingAdvice:
             f"(given [{format_numbers(self.given_yoke_phase_deg)}])"
             + (f"; layout: {layout}" if layout else "")
             + f"; largest excitation over its limit {format_number(self.worst_ratio_given)} "
-            f"-> {format_number(self.worst_ratio_recommended)} ({self.criterion})",
+            f"-> {format_number(self.worst_ratio_recommended)} (least reachable "
+            f"{format_number(self.least_worst_ratio)}; {self.criterion})",
             TextTable(("position", "excitation", "given (rad/s^2)", "recommended (rad/s^2)",
                        "limit (rad/s^2)"),
                       tuple((row.position, row.figure, format_number(row.given_rad_s2),
@@ -279,13 +299,29 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
     search = _Search(driveline, box)
     shafts, bounds = search.shafts, search.bounds
     step = 10.0 if shafts <= 2 else 20.0
-    layouts = itertools.product(*(np.unique(np.linspace(low, high, LAYOUT_GRID))
+    phasings = list(itertools.product(np.arange(-90.0, 90.0, step), repeat=shafts))
+    layout_count = len(bounds) - shafts
+    across = LAYOUT_GRID if layout_count == 0 else max(2, min(LAYOUT_GRID, int(
+        (GRID_BUDGET / len(phasings)) ** (1.0 / layout_count))))
+    layouts = itertools.product(*(np.unique(np.linspace(low, high, across))
                                   for low, high in bounds[shafts:]))
-    points = [(*phasing, *layout) for layout in layouts
-              for phasing in itertools.product(np.arange(-90.0, 90.0, step), repeat=shafts)]
+    points = [(*phasing, *layout) for layout in layouts for phasing in phasings]
     scored = sorted((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
                     for point in points)
-    starts = [np.array(point) for _, point in scored[:REFINED_STARTS]]
+    # The best grid points, and the best phasing at each of the best layouts (so that a
+    # layout where no phasing matters, such as a joint run straight, does not take every
+    # start).
+    best_layouts: dict[tuple[float, ...], tuple[float, ...]] = {}
+    for _, grid_point in scored:
+        best_layouts.setdefault(grid_point[shafts:], grid_point)
+    given_layout = search.given()[shafts:]
+    at_given = min((float(np.max(search.ratios(np.array(point), GRID_SAMPLES))), point)
+                   for point in ((*phasing, *given_layout) for phasing in phasings))[1]
+    chosen = [at_given, *(grid_point for _, grid_point in scored[:REFINED_STARTS]
+                          if grid_point != at_given)]
+    chosen += [grid_point for grid_point in list(best_layouts.values())[:REFINED_STARTS]
+               if grid_point not in chosen]
+    starts = [np.array(grid_point) for grid_point in chosen]
     limits_box = [(None, None)] * shafts + [(float(low), float(high))
                                             for low, high in bounds[shafts:]]
 
@@ -306,7 +342,8 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
                    lambda z: z[-1] - search.ratios(z[:-1]).ravel(),
                    np.append(start, worst(start)), [*limits_box, (None, None)])[:-1]
              for start in starts]
-    allowed = min(worst(x) for x in first) + MARGIN_TOLERANCE
+    least = min(worst(x) for x in first)
+    allowed = least + MARGIN_TOLERANCE
 
     def within(x: np.ndarray) -> np.ndarray:
         margin: np.ndarray = allowed - search.ratios(x).ravel()
@@ -328,17 +365,26 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
 
         candidates.append(solve(lambda x: float(np.sum(search.ratios(x) ** 2)), kept, second,
                                 limits_box))
-    best = min(candidates, key=key)
-    best_key = key(best)
+    best_key = min(key(x) for x in candidates)
+    # Of layouts as good, the one that changes the driveline least (a pinion may cancel
+    # nose up or nose down: the side it was fitted on is kept).
+    best = min((x for x in candidates if _as_good(key(x), best_key)),
+               key=lambda x: float(np.sum((x[shafts:] - given_layout) ** 2)))
     # A textbook phasing (each shaft in phase or at 90 deg) as good as the optimum is said
     # as such, not as its round-off neighbour.
     for textbook in itertools.product((0.0, 90.0), repeat=shafts):
         point = np.array((*textbook, *best[shafts:]))
         candidate = key(point)
-        if (not candidate[0] and candidate[1] <= best_key[1] + TEXTBOOK_TIE
-                and candidate[2] <= best_key[2] + TEXTBOOK_TIE):
+        if _as_good(candidate, best_key):
             best = point
             break
+    # A planar driveline's mirror phasing (every delta negated) gives the same figures:
+    # of the two, the one whose first turned propshaft turns positive is said.
+    wrapped = wrap_half_turn(best[:shafts])
+    turned = wrapped[np.abs(wrapped) > TIE]
+    mirror = np.array((*(-wrapped), *best[shafts:]))
+    if turned.size and turned[0] < 0.0 and _same_key(key(mirror), best_key):
+        best = mirror
     recommended = tuple(float(v) for v in wrap_half_turn(best[:shafts]))
     given = search.given()
     speed = driveline.max_shaft_speed_rpm
@@ -354,7 +400,7 @@ def recommend_phasing(driveline: Driveline, box: LayoutBox | None = None) -> Pha
         yoke_phase_deg=recommended, given_yoke_phase_deg=driveline.phasing_deg,
         worst_ratio_given=max(row.given_rad_s2 / row.limit_rad_s2 for row in rows),
         worst_ratio_recommended=max(row.recommended_rad_s2 / row.limit_rad_s2 for row in rows),
-        rows=rows, criterion=CRITERION, box=box,
+        rows=rows, criterion=CRITERION, least_worst_ratio=least, box=box,
         layout_values=tuple(float(v) for v in best[shafts:]),
         given_layout_values=tuple(float(v) for v in given[shafts:]))
 
@@ -368,3 +414,15 @@ def _distinct(points: Sequence[np.ndarray], shafts: int) -> list[np.ndarray]:
                for other in kept):
             kept.append(point)
     return kept
+
+
+def _same_key(first: tuple[bool, float, float], second: tuple[bool, float, float]) -> bool:
+    """Two points' criterion keys equal within :data:`TIE`."""
+    return (first[0] == second[0] and abs(first[1] - second[1]) <= TIE
+            and abs(first[2] - second[2]) <= TIE)
+
+
+def _as_good(candidate: tuple[bool, float, float], best: tuple[bool, float, float]) -> bool:
+    """A point's key within :data:`AS_GOOD` of the best key in the second and third tiers."""
+    return (not candidate[0] and candidate[1] <= best[1] + AS_GOOD
+            and candidate[2] <= best[2] + AS_GOOD)

@@ -124,7 +124,9 @@ def driveline_blocks(result: DrivelineResult, name: str, description: str,
                    Paragraph(f"Recommended: {yoke_words(advice.yoke_phase_deg)} "
                              f"(given: {yoke_words(advice.given_yoke_phase_deg)}). Largest "
                              f"excitation over its limit {number(advice.worst_ratio_given)} to "
-                             f"{number(advice.worst_ratio_recommended)}. Criterion: "
+                             f"{number(advice.worst_ratio_recommended)} (the least any "
+                             f"phasing{' and layout' if advice.box else ''} reaches: "
+                             f"{number(advice.least_worst_ratio)}). Criterion: "
                              f"{advice.criterion}."),
                    Table(("position", "excitation", "given (rad/s^2)", "recommended (rad/s^2)",
                           "limit (rad/s^2)"),

@@ -124,3 +124,29 @@ def test_fuzzed_driveline_cases_never_traceback(key: tuple[str, str], value: Any
                                 "--quiet"])
     assert code in (0, 2), output
     assert "Traceback" not in output
+
+
+def test_shipped_layout_box_is_chosen_by_run_and_reported(tmp_path: Path) -> None:
+    # cases/driveline_car_one_piece.toml: pinion 3 deg as fitted, swinging to 3.8 deg in
+    # jounce and 2.2 deg in rebound, a pinion box of 2 to 4 deg.
+    case = ROOT / "cases" / "driveline_car_one_piece.toml"
+    code, output = run_sso(["run", str(case), "--out", str(tmp_path), "--no-plots"])
+    assert code == 0, output
+    folder = tmp_path / "driveline_car_one_piece"
+    run = DrivelineRun.from_dict(json.loads((folder / "result.json").read_text(encoding="utf-8")))
+    advice, layout = run.result.phasing, run.result.layout
+    assert advice is not None and layout is not None
+    # the jounce excursion leaves no slack: the margin sets the pinion short of 3 deg ...
+    assert advice.pinion_slope_deg is not None and 2.0 < advice.pinion_slope_deg < 3.0
+    assert advice.worst_ratio_recommended < advice.worst_ratio_given
+    # ... and the design position's cancellation is what it costs, said in the report
+    assert any(change.rule == "torsional excitation" and change.where.startswith("design")
+               for change in layout.trades)
+    report = (folder / "report.md").read_text(encoding="utf-8")
+    assert "Layout within its box" in report and "pinion slope" in report
+    code, output = run_sso(["evaluate", str(case), "--out", str(tmp_path / "as_given"),
+                            "--no-plots"])
+    assert code == 0, output
+    saved = json.loads((tmp_path / "as_given" / "driveline_car_one_piece" / "result.json")
+                       .read_text(encoding="utf-8"))
+    assert DrivelineRun.from_dict(saved).result.layout is None  # evaluate: as given

@@ -80,3 +80,16 @@ def test_a_rule_whose_margin_shrinks_is_a_trade_either_way_of_its_limit() -> Non
     trades = rule_changes(given, chosen)
     assert [(change.rule, change.given_value, change.recommended_value)
             for change in trades] == [("torsional", 100.0, 120.0), ("joint angle", 3.0, 2.0)]
+
+
+def test_a_box_needs_the_phasing_search_and_a_propshaft() -> None:
+    from sso._driveline.figures import analyse_driveline
+    from sso._driveline.model import Driveline
+
+    box = LayoutBox(pinion_slope_deg=(-2.0, 2.0))
+    with pytest.raises(ValueError, match="layout: a layout box is chosen with the phasing"):
+        analyse_driveline(truck_two_piece(), phasing=False, layout=box)
+    single = Driveline(points_mm=((100.0, 0.0, 0.0), (0.0, 0.0, 0.0), (-100.0, 0.0, 5.0)),
+                       tubes=(), max_shaft_speed_rpm=1000.0, torque_n_m=100.0)
+    with pytest.raises(ValueError, match="one joint has no propshaft to phase or lay out"):
+        analyse_driveline(single, layout=box)

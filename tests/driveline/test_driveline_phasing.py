@@ -6,7 +6,8 @@ import itertools
 
 import numpy as np
 import pytest
-from driveline_cases import TRUCK_TUBE, compound_pickup, planar_one_piece
+from driveline_cases import TRUCK_TUBE, compound_pickup, planar_one_piece, truck_two_piece
+from driveline_vector_model import VectorDriveline
 
 from sso._column.geometry import ColumnGeometry
 from sso._driveline.excitation import excitations
@@ -51,8 +52,14 @@ def test_a_free_pinion_on_a_planar_one_piece_is_set_for_equal_angles_in_phase() 
     assert advice is not None and layout is not None
     assert advice.yoke_phase_deg == (0.0,)
     assert advice.pinion_slope_deg == pytest.approx(3.0, abs=1e-3)
-    first, second = layout.driveline.geometry.beta_deg
+    # the laid-out points judged by the independent vector model: equal angles, and the
+    # pinion (shaft 2 with the gearbox at constant speed) without acceleration
+    vector = VectorDriveline([list(point) for point in layout.driveline.points_mm],
+                             list(advice.yoke_phase_deg))
+    first, second = vector.joint_angles_deg()
     assert first - second == pytest.approx(0.0, abs=1e-3)
+    drive, _ = vector.peaks(5000.0)
+    assert drive[-1] < 1.0  # rad/s^2; 668 as fitted
     # the axle no longer feels the shaft: 668 rad/s^2 as fitted (over the 300 limit)
     torsional = [row for row in advice.rows if row.figure == "torsional"]
     assert torsional[0].given_rad_s2 == pytest.approx(668.4, rel=1e-3)
@@ -115,3 +122,30 @@ def test_a_centre_bearing_height_in_its_box_agrees_with_a_brute_force_scan() -> 
     difference = np.mod(np.subtract(advice.yoke_phase_deg, phasing) + 90.0, 180.0) - 90.0
     np.testing.assert_allclose(difference, 0.0, atol=0.5)
     assert advice.worst_ratio_recommended < advice.worst_ratio_given
+
+
+def test_of_two_mirror_phasings_of_a_planar_driveline_the_positive_one_is_said() -> None:
+    # A planar driveline seen from the other side is the same driveline with every yoke
+    # phasing negated: the same figures, so the advice must pick one by a stated rule.
+    driveline = truck_two_piece(positions={"laden": {"pinion_slope_deg": -0.5}})
+    advice = recommend_phasing(driveline)
+    mirror = tuple(-delta for delta in advice.yoke_phase_deg)
+    said = excitations(driveline.geometry, advice.yoke_phase_deg, 2500.0)
+    mirrored = excitations(driveline.geometry, mirror, 2500.0)
+    assert mirrored.torsional_rad_s2 == pytest.approx(said.torsional_rad_s2, rel=1e-9)
+    assert mirrored.inertia_drive_rad_s2 == pytest.approx(said.inertia_drive_rad_s2, rel=1e-9)
+    turned = [delta for delta in advice.yoke_phase_deg if abs(delta) > 1e-6]
+    assert turned and 0.0 < turned[0] < 90.0  # here (67.1, 13.6) rather than its mirror
+
+
+def test_of_two_pinion_slopes_that_cancel_alike_the_side_fitted_is_kept() -> None:
+    # Gearbox 3 deg nose up, shaft level: a pinion 3 deg nose up or 3 deg nose down both
+    # make equal 3 deg joints. Fitted 1 deg nose up in a box of -45 to 45 deg, the pinion
+    # stays nose up.
+    driveline = Driveline.from_measurements(
+        gearbox_slope_deg=3.0, shaft_slope_deg=[0.0], shaft_length_mm=[1400.0],
+        pinion_slope_deg=1.0, tubes=(Tube(88.9, 2.1),), max_shaft_speed_rpm=5000.0,
+        torque_n_m=800.0)
+    advice = recommend_phasing(driveline, LayoutBox(pinion_slope_deg=(-45.0, 45.0)))
+    assert advice.pinion_slope_deg == pytest.approx(3.0, abs=1e-3)
+    assert advice.yoke_phase_deg == (0.0,)
