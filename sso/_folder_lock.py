@@ -16,6 +16,7 @@ tries again, so two writers never both believe they hold the folder.
 
 from __future__ import annotations
 
+import fcntl
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -60,8 +61,6 @@ def folder_lock(folder: str | os.PathLike[str], purpose: str = "write") -> Itera
     OSError
         If the lock file cannot be created.
     """
-    import fcntl
-
     path = lock_path(folder)
     make_folders(path.parent)  # level by level: an --out of thousands of parts is no recursion
     for _ in range(ATTEMPTS):

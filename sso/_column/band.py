@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from scipy.optimize import brentq
 
 from sso._column.cancel import can_cancel
 from sso._column.chain_matrix import residual_error
@@ -304,8 +305,6 @@ def _edge(along: Callable[[np.ndarray], np.ndarray], limit: float, start: float,
 
 def _root(along: Callable[[np.ndarray], np.ndarray], limit: float, inside: float,
           outside: float) -> float:
-    from scipy.optimize import brentq
-
     def excess(value: float) -> float:
         return float(along(np.array([value]))[0]) / limit - 1.0
 

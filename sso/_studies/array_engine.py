@@ -37,7 +37,9 @@ from typing import Any
 import numpy as np
 
 from sso._kinematics.hooke_matrix import peak_ratio_slope, ratio_extremes, residual_error
+from sso._shafts.batch import optimise_batch
 from sso._shafts.evaluation import RPM_TO_RAD_S
+from sso._shafts.options import build_problem
 from sso._solvers.least_squares import STATUS_MESSAGES
 from sso._solvers.starts import start_points
 from sso._studies.axes import Axis
@@ -82,8 +84,6 @@ def array_plan(case: Any, axes: Sequence[Axis], action: str) -> ArrayPlan | None
     Each call is a new sweep run (:attr:`ArrayPlan.run`): the chunks of its plan read
     their axis values afresh.
     """
-    from sso._shafts.options import build_problem
-
     if (case.kind != "shaft_series" or case.model != "exact"
             or (action == "optimise" and tuple(case.solvers) != (SOLVER,))
             or sum(len(axis.values) for axis in axes) > MOST_CHECKED_VALUES):
@@ -204,8 +204,6 @@ def run_array_points(plan: ArrayPlan, axes: Sequence[AxisValues], header: Sequen
 def _optimise(plan: ArrayPlan, beta: np.ndarray,
               phase: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Each point's best design over its starts, and its solver columns."""
-    from sso._shafts.batch import optimise_batch
-
     started = time.perf_counter()
     count = len(beta)
     settings: dict[str, Any] = {"option": plan.option, "beta_bounds_deg": plan.beta_bounds_deg,
