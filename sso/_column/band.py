@@ -28,7 +28,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
 from sso._column.cancel import can_cancel
 from sso._column.chain_matrix import residual_error
@@ -305,6 +304,8 @@ def _edge(along: Callable[[np.ndarray], np.ndarray], limit: float, start: float,
 
 def _root(along: Callable[[np.ndarray], np.ndarray], limit: float, inside: float,
           outside: float) -> float:
+    from scipy.optimize import brentq
+
     def excess(value: float) -> float:
         return float(along(np.array([value]))[0]) / limit - 1.0
 

@@ -39,9 +39,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
-import casadi
 import numpy as np
-from scipy.optimize import least_squares
 
 from sso._column.cancel import can_cancel
 from sso._column.chain_matrix import (
@@ -76,7 +74,6 @@ from sso._shafts.exact_optima import (
     selection_run,
 )
 from sso._solvers.multistart import SolverFields, solution_from_run, solve_from_starts
-from sso._solvers.nlp import cached_nlp, compile_nlp
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._solvers.solution import ROLE_SELECTION, Solution
@@ -387,6 +384,8 @@ def _chain_of_points(xp: Any, points: Sequence[Any], yoke_phase_rad: Sequence[An
 
 def compiled_joint_nlp(joints: int, phasing_free: bool) -> Any:
     """The cached CasADi NLP of a column of ``joints`` joints (free or fixed phasing)."""
+    from sso._solvers.nlp import cached_nlp
+
     return cached_nlp(("column_joint_positions", joints, phasing_free),
                       lambda: _build(joints, phasing_free))
 
@@ -394,6 +393,8 @@ def compiled_joint_nlp(joints: int, phasing_free: bool) -> Any:
 def _symbols(joints: int, phasing_free: bool) -> tuple[Any, Any, list[Any], list[Any]]:
     """The NLP's variables ``x`` and parameters ``p``, the points ``P0 .. P(n+1)`` and the
     yoke phasings as CasADi symbols."""
+    import casadi
+
     shafts = joints - 1
     x = casadi.SX.sym("x", 3 * joints + (shafts if phasing_free else 0))
     p = casadi.SX.sym("p", 6 + (0 if phasing_free else shafts))
@@ -403,6 +404,10 @@ def _symbols(joints: int, phasing_free: bool) -> tuple[Any, Any, list[Any], list
 
 
 def _build(joints: int, phasing_free: bool) -> Any:
+    import casadi
+
+    from sso._solvers.nlp import compile_nlp
+
     x, p, points, phases = _symbols(joints, phasing_free)
     objective = column_residual_error(casadi, points, phases)
     differences = [end - start for start, end in itertools.pairwise(points)]
@@ -418,6 +423,8 @@ def _build(joints: int, phasing_free: bool) -> Any:
 @functools.lru_cache(maxsize=8)
 def _residual_graph(joints: int, phasing_free: bool) -> Any:
     """``(x, p) -> (r, dr/dx)``: the two residuals of the NLP's design and their Jacobian."""
+    import casadi
+
     x, p, points, phases = _symbols(joints, phasing_free)
     residuals = casadi.vertcat(*column_residuals(casadi, points, phases))
     return casadi.Function(f"sso_column_joint_residuals_{joints}_{phasing_free}", [x, p],
@@ -444,6 +451,8 @@ def _most_robust(nlp: Any, solved: SolverFields, parameters: np.ndarray, limits:
 
     def solve_in_box(start: list[float], low: list[float], high: list[float],
                      max_iterations: int) -> tuple[list[float], float, int, int]:
+        from scipy.optimize import least_squares
+
         lower, upper = np.asarray(low, dtype=float), np.asarray(high, dtype=float)
         moving = upper > lower
         x = np.clip(np.asarray(start, dtype=float), lower, upper)

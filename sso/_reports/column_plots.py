@@ -10,12 +10,8 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
 from sso._column.geometry import ColumnGeometry
-from sso._reports.column_robust_plots import render_robust_plots
-from sso._reports.column_steering_plots import steering_plot
-from sso._reports.column_steering_report import STEERING_PLOT
 from sso._reports.plots import _new_figure, _png
 from sso._run.column import ColumnRun
 
@@ -40,11 +36,17 @@ def render_column_plots(run: ColumnRun) -> dict[str, bytes]:
         ``"column_3d.png"``, ``"excitation.png"``, ``"steering.png"``, and the robust part's
         plots (:mod:`sso._reports.column_robust_plots`) when the run has one.
     """
+    from sso._reports.column_robust_plots import render_robust_plots
+    from sso._reports.column_steering_plots import steering_plot
+    from sso._reports.column_steering_report import STEERING_PLOT
+
     return {"column_3d.png": _column_3d(run), "excitation.png": _excitation(run),
             STEERING_PLOT: steering_plot(run.steering), **render_robust_plots(run)}
 
 
 def _column_3d(run: ColumnRun) -> bytes:
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
+
     figure = _new_figure()
     axes = figure.add_subplot(projection="3d")
     geometry = run.geometry

@@ -13,9 +13,7 @@ from collections.abc import Sequence
 from sso._column.geometry import shaft_name
 from sso._column.joint_centres import JointCentresResult
 from sso._limits import REPORT_DIGITS
-from sso._reports.column_plots import render_column_plots
 from sso._reports.column_robust_report import ROBUST_CAPTIONS, robust_blocks
-from sso._reports.column_scene import column_scene
 from sso._reports.column_steering_report import STEERING_CAPTION, STEERING_PLOT, steering_blocks
 from sso._reports.documents import report_files
 from sso._reports.shaft_report import exact_optima_blocks
@@ -74,6 +72,8 @@ def column_files(run: ColumnRun, formats: Sequence[str]) -> dict[str, bytes]:
         Files to render. Without ``"png"`` matplotlib is never imported and the
         reports carry no plots.
     """
+    from sso._reports.column_plots import render_column_plots
+
     return report_files(formats, lambda: {EXCITATION_FILE: excitation_csv(run)},
                         lambda: render_column_plots(run),
                         lambda images: column_blocks(run, images))
@@ -127,6 +127,8 @@ def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
 
 
 def _scene(run: ColumnRun) -> Scene:
+    from sso._reports.column_scene import column_scene
+
     return Scene(column_scene(run), VIEW_CAPTION)
 
 
