@@ -125,3 +125,107 @@ def test_the_chosen_exact_optimum_has_the_largest_margin(first):
     assert exact_set.dimension == 1  # two variables, one real residual
     assert exact_set.starts == 1
     assert choice.solver == "lm"  # the bisection moved the design
+
+
+def _recording(residuals):
+    calls = []
+
+    def solve(start, lower, upper, max_iterations):
+        answer = _minimised(residuals, start, lower, upper, max_iterations)
+        calls.append(answer)
+        return answer
+
+    return calls, solve
+
+
+def test_the_choice_counts_its_solves_and_keeps_a_first_found_that_is_best():
+    radius = 1.0
+    residuals = _circle(radius)
+    problem = _problem()
+    # from (0.96, 0.28): the bisection moves the design; its solves are counted
+    calls, solve = _recording(residuals)
+    first = np.array([0.96, 0.28, 0.5])
+    choice = choose_exact_optimum(problem, residuals, solve, [first], None)
+    assert calls
+    assert choice.nit == sum(call[2] for call in calls)
+    assert choice.nfev == sum(call[3] for call in calls)
+    assert choice.exact_set.first_found == pytest.approx(tuple(first / MARGIN_STEP), rel=1e-15)
+    assert 0.0 <= choice.exact_set.time_s < 60.0
+    # from the point of largest margin itself: no margin above it is feasible, the
+    # design stays, and nobody moved it
+    best = np.array([radius / math.sqrt(2.0), radius / math.sqrt(2.0), 0.5])
+    again = choose_exact_optimum(problem, residuals, solve, [best], None)
+    np.testing.assert_array_equal(again.x, best)
+    assert again.solver is None
+
+
+def test_the_margin_counts_only_its_variables_and_measures_from_each_bound():
+    # x2 (fixed at 1/2 on the set) has bounds [0.45, 1] but is not in the margin: the
+    # margin is the circle's, 1 - R / sqrt 2, as if x2 were unbounded
+    residuals = _circle(1.0)
+    problem = SetProblem(lower=np.array([0.0, 0.0, 0.45]), upper=np.ones(3),
+                         variables=("x0", "x1", "x2"), units=("mm",) * 3,
+                         scale=np.full(3, 1.0 / MARGIN_STEP),
+                         in_margin=np.array([True, True, False]), margin_step=MARGIN_STEP,
+                         margin_unit="mm")
+    choice = choose_exact_optimum(problem, residuals, functools.partial(_minimised, residuals),
+                                  [np.array([0.96, 0.28, 0.5])], None)
+    best = 1.0 - 1.0 / math.sqrt(2.0)
+    assert best - MARGIN_RESOLUTION * MARGIN_STEP <= choice.exact_set.margin * MARGIN_STEP <= best
+    # lower bounds of 0.1 and a circle of 0.6: the lower bounds bind, margin
+    # 0.6 / sqrt 2 - 0.1 at the diagonal
+    small = _circle(0.6)
+    shifted = SetProblem(lower=np.full(3, 0.1), upper=np.ones(3), variables=("x0", "x1", "x2"),
+                         units=("mm",) * 3, scale=np.full(3, 1.0 / MARGIN_STEP),
+                         in_margin=np.array([True, True, False]), margin_step=MARGIN_STEP,
+                         margin_unit="mm")
+    choice = choose_exact_optimum(shifted, small, functools.partial(_minimised, small),
+                                  [np.array([0.55, math.sqrt(0.36 - 0.55 ** 2), 0.5])], None)
+    best = 0.6 / math.sqrt(2.0) - 0.1
+    assert best - MARGIN_RESOLUTION * MARGIN_STEP <= choice.exact_set.margin * MARGIN_STEP <= best
+    assert choice.exact_set.margin * MARGIN_STEP == pytest.approx(min(choice.x[:2]) - 0.1,
+                                                                  rel=1e-12)
+
+
+def test_a_chosen_design_on_a_bound_is_that_end():
+    radius = 1.0 - 1e-9
+    residuals = _circle(radius)
+    chosen = np.array([0.0, radius, 0.5])
+    search = set_extent(_problem(), residuals, functools.partial(_minimised, residuals), chosen)
+    low = search.ends[0][0]
+    assert low.at_bound and low.value == 0.0
+    assert low.witness == pytest.approx(tuple(chosen / MARGIN_STEP), rel=1e-15)
+
+
+@pytest.mark.parametrize(("radius", "lower", "start", "expected"), [
+    # off the circle inside the box: minimum-norm Gauss-Newton steps back onto it
+    (1.0, 0.0, (0.5, 0.5, 0.6), None),
+    # x0 beyond its upper bound: clipped onto it, held there, x1 solves 1 + x1^2 = 1.21
+    (1.1, 0.0, (1.2, 0.4, 0.5), (1.0, math.sqrt(0.21), 0.5)),
+    # x0 below its lower bound 0.2: clipped onto it, x1 solves 0.04 + x1^2 = 0.64
+    (0.8, 0.2, (0.1, 0.7, 0.5), (0.2, math.sqrt(0.6), 0.5)),
+])
+def test_the_projection_onto_the_set(radius, lower, start, expected):
+    from sso._shafts.exact_optima import _project
+
+    residuals = _circle(radius)
+    lower_bounds = np.array([lower, 0.0, 0.0])
+    x = _project(residuals, np.array(start), lower_bounds, np.ones(3))
+    assert x is not None
+    assert abs(residuals(x.tolist())[0]) ** 2 <= 1e-20
+    assert np.all(x >= lower_bounds) and np.all(x <= 1.0)
+    if expected is None:
+        # the minimum-norm steps move along the gradient (x0 = x1 by symmetry) and x2 alone
+        assert x[0] == pytest.approx(x[1], abs=1e-15)
+        assert x[0] == pytest.approx(1.0 / math.sqrt(2.0), abs=1e-10)
+        assert x[2] == pytest.approx(0.5, abs=1e-12)
+    else:
+        np.testing.assert_allclose(x, expected, atol=1e-10)
+        assert x[0] == expected[0]  # held on its bound exactly
+
+
+def test_a_projection_that_cannot_reach_the_set_gives_none():
+    from sso._shafts.exact_optima import _project
+
+    # R = 1.5 lies outside the unit box (x0^2 + x1^2 <= 2 < 2.25)
+    assert _project(_circle(1.5), np.array([0.9, 0.9, 0.5]), np.zeros(3), np.ones(3)) is None
