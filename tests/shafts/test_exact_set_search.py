@@ -160,10 +160,10 @@ def test_the_choice_counts_its_solves_and_keeps_a_first_found_that_is_best():
 
 
 def test_the_margin_counts_only_its_variables_and_measures_from_each_bound():
-    # x2 (fixed at 1/2 on the set) has bounds [0.45, 1] but is not in the margin: the
+    # x2 (fixed at 1/2 on the set) has bounds [0.45, 0.55] but is not in the margin: the
     # margin is the circle's, 1 - R / sqrt 2, as if x2 were unbounded
     residuals = _circle(1.0)
-    problem = SetProblem(lower=np.array([0.0, 0.0, 0.45]), upper=np.ones(3),
+    problem = SetProblem(lower=np.array([0.0, 0.0, 0.45]), upper=np.array([1.0, 1.0, 0.55]),
                          variables=("x0", "x1", "x2"), units=("mm",) * 3,
                          scale=np.full(3, 1.0 / MARGIN_STEP),
                          in_margin=np.array([True, True, False]), margin_step=MARGIN_STEP,

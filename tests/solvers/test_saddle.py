@@ -159,5 +159,7 @@ def test_a_nonnegative_objective_above_round_off_zero_is_still_checked():
     found = saddle_direction(nlp, True, value, [0.0, 0.0], PARAMETERS, BOX)
     assert found is not None
     np.testing.assert_allclose(np.abs(found[1]), [0.0, 1.0], atol=1e-9)
-    # at round-off zero no check is made (a global minimum of a nonnegative objective)
-    assert saddle_direction(nlp, True, 1e-21, [0.0, 0.0], PARAMETERS, BOX) is None
+    # at round-off zero, ZERO_OBJECTIVE included, no check is made (a global minimum of a
+    # nonnegative objective)
+    for fun in (1e-21, 1e-20):
+        assert saddle_direction(nlp, True, fun, [0.0, 0.0], PARAMETERS, BOX) is None

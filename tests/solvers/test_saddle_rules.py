@@ -283,3 +283,15 @@ def test_limits_may_be_given_as_a_function():
     assert found is not None
     np.testing.assert_allclose(np.abs(found[1]), [0.0, 1.0], atol=1e-9)
     assert math.isfinite(found[0][0])
+
+
+@pytest.mark.parametrize(("bounds", "x1", "slope"), [((0.0, 1.0), -0.1, -0.2),
+                                                      ((-1.0, 0.0), 0.1, 0.2)])
+def test_the_saddle_point_reported_is_clipped_into_the_bounds(bounds, x1, slope):
+    # x0^2 - x1^2 + s x1 (s = -+0.2): a saddle along x1 both at the given point outside the
+    # bounds (slope 0 there) and at the bound x1 = 0 it is clipped to (slope s, pointing into
+    # the box): the point reported is the clipped one
+    nlp = _nlp(lambda x: x[0] ** 2 - x[1] ** 2 + slope * x[1])
+    found = saddle_direction(nlp, True, 0.0, [0.0, x1], PARAMETERS, _limits(bounds))
+    assert found is not None
+    np.testing.assert_array_equal(found[0], [0.0, 0.0])
