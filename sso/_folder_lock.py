@@ -22,6 +22,7 @@ refused and left unchanged.
 
 from __future__ import annotations
 
+import fcntl
 import os
 import stat
 from collections.abc import Iterator
@@ -74,8 +75,6 @@ def folder_lock(folder: str | os.PathLike[str], purpose: str = "write") -> Itera
     OSError
         If the lock file's folder cannot be created.
     """
-    import fcntl
-
     path = lock_path(folder)
     make_folders(path.parent)  # level by level: an --out of thousands of parts is no recursion
     for _ in range(ATTEMPTS):

@@ -106,61 +106,37 @@ def registered(name: str) -> type:
 
 
 def built(cls: type[T], **fields: Any) -> T:
-    """An instance of the frozen dataclass ``cls`` from fields the package computed itself,
-    every field given, without the dataclass ``__init__``.
-
-    A frozen dataclass's ``__init__`` stores each field through ``object.__setattr__``
-    (measured on CPython 3.11: about 0.3 us a field, 6 us for a result of 20 fields,
-    more than a single solve's arithmetic); one update of the instance's dictionary
-    stores them all. For classes without ``__post_init__`` or slots, on the hot path of
-    a single solve. The instance is the one ``__init__`` makes: equal by content, the
-    same record.
+    """An instance of the dataclass ``cls`` from ``fields``, made by its own constructor.
 
     Raises
     ------
     TypeError
-        If a field is missing or unknown.
+        If a field is unknown, or one without a default is missing.
     """
-    return built_from(cls, fields)
+    return cls(**fields)
 
 
 def built_from(cls: type[T], fields: dict[str, Any]) -> T:
-    """:func:`built` from the dict ``fields``: a dict display of a record's fields costs
-    about half of the keyword call :func:`built` takes (measured on CPython 3.11, 21
-    fields), so the hot path of a single solve builds its records this way.
+    """:func:`built` from the dict ``fields`` (a record's fields written as a dict display,
+    as the result of a single solve is).
 
     Raises
     ------
     TypeError
-        If a field is missing or unknown.
+        If a field is unknown, or one without a default is missing.
     """
-    names = _FIELD_NAMES.get(cls)
-    if names is None:
-        names = _FIELD_NAMES[cls] = frozenset(
-            field.name for field in dataclasses.fields(typing.cast(Any, cls)))
-    if fields.keys() != names:
-        raise TypeError(f"{cls.__name__} takes every field and only its fields: missing "
-                        f"{sorted(names - fields.keys())}, unknown "
-                        f"{sorted(fields.keys() - names)}")
-    instance = object.__new__(cls)
-    instance.__dict__.update(fields)
-    return instance
+    return cls(**fields)
 
 
 def rebuilt(instance: T, **changes: Any) -> T:
-    """``instance`` with ``changes``, as :func:`dataclasses.replace` gives it, made by
-    :func:`built` (``replace`` looks up the class's fields and calls ``__init__``: about
-    4 us for a solver's answer, where this takes 1.5).
+    """The dataclass ``instance`` with ``changes``: :func:`dataclasses.replace`.
 
     Raises
     ------
     TypeError
         If a change names no field.
     """
-    return built(type(instance), **{**instance.__dict__, **changes})
-
-
-_FIELD_NAMES: dict[type, frozenset[str]] = {}
+    return dataclasses.replace(typing.cast(Any, instance), **changes)  # type: ignore[no-any-return]
 
 
 class Record:

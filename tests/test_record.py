@@ -5,12 +5,14 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import sso
-from sso._record import Record, RecordError, built, decode, encode
+from sso._record import Record, RecordError, built, built_from, decode, encode, rebuilt
+from sso._shafts.series import checked_series
 
 SERIES = sso.ShaftSeries([10.0, 15.0, 12.0], [80.0, 95.0])
 
@@ -94,12 +96,44 @@ def test_from_dict_checks_values_as_strictly_as_case_files(path, value, message)
         sso.OptimisationResult.from_dict(edited)
 
 
-def test_built_makes_the_record_the_dataclass_init_makes():
+def test_built_and_rebuilt_go_through_the_dataclass_constructor():
     fields = {"count": 3, "value": 0.5, "flags": (True,), "table": np.zeros((1, 2)),
               "named": {"a": 1.0}, "series": SERIES}
     made = built(Sample, **fields)
     assert type(made) is Sample and made == Sample(**fields)
     assert made.to_dict() == Sample(**fields).to_dict()
-    with pytest.raises(TypeError, match=r"missing \['value'\], unknown \['valu'\]"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'valu'"):
         built(Sample, **{**{key: item for key, item in fields.items() if key != "value"},
                          "valu": 0.5})
+    with pytest.raises(TypeError, match="missing 1 required positional argument: 'value'"):
+        built_from(Sample, {key: item for key, item in fields.items() if key != "value"})
+    # the constructor's own checks run: __post_init__ here, ShaftSeries's range checks
+    with pytest.raises(ValueError, match="count = -1"):
+        built(Checked, count=-1)
+    assert rebuilt(built(Checked, count=2), count=5) == Checked(count=5)
+    with pytest.raises(ValueError, match="count = -1"):
+        rebuilt(built(Checked, count=2), count=-1)
+    with pytest.raises(ValueError, match=r"beta_deg\[0\] = 95"):
+        checked_series((95.0,), (), "exact")
+
+
+@dataclass(frozen=True, eq=False)
+class Checked(Record):
+    """A record whose constructor refuses a negative count."""
+
+    count: int
+
+    def __post_init__(self) -> None:
+        if self.count < 0:
+            raise ValueError(f"count = {self.count}; allowed: >= 0")
+
+
+def test_no_record_skips_its_constructor():
+    # Issue 33: records are made by their dataclasses' constructors, never by
+    # object.__new__ and an update of the instance's dictionary.
+    package = Path(sso.__file__).parent
+    found = [f"{path.relative_to(package)}: {needle}"
+             for path in sorted(package.rglob("*.py"))
+             for needle in ("object.__new__", "__dict__.update")
+             if needle in path.read_text(encoding="utf-8")]
+    assert found == []

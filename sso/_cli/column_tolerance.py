@@ -19,15 +19,19 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from sso._cli.common import DEFAULT_OUT, EXIT_FAILED, EXIT_OK
+from sso._cli.saved_results import read_saved_result
+from sso._column.phasing import optimise_phasing
+from sso._column.splines import best_spline_teeth
+from sso._limits import OUTPUT_FORMATS
+from sso._reports.kinds import write_report
+from sso._run.column import ColumnRun
+from sso._studies.column_tolerance import column_tolerance_study, study_settings
+
 
 def run_column_tolerance(args: argparse.Namespace, case: Any, client: Any) -> int:
     """Study the column case's design; write the report; 0 when the required yield is
     shown (or none is required), else 1 (bad input raises ValueError)."""
-    from sso._cli.common import DEFAULT_OUT, EXIT_FAILED, EXIT_OK
-    from sso._limits import OUTPUT_FORMATS
-    from sso._reports.kinds import write_report
-    from sso._studies.column_tolerance import column_tolerance_study, study_settings
-
     design, study_of = _studied_design(args, case)
     tolerances, count = study_settings(None, case, args.samples, args.seed, None)
     result = column_tolerance_study(
@@ -55,14 +59,10 @@ def _studied_design(args: argparse.Namespace, case: Any) -> tuple[tuple[Any, Any
     if not args.quiet:
         print(f"{case.name}: optimising first, to study the optimum", flush=True)
     if case.teeth is not None:
-        from sso._column.splines import best_spline_teeth
-
         splines = best_spline_teeth(geometry, case.teeth)
         return ((geometry, splines.yoke_phase_deg),
                 f"the best assembly on the splines (teeth {list(case.teeth)}, tooth offsets "
                 f"{list(splines.tooth_offset)}) of {name}, found first")
-    from sso._column.phasing import optimise_phasing
-
     phasing = optimise_phasing(geometry, **case.solver_options())
     return ((geometry, phasing.yoke_phase_deg),
             f"the best yoke phasing of {name}, optimised first")
@@ -76,9 +76,6 @@ def _recommended(path: str) -> tuple[tuple[Any, Any], str]:
     ValueError
         If ``path`` holds no saved column run (a RecordError names the field).
     """
-    from sso._cli.saved_results import read_saved_result
-    from sso._run.column import ColumnRun
-
     run = read_saved_result(path)
     if not isinstance(run, ColumnRun):
         raise ValueError(f"{path} is no column case's result (type = {type(run).__name__}); "

@@ -15,6 +15,7 @@ from sso._cli.common import (
     report_formats,
     say,
 )
+from sso._limits import OUTPUT_FORMATS
 
 
 def _configure_report(parser: argparse.ArgumentParser) -> None:
@@ -32,7 +33,6 @@ def _report_one(args: argparse.Namespace, path: str) -> int:
     """Read a saved result back (``from_dict``) and write its report; the exit code."""
     from sso._cli.saved_results import read_saved_result
     from sso._files import check_report_folder
-    from sso._limits import OUTPUT_FORMATS
     from sso._record import RecordError
     from sso._reports.kinds import report_kind_of, write_report
 

@@ -21,6 +21,8 @@ from typing import Any
 
 from sso._files import write_text_atomic
 from sso._record import RECORD_VERSION, Record, RecordError, json_schema, read_json_object
+from sso._run.mechanism_run import MechanismRun
+from sso._run.shaft_series import ShaftSeriesRun
 from sso._validation import shown
 
 SHIPPED_SCHEMA = "result.schema.json"
@@ -31,9 +33,6 @@ def result_classes() -> dict[str, type[Record]]:
 
     Importing the modules that define them.
     """
-    from sso._run.mechanism_run import MechanismRun
-    from sso._run.shaft_series import ShaftSeriesRun
-
     package = import_module("sso")
     classes: dict[str, type[Record]] = {"ShaftSeriesRun": ShaftSeriesRun,
                                         "MechanismRun": MechanismRun}

@@ -11,16 +11,17 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from sso._cli.common import Command
+from sso._cli.common import DEFAULT_OUT, EXIT_BAD_INPUT, EXIT_FAILED, EXIT_OK, Command
+from sso._display import format_number
+from sso._limits import OUTPUT_FORMATS
 
 
 def configure_sweep(parser: argparse.ArgumentParser) -> None:
     """Arguments of ``sso sweep``."""
-    from sso._cli.common import DEFAULT_OUT
-
     parser.add_argument("sweep", metavar="SWEEP.toml",
                         help="sweep file: a base case, the [axes] to vary, the action")
     parser.add_argument("--resume", action="store_true",
@@ -35,8 +36,6 @@ def configure_sweep(parser: argparse.ArgumentParser) -> None:
 
 def configure_tolerance(parser: argparse.ArgumentParser) -> None:
     """Arguments of ``sso tolerance``."""
-    from sso._cli.common import DEFAULT_OUT
-
     parser.add_argument("case", metavar="CASE.toml",
                         help="case file: its optimum is perturbed as its [tolerance] table says")
     parser.add_argument("--at", choices=("optimum", "start"), default="optimum",
@@ -55,7 +54,6 @@ def configure_tolerance(parser: argparse.ArgumentParser) -> None:
 
 def run_sweep(args: argparse.Namespace) -> int:
     """Run ``sso sweep``; exit 0 if every point finished (and converged), 1 if not, 2 bad input."""
-    from sso._cli.common import DEFAULT_OUT, EXIT_FAILED, EXIT_OK
     from sso._studies.sweep import sweep
     from sso._studies.sweep_file import load_sweep
 
@@ -78,10 +76,6 @@ def run_tolerance(args: argparse.Namespace) -> int:
     The optimum is studied unless ``--at start``: the case is optimised first,
     or its optimum read from ``--result``; the report says which.
     """
-    from dataclasses import replace
-
-    from sso._cli.common import DEFAULT_OUT, EXIT_OK
-    from sso._limits import OUTPUT_FORMATS
     from sso._reports.kinds import write_report
     from sso._studies.axes import base_case
     from sso._studies.tolerance_study import tolerance_study
@@ -130,7 +124,6 @@ def _studied_design(args: argparse.Namespace, case: Any) -> tuple[Any, str]:
                              "give a result of sso run, or --at start")
         optimum = optimisation.compared[1]
         return optimum.series, f"the {optimum.label} read from {args.result}"
-    from sso._display import format_number
     from sso._shafts.optimise import optimise
 
     if not args.quiet:
@@ -162,7 +155,6 @@ def _add_execution_arguments(parser: argparse.ArgumentParser, out_help: str) -> 
 
 def _with_client(args: argparse.Namespace, source: str, work: Callable[[Any], int]) -> int:
     """Connect to ``--scheduler`` if given, run ``work``, report bad input as exit 2."""
-    from sso._cli.common import EXIT_BAD_INPUT, EXIT_FAILED
     from sso._studies.execution import NoWorkersError, connect
 
     client = None

@@ -25,7 +25,6 @@ them may import the others' optimisers (imports point down the layers).
 
 from __future__ import annotations
 
-import functools
 import warnings
 from collections.abc import Callable, Mapping
 from importlib import import_module
@@ -34,6 +33,7 @@ from typing import Any
 from sso._column.geometry import ColumnGeometry
 from sso._column.practice import PracticeWarning, practice_notes
 from sso._linkages.mechanisms import FourBar
+from sso._shafts.optimise import optimise as optimise_series
 from sso._shafts.series import ShaftSeries
 
 # Keyword that selects a column optimiser -> (module, function) of that optimiser.
@@ -78,7 +78,7 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
     if isinstance(problem, ShaftSeries):
         # It raises its warnings at the caller's line itself: no second catch here,
         # which would cost a single solve more than the dispatch.
-        return _series_optimiser()(problem, *args, **options)
+        return optimise_series(problem, *args, **options)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -86,15 +86,6 @@ def optimise(problem: Any, *args: Any, **options: Any) -> Any:
     finally:
         for warning in caught:  # re-raised here, even on error, so they name the caller's line
             warnings.warn(warning.message, warning.category, stacklevel=2)
-
-
-@functools.cache
-def _series_optimiser() -> Callable[..., Any]:
-    """:func:`sso._shafts.optimise.optimise`, imported on the first call (an import
-    statement on every call costs a single solve about a microsecond)."""
-    from sso._shafts.optimise import optimise as optimise_series
-
-    return optimise_series
 
 
 def _optimiser_of(problem: Any, args: tuple[Any, ...],

@@ -43,6 +43,7 @@ from sso._column.chain_matrix import chain_matrix
 from sso._display import Part, Readable, TextTable, format_number
 from sso._record import Record, register_record
 from sso._shafts.series import ShaftSeries
+from sso._validation import as_float_tuple, check_choice, validate_speed
 
 RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 INERTIAL_LIMIT_RAD_S2 = {"car": 1000.0, "truck": 2000.0}
@@ -236,8 +237,6 @@ def excitation_table(series: ShaftSeries, input_speed_rpm: Sequence[float],
         If a speed is not finite and positive, the list is empty, or the vehicle
         kind or the application is unknown.
     """
-    from sso._validation import as_float_tuple, check_choice, validate_speed
-
     _check_series(series)
     check_choice("vehicle", vehicle, tuple(INERTIAL_LIMIT_RAD_S2))
     check_choice("application", application, APPLICATIONS)

@@ -57,6 +57,7 @@ from sso._limits import (
     MAX_STARTS,
 )
 from sso._record import Record
+from sso._solvers.nlp import cached_nlp, compile_nlp
 from sso._solvers.run import RunLimits
 from sso._validation import (
     finite_float,
@@ -264,8 +265,6 @@ def optimise_on_centre(geometry: ColumnGeometry, *, straight_ahead_deg: float, l
     theta = _grid()
     reference = nominal_feel.objective
     scale = 1.0 / reference if reference > 0 else 1.0
-    from sso._solvers.nlp import cached_nlp
-
     nlp = cached_nlp(("column_on_centre", geometry.joint_count, len(theta)),
                      lambda: _build(geometry.joint_count, np.radians(theta)))
     parameters = np.concatenate([np.cos(np.radians(geometry.beta_deg)),
@@ -309,8 +308,6 @@ def _options(straight_ahead_deg: Any, window_deg: Any, lock_deg: Any,
 
 def _build(joints: int, theta_rad: np.ndarray) -> Any:
     import casadi
-
-    from sso._solvers.nlp import compile_nlp
 
     shafts = joints - 1
     count = len(theta_rad)

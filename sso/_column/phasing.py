@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
 from sso._column.cancel import CancelVerdict, can_cancel, minimising_phases_deg
-from sso._column.chain_matrix import residual_error
+from sso._column.chain_matrix import chain_matrix, residual_error
 from sso._column.geometry import ColumnGeometry, wrap_half_turn
 from sso._column.tolerances import BuiltColumnSpread, Tolerances
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
@@ -22,9 +22,6 @@ from sso._limits import (
     DEFAULT_STARTS,
 )
 from sso._record import NON_NEGATIVE, FieldRule, Record
-
-if TYPE_CHECKING:
-    from sso._shafts.optimise import OptimisationResult
 from sso._shafts.optimise import OptimisationResult, optimise
 from sso._solvers.crosscheck import allowed_objective_gap
 
@@ -280,8 +277,6 @@ def _local_minima_deg(beta_rad: np.ndarray, verdict: CancelVerdict, seed: int,
     """Representatives of a continuum of optimal phasings (deg): least-squares polishes
     of the closed-form chain from random starts, kept where they reach the least RE."""
     from scipy.optimize import least_squares
-
-    from sso._column.chain_matrix import chain_matrix
 
     def residuals(phase_rad: np.ndarray) -> np.ndarray:
         matrix = chain_matrix(beta_rad, phase_rad)

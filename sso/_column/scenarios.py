@@ -41,6 +41,7 @@ from sso._limits import (
 from sso._record import NON_NEGATIVE, FieldRule, Record, register_record
 from sso._solvers.crosscheck import crosscheck
 from sso._solvers.multistart import best_solution, run_starts, solution_from_run
+from sso._solvers.nlp import cached_nlp, compile_nlp
 from sso._solvers.run import RunLimits
 from sso._solvers.solution import CrossCheck, Solution
 from sso._solvers.starts import start_points
@@ -198,8 +199,6 @@ def solve_scenarios(beta_rad: np.ndarray, gamma_rad: np.ndarray, *, objective: s
     solvers, solver_tol, max_iterations, seed
         As :func:`sso.optimise`.
     """
-    from sso._solvers.nlp import cached_nlp
-
     count, joints = beta_rad.shape
     nlp = cached_nlp(("column_scenarios", objective, count, joints),
                      lambda: _build(objective, count, joints))
@@ -291,8 +290,6 @@ def _weighted_quantile(values: np.ndarray, weights: np.ndarray, level: float) ->
 
 def _build(objective: str, count: int, joints: int) -> Any:
     import casadi
-
-    from sso._solvers.nlp import compile_nlp
 
     shafts = joints - 1
     p = casadi.SX.sym("p", count * joints + count * shafts + count + 2)

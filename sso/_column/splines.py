@@ -37,6 +37,7 @@ from sso._column.geometry import ColumnGeometry, wrap_half_turn
 from sso._display import Part, Readable, TextTable, format_number
 from sso._limits import CONVENTIONAL_PHASE_DEG, DEFAULT_SPLINE_TEETH, SPLINE_ENUMERATION_LIMIT
 from sso._record import Record, register_record
+from sso._validation import validate_count
 
 CHUNK_ROWS = 65_536
 # Assemblies whose RE is within this of the best are reported as ties (round-off).
@@ -285,8 +286,6 @@ def _nearest_offsets(offsets: np.ndarray, teeth: int, target_deg: float) -> np.n
 
 
 def _validated_teeth(teeth: Any, shafts: int) -> tuple[int, ...]:
-    from sso._validation import validate_count
-
     if isinstance(teeth, (int, np.integer)) and not isinstance(teeth, bool):
         return (validate_count("teeth", teeth, 1, MAX_TEETH),) * shafts
     try:

@@ -41,7 +41,9 @@ from sso._limits import (
     MAX_STARTS,
     TRANSMISSION_BAND_DEG,
 )
+from sso._linkages.mechanisms import FourBar
 from sso._solvers.multistart import solution_from_run, solve_from_starts
+from sso._solvers.nlp import cached_nlp, compile_nlp
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._validation import (
@@ -154,8 +156,6 @@ def design_fourbar(
     ValueError
         For bad bounds or options, naming the field, the value and the range.
     """
-    from sso._linkages.mechanisms import FourBar
-
     solver_names = validate_solvers(solvers)
     starts = validate_count("starts", starts, 1, MAX_STARTS)
     max_iterations = validate_count("max_iterations", max_iterations, 1, MAX_ITERATIONS)
@@ -236,15 +236,11 @@ def _transmission_cosines(xp: Any, crank: Any, coupler: Any, rocker: Any,
 
 
 def _compiled() -> Any:
-    from sso._solvers.nlp import cached_nlp
-
     return cached_nlp("fourbar_swing", _build)
 
 
 def _build() -> Any:
     import casadi
-
-    from sso._solvers.nlp import compile_nlp
 
     x = casadi.SX.sym("x", 6)
     crank, coupler, rocker, ground, angle_extended, angle_folded = (x[i] for i in range(6))

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 
+from sso._reports.html import render_html
+from sso._reports.markdown import render_markdown
 from sso._reports.summary import Block
 
 
@@ -23,12 +25,8 @@ def render_documents(blocks: Sequence[Block], images: Mapping[str, bytes],
     """
     files: dict[str, bytes] = {}
     if "md" in formats:
-        from sso._reports.markdown import render_markdown
-
         files["report.md"] = render_markdown(blocks).encode("utf-8")
     if "html" in formats:
-        from sso._reports.html import render_html
-
         files["report.html"] = render_html(blocks, images).encode("utf-8")
     return files
 

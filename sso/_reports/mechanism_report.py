@@ -21,6 +21,7 @@ from sso._linkages.table import MechanismTable
 from sso._reports.documents import report_files
 from sso._reports.html import render_html
 from sso._reports.markdown import render_markdown
+from sso._reports.mechanism_plots import render_mechanism_plots
 from sso._reports.summary import (
     Block,
     Heading,
@@ -57,8 +58,6 @@ CAPTIONS = {
 
 def mechanism_files(run: MechanismRun, formats: tuple[str, ...]) -> dict[str, bytes]:
     """The files of a mechanism run's report in ``formats`` (``result.json`` excepted)."""
-    from sso._reports.mechanism_plots import render_mechanism_plots
-
     return report_files(formats, lambda: table_files(run), lambda: render_mechanism_plots(run),
                         lambda images: mechanism_blocks(run, images))
 

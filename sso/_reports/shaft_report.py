@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from sso._reports import documents
+from sso._reports.plots import render_plots
+from sso._reports.speeds import render_speeds_csv
 from sso._reports.summary import (
     NUMERICS_HEADING,
     Block,
@@ -31,6 +33,7 @@ from sso._run.signed_figures import figure_lines, shaft_series_figures
 from sso._shafts.curves import ComparedDesign
 from sso._shafts.exact_optima import EXTENT_METHOD, ExactOptimumSet, end_kind
 from sso._shafts.optimise import OptimisationResult
+from sso._shafts.options import OPTION_NAMES
 
 # (evaluation field, row label with unit, format)
 FIGURES = (
@@ -80,9 +83,6 @@ def optimisation_files(result: OptimisationResult, formats: tuple[str, ...]) -> 
 
 def report_files(report: ShaftReport, formats: tuple[str, ...]) -> dict[str, bytes]:
     """The files of ``report`` in ``formats`` (``result.json`` excepted), by file name."""
-    from sso._reports.plots import render_plots
-    from sso._reports.speeds import render_speeds_csv
-
     return documents.report_files(
         formats, lambda: {"speeds.csv": render_speeds_csv(report.designs)},
         lambda: render_plots(report.designs, report.name, report.plot_heading),
@@ -153,8 +153,6 @@ def _of_optimisation(result: OptimisationResult) -> ShaftReport:
 
 def _problem_rows(model: str, option: int, speed_rpm: float, beta_bounds: Any,
                   phase_bounds: Any) -> list[tuple[str, str]]:
-    from sso._shafts.options import OPTION_NAMES
-
     return [("model", model), ("option", f"{option} ({OPTION_NAMES[option]})"),
             ("input speed (rpm)", number(speed_rpm)),
             ("operating-angle bounds (deg)", _bounds_text(beta_bounds)),
@@ -172,8 +170,6 @@ def _quadrature_rows(optimisation: OptimisationResult | None,
 
 
 def _plot_heading(model: str, option: int, speed_rpm: float) -> str:
-    from sso._shafts.options import OPTION_NAMES
-
     return f"{model} model, option {option} ({OPTION_NAMES[option]}), input {speed_rpm:g} rpm"
 
 

@@ -29,9 +29,9 @@ from sso._column.cancel import CancelVerdict, can_cancel
 from sso._column.chain_matrix import residual_error
 from sso._column.excitation import ExcitationTable, excitation_table
 from sso._column.geometry import ColumnGeometry, wrap_half_turn
-from sso._column.joint_centres import JointCentresResult
-from sso._column.phasing import PhasingResult
-from sso._column.splines import SplineResult
+from sso._column.joint_centres import JointCentresResult, optimise_joint_centres
+from sso._column.phasing import PhasingResult, optimise_phasing
+from sso._column.splines import SplineResult, best_spline_teeth
 from sso._column.steering_criteria import SteeringAssessment, assess_steering
 from sso._column.yields import YieldJudgement
 from sso._display import Part, TextTable, format_number, format_numbers
@@ -294,8 +294,6 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             if optimising:
-                from sso._column.phasing import optimise_phasing
-
                 phasing = optimise_phasing(geometry, **case.solver_options())
                 # the set's ends are found with the run
                 phasing.exact_optimum_extent_deg  # noqa: B018
@@ -306,8 +304,6 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
                 recommended = "best"
                 steps.finished()
             if optimising and case.has_joint_boxes:
-                from sso._column.joint_centres import optimise_joint_centres
-
                 moved = optimise_joint_centres(geometry, **case.joint_position_options())
                 success = success and moved.success
                 verdicts.append(f"joint positions: {moved.message}")
@@ -321,8 +317,6 @@ def run_column(case: ColumnCase, optimising: bool) -> ColumnRun:
                 teeth_assembly = outcome.teeth
                 steps.finished()
             if case.teeth is not None:
-                from sso._column.splines import best_spline_teeth
-
                 splines = best_spline_teeth(geometry, case.teeth)
                 label = "best on the splines (whole teeth)"
                 if teeth_assembly is not None:

@@ -26,11 +26,17 @@ from sso._cases.column import ColumnCase
 from sso._column.band import ToleranceBand, re_against_phase_error, tolerance_band
 from sso._column.built_figures import built_column_figures, limited_figures
 from sso._column.chain_matrix import residual_error
-from sso._column.feel import OnCentreResult, SteeringFeel, speed_ratio, steering_feel
+from sso._column.feel import (
+    OnCentreResult,
+    SteeringFeel,
+    optimise_on_centre,
+    speed_ratio,
+    steering_feel,
+)
 from sso._column.geometry import ColumnGeometry
 from sso._column.phasing import PhasingResult
-from sso._column.positions import PositionsResult
-from sso._column.robust_phasing import RobustResult
+from sso._column.positions import PositionsResult, optimise_positions
+from sso._column.robust_phasing import RobustResult, optimise_robust
 from sso._column.splines import SplineResult
 from sso._column.tolerances import SampleStudy, Tolerances, ToleranceSample
 from sso._column.yields import YieldJudgement, column_limits, judge_yields
@@ -320,8 +326,6 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
     if positions is not None:
         shared = None
         if optimising:
-            from sso._column.positions import optimise_positions
-
             objective = case.values["phasing.positions_objective"]
             shared = optimise_positions(positions, positions_objective=objective,
                                         weights=case.values["phasing.position_weights"],
@@ -332,8 +336,6 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
     tolerances = case.tolerances()
     robust = None
     if tolerances is not None and optimising:
-        from sso._column.robust_phasing import optimise_robust
-
         robust = optimise_robust(geometry, tolerances,
                                  robust_objective=case.values["tolerances.robust_objective"],
                                  **options)
@@ -342,8 +344,6 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
     feel: dict[str, Any] | None = case.feel_options()
     centred, note = None, None
     if feel is not None and optimising:
-        from sso._column.feel import optimise_on_centre
-
         assert best is not None
         least = steering_feel(best, **feel).objective
         if least <= CANCELLED_OBJECTIVE:

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from sso._cases.mechanism import DESIGN_KIND, MechanismCase, angle_grid
 from sso._display import Part, TextTable, format_number
-from sso._linkages.fourbar_swing import FourBarDesignResult
+from sso._linkages.fourbar_swing import FourBarDesignResult, design_fourbar
 from sso._linkages.mechanisms import (
     FourBar,
     SliderCrank,
@@ -189,8 +189,6 @@ def run_mechanism(case: MechanismCase, optimising: bool) -> MechanismRun:
         if case.kind != DESIGN_KIND:
             mode, linkages, verdict = "analyse", {"given": start}, _analysis_verdict(case)
         elif optimising:
-            from sso._linkages.fourbar_swing import design_fourbar
-
             if not isinstance(start, FourBar):
                 raise TypeError(f"a {DESIGN_KIND} case starts from a FourBar, not {start!r}")
             with warnings.catch_warnings(record=True) as caught:

@@ -6,6 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sso._cases.schema import KIND_MODULES, load_case
+from sso._cases.shaft_series import KIND as SHAFT_SERIES_KIND
+from sso._run.shaft_series import run_shaft_series
+
 if TYPE_CHECKING:  # each run imports only the module its case's kind needs
     from sso._run.column import ColumnRun
     from sso._run.driveline import DrivelineRun
@@ -39,19 +43,13 @@ def run_case(path: str | Path, *, solve: bool = True
         line where known, the key and the allowed range), or the design it describes is
         refused (the field and its allowed range).
     """
-    from sso._cases.schema import load_case
-
     return run_parsed_case(load_case(path), solve)
 
 
 def run_parsed_case(case: Any, solve: bool
                     ) -> ShaftSeriesRun | MechanismRun | ColumnRun | DrivelineRun:
     """The result of a case already read and checked (see :func:`run_case`)."""
-    from sso._cases.shaft_series import KIND as SHAFT_SERIES_KIND
-
     if case.kind == SHAFT_SERIES_KIND:
-        from sso._run.shaft_series import run_shaft_series
-
         return run_shaft_series(case, solve)
     from sso._cases.column import COLUMN_KIND
 
@@ -91,8 +89,6 @@ def import_solvers_for(case: Any, solve: bool) -> None:
         If SciPy cannot be imported (or a signal arrived while one of its extension
         modules initialised: the interruption is the error's cause).
     """
-    from sso._cases.schema import KIND_MODULES
-
     if not solve:
         return
     if KIND_MODULES.get(case.kind) == "sso._cases.mechanism":

@@ -63,9 +63,10 @@ class ShaftSeries:
                  model: str = "exact") -> None:
         beta, phase = _checked_angles(beta_deg, phase_deg)
         check_choice("model", model, MODELS)
-        # One update of the instance's dictionary: a frozen dataclass's object.__setattr__
-        # per field costs a single solve more than the checks above.
-        self.__dict__.update(beta_deg=beta, phase_deg=phase, model=model)
+        # a frozen dataclass's own __init__ stores its fields so (dataclasses' documentation)
+        object.__setattr__(self, "beta_deg", beta)
+        object.__setattr__(self, "phase_deg", phase)
+        object.__setattr__(self, "model", model)
 
     @property
     def n_joints(self) -> int:
@@ -203,15 +204,17 @@ def _checked_angles(beta_deg: Sequence[float], phase_deg: Sequence[float] | None
 
 def checked_series(beta_deg: tuple[float, ...], phase_deg: tuple[float, ...],
                    model: str) -> ShaftSeries:
-    """A :class:`ShaftSeries` of angles that were checked before they were computed.
+    """The :class:`ShaftSeries` of a solver's answer, made by its constructor.
 
-    For a solver's answer, which lies inside bounds that were validated against
-    the same ranges: the checks of ``ShaftSeries(...)`` would repeat them on every
-    solve. Never for input from outside the package.
+    The answer lies inside bounds that were checked against the same ranges, so the
+    constructor's checks pass (they cost about 3 us).
+
+    Raises
+    ------
+    ValueError
+        As :class:`ShaftSeries` does.
     """
-    series = object.__new__(ShaftSeries)
-    series.__dict__.update(beta_deg=beta_deg, phase_deg=phase_deg, model=model)
-    return series
+    return ShaftSeries(beta_deg, phase_deg, model)
 
 
 def _finite_angles(theta_deg: Any) -> NDArray[np.float64]:

@@ -6,6 +6,7 @@ import time
 from typing import Any
 
 import numpy as np
+from scipy.optimize import Bounds, minimize
 
 from sso._record import built
 from sso._solvers.nlp import value_and_gradient_floats
@@ -44,8 +45,6 @@ def solve(
     max_iterations : int
         SLSQP's ``maxiter``.
     """
-    from scipy.optimize import fmin_slsqp
-
     # The closed form on plain floats takes the parameters as a list, made once.
     fixed = parameters if nlp.objective_and_gradient_floats is None else parameters.tolist()
 
@@ -75,37 +74,35 @@ def solve(
     ftol = max(solver_tol * abs(start_value), solver_tol * solver_tol * np.finfo(float).eps)
     started = time.perf_counter()
     try:
-        # The plain entry point: scipy.optimize.minimize(method="SLSQP") runs the same
-        # solver after checks and conversions that cost a quarter of a three-joint solve.
-        x, fun, nit, status, message = fmin_slsqp(
-            objective, start, bounds=list(zip(limits.lower.tolist(), limits.upper.tolist(),
-                                              strict=True)),
-            fprime=gradient, iter=max_iterations, acc=ftol, iprint=0, full_output=True,
-            **_constraints(nlp, parameters, limits))
+        answer = minimize(objective, start, method="SLSQP", jac=gradient,
+                          bounds=Bounds(limits.lower, limits.upper),
+                          constraints=_constraints(nlp, parameters, limits),
+                          options={"maxiter": max_iterations, "ftol": ftol})
     except (ValueError, ArithmeticError) as error:
         return RunOutcome(start, float("nan"), 0, 0, 0, -1, False, f"SLSQP raised: {error}",
                           time.perf_counter() - started)
     elapsed = time.perf_counter() - started
     return built(
         RunOutcome,
-        x=np.array(x, dtype=float),
-        fun=float(fun),
-        nit=int(nit),
+        x=np.array(answer.x, dtype=float),
+        fun=float(answer.fun),
+        nit=int(answer.nit),
         nfev=counts[0] + 1,
         njev=counts[1] + 1,
-        status=int(status),
-        success=int(status) == 0,
-        message=str(message),
+        status=int(answer.status),
+        success=int(answer.status) == 0,
+        message=str(answer.message),
         time_s=elapsed,
     )
 
 
-def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits) -> dict[str, Any]:
+def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits
+                 ) -> list[dict[str, Any]]:
     """SLSQP's ``c(x) = 0`` and ``c(x) >= 0`` form of ``lbg <= g(x) <= ubg``, as
-    ``fmin_slsqp``'s keywords: the equalities, and the inequalities (the rows with a lower
-    bound, then those with an upper bound)."""
+    ``scipy.optimize.minimize``'s constraints: the equalities, and the inequalities (the
+    rows with a lower bound, then those with an upper bound)."""
     if not limits.constrained:
-        return {}
+        return []
     constraints_and_jacobian = nlp.constraints_and_jacobian
 
     def evaluate(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -116,10 +113,11 @@ def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits) -> dict[st
     equal = lower == upper
     has_lower = np.isfinite(lower) & ~equal
     has_upper = np.isfinite(upper) & ~equal
-    keywords: dict[str, Any] = {}
+    constraints: list[dict[str, Any]] = []
     if equal.any():
-        keywords["f_eqcons"] = lambda x: evaluate(x)[0][equal] - lower[equal]
-        keywords["fprime_eqcons"] = lambda x: evaluate(x)[1][equal]
+        constraints.append({"type": "eq",
+                            "fun": lambda x: evaluate(x)[0][equal] - lower[equal],
+                            "jac": lambda x: evaluate(x)[1][equal]})
     if has_lower.any() or has_upper.any():
         def inequalities(x: np.ndarray) -> np.ndarray:
             values = evaluate(x)[0]
@@ -130,6 +128,6 @@ def _constraints(nlp: Any, parameters: np.ndarray, limits: RunLimits) -> dict[st
             jacobian = evaluate(x)[1]
             return np.vstack([jacobian[has_lower], -jacobian[has_upper]])
 
-        keywords["f_ieqcons"] = inequalities
-        keywords["fprime_ieqcons"] = inequalities_jacobian
-    return keywords
+        constraints.append({"type": "ineq", "fun": inequalities,
+                            "jac": inequalities_jacobian})
+    return constraints

@@ -20,6 +20,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from sso._cases.column import ColumnCase
+from sso._cases.schema import load_case, parse_case, schema
+from sso._cases.shaft_series import Case
 from sso._record import register_record
 from sso._validation import finite_float, shown
 
@@ -61,10 +66,6 @@ def base_case(base: Any) -> Any:
     ValueError
         (:class:`sso._cases.schema.CaseError`) if the case breaks the case-file schema.
     """
-    from sso._cases.column import ColumnCase
-    from sso._cases.schema import load_case, parse_case
-    from sso._cases.shaft_series import Case
-
     if isinstance(base, (str, Path)):
         case = load_case(base)
     elif isinstance(base, (Case, ColumnCase)):
@@ -86,8 +87,6 @@ def base_case(base: Any) -> Any:
 
 def sweepable_keys(document: Mapping[str, Any]) -> list[str]:
     """Keys of a case of this kind that an axis may vary, as dotted labels."""
-    from sso._cases.schema import schema
-
     return [key.label for key in schema(document.get("kind", "shaft_series"))
             if key.label not in UNSWEPT_KEYS]
 
@@ -181,8 +180,6 @@ def value_positions(axes: Sequence[Axis], mode: str, indices: Any) -> tuple[Any,
     The inverse of :func:`expand_points`'s order: in ``"product"`` mode the last axis
     varies fastest, in ``"listed"`` mode point ``i`` takes every axis's ``i``-th value.
     """
-    import numpy as np
-
     indices = np.asarray(indices, dtype=np.int64)
     if mode == "listed":
         return tuple(indices for _ in axes)

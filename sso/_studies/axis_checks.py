@@ -20,6 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from sso._cases.schema import parse_case
+from sso._shafts.options import build_problem
 from sso._studies.axes import set_field
 
 
@@ -110,9 +112,6 @@ def check_values(document: dict[str, Any], path: str, values: Sequence[Any],
                  action: str) -> tuple[np.ndarray, tuple[tuple[str, ...], ...]]:
     """Read the base case with each value set at ``path``, as a case file is read:
     whether the case accepts each value, and the warnings it brings."""
-    from sso._cases.schema import parse_case
-    from sso._shafts.options import build_problem
-
     accepted = np.zeros(len(values), dtype=bool)
     notes: list[tuple[str, ...]] = []
     table = path.split(".", 1)[0].split("[", 1)[0]

@@ -37,6 +37,15 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
+from sso._cases.schema import CaseError, parse_case
+from sso._column.cancel import can_cancel
+from sso._column.chain_matrix import residual_error
+from sso._column.phasing import optimise_phasing
+from sso._column.robust_phasing import optimise_robust
+from sso._column.splines import best_spline_teeth
+from sso._column.steering_range import steering_range
 from sso._studies.axes import Axis, point_document
 from sso._validation import shown
 
@@ -69,8 +78,6 @@ def check_axis_values(document: Mapping[str, Any], axes: Sequence[Axis]) -> None
     ValueError
         Naming the axis, the value and the case's reason (key and allowed range).
     """
-    from sso._cases.schema import CaseError, parse_case
-
     every = sum(len(axis.values) for axis in axes) <= MOST_CHECKED_VALUES
     for axis in axes:
         seen: list[Any] = []
@@ -100,12 +107,6 @@ def check_sweepable(case: Any) -> None:
 
 def column_row(case: Any, action: str) -> dict[str, Any]:
     """The result cells of one column point (see the module notes)."""
-    import numpy as np
-
-    from sso._column.cancel import can_cancel
-    from sso._column.chain_matrix import residual_error
-    from sso._column.steering_range import steering_range
-
     geometry = case.geometry()
     verdict = can_cancel(geometry.beta_deg)
     row: dict[str, Any] = {"minimum_residual_error": verdict.minimum_residual_error,
@@ -135,8 +136,6 @@ def column_row(case: Any, action: str) -> dict[str, Any]:
 
 def _optimised(case: Any, geometry: Any) -> dict[str, Any]:
     """The best continuous phasing, and on the splines when the case has teeth."""
-    from sso._column.phasing import optimise_phasing
-
     phasing = optimise_phasing(geometry, **case.solver_options())
     check = phasing.optimisation.crosscheck
     row: dict[str, Any] = {
@@ -148,8 +147,6 @@ def _optimised(case: Any, geometry: Any) -> dict[str, Any]:
         "crosscheck_objective_gap": None if check is None else check.objective_gap,
     }
     if case.teeth is not None:
-        from sso._column.splines import best_spline_teeth
-
         splines = best_spline_teeth(geometry, case.teeth)
         row["design_yoke_phase_deg"] = list(splines.yoke_phase_deg)
         row["tooth_offset"] = list(splines.tooth_offset)
@@ -173,14 +170,10 @@ def _tolerances(case: Any, geometry: Any, tolerances: Any, yoke: Any,
                 action: str) -> dict[str, Any]:
     """The p95 RE of the row's design over the built columns; with ``"optimise"``, the
     tolerance-aware phasing and its p95 on the same sample."""
-    import numpy as np
-
     sample = tolerances.sample(geometry)
     row: dict[str, Any] = {
         "tolerance_p95_residual_error": float(np.percentile(sample.residual_error(yoke), 95.0))}
     if action == "optimise":
-        from sso._column.robust_phasing import optimise_robust
-
         robust = optimise_robust(geometry, tolerances,
                                  robust_objective=case.values["tolerances.robust_objective"],
                                  **case.solver_options())

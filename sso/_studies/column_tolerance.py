@@ -54,6 +54,7 @@ from sso._limits import (
     OUTPUT_FORMATS,
 )
 from sso._record import Record, encode
+from sso._reports.kinds import write_report
 from sso._solvers.progress import ProgressBar, interactive
 from sso._solvers.resources import check_memory
 from sso._studies.column_yields import HalvedTolerance, judge_study
@@ -420,8 +421,6 @@ def column_tolerance_study(
         halved=judged.halved)
     if out_dir is None:
         return result
-    from sso._reports.kinds import write_report
-
     formats = tuple(name for name in OUTPUT_FORMATS if plots or name != "png")
     return replace(result, files=tuple(write_report(result, out_dir, formats)))
 

@@ -25,12 +25,15 @@ it is gone).
 
 from __future__ import annotations
 
+import ctypes
+import logging
 import math
 import multiprocessing
 import os
 import select
 import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -254,8 +257,6 @@ def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     parent = os.getppid()
     if sys.platform.startswith("linux"):
-        import ctypes
-
         pr_set_pdeathsig = 1
         ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, signal.SIGKILL)
     if os.getppid() != (caller_pid if spawned else parent):  # died before the request
@@ -266,8 +267,6 @@ def _start_worker(caller_pid: int, spawned: bool, environment: dict[str, str]) -
 
 def _exit_with(caller_pid: int) -> None:
     """End this process as soon as process ``caller_pid`` ends (a watching thread)."""
-    import threading
-
     def wait_for_exit() -> None:
         try:
             descriptor = os.pidfd_open(caller_pid)
@@ -347,8 +346,6 @@ def _quiet_lost_gathers() -> None:
     cancelled (``AllExit``, "Task exception was never retrieved"): a result lost with
     its worker and then cancelled, as a run without workers ends. It is no error of
     the run, and the user would read it as a crash."""
-    import logging
-
     class _LostGathers(logging.Filter):
         def filter(self, record: logging.LogRecord) -> bool:
             error = record.exc_info[1] if record.exc_info else None

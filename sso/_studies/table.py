@@ -21,6 +21,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from sso._files import write_text_atomic
 from sso._limits import SOLVERS
 from sso._studies.row_checks import cell_problem, recheck_sample
 
@@ -119,8 +120,6 @@ def _render(header: Sequence[str], rows: Iterable[Mapping[str, str]],
 def start_file(path: Path, header: Sequence[str]) -> None:
     """Create ``sweep.csv`` holding its header alone, unless it exists."""
     if not path.exists():
-        from sso._files import write_text_atomic
-
         write_text_atomic(path, _render(header, (), with_header=True))
 
 

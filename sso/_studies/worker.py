@@ -14,15 +14,18 @@ from typing import Any
 
 import numpy as np
 
+from sso._cases.schema import parse_case
+from sso._shafts.optimise import optimise
 from sso._studies.array_engine import ArrayPlan, run_array_points
 from sso._studies.axes import point_document
 from sso._studies.axis_checks import chunk_axes
 from sso._studies.batched import BatchedPoints, batchable
 from sso._studies.column_rows import column_row
 from sso._studies.columns import RowTable, packed, unpacked
+from sso._studies.parquet_output import part_data
 from sso._studies.point_row import PointRow, design_columns, solver_columns
 from sso._studies.shared_rows import SharedLayout, write_rows
-from sso._studies.table import HASH_COLUMN
+from sso._studies.table import HASH_COLUMN, columns
 
 ACTIONS = ("optimise", "evaluate")
 
@@ -100,8 +103,6 @@ class SweepChunk:
                points: tuple[tuple[int, dict[str, Any]], ...], sweep_hash: str = "",
                plan: ArrayPlan | None = None) -> SweepChunk:
         """A chunk of the given ``(index, {path: value})`` points (the same paths each)."""
-        from sso._studies.table import columns
-
         paths = tuple(points[0][1]) if points else ()
         count = len(points)
         return cls(document, action, tuple(columns(paths)), paths,
@@ -229,8 +230,6 @@ def run_chunk_task(task: ChunkTask) -> ChunkOutput:
 
 def chunk_output(table: RowTable, csv: bool, parquet_schema: Any) -> ChunkOutput:
     """``table`` with its ``sweep.csv`` lines and Parquet part, as asked for."""
-    from sso._studies.parquet_output import part_data
-
     status = table.columns.get("status")
     return ChunkOutput(table, table.csv_text().encode("utf-8") if csv else b"",
                        None if parquet_schema is None else part_data(table, parquet_schema),
@@ -272,8 +271,6 @@ def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
 def _parsed_case(row: PointRow, index: int, document: dict[str, Any],
                  point: dict[str, Any]) -> Any:
     """The point's case, checked like a case file, or None (an error row) if it is bad."""
-    from sso._cases.schema import parse_case
-
     case = row.attempt(lambda: parse_case(point_document(document, point), f"point {index}"))
     if case is not None:
         row.notes[:0] = case.warnings
@@ -306,8 +303,6 @@ def _evaluate_row(case: Any) -> dict[str, Any]:
 
 
 def _optimise_row(case: Any) -> dict[str, Any]:
-    from sso._shafts.optimise import optimise
-
     result = optimise(case.series(), case.option, **case.optimise_options())
     row = {
         **design_columns(result.optimum, result.best_series.beta_deg,

@@ -85,9 +85,10 @@ def _minimize_reference(nlp, limits, start, tolerance, max_iterations):
 @pytest.mark.parametrize("max_iterations", [500, 3])
 @pytest.mark.parametrize("case", CLOSED_FORM_CASES, ids=lambda case: case.name)
 def test_each_run_is_scipy_minimize_s_slsqp_step_for_step(case, max_iterations):
-    # The run calls scipy.optimize.fmin_slsqp, the plain entry to the solver that
-    # scipy.optimize.minimize(method="SLSQP") runs after its checks. Reference: minimize
-    # itself on the same problem: the same point, objective, iterations, evaluations
+    # The run calls scipy.optimize.minimize(method="SLSQP") with its own gradient
+    # cache and constraint rows. Reference: minimize called independently on the same
+    # problem (one dictionary per constraint row): the same point, objective, iterations,
+    # evaluations
     # (the start's evaluation for ftol on top), exit mode and message, bit for bit.
     nlp, limits = case.build()
     start = np.array(case.start)
