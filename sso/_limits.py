@@ -261,3 +261,7 @@ for a minute is not coming back by itself. Environment variable
 
 NO_WORKER_TIMEOUT_VARIABLE = "SSO_NO_WORKER_TIMEOUT_S"
 """Environment variable that replaces :data:`NO_WORKER_TIMEOUT_S`."""
+
+DEFAULT_PLAN_ANGLE_DEG = 0.0
+"""A driveline's gearbox or pinion plan-view angle when the fitter measured none, deg:
+the shaft's line in plan view straight along the vehicle's x axis."""

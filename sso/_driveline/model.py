@@ -17,6 +17,7 @@ from sso._column.geometry import ColumnGeometry
 from sso._driveline.layout import points_from_measurements
 from sso._driveline.loads import BearingGeometry
 from sso._driveline.tube import SAFE_SPEED_FRACTION, Tube
+from sso._limits import DEFAULT_PLAN_ANGLE_DEG
 from sso._record import register_record
 from sso._validation import as_float_tuple, check_choice, finite_in_range, validate_speed
 
@@ -185,8 +186,9 @@ class Driveline:
     def from_measurements(
         cls, *, gearbox_slope_deg: float, shaft_slope_deg: Sequence[float],
         shaft_length_mm: Sequence[float], pinion_slope_deg: float,
-        shaft_offset_mm: Sequence[float] | None = None, gearbox_plan_deg: float = 0.0,
-        pinion_plan_deg: float = 0.0,
+        shaft_offset_mm: Sequence[float] | None = None,
+        gearbox_plan_deg: float = DEFAULT_PLAN_ANGLE_DEG,
+        pinion_plan_deg: float = DEFAULT_PLAN_ANGLE_DEG,
         positions: Mapping[str, Mapping[str, Any]] | None = None, **options: Any,
     ) -> Driveline:
         """A driveline from a fitter's measurements (:mod:`sso._driveline.layout`).

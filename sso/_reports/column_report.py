@@ -106,7 +106,7 @@ def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
         run.case.name, run.case.description, _case_table(run),
         run.success and (yields is None or yields.signed_off),
         figures + compared if yields is None else
-        f"{figures}{compared}; recommended assembly's built columns: {yields.sentence}")
+        f"recommended assembly's built columns: {yields.sentence}; {figures}{compared}")
     if trade is not None:
         blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),

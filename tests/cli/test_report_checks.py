@@ -6,6 +6,8 @@ written. Reference values: the figures are recomputed by sso.ShaftSeries.evaluat
 (the exact model's closed form) and by the column's chain matrix and sso.can_cancel;
 the tolerance is the solvers' agreement rule, 1e-14 + 1e-6 * |RE|
 (sso._reports.figure_checks).
+
+The modules under test: sso/_reports/figure_checks.py and sso/_studies/saved_rows.py.
 """
 
 from __future__ import annotations

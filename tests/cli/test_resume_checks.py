@@ -5,6 +5,8 @@ the issue did, resumes, and expects exit 2 naming the line and the field, with t
 file left as it was (nothing of the user's lost). Reference values: the RE of each row
 is what sso wrote; the re-evaluated RE is the closed form of the exact model
 (sso.ShaftSeries.evaluate) and of a column's chain matrix.
+
+The modules under test: sso/_studies/row_checks.py.
 """
 
 from __future__ import annotations

@@ -7,6 +7,8 @@ what the study writes, ``sso report`` reads back: ``result.json`` holds the stud
 settings and summary (kilobytes at any sample count) and the samples stay in
 ``tolerance.csv``; reading back draws the samples again from the seed and checks the
 saved summary against them.
+
+The modules under test: sso/_studies/tolerance_samples.py and sso/_studies/saved_samples.py.
 """
 
 from __future__ import annotations

@@ -122,7 +122,7 @@ def fortran_degree() -> str:
     return f"converts degrees with 0.0174532, {short_ppm:.1f} ppm short"
 
 
-NUMBER_WORDS = {3: "three", 4: "four", 6: "six", 8: "eight", 9: "nine"}
+NUMBER_WORDS = {3: "three", 4: "four", 5: "five", 6: "six", 8: "eight", 9: "nine"}
 
 
 def lm_kernel_blocks() -> str:

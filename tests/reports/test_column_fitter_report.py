@@ -34,9 +34,9 @@ def test_a_tolerance_aware_recommendation_names_its_own_optimum(car_run):
     assert isinstance(text, Paragraph) and isinstance(table, Table)
     assert text.text.startswith(
         f"Recommended assembly: {run.assembly('splines').label}, yoke phasing -80.000, "
-        "-60.000 deg. Its optimum: the tolerance-aware (p95), delta")
+        "-60.000 deg. Its optimum: the tolerance-aware (least CVaR95 of RE), delta")
     assert "[tolerances]" in text.text and "not this phasing rounded" in text.text
-    assert table.header[3] == "its optimum: tolerance-aware (p95), delta (deg)"
+    assert table.header[3] == "its optimum: tolerance-aware (least CVaR95 of RE), delta (deg)"
     for shaft, row in enumerate(table.rows):
         # every cell of a row is of the recommended assembly or of its own optimum
         assert float(row[3]) == pytest.approx(robust["robust"].yoke_phase_deg[shaft], abs=5e-4)
