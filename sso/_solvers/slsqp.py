@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 from scipy.optimize import Bounds, minimize
+from threadpoolctl import ThreadpoolController
 
 from sso._record import built
 from sso._solvers.nlp import value_and_gradient_floats
@@ -14,6 +15,12 @@ from sso._solvers.run import RunLimits, RunOutcome
 
 TESTS_ITS_START = False
 """A run costs iterations even from a minimum: check the start first."""
+
+BLAS_LIBRARIES = ThreadpoolController()
+"""The BLAS libraries loaded with SciPy. SLSQP runs on one thread of theirs: SciPy's
+OpenBLAS rounds SLSQP's linear algebra differently on two threads than on one (the
+paper's option 3 in the paper model then ends at another design), and a Dask worker
+runs on one; so an answer is the same bits wherever it is computed."""
 
 
 def solve(
@@ -74,10 +81,11 @@ def solve(
     ftol = max(solver_tol * abs(start_value), solver_tol * solver_tol * np.finfo(float).eps)
     started = time.perf_counter()
     try:
-        answer = minimize(objective, start, method="SLSQP", jac=gradient,
-                          bounds=Bounds(limits.lower, limits.upper),
-                          constraints=_constraints(nlp, parameters, limits),
-                          options={"maxiter": max_iterations, "ftol": ftol})
+        with BLAS_LIBRARIES.limit(limits=1, user_api="blas"):
+            answer = minimize(objective, start, method="SLSQP", jac=gradient,
+                              bounds=Bounds(limits.lower, limits.upper),
+                              constraints=_constraints(nlp, parameters, limits),
+                              options={"maxiter": max_iterations, "ftol": ftol})
     except (ValueError, ArithmeticError) as error:
         return RunOutcome(start, float("nan"), 0, 0, 0, -1, False, f"SLSQP raised: {error}",
                           time.perf_counter() - started)

@@ -3,6 +3,11 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 from solvers.problems import BOX, CLOSED_FORM_CASES, PARAMETERS, rosenbrock
@@ -99,3 +104,29 @@ def test_each_run_is_scipy_minimize_s_slsqp_step_for_step(case, max_iterations):
              outcome.success, outcome.message)
             == (reference.fun, reference.nit, reference.nfev + 1, reference.njev + 1,
                 reference.status, reference.success, reference.message))
+
+
+SLSQP_BITS = """
+import sso
+best = sso.run_case({path!r}).optimisation.best
+print(best.solver, [value.hex() for value in best.series.phase_deg], best.fun.hex())
+"""
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="OpenBLAS runs one thread on one core")
+def test_slsqp_gives_the_same_bits_on_one_blas_thread_as_on_the_default():
+    # SciPy's OpenBLAS rounded SLSQP's linear algebra differently on two threads than on
+    # one: the paper's option 3 in the paper model ended at another design in a process
+    # started with OPENBLAS_NUM_THREADS=1 (as a Dask worker is). Real processes, since
+    # the thread count is read when OpenBLAS loads.
+    path = str(Path(__file__).resolve().parents[2] / "cases" / "paper_option3_paper.toml")
+    printed = []
+    for threads in ({}, {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}):
+        environment = {name: value for name, value in os.environ.items()
+                       if name not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}
+        done = subprocess.run([sys.executable, "-c", SLSQP_BITS.format(path=path)],
+                              env={**environment, **threads}, capture_output=True,
+                              text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        printed.append(done.stdout)
+    assert printed[0] == printed[1]
