@@ -54,6 +54,9 @@ class ShaftSeriesRun(CaseRun):
             raise ValueError(f"mode = {self.mode!r}; allowed: {', '.join(MODES)}")
         if (self.optimisation is None) != (self.mode == "evaluate"):
             raise ValueError("an optimise run holds its optimisation; an evaluate run none")
+        if not self.designs:
+            raise ValueError("compared is empty: a run holds at least the design it started "
+                             "from (role 'initial')")
 
     @property
     def designs(self) -> tuple[ComparedDesign, ...]:

@@ -129,7 +129,8 @@ def test_sso_run_judges_the_recommended_assembly_on_the_tolerances_sample(tmp_pa
     markdown = (tmp_path / "report" / "report.md").read_text()
     assert "FAILED: recommended assembly's built columns: FAILS the required yield" in markdown
     assert "'within' judges each design as drawn. Built as production builds it" in markdown
-    assert "| tolerance-aware (least CVaR95 of RE), on the splines (whole teeth) | 53.0 % |" in markdown
+    assert ("| tolerance-aware (least CVaR95 of RE), on the splines (whole teeth) | 53.0 % |"
+            in markdown)
 
 
 def test_a_saved_yield_that_is_not_its_samples_is_refused_by_sso_report(car_study, tmp_path):

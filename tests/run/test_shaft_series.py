@@ -46,6 +46,11 @@ def test_the_mode_and_the_optimisation_agree():
     with pytest.raises(ValueError, match="an optimise run holds its optimisation"):
         ShaftSeriesRun(run.case, "optimise", None, run.compared, warnings=(), versions={},
                        created_utc="")
+    # found by benchmarks/fuzz.py: a saved evaluate run with "compared": [] ended
+    # sso report in an IndexError; a run holds at least the design it started from
+    with pytest.raises(ValueError, match="compared is empty"):
+        ShaftSeriesRun(run.case, "evaluate", None, (), warnings=(), versions={},
+                       created_utc="")
 
 
 def test_evaluation_round_trips_through_result_json(tmp_path):
