@@ -197,7 +197,9 @@ def gauss_newton_iteration(ops: Operations, evaluate: Evaluate, state: Mapping[s
     mu = (state["damping"] * ops.maximum(0.5 * (a11 + a22), 1e-30)
           * ops.minimum(1.0, ops.sqrt(fun) / state["first_size"]))
     a11, a22 = a11 + mu, a22 + mu
-    determinant = a11 * a22 - a12 * a12
+    # floored so a start at zero residual with J J^T singular (its damping zero) divides
+    # by no zero on plain floats; above the floor the bits are those of the product
+    determinant = ops.maximum(a11 * a22 - a12 * a12, 1e-300)
     y1 = (a22 * r1 - a12 * r2) / determinant
     y2 = (a11 * r2 - a12 * r1) / determinant
     step = [-(d1 * y1 + d2 * y2) for d1, d2 in zip(first, second, strict=True)]

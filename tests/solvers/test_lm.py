@@ -132,3 +132,17 @@ def test_closed_form_and_difference_hessians_reach_the_same_minimum():
     assert fun_closed > 1e-5
     assert fun_closed == pytest.approx(fun_difference, rel=1e-12)
     assert max(abs(a - b) for a, b in zip(x_closed, x_difference, strict=True)) <= 1e-8
+
+
+def test_a_start_at_zero_residual_with_a_singular_jacobian_stops_there():
+    # found by the tests of issue 33: rho = x0 + x1 (real) is zero at the start and
+    # J J^T = [[2, 0], [0, 0]] is singular, so the damping (in proportion to |rho|) is
+    # zero and the step's 2x2 solve divided by zero on plain floats
+    from sso._solvers.lm import minimise
+
+    def residual(x):
+        return complex(x[0] + x[1], 0.0), [complex(1.0, 0.0), complex(1.0, 0.0)]
+
+    x, fun, nit, nfev, status = minimise(residual, [0.0, 0.0], [-1.0, -1.0], [1.0, 1.0],
+                                         1e-12, 50)
+    assert (x, fun, nit, nfev, status) == ([0.0, 0.0], 0.0, 0, 1, 1)
