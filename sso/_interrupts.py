@@ -123,8 +123,18 @@ class Interrupted(KeyboardInterrupt):
     """
 
 
+_RECEIVED: list[int] = []
+"""The signals :func:`interrupt_on_signals`' handler took since it was installed: kept,
+because a native call that runs Python code (a CasADi graph's build, a compiled
+module's import) can discard what the handler raised there, and the program then went
+on as if no signal had come (a SIGTERM then went unanswered)."""
+
+
 def interrupt_on_signals() -> dict[int, Any]:
     """Make SIGINT and SIGTERM interrupt the program as :class:`Interrupted`.
+
+    Each signal is also recorded, for :func:`raise_if_interrupted` to raise again where
+    the first was discarded.
 
     Returns
     -------
@@ -134,11 +144,26 @@ def interrupt_on_signals() -> dict[int, Any]:
     """
     if not _on_main_thread():
         return {}
+    _RECEIVED.clear()
 
     def interrupt(signal_number: int, frame: FrameType | None) -> None:
+        _RECEIVED.append(signal_number)
         raise Interrupted(f"signal {signal_number}")
 
     return {number: signal.signal(number, interrupt) for number in INTERRUPTING_SIGNALS}
+
+
+def raise_if_interrupted() -> None:
+    """Raise :class:`Interrupted` if a signal came under :func:`interrupt_on_signals`'
+    handler (its exception may have been discarded by native code on the way).
+
+    Raises
+    ------
+    Interrupted
+        If SIGINT or SIGTERM was received since the handler was installed.
+    """
+    if _RECEIVED:
+        raise Interrupted(f"signal {_RECEIVED[0]}")
 
 
 def exit_on_signals(exit_code: int) -> dict[int, Any]:
@@ -170,6 +195,8 @@ def exit_on_signals(exit_code: int) -> dict[int, Any]:
 
 
 def restore_handlers(previous: dict[int, Any]) -> None:
-    """Put back the handlers :func:`interrupt_on_signals` replaced."""
+    """Put back the handlers :func:`interrupt_on_signals` replaced (and forget the
+    signals it recorded)."""
     for number, handler in previous.items():
         signal.signal(number, handler)
+    _RECEIVED.clear()

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from sso._cli import report, solve, studies, validate
 from sso._cli.common import EXIT_INTERRUPTED, Command, print_error
 from sso._distribution import installed_version
-from sso._interrupts import interrupt_on_signals, restore_handlers
+from sso._interrupts import interrupt_on_signals, raise_if_interrupted, restore_handlers
 
 COMMANDS: tuple[Command, ...] = (
     *solve.COMMANDS,
@@ -79,8 +79,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             with silenced():
                 quiet_code: int = args.handle(args)
+            raise_if_interrupted()
             return quiet_code
         code: int = args.handle(args)
+        raise_if_interrupted()  # a signal whose interruption native code discarded
         return code
     except KeyboardInterrupt:
         print_error("interrupted; files already written are complete, none is half-written")

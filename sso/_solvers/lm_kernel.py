@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from sso._interrupts import raised_after_native_call
 from sso._solvers.lm_rules import (
     EIGENVALUE_HALVINGS,
     NEWTON,
@@ -115,8 +116,13 @@ class ShapeKernels:
         whose designs reach zero never pays them). The arithmetic is the same whenever
         they are built."""
         if mode not in self._functions:
-            for built in (mode,) if mode == "gauss_newton" else ("newton", "shifted"):
-                self._functions[built] = build_block(*self._symbols, built)
+            # CasADi's bindings discard what a signal handler raises while a graph is
+            # built (a SIGTERM then went unanswered): raised again after the build
+            with raised_after_native_call():
+                blocks = {built: build_block(*self._symbols, built)
+                          for built in ((mode,) if mode == "gauss_newton"
+                                        else ("newton", "shifted"))}
+            self._functions.update(blocks)
         return self._functions[mode]
 
     def buffered(self, mode: str, columns: int) -> BufferedFunction:

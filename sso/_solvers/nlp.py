@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from sso._interrupts import raised_after_native_call
 from sso._limits import NLP_CACHE_SHAPES
 
 _cache = threading.local()
@@ -111,7 +112,11 @@ def cached_nlp(key: Hashable, build: Callable[[], CompiledNLP]) -> CompiledNLP:
     cache = cached_shapes()
     nlp = cache.get(key)
     if nlp is None:
-        nlp = cache[key] = build()
+        # CasADi's bindings call back into Python while a graph is built and discard
+        # what a signal handler raises there: keep it and raise it after the build
+        with raised_after_native_call():
+            nlp = build()
+        cache[key] = nlp
         if len(cache) > NLP_CACHE_SHAPES:
             while len(cache) > NLP_CACHE_SHAPES:
                 cache.popitem(last=False)

@@ -16,6 +16,8 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import TYPE_CHECKING, TextIO
 
+from sso._interrupts import raise_if_interrupted
+
 if TYPE_CHECKING:
     from tqdm import tqdm
 
@@ -117,7 +119,15 @@ class ProgressBar:
             self._stop.wait(TICK_S)
 
     def advance(self, count: int, failed: int = 0) -> None:
-        """Record ``count`` more units done, ``failed`` of which failed."""
+        """Record ``count`` more units done, ``failed`` of which failed.
+
+        Raises
+        ------
+        sso._interrupts.Interrupted
+            If Ctrl-C or SIGTERM came under the ``sso`` command and native code
+            discarded its interruption: the work stops here, between two units.
+        """
+        raise_if_interrupted()
         self.done += count
         self.failed += failed
         if self._bar is not None:

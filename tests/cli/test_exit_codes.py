@@ -33,7 +33,7 @@ case = "{CASE}"
 action = "optimise"
 
 [axes]
-"design.beta_deg[0]" = {{ start = 10, stop = 30, num = 40 }}
+"design.beta_deg[0]" = {{ start = 10, stop = 30, num = 20000 }}
 """
 DELAYS_S = (0.0, 0.01, 0.05, 0.1, 0.2, 0.3)
 CONSOLE_SCRIPT = Path(sys.executable).parent / "sso"
@@ -59,6 +59,9 @@ def signalled(command: list[str], delay_s: float, signal_number: int,
     while not catches_sigterm(child.pid):
         assert child.poll() is None and time.monotonic() < deadline, child.communicate()
     time.sleep(delay_s)
+    # the work must outlast the delay, or the signal tests nothing (a quiet machine ran
+    # a 40-point sweep within 0.3 s): fail rather than pass on a finished process
+    assert child.poll() is None, f"finished within {delay_s} s: {child.communicate()}"
     child.send_signal(signal_number)
     stdout, stderr = child.communicate(timeout=120)
     return subprocess.CompletedProcess(command, child.returncode, stdout, stderr)
