@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import ctypes
 import itertools
+import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -357,11 +358,19 @@ def _emptied(cells: list[str], empty: np.ndarray) -> list[str]:
 
 def _object_cells(values: list[Any]) -> list[str]:
     try:
-        distinct = dict.fromkeys((type(value), value) for value in values)
+        distinct = {_distinct(value): value for value in values}
     except TypeError:  # a value that cannot be a key (a list): one by one
         return [_quoted(format_cell(value)) for value in values]
-    text = {key: _quoted(format_cell(key[1])) for key in distinct}
-    return [text[type(value), value] for value in values]
+    text = {key: _quoted(format_cell(value)) for key, value in distinct.items()}
+    return [text[_distinct(value)] for value in values]
+
+
+def _distinct(value: Any) -> tuple[Any, ...]:
+    """A key that tells apart the values a cell writes apart: by type, and -0.0 from 0.0
+    (equal, but written "-0.0" and "0.0")."""
+    if type(value) is float and value == 0.0:
+        return (float, value, math.copysign(1.0, value))
+    return (type(value), value)
 
 
 def _quoted(cell: str) -> str:

@@ -10,7 +10,7 @@ import pickle
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from sso._studies.columns import RowTable, TableAssembly
@@ -83,6 +83,7 @@ def test_a_design_of_one_joint_has_an_empty_phase_list():
 
 @given(st.lists(st.one_of(st.none(), st.floats(allow_nan=False), st.text(max_size=8),
                           st.booleans(), st.integers(-5, 5)), min_size=1, max_size=6))
+@example([0.0, -0.0, False])  # found by hypothesis: -0.0 was written as 0.0 beside a 0.0
 def test_any_cells_write_as_the_csv_module_writes_them(values):
     rows = [{"point": index, "error": None if not isinstance(value, str) else value,
              "residual_error": value if not isinstance(value, str) else None}
