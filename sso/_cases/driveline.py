@@ -49,6 +49,7 @@ from sso._driveline.tube import (
     STEEL_YOUNGS_MODULUS_GPA,
     Tube,
 )
+from sso._limits import DEFAULT_PLAN_ANGLE_DEG
 from sso._record import register_record
 
 DRIVELINE_KIND = "driveline"
@@ -118,9 +119,9 @@ DRIVELINE_KEYS: tuple[Key, ...] = (
         "each propshaft's plan-view offset, rear joint left of front positive"),
     Key("measurements", "pinion_slope_deg", ANGLE, None, "deg",
         "side-view slope of the pinion, front higher positive, in [-45, 45]"),
-    Key("measurements", "gearbox_plan_deg", ANGLE, 0.0, "deg",
+    Key("measurements", "gearbox_plan_deg", ANGLE, DEFAULT_PLAN_ANGLE_DEG, "deg",
         "plan-view angle of the gearbox, rear to the left positive"),
-    Key("measurements", "pinion_plan_deg", ANGLE, 0.0, "deg",
+    Key("measurements", "pinion_plan_deg", ANGLE, DEFAULT_PLAN_ANGLE_DEG, "deg",
         "plan-view angle of the pinion, rear to the left positive"),
     Key("measurements", "positions", positions_of_measurements, None, "",
         "tables of the measurements that differ in each named position"),
