@@ -82,9 +82,12 @@ def _minimize_reference(nlp, limits, start, tolerance, max_iterations):
     constraints = [{"type": kind, "fun": value, "jac": jacobian}
                    for kind, value, jacobian in equalities + inequalities]
     ftol = max(tolerance * abs(fun(start)[0]), tolerance * tolerance * np.finfo(float).eps)
-    return minimize(fun, start, jac=True, method="SLSQP",
-                    bounds=Bounds(limits.lower, limits.upper), constraints=constraints,
-                    options={"ftol": ftol, "maxiter": max_iterations})
+    # On the one BLAS thread sso gives SLSQP: on a machine whose OpenBLAS rounds two
+    # threads' sums otherwise (seen on an AVX-512 one), the last bit differs.
+    with slsqp.BLAS_LIBRARIES.limit(limits=1, user_api="blas"):
+        return minimize(fun, start, jac=True, method="SLSQP",
+                        bounds=Bounds(limits.lower, limits.upper), constraints=constraints,
+                        options={"ftol": ftol, "maxiter": max_iterations})
 
 
 @pytest.mark.parametrize("max_iterations", [500, 3])
