@@ -3,7 +3,7 @@ that guards them.
 
 ``python -m benchmarks.memory_estimate`` runs each shape in a fresh process and prints
 its peak resident memory (``getrusage``) beside the estimate of
-``sso._solvers.resources``: for ``sso.optimise`` the whole process's peak (40 deg and
+``sso._resources``: for ``sso.optimise`` the whole process's peak (40 deg and
 5 deg joints, option 1, so that RE = 0 is out of reach and "lm" screens every start),
 for ``sso.optimise_batch`` the peak above the process's own after a warm-up call.
 ``--large`` adds 64 joints from 1,000 starts (over 1.7 GB, minutes). ``sso tolerance`` of
@@ -77,7 +77,7 @@ def measured_mb(script: str, *arguments: int) -> float:
 
 
 def main() -> None:
-    from sso._solvers.resources import batch_least_squares_mb, multistart_estimate
+    from sso._resources import batch_least_squares_mb, multistart_estimate
 
     shapes = OPTIMISE_SHAPES + ([(64, 1000, 1)] if "--large" in sys.argv else [])
     print("sso.optimise: joints, starts, option: measured / estimated MB (whole process)")

@@ -19,8 +19,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "sso"
 # lazy public facade, with ``__version__``) stands outside the order.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("limits", "distribution", "warning_origin", "interrupts"),
-    ("validation", "files", "display"),
-    ("kinematics", "folder_lock"),
+    ("validation", "files", "display", "progress"),
+    ("kinematics", "folder_lock", "resources"),
     ("record",),
     ("solvers",),
     ("shafts", "linkages"),

@@ -75,7 +75,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         if getattr(args, "quiet", False):
-            from sso._solvers.progress import silenced
+            from sso._progress import silenced
 
             with silenced():
                 quiet_code: int = args.handle(args)

@@ -39,7 +39,7 @@ from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
 from sso._run.signed_figures import SignedFigure, figure_lines, signed_figures
-from sso._solvers.progress import Steps
+from sso._progress import Steps
 
 MODES = ("optimise", "evaluate")
 ANALYSED_VERDICT = "assembly as built analysed; no optimisation"

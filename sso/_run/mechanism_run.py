@@ -30,7 +30,7 @@ from sso._linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso._linkages.table import MechanismTable
 from sso._record import Record, register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
-from sso._solvers.progress import Steps
+from sso._progress import Steps
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""

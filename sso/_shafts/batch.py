@@ -49,12 +49,12 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.series import ShaftSeries
 from sso._solvers import lm
 from sso._solvers.lm_kernel import kernels_of, solve_states
-from sso._solvers.resources import (
+from sso._resources import (
     batch_estimate,
     batch_least_squares_mb,
     check_memory,
 )
-from sso._solvers.resources import memory_limit_mb as resolve_memory_limit
+from sso._resources import memory_limit_mb as resolve_memory_limit
 from sso._validation import (
     check_chain_conditioning,
     check_choice,

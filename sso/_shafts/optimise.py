@@ -61,8 +61,8 @@ from sso._solvers.multistart import (
     solution_from_run,
     solve_from_starts,
 )
-from sso._solvers.progress import ProgressBar, interactive
-from sso._solvers.resources import check_multistart_memory
+from sso._progress import ProgressBar, interactive
+from sso._resources import check_multistart_memory
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._solvers.saddle import ZERO_OBJECTIVE, saddle_direction

@@ -20,7 +20,7 @@ from sso._limits import BETA_LIMIT_DEG
 from sso._shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso._shafts.objective import residual_error
 from sso._shafts.series import ShaftSeries
-from sso._solvers.resources import block_samples
+from sso._resources import block_samples
 from sso._validation import as_float_tuple, check_chain_conditioning, check_in_range
 
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")

@@ -50,29 +50,10 @@ pushes against it at which IPOPT's answer is moved onto that bound (see
 :func:`_onto_active_bounds`)."""
 
 
-def solve(
-    nlp: Any,
-    start: np.ndarray,
-    parameters: np.ndarray,
-    limits: RunLimits,
-    solver_tol: float,
-    max_iterations: int,
-) -> RunOutcome:
-    """Run IPOPT once from ``start``; failures come back in the outcome.
-
-    Parameters
-    ----------
-    nlp : sso._solvers.nlp.CompiledNLP
-        The cached problem graph.
-    start, parameters : numpy.ndarray
-        Start of the design vector and the fixed parameters (NLP units).
-    limits : RunLimits
-        Bounds of the design vector and of the constraints.
-    solver_tol : float
-        IPOPT's ``tol`` (scaled NLP error).
-    max_iterations : int
-        IPOPT's ``max_iter``.
-    """
+def solve(nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+          solver_tol: float, max_iterations: int) -> RunOutcome:
+    """:meth:`sso._solvers.run.Backend.solve` by IPOPT: ``solver_tol`` is its ``tol`` (scaled
+    NLP error), ``max_iterations`` its ``max_iter``."""
     options: dict[str, Any] = {"tol": solver_tol, "max_iter": max_iterations}
     if limits.constrained:
         # IPOPT's default accepts a constraint violation of 1e-4 at convergence.

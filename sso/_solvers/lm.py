@@ -100,30 +100,12 @@ class End:
     status: int
 
 
-def solve(
-    nlp: Any,
-    start: np.ndarray,
-    parameters: np.ndarray,
-    limits: RunLimits,
-    solver_tol: float,
-    max_iterations: int,
-) -> RunOutcome:
-    """Run the bounded Levenberg-Marquardt once from ``start``; failures come back in the outcome.
-
-    Parameters
-    ----------
-    nlp : sso._solvers.nlp.CompiledNLP
-        The problem, with its ``residuals`` expression (a problem without it fails the
-        run) and their closed form ``residuals_and_jacobian``.
-    start, parameters : numpy.ndarray
-        Start of the design vector and the fixed parameters (NLP units).
-    limits : RunLimits
-        Bounds of the design vector (constraint functions are not supported).
-    solver_tol : float
-        Stop when the projected gradient of ``f`` (infinity norm) is at most this.
-    max_iterations : int
-        Trial steps, at most.
-    """
+def solve(nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+          solver_tol: float, max_iterations: int) -> RunOutcome:
+    """:meth:`sso._solvers.run.Backend.solve` by the bounded Levenberg-Marquardt: it stops when
+    the projected gradient of ``f`` (infinity norm) is at most ``solver_tol``, or after
+    ``max_iterations`` trial steps. A problem without a ``residuals`` expression, or with
+    constraint functions, fails the run."""
     started = time.perf_counter()
     if kernels_of(nlp) is None or limits.constrained:
         return RunOutcome(np.array(start, dtype=float), float("nan"), 0, 0, 0, -3, False,

@@ -9,7 +9,7 @@ import math
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -20,7 +20,7 @@ from sso._solvers.crosscheck import crosscheck
 from sso._solvers.kkt import constraint_violation, kkt_residual, projected_gradient_norm_floats
 from sso._solvers.lm_kernel import kernels_of, problem_vector, solve_states
 from sso._solvers.nlp import value_and_gradient_floats
-from sso._solvers.run import RunLimits, RunOutcome
+from sso._solvers.run import Backend, RunLimits, RunOutcome
 from sso._solvers.saddle import ZERO_OBJECTIVE, isolated_minimum, solve_with_second_order_care
 from sso._solvers.solution import (
     ROLE_CONFIRMATION,
@@ -74,22 +74,11 @@ class SolverFields(TypedDict):
 
 
 def solve_from_starts(
-    nlp: Any,
-    user_start: np.ndarray,
-    limits: RunLimits,
-    parameters: np.ndarray,
-    *,
-    solver_names: Sequence[str],
-    starts: int,
-    seed: int,
-    solver_tol: float,
-    max_iterations: int,
-    to_solution: Callable[[MeasuredRun, list[MeasuredRun]], Solution],
-    objective_rtol: float,
-    objective_atol: float,
-    kkt_tolerance: float,
-    progress: Callable[[], None] | None = None,
-    screen_starts: bool = False,
+    nlp: Any, user_start: np.ndarray, limits: RunLimits, parameters: np.ndarray, *,
+    solver_names: Sequence[str], starts: int, seed: int, solver_tol: float,
+    max_iterations: int, to_solution: Callable[[MeasuredRun, list[MeasuredRun]], Solution],
+    objective_rtol: float, objective_atol: float, kkt_tolerance: float,
+    progress: Callable[[], None] | None = None, screen_starts: bool = False,
 ) -> SolverFields:
     """Solve one design problem from ``starts`` points with every solver.
 
@@ -365,18 +354,10 @@ def _screen_batch(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: 
             for index, end in enumerate(ends)]
 
 
-def run_starts(
-    nlp: Any,
-    points: np.ndarray,
-    parameters: np.ndarray,
-    limits: RunLimits,
-    solver_names: Sequence[str],
-    solver_tol: float,
-    max_iterations: int,
-    progress: Callable[[], None] | None = None,
-    second_order: bool = True,
-    check_start: bool = True,
-) -> dict[str, list[MeasuredRun]]:
+def run_starts(nlp: Any, points: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+               solver_names: Sequence[str], solver_tol: float, max_iterations: int,
+               progress: Callable[[], None] | None = None, second_order: bool = True,
+               check_start: bool = True) -> dict[str, list[MeasuredRun]]:
     """Every solver from every start, in order; failures are kept, never raised.
 
     With ``second_order``, each run skips the solver at a start that is already a
@@ -426,7 +407,7 @@ def run_starts(
 
 
 def _run_one(nlp: Any, point: np.ndarray, index: int, parameters: np.ndarray,
-             limits: RunLimits, backend: _Backend, name: str, solver_tol: float,
+             limits: RunLimits, backend: Backend, name: str, solver_tol: float,
              max_iterations: int, second_order: bool, check_start: bool) -> MeasuredRun:
     """One run of :func:`run_starts`, measured."""
     def solve(start: np.ndarray) -> RunOutcome:
@@ -453,13 +434,9 @@ def distinct_minima(solutions: Iterable[Solution], rtol: float, atol: float) -> 
     return tuple(minima)
 
 
-def solution_from_run(
-    run: MeasuredRun,
-    solver_runs: Sequence[MeasuredRun],
-    x: Sequence[float] | None = None,
-    series: SeriesDesign | None = None,
-    role: str = ROLE_SOLVE,
-) -> Solution:
+def solution_from_run(run: MeasuredRun, solver_runs: Sequence[MeasuredRun],
+                      x: Sequence[float] | None = None, series: SeriesDesign | None = None,
+                      role: str = ROLE_SOLVE) -> Solution:
     """The :class:`sso.Solution` of one measured run.
 
     Parameters
@@ -496,26 +473,13 @@ def solution_from_run(
     )
 
 
-class _Backend(Protocol):
-    """A solver module (:mod:`sso._solvers.ipopt`, ``lm``, ``slsqp``): one run from one start.
-
-    ``TESTS_ITS_START`` says whether the solver's own first step already stops at a
-    start that is a minimum (then no second-order check is made before it).
-    """
-
-    TESTS_ITS_START: bool
-
-    def solve(self, nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
-              solver_tol: float, max_iterations: int) -> RunOutcome: ...
-
-
 _BACKENDS = {"ipopt": "sso._solvers.ipopt", "lm": "sso._solvers.lm", "slsqp": "sso._solvers.slsqp"}
 
 
 @functools.cache
-def _backend(name: str) -> _Backend:
+def _backend(name: str) -> Backend:
     """The solver module of ``name``, imported on first use (IPOPT's needs CasADi)."""
-    backend: _Backend = importlib.import_module(_BACKENDS[name])
+    backend: Backend = importlib.import_module(_BACKENDS[name])
     return backend
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -58,3 +59,31 @@ class RunOutcome:
     def with_time(self, time_s: float) -> RunOutcome:
         """The same outcome with wall time ``time_s`` (s)."""
         return rebuilt(self, time_s=time_s)
+
+
+class Backend(Protocol):
+    """A solver module (:mod:`sso._solvers.ipopt`, ``lm``, ``slsqp``): one run from one start.
+
+    ``TESTS_ITS_START`` says whether the solver's own first step already stops at a
+    start that is a minimum (then no second-order check is made before it).
+    """
+
+    TESTS_ITS_START: bool
+
+    def solve(self, nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+              solver_tol: float, max_iterations: int) -> RunOutcome:
+        """Run the solver once from ``start``; failures come back in the outcome, never raised.
+
+        Parameters
+        ----------
+        nlp : sso._solvers.nlp.CompiledNLP
+            The cached problem graph.
+        start, parameters : numpy.ndarray
+            Start of the design vector and the fixed parameters (NLP units).
+        limits : RunLimits
+            Bounds of the design vector and of the constraints.
+        solver_tol : float
+            The solver's tolerance (what it bounds is the solver's own).
+        max_iterations : int
+            Iterations, at most.
+        """

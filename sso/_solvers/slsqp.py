@@ -23,34 +23,16 @@ paper's option 3 in the paper model then ends at another design), and a Dask wor
 runs on one; so an answer is the same bits wherever it is computed."""
 
 
-def solve(
-    nlp: Any,
-    start: np.ndarray,
-    parameters: np.ndarray,
-    limits: RunLimits,
-    solver_tol: float,
-    max_iterations: int,
-) -> RunOutcome:
-    """Run SLSQP once from ``start``; failures come back in the outcome.
+def solve(nlp: Any, start: np.ndarray, parameters: np.ndarray, limits: RunLimits,
+          solver_tol: float, max_iterations: int) -> RunOutcome:
+    """:meth:`sso._solvers.run.Backend.solve` by SLSQP: ``solver_tol`` is a relative tolerance
+    on the objective, ``max_iterations`` its ``maxiter``; the problem's constraint-and-Jacobian
+    function is used when ``limits`` has constraints.
 
     SLSQP stops when the objective changes by less than ``ftol`` in absolute
     terms; near a zero residual error a fixed ``ftol`` would stop it far from the
     optimum. ``ftol`` is therefore ``solver_tol`` times the objective at the start,
     floored at ``solver_tol**2 * eps`` so it is never zero.
-
-    Parameters
-    ----------
-    nlp : sso._solvers.nlp.CompiledNLP
-        The cached problem graph: its objective-and-gradient function, and its
-        constraint-and-Jacobian function when ``limits`` has constraints.
-    start, parameters : numpy.ndarray
-        Start of the design vector and the fixed parameters (NLP units).
-    limits : RunLimits
-        Bounds of the design vector and of the constraints.
-    solver_tol : float
-        Relative tolerance on the objective.
-    max_iterations : int
-        SLSQP's ``maxiter``.
     """
     # The closed form on plain floats takes the parameters as a list, made once.
     fixed = parameters if nlp.objective_and_gradient_floats is None else parameters.tolist()

@@ -55,8 +55,8 @@ from sso._limits import (
 )
 from sso._record import Record, encode
 from sso._reports.kinds import write_report
-from sso._solvers.progress import ProgressBar, interactive
-from sso._solvers.resources import check_memory
+from sso._progress import ProgressBar, interactive
+from sso._resources import check_memory
 from sso._studies.column_yields import HalvedTolerance, judge_study
 from sso._studies.column_yields_report import yield_parts
 from sso._studies.estimate import tolerance_estimate

@@ -2,13 +2,13 @@
 
 The figures come from the arrays each one holds (counted below) and from
 measurements where Python objects dominate (a sweep's rows); :func:`check_memory`
-of :mod:`sso._solvers.resources` then refuses work above the memory limit.
+of :mod:`sso._resources` then refuses work above the memory limit.
 """
 
 from __future__ import annotations
 
 from sso._limits import DEFAULT_CHUNK_SAMPLES
-from sso._solvers.resources import (
+from sso._resources import (
     BLOCK_ARRAYS,
     FLOAT_BYTES,
     MB,

@@ -27,8 +27,8 @@ from sso._shafts.perturbed import (
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._solvers.progress import ProgressBar
-from sso._solvers.resources import ResourceEstimate, check_memory
+from sso._progress import ProgressBar
+from sso._resources import ResourceEstimate, check_memory
 from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks
 from sso._validation import check_choice, validate_count

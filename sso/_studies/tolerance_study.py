@@ -41,8 +41,8 @@ from sso._shafts.perturbed import (
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._solvers.progress import interactive
-from sso._solvers.resources import check_memory
+from sso._progress import interactive
+from sso._resources import check_memory
 from sso._studies.axes import base_case
 from sso._studies.column_tolerance import (
     ColumnToleranceResult,

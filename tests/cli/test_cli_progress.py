@@ -21,8 +21,8 @@ import time
 from pathlib import Path
 
 import sso
-from sso._solvers import progress
-from sso._solvers.progress import ProgressBar
+from sso import _progress as progress
+from sso._progress import ProgressBar
 
 ROOT = Path(__file__).resolve().parents[2]
 POSITIONS = ROOT / "cases" / "column_truck_three_positions.toml"

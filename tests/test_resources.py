@@ -12,7 +12,7 @@ import pytest
 
 import sso
 from sso._shafts.batch import _parts
-from sso._solvers.resources import (
+from sso._resources import (
     batch_estimate,
     batch_least_squares_mb,
     multistart_estimate,
