@@ -27,6 +27,8 @@ TRUNCATED_ELF = b"\x7fELF\x02\x01\x01\x00" + b"\x00" * 8
 """The first bytes of a 64-bit ELF library and nothing more: a loader that opened it
 would fail (the removed cache then ended every run with a bus error)."""
 COMPILERS = ("cc", "gcc", "clang", "c++", "g++", "ld")
+Snapshot = dict[str, tuple[str, int]]
+"""A folder's files: name -> (sha256, mode)."""
 
 PROGRAM = """
 import pathlib, warnings
@@ -45,7 +47,7 @@ print("MAPPED", [line.split()[-1] for line in maps.splitlines() if "planted" in 
 """
 
 
-def _plant(folder: Path) -> dict[str, tuple[str, int]]:
+def _plant(folder: Path) -> Snapshot:
     """The planted libraries in a folder anyone may write; their digests and modes."""
     folder.mkdir(parents=True)
     folder.chmod(0o777)
@@ -56,7 +58,7 @@ def _plant(folder: Path) -> dict[str, tuple[str, int]]:
     return _snapshot(folder)
 
 
-def _snapshot(folder: Path) -> dict[str, tuple[str, int]]:
+def _snapshot(folder: Path) -> Snapshot:
     return {path.name: (hashlib.sha256(path.read_bytes()).hexdigest(),
                         stat.S_IMODE(path.stat().st_mode))
             for path in sorted(folder.iterdir())}
@@ -71,12 +73,12 @@ def _hanging_compilers(folder: Path, marker: Path) -> None:
         script.chmod(0o755)
 
 
-def _environment(tmp_path: Path) -> tuple[dict[str, str], Path, dict[Path, dict[str, tuple[str, int]]]]:
+def _environment(tmp_path: Path) -> tuple[dict[str, str], Path, dict[Path, Snapshot]]:
     marker = tmp_path / "compiler_ran.txt"
     compilers = tmp_path / "planted_bin"
     _hanging_compilers(compilers, marker)
-    caches = {tmp_path / "planted_sso_cache": None, tmp_path / "planted_xdg" / "sso": None,
-              tmp_path / "planted_home" / ".cache" / "sso": None}
+    caches = (tmp_path / "planted_sso_cache", tmp_path / "planted_xdg" / "sso",
+              tmp_path / "planted_home" / ".cache" / "sso")
     snapshots = {folder: _plant(folder) for folder in caches}
     environment = dict(os.environ)
     environment.update(
