@@ -22,7 +22,7 @@ import sso
 from sso import _limits as limits
 from sso._cases.schema import COMMON_KEYS
 from sso._cases.shaft_series import SHAFT_SERIES_KEYS
-from sso._column.dispatch import COLUMN_OPTIMISER_OF_KEYWORD
+from sso._column.dispatch import COLUMN_OPTIMISER_KEYWORDS, _column_optimiser
 from sso._kinematics.hooke import speed_ratio
 from sso._linkages.fourbar_swing import design_fourbar
 from sso._shafts.optimise import optimise
@@ -106,9 +106,9 @@ def public_functions() -> list[tuple[str, Any]]:
                     else member
                 if inspect.isfunction(function) and not attribute.startswith("_"):
                     found.append((f"{name}.{attribute}", function))
-    optimisers = [*COLUMN_OPTIMISER_OF_KEYWORD.values(),
-                  ("sso._column.phasing", "optimise_phasing"),
-                  ("sso._column.positions", "optimise_positions"),
+    found += [(f"{optimiser.__module__}.{optimiser.__name__}", optimiser)
+              for optimiser in map(_column_optimiser, (*COLUMN_OPTIMISER_KEYWORDS, None))]
+    optimisers = [("sso._column.positions", "optimise_positions"),
                   ("sso._linkages.fourbar_swing", "design_fourbar"),
                   ("sso._shafts.optimise", "optimise")]
     found += [(f"{module}.{name}", getattr(import_module(module), name))

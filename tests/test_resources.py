@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 import sso
-from sso._shafts.batch import _parts
 from sso._resources import (
     batch_estimate,
     batch_least_squares_mb,
     multistart_estimate,
 )
+from sso._shafts.batch import _parts
 
 # (joints, free angles, starts) -> peak resident memory of the whole process, MB, for
 # sso.optimise of the exact model (IPOPT and SLSQP, the starts screened by "lm") with

@@ -27,19 +27,13 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from importlib import import_module
 from typing import Any
 
 from sso._shafts.optimise import optimise as optimise_series
 from sso._shafts.series import ShaftSeries
 
-# Keyword that selects a column optimiser -> (module, function) of that optimiser.
-COLUMN_OPTIMISER_OF_KEYWORD = {
-    "joint_boxes_mm": ("sso._column.joint_centres", "optimise_joint_centres"),
-    "tolerances": ("sso._column.robust_phasing", "optimise_robust"),
-    "lock_deg": ("sso._column.feel", "optimise_on_centre"),
-    "teeth": ("sso._column.splines", "best_spline_teeth"),
-}
+COLUMN_OPTIMISER_KEYWORDS = ("joint_boxes_mm", "tolerances", "lock_deg", "teeth")
+"""Keywords that each select a column optimiser (:func:`_column_optimiser`)."""
 
 
 def optimise(problem: Any, *args: Any, **options: Any) -> Any:
@@ -95,25 +89,25 @@ def _optimiser_of(problem: Any, args: tuple[Any, ...],
 
     if isinstance(problem, FourBar):
         _keywords_only("sso.optimise(fourbar, ...)", args)
-        return _function("sso._linkages.fourbar_swing", "design_fourbar")
+        from sso._linkages.fourbar_swing import design_fourbar
+        return design_fourbar
     if isinstance(problem, ColumnGeometry):
         _keywords_only("sso.optimise(geometry, ...)", args)
         for note in practice_notes(problem):
             warnings.warn(note.text, PracticeWarning, stacklevel=2)
-        selected = [keyword for keyword in COLUMN_OPTIMISER_OF_KEYWORD if keyword in options]
+        selected = [keyword for keyword in COLUMN_OPTIMISER_KEYWORDS if keyword in options]
         if len(selected) > 1:
             raise TypeError(f"sso.optimise(geometry, ...) got {' and '.join(selected)}; give "
-                            "at most one of " + ", ".join(COLUMN_OPTIMISER_OF_KEYWORD))
-        if selected:
-            return _function(*COLUMN_OPTIMISER_OF_KEYWORD[selected[0]])
-        return _function("sso._column.phasing", "optimise_phasing")
+                            "at most one of " + ", ".join(COLUMN_OPTIMISER_KEYWORDS))
+        return _column_optimiser(selected[0] if selected else None)
     if isinstance(problem, Mapping):
         _keywords_only("sso.optimise({name: geometry, ...}, ...)", args)
         for name, geometry in problem.items():
             if isinstance(geometry, ColumnGeometry):
                 for note in practice_notes(geometry, label=f"[{name!r}].points_mm"):
                     warnings.warn(note.text, PracticeWarning, stacklevel=2)
-        return _function("sso._column.positions", "optimise_positions")
+        from sso._column.positions import optimise_positions
+        return optimise_positions
     raise TypeError("problem must be an sso.ShaftSeries, an sso.FourBar, an "
                     "sso.ColumnGeometry or a mapping of names to ColumnGeometry, not "
                     f"{type(problem).__name__}")
@@ -124,7 +118,21 @@ def _keywords_only(call: str, args: tuple[Any, ...]) -> None:
         raise TypeError(f"{call} takes keyword options only; got {len(args)} positional")
 
 
-def _function(module: str, name: str) -> Callable[..., Any]:
-    """``module.name``, imported on first use (the column optimisers load CasADi)."""
-    function: Callable[..., Any] = getattr(import_module(module), name)
-    return function
+def _column_optimiser(keyword: str | None) -> Callable[..., Any]:
+    """The column optimiser a keyword of :data:`COLUMN_OPTIMISER_KEYWORDS` selects (None: the
+    yoke phasing for fixed hardpoints). Each is imported here: it loads CasADi, which a
+    shaft series' dispatch has loaded lazily already and a column's evaluation never needs."""
+    if keyword == "joint_boxes_mm":
+        from sso._column.joint_centres import optimise_joint_centres
+        return optimise_joint_centres
+    if keyword == "tolerances":
+        from sso._column.robust_phasing import optimise_robust
+        return optimise_robust
+    if keyword == "lock_deg":
+        from sso._column.feel import optimise_on_centre
+        return optimise_on_centre
+    if keyword == "teeth":
+        from sso._column.splines import best_spline_teeth
+        return best_spline_teeth
+    from sso._column.phasing import optimise_phasing
+    return optimise_phasing

@@ -35,11 +35,11 @@ from sso._column.splines import SplineResult, best_spline_teeth
 from sso._column.steering_criteria import SteeringAssessment, assess_steering
 from sso._column.yields import YieldJudgement
 from sso._display import Part, TextTable, format_number, format_numbers
+from sso._progress import Steps
 from sso._record import register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._run.column_robust import ColumnRobustPart, has_robust_part, robust_part
 from sso._run.signed_figures import SignedFigure, figure_lines, signed_figures
-from sso._progress import Steps
 
 MODES = ("optimise", "evaluate")
 ANALYSED_VERDICT = "assembly as built analysed; no optimisation"

@@ -28,9 +28,9 @@ from sso._linkages.mechanisms import (
 )
 from sso._linkages.registry import Mechanism, OnUnassembled, linkage_of
 from sso._linkages.table import MechanismTable
+from sso._progress import Steps
 from sso._record import Record, register_record
 from sso._run.case_run import CaseRun, created_utc, package_versions
-from sso._progress import Steps
 
 FINE_STEP_DEG = 0.1
 """Crank-angle step of the extremes (deg): finer than any paper's grid."""

@@ -15,10 +15,10 @@ from typing import ClassVar
 
 from sso._cases.shaft_series import Case
 from sso._display import Part, TextTable, format_number, format_numbers
+from sso._progress import Steps
 from sso._run.case_run import CaseRun, created_utc, package_versions
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.optimise import OptimisationResult, optimise
-from sso._progress import Steps
 
 MODES = ("optimise", "evaluate")
 EVALUATED_VERDICT = "evaluated as given; no optimisation"

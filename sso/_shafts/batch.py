@@ -37,6 +37,12 @@ from sso._limits import (
     MAX_ITERATIONS,
 )
 from sso._record import Record
+from sso._resources import (
+    batch_estimate,
+    batch_least_squares_mb,
+    check_memory,
+)
+from sso._resources import memory_limit_mb as resolve_memory_limit
 from sso._shafts.optimise import measured_end, on_saddle, optimise
 from sso._shafts.options import (
     OPTION_FIXED_PHASE_DEG,
@@ -49,12 +55,6 @@ from sso._shafts.problem import compiled_nlp
 from sso._shafts.series import ShaftSeries
 from sso._solvers import lm
 from sso._solvers.lm_kernel import kernels_of, solve_states
-from sso._resources import (
-    batch_estimate,
-    batch_least_squares_mb,
-    check_memory,
-)
-from sso._resources import memory_limit_mb as resolve_memory_limit
 from sso._validation import (
     check_chain_conditioning,
     check_choice,

@@ -32,7 +32,9 @@ from sso._limits import (
     MAX_STARTS,
     SOLVERS,
 )
+from sso._progress import ProgressBar, interactive
 from sso._record import built_from
+from sso._resources import check_multistart_memory
 from sso._shafts.curves import ComparedDesign, compared_design
 from sso._shafts.evaluation import Evaluation, validate_quadrature_tolerance
 from sso._shafts.exact_optima import (
@@ -61,8 +63,6 @@ from sso._solvers.multistart import (
     solution_from_run,
     solve_from_starts,
 )
-from sso._progress import ProgressBar, interactive
-from sso._resources import check_multistart_memory
 from sso._solvers.result import DesignResult
 from sso._solvers.run import RunLimits
 from sso._solvers.saddle import ZERO_OBJECTIVE, saddle_direction

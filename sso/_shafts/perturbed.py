@@ -17,10 +17,10 @@ from sso._kinematics.hooke import chain_kinematics
 from sso._kinematics.hooke_matrix import peak_ratio_slope, ratio_extremes
 from sso._kinematics.hooke_matrix import residual_error as closed_form_residual_error
 from sso._limits import BETA_LIMIT_DEG
+from sso._resources import block_samples
 from sso._shafts.evaluation import MIN_FIGURE_SAMPLES, RPM_TO_RAD_S
 from sso._shafts.objective import residual_error
 from sso._shafts.series import ShaftSeries
-from sso._resources import block_samples
 from sso._validation import as_float_tuple, check_chain_conditioning, check_in_range
 
 METRICS = ("residual_error", "fluctuation", "max_output_accel_rad_s2")

@@ -3,8 +3,6 @@ the same graph, the best kept and the solvers cross-checked."""
 
 from __future__ import annotations
 
-import functools
-import importlib
 import math
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -473,14 +471,17 @@ def solution_from_run(run: MeasuredRun, solver_runs: Sequence[MeasuredRun],
     )
 
 
-_BACKENDS = {"ipopt": "sso._solvers.ipopt", "lm": "sso._solvers.lm", "slsqp": "sso._solvers.slsqp"}
-
-
-@functools.cache
 def _backend(name: str) -> Backend:
-    """The solver module of ``name``, imported on first use (IPOPT's needs CasADi)."""
-    backend: Backend = importlib.import_module(_BACKENDS[name])
-    return backend
+    """The solver module of ``name``. IPOPT's and SLSQP's are imported on first use: they
+    load CasADi's IPOPT and SciPy, which a run of ``"lm"`` alone never needs (SciPy's
+    import is about a third of a fresh process that solves with SLSQP)."""
+    if name == "ipopt":
+        from sso._solvers import ipopt
+        return ipopt
+    if name == "slsqp":
+        from sso._solvers import slsqp
+        return slsqp
+    return lm
 
 
 def measure_run(name: str, start_index: int, outcome: RunOutcome, nlp: Any,

@@ -53,9 +53,9 @@ from sso._limits import (
     DEFAULT_YOKE_PHASE_TOLERANCE_DEG,
     OUTPUT_FORMATS,
 )
+from sso._progress import ProgressBar, interactive
 from sso._record import Record, encode
 from sso._reports.kinds import write_report
-from sso._progress import ProgressBar, interactive
 from sso._resources import check_memory
 from sso._studies.column_yields import HalvedTolerance, judge_study
 from sso._studies.column_yields_report import yield_parts

@@ -20,10 +20,10 @@ from sso._files import (
     write_text_atomic,
 )
 from sso._folder_lock import folder_lock
-from sso._shafts.options import build_problem
-from sso._shafts.quadrature import rule_for_bounds
 from sso._progress import ProgressBar, interactive
 from sso._resources import ResourceEstimate, check_memory
+from sso._shafts.options import build_problem
+from sso._shafts.quadrature import rule_for_bounds
 from sso._studies.array_engine import ArrayPlan, array_plan, number_columns
 from sso._studies.axes import (
     Axis,

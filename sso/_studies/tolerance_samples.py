@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 
 from sso._limits import DEFAULT_CHUNK_SAMPLES
+from sso._progress import ProgressBar
+from sso._resources import ResourceEstimate, check_memory
 from sso._shafts.evaluation import MIN_FIGURE_SAMPLES
 from sso._shafts.perturbed import (
     DISTRIBUTIONS,
@@ -27,8 +29,6 @@ from sso._shafts.perturbed import (
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._progress import ProgressBar
-from sso._resources import ResourceEstimate, check_memory
 from sso._studies.estimate import tolerance_estimate
 from sso._studies.execution import run_tasks
 from sso._validation import check_choice, validate_count

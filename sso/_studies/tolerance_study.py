@@ -31,7 +31,9 @@ from sso._limits import (
     DEFAULT_QUADRATURE_RTOL,
     OUTPUT_FORMATS,
 )
+from sso._progress import interactive
 from sso._reports.kinds import write_report
+from sso._resources import check_memory
 from sso._shafts.optimise import OptimisationResult
 from sso._shafts.perturbed import (
     DEFAULT_TOLERANCES,
@@ -41,8 +43,6 @@ from sso._shafts.perturbed import (
 )
 from sso._shafts.quadrature import rule_for_bounds
 from sso._shafts.series import ShaftSeries
-from sso._progress import interactive
-from sso._resources import check_memory
 from sso._studies.axes import base_case
 from sso._studies.column_tolerance import (
     ColumnToleranceResult,
