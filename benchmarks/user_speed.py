@@ -6,8 +6,10 @@ Three measurements, each figure a ratio or a time measured in one run:
    example (option 3, beta bounds 10-40 deg), from its start to its answer, against
    one that imports numpy and scipy and solves it with the skilled baseline
    (:mod:`benchmarks.skilled_baseline`): ``"lm"`` alone (one start) and the default
-   cross-checked call. The three commands take turns, ``repeats`` times each; the median
-   wall time of each is compared.
+   cross-checked call. Warm-up: each program runs once untimed (it compiles every
+   module it imports to bytecode, as an installed package has it). Then the three
+   commands take turns, ``repeats`` times each; the median wall time of each is
+   compared.
 2. **First solve of a new shape.** In a running process (sso imported, one 2-joint
    solve done), the first ``sso.optimise(..., solvers=("lm",), starts=1)`` of 3 to 8
    and of 30 joints (option 3), the shape's build included.
