@@ -110,19 +110,18 @@ class ShapeKernels:
         """The block of ``mode`` (one of :data:`MODES`): ``(state, problem) -> state``, with a
         state of :func:`pack` and the problem of :func:`problem_vector`.
 
-        The Gauss-Newton block is built at the shape's first call; the two Newton blocks
-        together when a design of the shape first needs Newton steps (50 to 300 ms at 5 to
-        11 variables, against 10 to 40 ms for the Gauss-Newton block: a shape solved once
-        whose designs reach zero never pays them). The arithmetic is the same whenever
-        they are built."""
+        Each block is built when a design of the shape first needs it: the Gauss-Newton
+        block at the shape's first call (10 to 25 ms at 5 to 15 variables), the Newton
+        block at its first Newton step (about 40 ms at 11 variables), the shifted block
+        at its first indefinite Hessian (about 110 ms at 11 variables, half of it the
+        eigenvalue bisection's): a shape whose designs reach zero never pays the Newton
+        blocks, and one whose Hessians stay positive definite never pays the shifted one.
+        The arithmetic is the same whenever they are built."""
         if mode not in self._functions:
             # CasADi's bindings discard what a signal handler raises while a graph is
             # built (a SIGTERM then went unanswered): raised again after the build
             with raised_after_native_call():
-                blocks = {built: build_block(*self._symbols, built)
-                          for built in ((mode,) if mode == "gauss_newton"
-                                        else ("newton", "shifted"))}
-            self._functions.update(blocks)
+                self._functions[mode] = build_block(*self._symbols, mode)
         return self._functions[mode]
 
     def buffered(self, mode: str, columns: int) -> BufferedFunction:
