@@ -34,7 +34,7 @@ lies in its box; it notes where the column leaves practice
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from sso._cases.column_points import point_list
@@ -43,7 +43,7 @@ from sso._cases.column_tilt import TILT_KEYS, TILT_TABLE, case_points
 from sso._cases.schema import (
     REQUIRED,
     Key,
-    SavedCase,
+    TabledCase,
     bounds_list,
     case_document,
     choice,
@@ -190,32 +190,11 @@ COLUMN_KEYS: tuple[Key, ...] = (
 
 @register_record
 @dataclass(frozen=True)
-class ColumnCase(SavedCase):
+class ColumnCase(TabledCase):
     """A 3D-column case as read from a case file, after defaults.
 
-    A column run's result holds it in its saved form (the case-file tables), read
-    back through every check of a case file.
-
-    Attributes
-    ----------
-    kind : str
-        ``"column"``.
-    name, description : str
-    values : dict
-        Every checked value keyed by its dotted label (``"excitation.rpm"``);
-        tables left out have no entries.
-    formats : tuple of str
-    source : str
-    warnings : tuple of str
+    Attributes: those of :class:`sso._cases.schema.TabledCase`.
     """
-
-    kind: str
-    name: str
-    description: str
-    values: dict[str, Any]
-    formats: tuple[str, ...]
-    source: str
-    warnings: tuple[str, ...] = field(default=(), compare=False)
 
     def geometry(self) -> ColumnGeometry:
         """The column from ``hardpoints.points_mm`` (in the ``[tilt]`` position, if given)."""

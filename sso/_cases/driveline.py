@@ -18,14 +18,14 @@ Tables:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from sso._cases.column_points import point_list
 from sso._cases.schema import (
     REQUIRED,
     Key,
-    SavedCase,
+    TabledCase,
     bounds_list,
     case_document,
     choice,
@@ -174,28 +174,11 @@ DRIVELINE_KEYS: tuple[Key, ...] = (
 
 @register_record
 @dataclass(frozen=True)
-class DrivelineCase(SavedCase):
+class DrivelineCase(TabledCase):
     """A driveline case as read from a case file, after defaults.
 
-    Attributes
-    ----------
-    kind : str
-        ``"driveline"``.
-    name, description : str
-    values : dict
-        Every checked value keyed by its dotted label.
-    formats : tuple of str
-    source : str
-    warnings : tuple of str
+    Attributes: those of :class:`sso._cases.schema.TabledCase`.
     """
-
-    kind: str
-    name: str
-    description: str
-    values: dict[str, Any]
-    formats: tuple[str, ...]
-    source: str
-    warnings: tuple[str, ...] = field(default=(), compare=False)
 
     def driveline(self) -> Driveline:
         """The :class:`sso.Driveline` the case describes.

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -22,7 +22,7 @@ import numpy as np
 from sso._cases.schema import (
     REQUIRED,
     Key,
-    SavedCase,
+    TabledCase,
     choice,
     number,
     number_list,
@@ -163,34 +163,12 @@ def kind_keys(kind: str) -> tuple[Key, ...]:
 
 @register_record
 @dataclass(frozen=True)
-class MechanismCase(SavedCase):
+class MechanismCase(TabledCase):
     """A planar-mechanism case as read from a case file, after defaults.
 
-    Attributes
-    ----------
-    kind : {"fourbar", "slider_crank", "quick_return", "fourbar_design"}
-        What the case analyses or designs.
-    name : str
-        Case name; the report goes to ``<out>/<name>/``.
-    description : str
-        Free text (escaped wherever it is rendered).
-    values : dict
-        Every checked value keyed by its dotted label (``"drive.step_deg"``).
-    formats : tuple of str
-        Report files to write.
-    source : str
-        Path of the case file.
-    warnings : tuple of str
-        Warnings found while checking the case.
+    Attributes: those of :class:`sso._cases.schema.TabledCase`; ``kind`` is one of
+    ``"fourbar"``, ``"slider_crank"``, ``"quick_return"`` and ``"fourbar_design"``.
     """
-
-    kind: str
-    name: str
-    description: str
-    values: dict[str, Any]
-    formats: tuple[str, ...]
-    source: str
-    warnings: tuple[str, ...] = field(default=(), compare=False)
 
     @property
     def link_table(self) -> str:

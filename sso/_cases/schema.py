@@ -24,7 +24,7 @@ import difflib
 import re
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from importlib import import_module
 from pathlib import Path
 from typing import Any
@@ -437,6 +437,39 @@ class SavedCase:
             raise ValueError(f"kind = {case.kind!r} is not the kind of case this result holds")
         return case
 
+
+
+@dataclass(frozen=True)
+class TabledCase(SavedCase):
+    """A case held as its checked values keyed by dotted label (a column, a planar
+    mechanism, a driveline), after defaults.
+
+    Attributes
+    ----------
+    kind : str
+        The case's kind (``"column"``, ``"driveline"``, a mechanism's).
+    name : str
+        Case name; the report goes to ``<out>/<name>/``.
+    description : str
+        Free text (escaped wherever it is rendered).
+    values : dict
+        Every checked value keyed by its dotted label (``"excitation.rpm"``); tables
+        left out have no entries.
+    formats : tuple of str
+        Report files to write.
+    source : str
+        Path of the case file.
+    warnings : tuple of str
+        Warnings found while checking the case.
+    """
+
+    kind: str
+    name: str
+    description: str
+    values: dict[str, Any]
+    formats: tuple[str, ...]
+    source: str
+    warnings: tuple[str, ...] = field(default=(), compare=False)
 
 def load_case(path: str | Path) -> Any:
     """Read and check one case file.
