@@ -41,6 +41,14 @@ def _figure(rows: int = 1) -> Any:
     return Figure(figsize=(WIDTH_IN, HEIGHT_IN * (1 if rows == 1 else 1.5)), dpi=DPI)
 
 
+def _finished(figure: Any, legend: Any, *others: Any) -> bytes:
+    """The figure's PNG, with the legend on ``legend`` and a grid on every panel."""
+    legend.legend()
+    for axes in (legend, *others):
+        axes.grid(True)
+    return _png(figure)
+
+
 def _png(figure: Any) -> bytes:
     buffer = io.BytesIO()
     figure.tight_layout()
@@ -66,10 +74,7 @@ def _layout(result: DrivelineResult) -> bytes:
         plan.plot(points[:, 0], points[:, 1], marker="o", label=name)
     side.set(title="side view", xlabel="x (mm, forward)", ylabel="z (mm, up)")
     plan.set(title="plan view", xlabel="x (mm, forward)", ylabel="y (mm, left)")
-    side.legend()
-    for axes in (side, plan):
-        axes.grid(True)
-    return _png(figure)
+    return _finished(figure, side, plan)
 
 
 def _revolution(result: DrivelineResult) -> bytes:
@@ -85,10 +90,7 @@ def _revolution(result: DrivelineResult) -> bytes:
         bottom.plot(np.degrees(theta), acceleration[index], label=name)
     top.set(ylabel="speed (rpm)", title=f"gearbox at {driveline.max_shaft_speed_rpm:g} rpm")
     bottom.set(xlabel="gearbox angle (deg)", ylabel="angular acceleration (rad/s^2)")
-    top.legend()
-    for axes in (top, bottom):
-        axes.grid(True)
-    return _png(figure)
+    return _finished(figure, top, bottom)
 
 
 def _excitation(result: DrivelineResult) -> bytes:
@@ -109,9 +111,7 @@ def _excitation(result: DrivelineResult) -> bytes:
                  label=f"torsional limit {driveline.torsional_limit_rad_s2:g}")
     axes.axvline(top, color="grey", linestyle=":", label="maximum shaft speed")
     axes.set(xlabel="shaft speed (rpm)", ylabel="excitation (rad/s^2)")
-    axes.legend()
-    axes.grid(True)
-    return _png(figure)
+    return _finished(figure, axes)
 
 
 def _bearings(result: DrivelineResult) -> bytes:
@@ -121,9 +121,7 @@ def _bearings(result: DrivelineResult) -> bytes:
         axes.plot(result.loads.theta_deg, curve.force_n, label=curve.name)
     axes.set(xlabel="gearbox angle (deg)", ylabel="radial load (N)",
              title=f"torque {result.driveline.torque_n_m:g} N m")
-    axes.legend()
-    axes.grid(True)
-    return _png(figure)
+    return _finished(figure, axes)
 
 
 def _critical(result: DrivelineResult) -> bytes:
