@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import sso
+from sso._cli.saved_results import read_saved_result
 from sso._column.yields import wilson_interval
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -146,3 +147,29 @@ def test_a_saved_yield_that_is_not_its_samples_is_refused_by_sso_report(car_stud
     assert "Traceback" not in done.stderr
     assert "result.yields: the saved value is not the one computed again" in done.stderr
     assert not (tmp_path / "report").exists()
+
+
+def test_sso_evaluate_exits_by_the_yield_of_the_assembly_as_built(tmp_path):
+    # As built (yokes in phase) none of the 200 built columns meets the 2 % limit, so
+    # the required 90 % fails: exit 1, as sso run's shortfall.
+    failing = _sso("evaluate", CAR, "--out", tmp_path / "failing", "--no-plots", "--quiet",
+                   cwd=tmp_path)
+    assert failing.returncode == 1, failing.stderr
+    assert ("the built columns of the assembly as built ([tolerances] sample): FAILS the "
+            "required yield 90.0 %") in failing.stderr
+    assert "Traceback" not in failing.stderr
+    # Built as sso run recommends (teeth offsets giving yokes at -80, -60 deg), 103 of
+    # the 200 meet every limit (sso run's count above): Wilson's 95 % interval 44.6 % to
+    # 58.3 % lies above a required 40 %, so the same case evaluated there meets it.
+    meeting = tmp_path / "car_as_recommended.toml"
+    meeting.write_text(CAR.read_text()
+                       .replace("yoke_phase_deg = [0.0, 0.0]", "yoke_phase_deg = [-80.0, -60.0]")
+                       .replace("yield = 0.9", "yield = 0.4"))
+    done = _sso("evaluate", meeting, "--out", tmp_path / "meeting", "--no-plots", "--quiet",
+                cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr == ""
+    saved = read_saved_result(tmp_path / "meeting" / "column_car_limits" / "result.json")
+    assert saved.mode == "evaluate"
+    assert (saved.judged_yields.together.passed, saved.judged_yields.together.samples) == \
+        (103, 200)
