@@ -296,7 +296,7 @@ COMMANDS = (
     Command("evaluate", "evaluate the designs as given, without optimising",
             "Evaluate each case's design as given (and its reference design), with no "
             "optimisation and no NLP, and write the same report without the optimum. Exit "
-            "0: evaluated; 1: a column's built columns as built are not shown to meet its "
+            "0: evaluated; 1: a column's built columns as built do not meet its "
             "[limits] yield; 2: bad input.",
             _configure_evaluate, _evaluate),
 )

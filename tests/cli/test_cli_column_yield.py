@@ -16,6 +16,7 @@ import pytest
 import sso
 from sso._cli.saved_results import read_saved_result
 from sso._column.yields import wilson_interval
+from sso._studies.column_tolerance import column_tolerance_study
 
 ROOT = Path(__file__).resolve().parents[2]
 CAR = ROOT / "cases" / "column_car_limits.toml"
@@ -173,3 +174,34 @@ def test_sso_evaluate_exits_by_the_yield_of_the_assembly_as_built(tmp_path):
     assert saved.mode == "evaluate"
     assert (saved.judged_yields.together.passed, saved.judged_yields.together.samples) == \
         (103, 200)
+
+
+def test_sso_run_judges_on_yield_samples_and_says_how_many_would_decide(tmp_path):
+    # Required 50 %: on the case's 200 built columns (103 meet every limit, Wilson's
+    # interval 44.6 % to 58.3 %) the verdict is not decided, and exit 1.
+    case = tmp_path / "car.toml"
+    case.write_text(CAR.read_text().replace("yield = 0.9", "yield = 0.5"))
+    undecided = _sso("run", case, "--out", tmp_path / "200", "--no-plots", "--quiet",
+                     cwd=tmp_path)
+    assert undecided.returncode == 1, undecided.stderr
+    assert ("NOT DECIDED at 200 samples against the required yield 50.0 %: yield of all "
+            "limits together 51.5 % (95 % CI 44.6 % to 58.3 %, width 13.7 %, 200 samples) "
+            "straddles it; about 4,261 samples would decide it") in undecided.stderr
+    # 20,000 built columns ([tolerances] yield_samples, beyond the 1,000 the sample of
+    # the tolerance-aware phasing allows) decide it: 10,211 meet, 50.4 % to 51.7 %.
+    case.write_text(CAR.read_text().replace("yield = 0.9", "yield = 0.5")
+                    .replace("samples = 200", "samples = 200\nyield_samples = 20000"))
+    decided = _sso("run", case, "--out", tmp_path / "20000", "--no-plots", "--quiet",
+                   cwd=tmp_path)
+    assert decided.returncode == 0, decided.stderr
+    run = read_saved_result(tmp_path / "20000" / "column_car_limits" / "result.json")
+    yields = run.recommended_yields
+    assert (yields.together.passed, yields.together.samples, yields.verdict) == \
+        (10_211, 20_000, "meets")
+    # Counted again by sso tolerance's path (the same draws from the seed, its built
+    # columns evaluated in chunks) on the recommended assembly.
+    study = column_tolerance_study((run.geometry, run.assembly(run.recommended).yoke_phase_deg),
+                                   run.case.tolerances(), samples=20_000, lock_deg=540.0,
+                                   limits=run.case.steering_limits(), required_yield=0.5,
+                                   workers=1, progress=False)
+    assert study.yields.together.passed == 10_211
