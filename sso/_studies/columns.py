@@ -62,13 +62,17 @@ class RowTable:
             If a row holds a list element that is not a column of ``header`` (a list
             longer than the sweep's columns allow).
         """
-        rows = [flat_row(row) for row in rows]
         known = set(header)
+        flat_rows = []
         for row in rows:
-            beyond = [name for name in row if name not in known and name.endswith("]")]
+            flat = flat_row(row)
+            beyond = [] if flat is row else [name for name in flat
+                                             if name not in known and name.endswith("]")]
             if beyond:
-                raise ValueError(f"row of point {row.get('point')} holds {', '.join(beyond[:3])}, "
-                                 "beyond the sweep's columns")
+                raise ValueError(f"row of point {row.get('point')} holds "
+                                 f"{', '.join(beyond[:3])}, beyond the sweep's columns")
+            flat_rows.append(flat)
+        rows = flat_rows
         columns: dict[str, np.ndarray] = {}
         for name in header:
             values = [row.get(name) for row in rows]
@@ -357,7 +361,7 @@ def _emptied(cells: list[str], empty: np.ndarray) -> list[str]:
 def _object_cells(values: list[Any]) -> list[str]:
     try:
         distinct = {_distinct(value): value for value in values}
-    except TypeError:  # a value that cannot be a key (a list): one by one
+    except TypeError:  # a value that cannot be a key (a dict an axis gave): one by one
         return [_quoted(format_cell(value)) for value in values]
     text = {key: _quoted(format_cell(value)) for key, value in distinct.items()}
     return [text[_distinct(value)] for value in values]

@@ -90,9 +90,10 @@ def list_shapes(kind: str, joints: int) -> dict[str, tuple[int, ...]]:
 
 def flat_row(row: Mapping[str, Any]) -> dict[str, Any]:
     """``row`` with each list spread over its elements (``{"a": [1, [2, 3]]}`` gives
-    ``{"a[0]": 1, "a[1][0]": 2, "a[1][1]": 3}``); a row without lists as it is."""
+    ``{"a[0]": 1, "a[1][0]": 2, "a[1][1]": 3}``); a row without lists as it is (the
+    same dict)."""
     if not any(isinstance(value, (list, tuple)) for value in row.values()):
-        return dict(row)
+        return row if isinstance(row, dict) else dict(row)
     flat: dict[str, Any] = {}
     for name, value in row.items():
         _spread(flat, name, value)
@@ -110,7 +111,7 @@ def _spread(flat: dict[str, Any], name: str, value: Any) -> None:
 def gathered(row: Mapping[str, Any], name: str) -> Any:
     """The value of ``name`` in a row of element columns: the cell itself, or the list
     its elements make (empty trailing elements left off, a list of lists for
-    ``name[i][j]``); None when the row holds neither."""
+    ``name[i][j]``); None when the row holds neither, or only empty elements."""
     if name in row:
         return row[name]
     prefix = name + "["
@@ -126,7 +127,7 @@ def gathered(row: Mapping[str, Any], name: str) -> Any:
               for index in range(max(items) + 1)]
     while values and values[-1] is None:
         values.pop()
-    return values
+    return values or None
 
 
 def split_columns(name: str, array: np.ndarray) -> dict[str, np.ndarray]:

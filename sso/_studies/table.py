@@ -90,15 +90,14 @@ def sweep_columns(document: Mapping[str, Any], axes: Sequence[Any]) -> list[str]
 
 
 def format_cell(value: Any) -> str:
-    """One CSV cell: shortest round-trip floats, JSON lists, ``true``/``false``."""
+    """One CSV cell: shortest round-trip floats, ``true``/``false``, text on one line (a
+    list is never a cell: one column per element, :mod:`sso._studies.element_columns`)."""
     if value is None:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
         return repr(value)
-    if isinstance(value, (list, tuple)):
-        return json.dumps(list(value))
     # One line per row, so that a torn append is always a torn last line.
     return str(value).replace("\r", " ").replace("\n", " ")
 
@@ -112,7 +111,7 @@ def parse_cell(column: str, text: str) -> Any:
     if text in ("true", "false"):
         return text == "true"
     try:
-        return json.loads(text) if text.startswith("[") else int(text)
+        return int(text)
     except ValueError:
         pass
     try:
