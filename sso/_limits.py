@@ -192,6 +192,10 @@ DEFAULT_TOLERANCE_SAMPLES = 200
 DEFAULT_COLUMN_STUDY_SAMPLES = 10_000
 """Built columns of a column's Monte Carlo tolerance study (``sso tolerance``) when
 neither the command nor the case's ``[tolerances]`` gives a count."""
+MAX_COLUMN_SAMPLES = 2_000_000
+"""Most built columns of a column's tolerance study (its hardpoint draws take 8 (3 n + 6)
+bytes each), and of the sample a case run judges its yield on
+(``[tolerances] yield_samples``)."""
 
 DEFAULT_HARDPOINT_TOLERANCE_MM = 0.5
 """Standard deviation of every hardpoint coordinate in ``sso tolerance`` of a column case

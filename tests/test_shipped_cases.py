@@ -42,8 +42,14 @@ def test_shipped_case_emits_no_warning(case, command, tmp_path, capsys):
         assert code == 1
         assert captured.err == (f"error: {case.stem}: the recommended assembly's built columns "
                                 "([tolerances] sample): FAILS the required yield 90.0 %: yield "
-                                "of all limits together 51.5 % (95 % CI 44.6 % to 58.3 %), its "
-                                "upper bound below it\n")
+                                "of all limits together 51.5 % (95 % CI 44.6 % to 58.3 %, width "
+                                "13.7 %, 200 samples), its upper bound below it\n")
+    elif command == "evaluate" and case.stem in BELOW_REQUIRED_YIELD:
+        assert code == 1  # as built, none of the 200 built columns meets every limit
+        assert captured.err == (f"error: {case.stem}: the built columns of the assembly as "
+                                "built ([tolerances] sample): FAILS the required yield 90.0 %: "
+                                "yield of all limits together 0.0 % (95 % CI 0.0 % to 1.9 %, "
+                                "width 1.9 %, 200 samples), its upper bound below it\n")
     else:
         assert code == 0, captured.err
         assert captured.err == ""

@@ -261,6 +261,13 @@ class ColumnCase(TabledCase):
         value: float | None = self.values.get("limits.yield")
         return value
 
+    @property
+    def yield_samples(self) -> int | None:
+        """Built columns the yield against ``[limits]`` is judged on (``[tolerances]
+        yield_samples``, else ``samples``), or None without ``[tolerances]``."""
+        count: int | None = self.values.get("tolerances.yield_samples")
+        return self.values.get("tolerances.samples") if count is None else count
+
     def excitation_speeds_rpm(self) -> tuple[float, ...]:
         """The excitation table's speeds, evenly spaced, rpm."""
         low, high = self.values["excitation.rpm"]

@@ -33,7 +33,12 @@ from sso._column.tolerances import (
     MAX_YOKE_PHASE_DEG,
     MIN_SAMPLES,
 )
-from sso._limits import DEFAULT_ON_CENTRE_WEIGHT, DEFAULT_TOLERANCE_SAMPLES, DEFAULT_WINDOW_DEG
+from sso._limits import (
+    DEFAULT_ON_CENTRE_WEIGHT,
+    DEFAULT_TOLERANCE_SAMPLES,
+    DEFAULT_WINDOW_DEG,
+    MAX_COLUMN_SAMPLES,
+)
 
 MAX_POSITIONS = 20
 ROBUST_TABLES = frozenset({"tolerances", "band", "feel"})
@@ -91,6 +96,12 @@ ROBUST_KEYS: tuple[Key, ...] = (
     Key("tolerances", "samples", whole_number(MIN_SAMPLES, MAX_SAMPLES),
         _when_given("tolerances.hardpoint_mm", DEFAULT_TOLERANCE_SAMPLES), "",
         f"[{MIN_SAMPLES}, {MAX_SAMPLES}] built columns in the sample"),
+    Key("tolerances", "yield_samples", whole_number(1, MAX_COLUMN_SAMPLES), None, "",
+        f"[1, {MAX_COLUMN_SAMPLES:,}] built columns the yield against [limits] is judged on "
+        "(sso run, sso evaluate), drawn from the same errors and seed; default: samples. "
+        "Beyond the sample the tolerance-aware phasing carries (at most "
+        f"{MAX_SAMPLES:,}), so the yield's interval narrows (about 36 us a built column "
+        "and design judged)"),
     Key("tolerances", "seed", whole_number(0, 2**63 - 1),
         _when_given("tolerances.hardpoint_mm", 0), "", "[0, 2^63 - 1]: seed of the sample"),
     Key("tolerances", "distribution", choice(DISTRIBUTIONS),

@@ -232,9 +232,9 @@ def _told(result: Any) -> _Told:
     note = None if optimum is None or optimum.objective is None else (
         f"{optimum.objective} {format_number(optimum.objective_at_teeth, 3)} at the teeth, "
         f"{format_number(optimum.objective_continuous, 3)} continuous")
-    yields = result.recommended_yields if result.mode == "optimise" else None
+    yields = result.judged_yields
     shortfall = None if yields is None or yields.signed_off else (
-        f"the recommended assembly's built columns ([tolerances] sample): {yields.sentence}")
+        f"{result.judged_columns} ([tolerances] sample): {yields.sentence}")
     figures, trade = result.headline
     return _Told(result.mode, result.success, result.verdict, result.warnings,
                  (result.initial.residual_error,
@@ -246,12 +246,12 @@ def _told(result: Any) -> _Told:
 def _status(told: _Told) -> tuple[str, int]:
     from sso._shafts.optimise import UNRELIABLE_VERDICT
 
+    if told.success and told.shortfall is not None:
+        return "below the required yield", EXIT_FAILED
     if told.mode == "evaluate":
         return "evaluated", EXIT_OK
     if told.mode == "analyse":
         return "analysed", EXIT_OK
-    if told.success and told.shortfall is not None:
-        return "below the required yield", EXIT_FAILED
     if told.success:
         return "solved", EXIT_OK
     if told.verdict.startswith("solver failed"):
@@ -295,6 +295,8 @@ COMMANDS = (
             _configure_run, _run),
     Command("evaluate", "evaluate the designs as given, without optimising",
             "Evaluate each case's design as given (and its reference design), with no "
-            "optimisation and no NLP, and write the same report without the optimum.",
+            "optimisation and no NLP, and write the same report without the optimum. Exit "
+            "0: evaluated; 1: a column's built columns as built do not meet its "
+            "[limits] yield; 2: bad input.",
             _configure_evaluate, _evaluate),
 )

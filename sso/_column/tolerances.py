@@ -99,13 +99,9 @@ class Tolerances:
         ValueError
             If a drawn column is not a column (``hardpoint_mm`` too large for it).
         """
-        rng = np.random.default_rng(self.seed)
         points = np.asarray(geometry.points_mm)
         joints = geometry.joint_count
-        offsets = draw_errors(rng, self.hardpoint_mm, self.distribution,
-                              (self.samples, *points.shape))
-        phase_errors = draw_errors(rng, self.yoke_phase_deg, self.distribution,
-                                   (self.samples, joints - 1))
+        offsets, phase_errors = drawn_errors(geometry, self, self.samples)
         beta = np.empty((self.samples, joints))
         gamma = np.empty((self.samples, joints - 1))
         for index in range(self.samples):
@@ -125,6 +121,20 @@ class Tolerances:
         return {"hardpoint_mm": self.hardpoint_mm, "yoke_phase_deg": self.yoke_phase_deg,
                 "cross_angle_deg": self.cross_angle_deg, "samples": self.samples,
                 "seed": self.seed, "distribution": self.distribution}
+
+
+def drawn_errors(geometry: ColumnGeometry, tolerances: Tolerances,
+                 count: int) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` built columns' errors from the tolerances' seed: hardpoint errors
+    ``(count, n + 2, 3)`` (mm), then yoke phase errors ``(count, n - 1)`` (deg), as
+    :meth:`Tolerances.sample` draws them (the first draws of a larger count are those of
+    a smaller one's hardpoints)."""
+    rng = np.random.default_rng(tolerances.seed)
+    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
+                          (count, *np.shape(geometry.points_mm)))
+    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
+                               (count, geometry.joint_count - 1))
+    return offsets, phase_errors
 
 
 def draw_errors(rng: np.random.Generator, tolerance: float, distribution: str,

@@ -14,9 +14,13 @@ of all limits together, ``[low, high]``:
 
 * ``"meets"`` when ``low >= y``: the sample shows the yield is at least ``y``;
 * ``"fails"`` when ``high < y``: the sample shows it is below ``y``;
-* ``"not shown"`` otherwise: the interval straddles ``y``; more samples narrow it.
+* ``"not decided"`` otherwise: the interval straddles ``y``. More samples narrow it:
+  :func:`deciding_samples` gives the count at which Wilson's half-width at the
+  observed yield ``p`` falls below ``|p - y|``, so that the same yield would be
+  decided (about; a new sample's yield moves too).
 
-Only ``"meets"`` signs a column off: ``sso tolerance`` exits 1 on the other two.
+Only ``"meets"`` signs a column off: ``sso tolerance``, ``sso run`` and ``sso evaluate``
+exit 1 on the other two.
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from sso._validation import finite_in_range
 
 CONFIDENCE = 0.95
 """Two-sided confidence of every yield's interval."""
-VERDICTS = ("meets", "fails", "not shown", "not judged")
+VERDICTS = ("meets", "fails", "not decided", "not judged")
 ALL_LIMITS = "all limits together"
 
 # (limit of SteeringLimits, figure of a built column, label, unit)
@@ -63,14 +67,51 @@ def wilson_interval(passed: int, samples: int,
     if samples < 1 or not 0 <= passed <= samples:
         raise ValueError(f"passed = {passed} of samples = {samples}: need samples >= 1 and "
                          "0 <= passed <= samples")
-    finite_in_range("confidence", confidence, 0.0, 1.0, lower_open=True, upper_open=True)
-    z = NormalDist().inv_cdf(0.5 + confidence / 2.0)
+    z = _normal_quantile(confidence)
     fraction = passed / samples
-    scale = 1.0 + z * z / samples
-    centre = (fraction + z * z / (2.0 * samples)) / scale
-    half = z / scale * math.sqrt(fraction * (1.0 - fraction) / samples
-                                 + z * z / (4.0 * samples * samples))
+    centre = (fraction + z * z / (2.0 * samples)) / (1.0 + z * z / samples)
+    half = _wilson_half_width(fraction, samples, z)
     return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def deciding_samples(fraction: float, required: float,
+                     confidence: float = CONFIDENCE) -> int | None:
+    """The fewest samples at which the Wilson half-width at ``fraction`` falls below
+    ``|fraction - required|``: about the sample that would decide a yield ``fraction``
+    against ``required`` (module notes); None when they are equal (no sample decides).
+
+    Raises
+    ------
+    ValueError
+        If ``fraction`` or ``required`` is outside ``[0, 1]`` or ``confidence``
+        outside ``(0, 1)``.
+    """
+    fraction = finite_in_range("fraction", fraction, 0.0, 1.0)
+    distance = abs(fraction - finite_in_range("required", required, 0.0, 1.0))
+    z = _normal_quantile(confidence)
+    if distance == 0.0:
+        return None
+    # The half-width falls as the count grows: double past the count, then bisect.
+    low, high = 0, 1
+    while _wilson_half_width(fraction, high, z) >= distance:
+        low, high = high, 2 * high
+    while high - low > 1:
+        middle = (low + high) // 2
+        low, high = (middle, high) if _wilson_half_width(fraction, middle, z) >= distance \
+            else (low, middle)
+    return high
+
+
+def _normal_quantile(confidence: float) -> float:
+    """``z``: the normal quantile of a two-sided ``confidence``."""
+    finite_in_range("confidence", confidence, 0.0, 1.0, lower_open=True, upper_open=True)
+    return NormalDist().inv_cdf(0.5 + confidence / 2.0)
+
+
+def _wilson_half_width(fraction: float, samples: int, z: float) -> float:
+    """Half the width of Wilson's interval of ``fraction`` over ``samples``."""
+    return z / (1.0 + z * z / samples) * math.sqrt(fraction * (1.0 - fraction) / samples
+                                                    + z * z / (4.0 * samples * samples))
 
 
 @register_record
@@ -109,9 +150,11 @@ class LimitYield:
 
     @property
     def text(self) -> str:
-        """The yield and its interval in percent, as reports print it."""
+        """The yield, its interval in percent, the interval's width and the sample count,
+        as reports print it."""
         return (f"{percent(self.fraction)} (95 % CI {percent(self.low)} to "
-                f"{percent(self.high)})")
+                f"{percent(self.high)}, width {percent(self.high - self.low)}, "
+                f"{self.samples:,} samples)")
 
 
 @register_record
@@ -140,7 +183,34 @@ class YieldJudgement:
             return "not judged"
         if self.together.low >= self.required:
             return "meets"
-        return "fails" if self.together.high < self.required else "not shown"
+        return "fails" if self.together.high < self.required else "not decided"
+
+    @property
+    def deciding_samples(self) -> int | None:
+        """When the verdict is ``"not decided"``: about the samples that would decide
+        it (:func:`deciding_samples`), or None when the yield equals the requirement;
+        else None."""
+        if self.verdict != "not decided":
+            return None
+        assert self.required is not None
+        return deciding_samples(self.together.fraction, self.required)
+
+    @property
+    def verdict_text(self) -> str:
+        """The verdict in a table cell: with the required yield, and for one not
+        decided the samples it was judged on and those that would decide it."""
+        if self.required is None:
+            return self.verdict
+        if self.verdict != "not decided":
+            return f"{self.verdict} {percent(self.required)}"
+        return (f"not decided {percent(self.required)} at {self.together.samples:,} samples "
+                f"({self._deciding_words})")
+
+    @property
+    def _deciding_words(self) -> str:
+        needed = self.deciding_samples
+        return ("no sample count decides a yield equal to the requirement" if needed is None
+                else f"about {needed:,} samples would decide it")
 
     @property
     def signed_off(self) -> bool:
@@ -160,8 +230,10 @@ class YieldJudgement:
                      "above it",
             "fails": f"FAILS the required yield {required}: {together}, its upper bound below "
                      "it",
-            "not shown": f"NOT SHOWN to meet the required yield {required}: {together} "
-                         "straddles it; more samples narrow the interval",
+            "not decided": f"NOT DECIDED at {self.together.samples:,} samples against the "
+                           f"required yield {required}: {together} straddles it; "
+                           f"{self._deciding_words} (Wilson's half-width below the distance "
+                           "from the yield to the requirement)",
         }[self.verdict]
 
 

@@ -98,7 +98,7 @@ def excitation_csv(run: ColumnRun) -> str:
 
 def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
     """Blocks of the whole report of a column run."""
-    yields = run.recommended_yields if run.mode == "optimise" else None
+    yields = run.judged_yields
     figures, trade = run.headline
     compared = ("" if run.recommended == "as_built" else
                 f" (as built to {run.assembly(run.recommended).label})")
@@ -106,7 +106,7 @@ def column_blocks(run: ColumnRun, image_files: Sequence[str]) -> list[Block]:
         run.case.name, run.case.description, _case_table(run),
         run.success and (yields is None or yields.signed_off),
         figures + compared if yields is None else
-        f"recommended assembly's built columns: {yields.sentence}; {figures}{compared}")
+        f"{run.judged_columns.removeprefix('the ')}: {yields.sentence}; {figures}{compared}")
     if trade is not None:
         blocks.append(Paragraph(trade))
     blocks += [Heading(2, "Geometry from the hardpoints"), _geometry_table(run),

@@ -170,16 +170,15 @@ def yield_blocks(designs: Sequence[RobustDesign]) -> list[Block]:
     header = ("design", *(f"yield: {item.label} {limit_text(item)}" for item in first.limits),
               "yield of every limit (95 % CI)", "verdict")
     rows = tuple((label, *(percent(item.fraction) for item in yields.limits),
-                  yields.together.text,
-                  yields.verdict if yields.required is None
-                  else f"{yields.verdict} {percent(yields.required)}")
+                  yields.together.text, yields.verdict_text)
                  for label, yields in judged)
     return [Paragraph(
         "The same built columns against the case's [limits]: the yield is the fraction whose "
         "figure (from lock to lock) meets the limit, with Wilson's 95 % score interval; the "
         "verdict against [limits] yield is 'meets' when the interval of every limit together "
-        "lies at or above it, 'fails' when below, 'not shown' when it straddles it (sso run "
-        "exits 1 unless the recommended assembly meets it). The steering criteria's 'within' "
+        "lies at or above it, 'fails' when below, 'not decided' when it straddles it, with the "
+        "samples that would decide it (sso run exits 1 unless the recommended assembly meets "
+        "it, sso evaluate unless the assembly as built does). The steering criteria's 'within' "
         "judge each nominal design only."), Table(header, rows)]
 
 

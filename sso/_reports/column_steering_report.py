@@ -47,11 +47,11 @@ def steering_blocks(run: ColumnRun) -> list[Block]:
 def _built_columns_note(run: ColumnRun) -> list[Block]:
     """Where the case has tolerances: the criteria judge nominal designs, the yield the
     built columns (so a 'within' cannot hide a failing yield)."""
-    yields = run.recommended_yields if run.mode == "optimise" else None
+    yields = run.judged_yields
     if yields is None:
         return []
     return [Paragraph(f"'within' judges each design as drawn. Built as production builds it "
-                      f"(the [tolerances] sample), the recommended assembly: {yields.sentence} "
+                      f"(the [tolerances] sample), {run.judged_columns}: {yields.sentence} "
                       "(Robust phasing, below).")]
 
 

@@ -215,9 +215,26 @@ class ColumnRun(CaseRun):
     def recommended_yields(self) -> YieldJudgement | None:
         """The yields of the recommended assembly's built columns against the case's
         ``[limits]`` (the ``[tolerances]`` sample), or None without ``[tolerances]``."""
+        return self._yields_of(self.recommended)
+
+    @property
+    def judged_yields(self) -> YieldJudgement | None:
+        """The yields the run is judged by (``sso run`` and ``sso evaluate`` exit 1 unless
+        they are signed off): the recommended assembly's when optimising, the assembly's
+        as built when evaluating (:attr:`judged_columns`); None without ``[tolerances]``."""
+        return self._yields_of(self.recommended if self.mode == "optimise" else "as_built")
+
+    @property
+    def judged_columns(self) -> str:
+        """Whose built columns :attr:`judged_yields` counts, in words."""
+        return ("the recommended assembly's built columns" if self.mode == "optimise"
+                else "the built columns of the assembly as built")
+
+    def _yields_of(self, role: str) -> YieldJudgement | None:
+        """The yields of the built columns of the assembly of ``role``, or None."""
         if self.robust is None:
             return None
-        chosen = self.assembly(self.recommended).yoke_phase_deg
+        chosen = self.assembly(role).yoke_phase_deg
         for design in self.robust.designs:
             if design.yields is not None and design.yoke_phase_deg == chosen:
                 return design.yields
@@ -252,7 +269,7 @@ class ColumnRun(CaseRun):
         rows = tuple((assembly.label, format_numbers(assembly.yoke_phase_deg),
                       format_number(assembly.residual_error))
                      for assembly in self.assemblies)
-        yields = self.recommended_yields if self.mode == "optimise" else None
+        yields = self.judged_yields
         figures, trade = self.headline
         compared = ("" if self.recommended == "as_built" else
                     f" (as built to {self.assembly(self.recommended).label})")
@@ -261,8 +278,8 @@ class ColumnRun(CaseRun):
                 *([trade] if trade is not None else []),
                 TextTable(("assembly", "yoke phasing delta (deg)", "RE"), rows),
                 f"recommended: {self.assembly(self.recommended).label}",
-                *([] if yields is None else [f"its built columns ([tolerances] sample): "
-                                             f"{yields.sentence}"]),
+                *([] if yields is None else [f"{self.judged_columns} ([tolerances] "
+                                             f"sample): {yields.sentence}"]),
                 f"numerics: {self.verdict}"]
 
 

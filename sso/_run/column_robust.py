@@ -24,6 +24,7 @@ import numpy as np
 
 from sso._cases.column import ColumnCase
 from sso._column.band import ToleranceBand, re_against_phase_error, tolerance_band
+from sso._column.built_columns import built_angles
 from sso._column.built_figures import built_column_figures, limited_figures
 from sso._column.chain_matrix import residual_error
 from sso._column.feel import (
@@ -38,7 +39,7 @@ from sso._column.phasing import PhasingResult
 from sso._column.positions import PositionsResult, optimise_positions
 from sso._column.robust_phasing import RobustResult, optimise_robust
 from sso._column.splines import SplineResult
-from sso._column.tolerances import SampleStudy, Tolerances, ToleranceSample
+from sso._column.tolerances import SampleStudy, Tolerances, ToleranceSample, drawn_errors
 from sso._column.yields import YieldJudgement, column_limits, judge_yields
 from sso._limits import DEFAULT_PHASE_ERROR_POINTS, DEFAULT_PHASE_ERROR_SPAN_DEG
 from sso._record import register_record
@@ -358,7 +359,7 @@ def robust_part(case: ColumnCase, optimising: bool, as_built: Sequence[float],
             verdicts.append(f"steering feel: {centred.message}")
     limit = case.values.get("band.re_limit")
     sample = None if tolerances is None else tolerances.sample(geometry)
-    judge = None if sample is None else _yield_judge(case, sample)
+    judge = None if tolerances is None else _yield_judge(case, geometry, tolerances)
     compared = tuple(_design(role, label, yoke, splines, geometry, positions, sample, feel, limit,
                              judge)
                      for role, label, yoke, splines in designs)
@@ -412,17 +413,32 @@ def _design(role: str, label: str, yoke: tuple[float, ...], splines: SplineResul
                         band_note=band_note, yields=None if judge is None else judge(yoke))
 
 
-def _yield_judge(case: ColumnCase,
-                 sample: ToleranceSample) -> Callable[[Sequence[float]], YieldJudgement]:
-    """The yields of a design's built columns (the case's sample) against its limits."""
+def _yield_judge(case: ColumnCase, geometry: ColumnGeometry,
+                 tolerances: Tolerances) -> Callable[[Sequence[float]], YieldJudgement]:
+    """The yields of a design's built columns against the case's limits: the case's
+    ``yield_samples`` built columns, drawn from the tolerances' seed as the sample is.
+
+    Raises
+    ------
+    ValueError
+        If a built column is not a column (``hardpoint_mm`` too large for it).
+    """
     limits = column_limits(case.steering_limits())
     steering = case.steering_options()
-    beta_deg = np.degrees(sample.beta_rad)
+    count = case.yield_samples
+    assert count is not None  # the case has [tolerances]
+    offsets, phase_errors = drawn_errors(geometry, tolerances, count)
+    try:
+        beta_deg, gamma_deg = built_angles(np.asarray(geometry.points_mm) + offsets)
+    except ValueError as refused:
+        raise ValueError(f"tolerances.hardpoint_mm = {tolerances.hardpoint_mm:g} mm is too "
+                         f"large for this column: {refused}") from None
+    beta_rad = np.radians(beta_deg)
 
     def judge(yoke: Sequence[float]) -> YieldJudgement:
-        phase_rad = np.radians(90.0 + np.asarray(yoke)) - sample.gamma_rad
-        figures = built_column_figures(sample.beta_rad, phase_rad,
-                                       steering["straight_ahead_deg"], steering["lock_deg"])
+        phase_rad = np.radians(90.0 + np.asarray(yoke) + phase_errors - gamma_deg)
+        figures = built_column_figures(beta_rad, phase_rad, steering["straight_ahead_deg"],
+                                       steering["lock_deg"])
         return judge_yields(limited_figures(beta_deg, figures), limits, case.required_yield)
 
     return judge

@@ -45,6 +45,7 @@ from sso._solvers.starts import start_points
 from sso._studies.axes import Axis
 from sso._studies.axis_checks import AxisValues
 from sso._studies.columns import RowTable
+from sso._studies.element_columns import element_names, split_columns
 
 ZERO_OBJECTIVE = 1e-20
 """RE at or below this is a global minimum: ``sso.optimise`` stops its starts there."""
@@ -130,8 +131,8 @@ def _target(path: str) -> tuple[str, int] | None:
 def number_columns(plan: ArrayPlan,
                    axes: Sequence[Axis]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
     """The number columns of every chunk :func:`run_array_points` makes for a sweep
-    over ``axes``: each one's dtype and the shape of one row (columns of no width,
-    the phases of one joint, left out)."""
+    over ``axes``: each one's dtype and the shape of one row (each element of a
+    design's angles a column of its own)."""
     whole, number = np.dtype(np.int64), np.dtype(float)
     kinds: dict[str, tuple[np.dtype, tuple[int, ...]]] = {"point": (whole, ())}
     kinds.update({axis.path: (number, ()) for axis in axes
@@ -140,9 +141,9 @@ def number_columns(plan: ArrayPlan,
         kinds.update({f"{SOLVER}_residual_error": (number, ()), f"{SOLVER}_status": (whole, ()),
                       f"{SOLVER}_kkt_per_rad": (number, ()), f"{SOLVER}_time_s": (number, ())})
     kinds.update({name: (number, ()) for name in (*FIGURE_COLUMNS, "time_s")})
-    kinds.update({name: (number, (width,)) for name, width in (
-        ("design_beta_deg", len(plan.beta_deg)), ("design_phase_deg", len(plan.phase_deg)))
-        if width})
+    kinds.update({name: (number, ()) for name in (
+        *element_names("design_beta_deg", (len(plan.beta_deg),)),
+        *element_names("design_phase_deg", (len(plan.phase_deg),)))})
     return kinds
 
 
@@ -283,8 +284,8 @@ def _figures(beta_deg: np.ndarray, phase_deg: np.ndarray,
         "residual_error_rpm2": speed_rpm**2 * error,
         "fluctuation": np.asarray(greatest - least, dtype=float) * np.ones(len(beta_deg)),
         "max_output_accel_rad_s2": (speed_rpm * RPM_TO_RAD_S) ** 2 * slope,
-        "design_beta_deg": beta_deg,
-        "design_phase_deg": phase_deg,
+        **split_columns("design_beta_deg", beta_deg),
+        **split_columns("design_phase_deg", phase_deg),
     }
 
 

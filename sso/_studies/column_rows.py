@@ -159,8 +159,7 @@ def _joint_centres(case: Any, geometry: Any) -> dict[str, Any]:
 
     moved = optimise_joint_centres(geometry, **case.joint_position_options())
     return {"joint_centres_residual_error": moved.fun,
-            "joint_centres_points_mm": [value for point in moved.points_mm[1:-1]
-                                        for value in point],
+            "joint_centres_points_mm": [list(point) for point in moved.points_mm[1:-1]],
             "joint_centres_margin_mm": (None if moved.exact_optima is None
                                         else moved.exact_optima.margin),
             "joint_centres_success": moved.success}

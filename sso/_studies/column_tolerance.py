@@ -40,7 +40,7 @@ from sso._column.geometry import ColumnGeometry
 from sso._column.sensitivity import FigureSensitivity
 from sso._column.steering_criteria import SteeringLimits
 from sso._column.steering_range import steering_range
-from sso._column.tolerances import Tolerances, draw_errors
+from sso._column.tolerances import Tolerances, drawn_errors
 from sso._column.yields import YieldJudgement, column_limits
 from sso._display import Part, Readable, TextTable, format_number, format_numbers
 from sso._files import check_report_folder
@@ -51,6 +51,7 @@ from sso._limits import (
     DEFAULT_LOCK_DEG,
     DEFAULT_STRAIGHT_AHEAD_DEG,
     DEFAULT_YOKE_PHASE_TOLERANCE_DEG,
+    MAX_COLUMN_SAMPLES,
     OUTPUT_FORMATS,
 )
 from sso._progress import ProgressBar, interactive
@@ -77,8 +78,6 @@ from sso._validation import (
     validate_count,
 )
 
-MAX_COLUMN_SAMPLES = 2_000_000
-"""Most samples of a column study (its hardpoint draws take 8 (3 n + 6) bytes each)."""
 COLUMN_METRICS = BUILT_FIGURES
 COLUMN_SAMPLE_FIELDS = ("beta_deg", "plane_angle_deg", "yoke_phase_error_deg", *COLUMN_METRICS)
 """The per-sample arrays of a column's study, kept in its table, not its record."""
@@ -459,18 +458,6 @@ def study_settings(tolerances: Tolerances | None, case: Any, samples: int | None
     changes = {name: value for name, value in (("seed", seed), ("distribution", distribution))
                if value is not None}
     return (replace(chosen, **changes) if changes else chosen), count
-
-
-def drawn_errors(geometry: ColumnGeometry, tolerances: Tolerances,
-                 count: int) -> tuple[np.ndarray, np.ndarray]:
-    """The study's draws from its seed: hardpoint errors ``(count, n + 2, 3)`` (mm), then
-    yoke phase errors ``(count, n - 1)`` (deg), as :meth:`sso.Tolerances.sample` draws."""
-    rng = np.random.default_rng(tolerances.seed)
-    offsets = draw_errors(rng, tolerances.hardpoint_mm, tolerances.distribution,
-                          (count, *np.shape(geometry.points_mm)))
-    phase_errors = draw_errors(rng, tolerances.yoke_phase_deg, tolerances.distribution,
-                               (count, geometry.joint_count - 1))
-    return offsets, phase_errors
 
 
 def check_judgement(study: ColumnToleranceResult, tolerances: Tolerances,

@@ -88,7 +88,7 @@ def yield_blocks(result: Any, image_files: tuple[str, ...]) -> list[Block]:
         Paragraph("Yield: the fraction of built columns whose figure is at or below the limit. "
                   "Interval: Wilson's score interval at 95 % (Wilson 1927). Verdict: meets "
                   "when the interval of every limit together lies at or above the required "
-                  "yield, fails when it lies below, not shown when it straddles it; only "
+                  "yield, fails when it lies below, not decided when it straddles it; only "
                   "'meets' signs the column off (sso tolerance exits 1 otherwise)."),
     ]
     if result.sensitivity:

@@ -7,9 +7,9 @@ and places the table into the sweep's columns as it arrives
 (:class:`TableAssembly`); a row becomes a dict only when a user asks for it. Every cell means what
 the same cell of ``sweep.csv`` means (:func:`sso._studies.table.format_cell`): a
 float column's NaN is an empty cell (no value), an object column holds the
-values as they are (``None`` or ``""`` empty), and a 2-D float column holds a list per row
-(``design_beta_deg``; a row of NaN is empty). A column missing from the table is
-empty in every row.
+values as they are (``None`` or ``""`` empty). A list is one column per element
+(:mod:`sso._studies.element_columns`). A column missing from the table is empty in
+every row.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from sso._studies.element_columns import flat_row
 from sso._studies.table import TEXT_COLUMNS, format_cell
 
 _NEEDS_QUOTES = (",", '"', "\n", "\r")
@@ -41,7 +42,7 @@ class RowTable:
         Every column of ``sweep.csv``, in order.
     columns : dict of str to numpy.ndarray
         The columns that hold a value in some row, each of length ``length``
-        (float64, int64, bool or object; 2-D float64 for a list per row).
+        (float64, int64, bool or object).
     length : int
         Rows.
     """
@@ -52,7 +53,26 @@ class RowTable:
 
     @classmethod
     def from_rows(cls, header: Sequence[str], rows: Sequence[Mapping[str, Any]]) -> RowTable:
-        """The table of some rows (dicts of cell values, as a point's row holds them)."""
+        """The table of some rows (dicts of cell values, as a point's row holds them;
+        a list spread over its element columns, :func:`flat_row`).
+
+        Raises
+        ------
+        ValueError
+            If a row holds a list element that is not a column of ``header`` (a list
+            longer than the sweep's columns allow).
+        """
+        known = set(header)
+        flat_rows = []
+        for row in rows:
+            flat = flat_row(row)
+            beyond = [] if flat is row else [name for name in flat
+                                             if name not in known and name.endswith("]")]
+            if beyond:
+                raise ValueError(f"row of point {row.get('point')} holds "
+                                 f"{', '.join(beyond[:3])}, beyond the sweep's columns")
+            flat_rows.append(flat)
+        rows = flat_rows
         columns: dict[str, np.ndarray] = {}
         for name in header:
             values = [row.get(name) for row in rows]
@@ -278,13 +298,6 @@ def _column(name: str, values: list[Any]) -> np.ndarray:
                 isinstance(value, int) and not isinstance(value, bool)
                 and INT64_RANGE[0] <= value <= INT64_RANGE[1] for value in values):
             return np.array(values, dtype=np.int64)
-        lists = [value for value in present if isinstance(value, (list, tuple))]
-        if (lists and len(lists) == len(present) and len({len(value) for value in lists}) == 1
-                and len(lists[0]) > 0
-                and all(isinstance(item, float) for value in lists for item in value)):
-            width = len(lists[0])
-            return np.array([[np.nan] * width if value is None else list(value)
-                             for value in values], dtype=float).reshape(len(values), width)
     column = np.empty(len(values), dtype=object)
     column[:] = values
     return column
@@ -295,9 +308,6 @@ def _value(column: np.ndarray, index: int) -> Any:
     value = column[index]
     if column.dtype == object:
         return None if value == "" else value  # an empty cell, as sweep.csv reads back
-    if column.ndim == 2:
-        items: list[float] = value.tolist()
-        return None if items and items[0] != items[0] else items
     if column.dtype.kind == "f":
         number = float(value)
         return None if number != number else number
@@ -317,14 +327,6 @@ def _cells(column: np.ndarray) -> list[str]:
         return _object_cells(column.tolist())
     if not len(column):
         return []
-    if column.ndim == 2:
-        if not column.shape[1]:
-            return ["[]"] * len(column)
-        mark = '"' if column.shape[1] > 1 else ""  # a list of two or more holds a comma
-        parts = zip(*(_number_cells(column[:, index]) for index in range(column.shape[1])),
-                    strict=True)
-        cells = [f"{mark}[{', '.join(items)}]{mark}" for items in parts]
-        return _emptied(cells, np.isnan(column[:, 0]))
     if column.dtype.kind == "b":
         flags: list[str] = np.where(column, "true", "false").tolist()
         return flags
@@ -359,7 +361,7 @@ def _emptied(cells: list[str], empty: np.ndarray) -> list[str]:
 def _object_cells(values: list[Any]) -> list[str]:
     try:
         distinct = {_distinct(value): value for value in values}
-    except TypeError:  # a value that cannot be a key (a list): one by one
+    except TypeError:  # a value that cannot be a key (a dict an axis gave): one by one
         return [_quoted(format_cell(value)) for value in values]
     text = {key: _quoted(format_cell(value)) for key, value in distinct.items()}
     return [text[_distinct(value)] for value in values]

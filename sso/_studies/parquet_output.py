@@ -25,12 +25,13 @@ import numpy as np
 from sso._files import write_bytes_atomic
 from sso._limits import SOLVERS
 from sso._studies.columns import RowTable
+from sso._studies.element_columns import base_name, flat_row
 from sso._studies.table import TEXT_COLUMNS, format_cell
 
 PARQUET_NAME = "sweep.parquet"
 _PART = re.compile(r"^part-\d{12}-\d{12}(-resumed)?\.parquet$")
 # Besides a shaft series' columns, those a column case's rows add
-# (sso._studies.table.COLUMN_RESULT_COLUMNS; its tooth offsets are text).
+# (sso._studies.table.COLUMN_RESULT_COLUMNS).
 _FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "max_output_accel_rad_s2", "crosscheck_objective_gap", "time_s",
                   *(f"{solver}_{field}" for solver in SOLVERS
@@ -43,9 +44,11 @@ _FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "robust_p95_residual_error")
 _FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS),
                  "can_cancel", "joint_centres_success")
-_LIST_COLUMNS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
-                 "continuous_yoke_phase_deg", "joint_centres_points_mm", "robust_yoke_phase_deg")
+# Lists, one column per element (sso._studies.element_columns).
+_FLOAT_LISTS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
+                "continuous_yoke_phase_deg", "joint_centres_points_mm", "robust_yoke_phase_deg")
 _INTEGER_COLUMNS = ("point", *(f"{solver}_status" for solver in SOLVERS))
+_INTEGER_LISTS = ("tooth_offset",)
 
 
 def pyarrow_module() -> Any:
@@ -60,25 +63,30 @@ def pyarrow_module() -> Any:
 
 
 def arrow_schema(header: Sequence[str], axes: Sequence[Any]) -> Any:
-    """The schema of every part: numbers, flags, lists and text by column.
+    """The schema of every part: numbers, flags and text by column (a list one column
+    per element, as in ``sweep.csv``).
 
-    An axis whose values are all numbers is a float column; any other axis holds
+    An axis column whose values are all numbers is a float column; any other holds
     each value as its ``sweep.csv`` cell (text).
     """
     pa = pyarrow_module()
-    numeric_axes = {axis.path for axis in axes
+    axis_values: dict[str, list[Any]] = {}
+    for axis in axes:
+        for value in axis.values:
+            for name, element in flat_row({axis.path: value}).items():
+                axis_values.setdefault(name, []).append(element)
+    numeric_axes = {name for name, values in axis_values.items()
                     if all(isinstance(value, (int, float)) and not isinstance(value, bool)
-                           for value in axis.values)}
+                           for value in values)}
     fields = []
     for name in header:
-        if name in _INTEGER_COLUMNS:
+        if name in _INTEGER_COLUMNS or base_name(name) in _INTEGER_LISTS:
             kind = pa.int64()
-        elif name in _FLOAT_COLUMNS or name in numeric_axes:
+        elif (name in _FLOAT_COLUMNS or name in numeric_axes
+              or base_name(name) in _FLOAT_LISTS):
             kind = pa.float64()
         elif name in _FLAG_COLUMNS:
             kind = pa.bool_()
-        elif name in _LIST_COLUMNS:
-            kind = pa.list_(pa.float64())
         else:
             kind = pa.string()
         fields.append(pa.field(name, kind))
@@ -86,19 +94,13 @@ def arrow_schema(header: Sequence[str], axes: Sequence[Any]) -> Any:
 
 
 def arrow_table(table: RowTable, schema: Any) -> Any:
-    """A :class:`RowTable` as a ``pyarrow.Table`` of ``schema``."""
+    """A :class:`RowTable` as a ``pyarrow.Table`` of ``schema`` (an empty cell null)."""
     pa = pyarrow_module()
     arrays = []
     for field in schema:
         column = table.columns.get(field.name)
         if column is None:
             arrays.append(pa.nulls(table.length, type=field.type))
-        elif column.ndim == 2:
-            missing = np.isnan(column[:, 0]) if column.shape[1] else np.zeros(len(column), bool)
-            offsets = pa.array(np.arange(len(column) + 1, dtype=np.int32) * column.shape[1])
-            arrays.append(pa.ListArray.from_arrays(
-                offsets, pa.array(np.ascontiguousarray(column).ravel(), type=pa.float64()),
-                type=field.type, mask=pa.array(missing)))
         elif column.dtype.kind == "f":
             arrays.append(pa.array(column, type=field.type, mask=np.isnan(column)))
         elif column.dtype != object:
@@ -106,8 +108,9 @@ def arrow_table(table: RowTable, schema: Any) -> Any:
         elif pa.types.is_string(field.type) and field.name not in TEXT_COLUMNS:
             arrays.append(pa.array([None if value is None else format_cell(value)
                                     for value in column.tolist()], type=field.type))
-        else:
-            arrays.append(pa.array(column.tolist(), type=field.type))
+        else:  # an empty text is an empty cell, as sweep.csv reads back
+            arrays.append(pa.array([None if value == "" else value for value in column.tolist()],
+                                   type=field.type))
     return pa.Table.from_arrays(arrays, schema=schema)
 
 

@@ -34,7 +34,9 @@ from sso._reports.documents import render_documents
 from sso._reports.kinds import register_report_kind
 from sso._reports.summary import Block, Heading, Image, Paragraph, Table
 from sso._studies.axes import value_positions
-from sso._studies.table import CSV_NAME, MANIFEST_NAME, columns, format_row, render_rows
+from sso._studies.element_columns import gathered
+from sso._studies.saved_rows import saved_columns
+from sso._studies.table import CSV_NAME, MANIFEST_NAME, format_row, render_rows
 from sso._validation import shown
 
 REPORT_ROWS = 50
@@ -81,8 +83,8 @@ def render_sweep(result: Any, formats: tuple[str, ...]) -> dict[str, FileContent
     """Report files of a :class:`sso.SweepResult`, keyed by file name."""
     files: dict[str, FileContents] = {}
     if "csv" in formats:
-        header = columns([axis.path for axis in result.axes], _kind(result))
         table = getattr(result.rows, "table", None)  # a sweep's rows, held as columns
+        header = list(table.header) if table is not None else saved_columns(result)
         files[CSV_NAME] = (render_rows(header, ()) + table.csv_text() if table is not None
                            else render_rows(header, [format_row(row, header)
                                                      for row in result.rows])).encode("utf-8")
@@ -165,8 +167,8 @@ def _sweep_blocks(result: Any, image_files: Sequence[str]) -> list[Block]:
     table = COLUMN_TABLE_COLUMNS if _kind(result) == "column" else SWEEP_TABLE_COLUMNS
     blocks += [Heading(2, f"Lowest residual error ({len(shown)} of {len(result.rows)} points)"),
                Table(("point", *paths, *(label for _, label in table)),
-                     tuple((str(row["point"]), *(_cell(row.get(path)) for path in paths),
-                            *(_cell(row.get(column)) for column, _ in table))
+                     tuple((str(row["point"]), *(_cell(gathered(row, path)) for path in paths),
+                            *(_cell(gathered(row, column)) for column, _ in table))
                            for row in shown))]
     failed = result.failed_points()
     if len(failed):

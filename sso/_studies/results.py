@@ -24,6 +24,7 @@ from sso._shafts.perturbed import METRICS
 from sso._shafts.series import ShaftSeries
 from sso._studies.axes import Axis
 from sso._studies.columns import RowTable
+from sso._studies.element_columns import gathered
 from sso._studies.parquet_output import PARQUET_NAME, read_frame
 from sso._studies.saved_samples import (
     EXTRA_SCHEMA,
@@ -99,7 +100,8 @@ class SweepResult(Record, Readable):
     action : {"optimise", "evaluate"}
     rows : sequence of dict
         One row per point, sorted by point index, with the columns of
-        ``sweep.csv`` (numbers, booleans and lists parsed back). A sweep gives a
+        ``sweep.csv`` (numbers and booleans parsed back; a list one column per
+        element, ``design_beta_deg[0]``, ...). A sweep gives a
         :class:`SweepRows`, which holds them as columns (:meth:`frame` is a
         ``pandas.DataFrame`` of them).
     computed : int
@@ -230,7 +232,8 @@ class SweepResult(Record, Readable):
             parts.append(f"  not converged or solvers disagree: {unconverged}")
         best = self.best
         if best is not None:
-            where = ", ".join(f"{axis.path} = {best[axis.path]}" for axis in self.axes)
+            where = ", ".join(f"{axis.path} = {gathered(best, axis.path)}"
+                              for axis in self.axes)
             parts.append(f"  lowest RE {format_number(best['residual_error'])} at point "
                          f"{best['point']} ({where})")
         for index in failed[:5].tolist():

@@ -14,14 +14,14 @@ solvers' agreement rule (:func:`sso._solvers.crosscheck.allowed_objective_gap`:
 
 from __future__ import annotations
 
-import json
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
 
 from sso._solvers.crosscheck import allowed_objective_gap
+from sso._studies.element_columns import base_name, gathered
 
 RECHECKED_ROWS = 8
 """Finished rows of a resumed sweep whose RE is computed again (all of them, if fewer)."""
@@ -32,12 +32,14 @@ _NON_NEGATIVE_SUFFIXES = ("residual_error", "residual_error_rpm2", "fluctuation"
                           "max_output_accel_rad_s2", "kkt_per_rad", "time_s",
                           "objective_gap", "_percent", "transmission_error_deg",
                           "peak_to_peak_deg")
+# Lists, one column per element (sso._studies.element_columns): each element a finite
+# number, a tooth offset a whole number.
 _LISTS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
-          "continuous_yoke_phase_deg", "tooth_offset", "joint_centres_points_mm",
-          "robust_yoke_phase_deg")
+          "continuous_yoke_phase_deg", "joint_centres_points_mm", "robust_yoke_phase_deg")
+_WHOLE_LISTS = ("tooth_offset",)
 _FINITE = ("joint_centres_margin_mm",)
-# The cells every finished ("ok") row has, by the kind of its sweep.
-_REQUIRED = ("residual_error", "design_beta_deg")
+# The cells every finished ("ok") row has, whatever the kind of its sweep.
+_REQUIRED = ("residual_error", "design_beta_deg[0]")
 
 
 def cell_problem(column: str, text: str, status: str) -> str | None:
@@ -51,16 +53,13 @@ def cell_problem(column: str, text: str, status: str) -> str | None:
                 and column in _REQUIRED else None)
     if column in _BOOLEAN or column.endswith("_success"):
         return None if text in ("true", "false") else f"{column} = {text!r} is not true or false"
-    if column.endswith(_INTEGER_SUFFIXES):
-        return None if _is_integer(text) else f"{column} = {text!r} is not a whole number"
-    if column in _LISTS:
-        return (None if _finite_list(text) else
-                f"{column} = {_short(text)} is not a list of finite numbers")
-    if column in _FINITE or column.endswith(_NON_NEGATIVE_SUFFIXES):
+    if column.endswith(_INTEGER_SUFFIXES) or base_name(column) in _WHOLE_LISTS:
+        return None if _is_integer(text) else f"{column} = {_short(text)} is not a whole number"
+    if column in _FINITE or base_name(column) in _LISTS or column.endswith(_NON_NEGATIVE_SUFFIXES):
         value = _float(text)
         if value is None or not math.isfinite(value):
             return f"{column} = {_short(text)} is not a finite number"
-        if column not in _FINITE and value < 0.0:
+        if column.endswith(_NON_NEGATIVE_SUFFIXES) and value < 0.0:
             return f"{column} = {_short(text)} is negative; it is >= 0"
     return None
 
@@ -136,7 +135,7 @@ def recheck_row(document: Mapping[str, Any], point: Mapping[str, Any],
 def _series_re(case: Any, row: Mapping[str, str]) -> float | str:
     from sso._shafts.series import ShaftSeries
 
-    beta_deg, phase_deg = json.loads(row["design_beta_deg"]), json.loads(row["design_phase_deg"])
+    beta_deg, phase_deg = _list_of(row, "design_beta_deg"), _list_of(row, "design_phase_deg")
     try:
         series = ShaftSeries(beta_deg, phase_deg, case.model)
     except (TypeError, ValueError) as error:
@@ -150,10 +149,10 @@ def _column_re(case: Any, row: Mapping[str, str]) -> float | str:
     from sso._column.chain_matrix import residual_error
 
     geometry = case.geometry()
-    yoke_phase_deg = json.loads(row["yoke_phase_deg"] or "null")
-    if not isinstance(yoke_phase_deg, list) or len(yoke_phase_deg) != geometry.joint_count - 1:
-        return (f"yoke_phase_deg = {_short(row['yoke_phase_deg'])}: not one phasing per "
-                f"intermediate shaft ({geometry.joint_count - 1})")
+    yoke_phase_deg = _list_of(row, "yoke_phase_deg")
+    if len(yoke_phase_deg) != geometry.joint_count - 1 or None in yoke_phase_deg:
+        return (f"yoke_phase_deg = {yoke_phase_deg}: not one phasing per intermediate "
+                f"shaft ({geometry.joint_count - 1})")
     return float(residual_error(np.radians(geometry.beta_deg),
                                 np.radians(geometry.phase_deg_from_yoke(yoke_phase_deg))))
 
@@ -170,24 +169,13 @@ def _float(text: str) -> float | None:
         return None
 
 
-def _finite_list(text: str) -> bool:
-    try:
-        value = json.loads(text)
-    except (ValueError, RecursionError):
-        return False
-    return isinstance(value, list) and _all_finite(value, depth=0)
-
-
-def _all_finite(values: Sequence[Any], depth: int) -> bool:
-    for value in values:
-        if isinstance(value, list):
-            if depth >= 2 or not _all_finite(value, depth + 1):
-                return False
-        elif isinstance(value, bool) or not isinstance(value, (int, float)):
-            return False
-        elif not math.isfinite(value):
-            return False
-    return True
+def _list_of(row: Mapping[str, str], name: str) -> list[Any]:
+    """The list ``name`` of a row of text cells, from its element columns (None where
+    an element is empty or not a number)."""
+    prefix = name + "["
+    value = gathered({column: _float(text) for column, text in row.items()
+                      if column.startswith(prefix)}, name)
+    return value if isinstance(value, list) else []
 
 
 def _short(text: str) -> str:

@@ -11,8 +11,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from sso._record import RecordError
+from sso._studies.element_columns import gathered
 from sso._studies.row_checks import cell_problem, recheck_row, recheck_sample
-from sso._studies.table import HASH_COLUMN, columns, format_row
+from sso._studies.table import HASH_COLUMN, format_row, sweep_columns
 
 
 def check_saved_rows(result: Any) -> None:
@@ -27,12 +28,20 @@ def check_saved_rows(result: Any) -> None:
     sso._record.RecordError
         Naming the row (its position and point) and the field.
     """
-    kind = result.manifest.get("case", {}).get("kind", "shaft_series")
-    header = columns([axis.path for axis in result.axes], kind)
+    header = saved_columns(result)
+    known = set(header)
     status_at = header.index("status")
     texts: dict[int, dict[str, str]] = {}
     positions: dict[int, int] = {}
     for position, row in enumerate(result.rows):
+        unknown = [name for name in row if name not in known]
+        if unknown:
+            name = unknown[0]
+            reason = (f"holds a list; a sweep's rows hold each element in a column of its own "
+                      f"({name}[0], {name}[1], ...), so this sweep was saved by an older sso: "
+                      "run it again" if isinstance(row[name], list)
+                      else "is not a column of this sweep")
+            raise RecordError(f"rows[{position}].{name} {reason}")
         cells = format_row(row, header)
         status = cells["status"]
         for column in header[status_at + 1:-1]:
@@ -49,9 +58,17 @@ def check_saved_rows(result: Any) -> None:
 
     def recheck(point: int, cells: Mapping[str, str]) -> str | None:
         row = result.rows[positions[point]]
-        return recheck_row(document, {axis.path: row[axis.path] for axis in result.axes}, cells)
+        return recheck_row(document, {axis.path: gathered(row, axis.path)
+                                      for axis in result.axes}, cells)
 
     disagreement = recheck_sample(texts, sweep_hash, recheck)
     if disagreement is not None:
         point, problem = disagreement
         raise RecordError(f"rows[{positions[point]}] (point {point}): {problem}")
+
+
+def saved_columns(result: Any) -> list[str]:
+    """The columns of a sweep's rows (:func:`sso._studies.table.sweep_columns` of its
+    manifest's base case and its axes)."""
+    document = result.manifest.get("case")
+    return sweep_columns(document if isinstance(document, dict) else {}, result.axes)

@@ -35,6 +35,7 @@ from sso._studies.axes import (
 )
 from sso._studies.column_rows import check_axis_values, check_sweepable
 from sso._studies.columns import RowTable, TableAssembly
+from sso._studies.element_columns import flat_row
 from sso._studies.estimate import sweep_estimate
 from sso._studies.execution import parallelism, run_tasks, runs_in_pool, validate_workers
 from sso._studies.parquet_output import (
@@ -53,11 +54,11 @@ from sso._studies.table import (
     HASH_COLUMN,
     MANIFEST_NAME,
     append_rows,
-    columns,
     done_rows,
     format_cell,
     manifest,
     start_file,
+    sweep_columns,
     typed_rows,
 )
 from sso._studies.worker import (
@@ -216,7 +217,7 @@ def sweep(
                            client is not None),
                  memory_limit_mb)
     count = point_count(parsed_axes, mode)
-    header = columns([axis.path for axis in parsed_axes], case.kind)
+    header = sweep_columns(document, parsed_axes)
     identity = manifest(document, parsed_axes, mode, action, count)
     job = _Job(document, action, parsed_axes, mode, count, header, identity, plan, client,
                worker_count, chunk_size, interactive() if progress is None else progress)
@@ -267,8 +268,10 @@ class _Job:
                 for axis, position in zip(self.axes, positions, strict=True)}
 
     def axis_cells(self, index: int) -> list[str]:
-        """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them."""
-        return [format_cell(value) for value in self.point(index).values()]
+        """The formatted axis cells of point ``index``, as ``sweep.csv`` holds them (a
+        list-valued axis one cell per element, empty beyond its value's length)."""
+        cells = flat_row(self.point(index))
+        return [format_cell(cells.get(name)) for name in self.header[1:self.header.index("status")]]
 
     def recheck(self, index: int, row: Mapping[str, str]) -> str | None:
         """What disagrees when the RE of point ``index``'s kept row is computed again."""

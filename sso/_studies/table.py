@@ -23,9 +23,14 @@ from typing import Any
 
 from sso._files import write_text_atomic
 from sso._limits import SOLVERS
+from sso._studies.element_columns import element_names, joint_count, list_shapes, value_shape
 from sso._studies.row_checks import cell_problem, recheck_sample
+from sso._validation import shown
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
+SCHEMA_CHANGE = ("each element of a list in a column of its own, design_beta_deg[0], ..., "
+                 "where schema 2 held the whole list in one cell")
+"""What the sweep files of :data:`SCHEMA_VERSION` hold that the version before did not."""
 CSV_NAME = "sweep.csv"
 MANIFEST_NAME = "sweep.json"
 HASH_COLUMN = "sweep_hash"
@@ -65,16 +70,34 @@ def columns(axis_paths: Sequence[str], kind: str = "shaft_series") -> list[str]:
     return ["point", *axis_paths, *results, HASH_COLUMN]
 
 
+def sweep_columns(document: Mapping[str, Any], axes: Sequence[Any]) -> list[str]:
+    """Header of a sweep's table over ``axes`` of the base case ``document``
+    (:func:`columns`), every list spread over its elements
+    (:mod:`sso._studies.element_columns`).
+
+    Raises
+    ------
+    ValueError
+        For an axis that mixes lists and single values
+        (:func:`sso._studies.element_columns.value_shape`).
+    """
+    kind = document.get("kind", "shaft_series")
+    shapes = {**list_shapes(kind, joint_count(document, axes)),
+              **{axis.path: value_shape(axis.values, f"axis {shown(axis.path)}")
+                 for axis in axes}}
+    return [name for column in columns([axis.path for axis in axes], kind)
+            for name in element_names(column, shapes.get(column, ()))]
+
+
 def format_cell(value: Any) -> str:
-    """One CSV cell: shortest round-trip floats, JSON lists, ``true``/``false``."""
+    """One CSV cell: shortest round-trip floats, ``true``/``false``, text on one line (a
+    list is never a cell: one column per element, :mod:`sso._studies.element_columns`)."""
     if value is None:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
         return repr(value)
-    if isinstance(value, (list, tuple)):
-        return json.dumps(list(value))
     # One line per row, so that a torn append is always a torn last line.
     return str(value).replace("\r", " ").replace("\n", " ")
 
@@ -88,7 +111,7 @@ def parse_cell(column: str, text: str) -> Any:
     if text in ("true", "false"):
         return text == "true"
     try:
-        return json.loads(text) if text.startswith("[") else int(text)
+        return int(text)
     except ValueError:
         pass
     try:
@@ -210,6 +233,11 @@ def done_rows(out_dir: Path, expected_manifest: Mapping[str, Any], header: Seque
         raise ValueError(f"resume: {manifest_path} is not a sweep manifest ({error}); use "
                          "another out_dir") from None
     expected = json.loads(json.dumps(expected_manifest))
+    older = found.get("schema_version") if isinstance(found, dict) else None
+    if isinstance(older, int) and not isinstance(older, bool) and older < SCHEMA_VERSION:
+        raise ValueError(f"resume: {out_dir} holds a sweep written by an older sso (sweep "
+                         f"schema {older}; this sso writes {SCHEMA_VERSION}, {SCHEMA_CHANGE}); "
+                         "it cannot be resumed: run the sweep afresh in another out_dir")
     if not isinstance(found, dict) or found != expected:
         found = found if isinstance(found, dict) else {}
         differing = sorted(key for key in {*found, *expected}

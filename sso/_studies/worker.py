@@ -17,15 +17,16 @@ import numpy as np
 from sso._cases.schema import parse_case
 from sso._shafts.optimise import optimise
 from sso._studies.array_engine import ArrayPlan, run_array_points
-from sso._studies.axes import point_document
+from sso._studies.axes import Axis, point_document
 from sso._studies.axis_checks import chunk_axes
 from sso._studies.batched import BatchedPoints, batchable
 from sso._studies.column_rows import column_row
 from sso._studies.columns import RowTable, packed, unpacked
+from sso._studies.element_columns import flat_row
 from sso._studies.parquet_output import part_data
 from sso._studies.point_row import PointRow, design_columns, solver_columns
 from sso._studies.shared_rows import SharedLayout, write_rows
-from sso._studies.table import HASH_COLUMN, columns
+from sso._studies.table import HASH_COLUMN, sweep_columns
 
 ACTIONS = ("optimise", "evaluate")
 
@@ -105,10 +106,13 @@ class SweepChunk:
         """A chunk of the given ``(index, {path: value})`` points (the same paths each)."""
         paths = tuple(points[0][1]) if points else ()
         count = len(points)
-        return cls(document, action, tuple(columns(paths)), paths,
+        values = tuple(tuple(point[path] for _, point in points) for path in paths)
+        header = sweep_columns(document, [Axis(path, axis_values)
+                                          for path, axis_values in zip(paths, values,
+                                                                       strict=True)])
+        return cls(document, action, tuple(header), paths,
                    np.array([index for index, _ in points], dtype=np.int64),
-                   tuple(tuple(point[path] for _, point in points) for path in paths),
-                   plan, sweep_hash, tuple(np.arange(count) for _ in paths))
+                   values, plan, sweep_hash, tuple(np.arange(count) for _ in paths))
 
     @cached_property
     def value_indices(self) -> tuple[np.ndarray, ...]:
@@ -255,7 +259,8 @@ def _point_rows(chunk: SweepChunk, selected: np.ndarray) -> list[dict[str, Any]]
 
 def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
               action: str) -> dict[str, Any]:
-    """The result row of one point: inputs, best RE, solver statuses, times.
+    """The result row of one point: inputs, best RE, solver statuses, times (a list
+    one cell per element, as a sweep's table holds it).
 
     The point's case is checked like a case file (the same messages, naming the
     key and the allowed range). Never raises for a bad point: the error is
@@ -265,7 +270,7 @@ def run_point(index: int, document: dict[str, Any], point: dict[str, Any],
     case = _parsed_case(row, index, document, point)
     if case is not None:
         row.fill(lambda: _solve_row(case, action))
-    return row.finish()
+    return flat_row(row.finish())
 
 
 def _parsed_case(row: PointRow, index: int, document: dict[str, Any],

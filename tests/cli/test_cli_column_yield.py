@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 
 import sso
+from sso._cli.saved_results import read_saved_result
 from sso._column.yields import wilson_interval
+from sso._studies.column_tolerance import column_tolerance_study
 
 ROOT = Path(__file__).resolve().parents[2]
 CAR = ROOT / "cases" / "column_car_limits.toml"
@@ -146,3 +148,60 @@ def test_a_saved_yield_that_is_not_its_samples_is_refused_by_sso_report(car_stud
     assert "Traceback" not in done.stderr
     assert "result.yields: the saved value is not the one computed again" in done.stderr
     assert not (tmp_path / "report").exists()
+
+
+def test_sso_evaluate_exits_by_the_yield_of_the_assembly_as_built(tmp_path):
+    # As built (yokes in phase) none of the 200 built columns meets the 2 % limit, so
+    # the required 90 % fails: exit 1, as sso run's shortfall.
+    failing = _sso("evaluate", CAR, "--out", tmp_path / "failing", "--no-plots", "--quiet",
+                   cwd=tmp_path)
+    assert failing.returncode == 1, failing.stderr
+    assert ("the built columns of the assembly as built ([tolerances] sample): FAILS the "
+            "required yield 90.0 %") in failing.stderr
+    assert "Traceback" not in failing.stderr
+    # Built as sso run recommends (teeth offsets giving yokes at -80, -60 deg), 103 of
+    # the 200 meet every limit (sso run's count above): Wilson's 95 % interval 44.6 % to
+    # 58.3 % lies above a required 40 %, so the same case evaluated there meets it.
+    meeting = tmp_path / "car_as_recommended.toml"
+    meeting.write_text(CAR.read_text()
+                       .replace("yoke_phase_deg = [0.0, 0.0]", "yoke_phase_deg = [-80.0, -60.0]")
+                       .replace("yield = 0.9", "yield = 0.4"))
+    done = _sso("evaluate", meeting, "--out", tmp_path / "meeting", "--no-plots", "--quiet",
+                cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr == ""
+    saved = read_saved_result(tmp_path / "meeting" / "column_car_limits" / "result.json")
+    assert saved.mode == "evaluate"
+    assert (saved.judged_yields.together.passed, saved.judged_yields.together.samples) == \
+        (103, 200)
+
+
+def test_sso_run_judges_on_yield_samples_and_says_how_many_would_decide(tmp_path):
+    # Required 50 %: on the case's 200 built columns (103 meet every limit, Wilson's
+    # interval 44.6 % to 58.3 %) the verdict is not decided, and exit 1.
+    case = tmp_path / "car.toml"
+    case.write_text(CAR.read_text().replace("yield = 0.9", "yield = 0.5"))
+    undecided = _sso("run", case, "--out", tmp_path / "200", "--no-plots", "--quiet",
+                     cwd=tmp_path)
+    assert undecided.returncode == 1, undecided.stderr
+    assert ("NOT DECIDED at 200 samples against the required yield 50.0 %: yield of all "
+            "limits together 51.5 % (95 % CI 44.6 % to 58.3 %, width 13.7 %, 200 samples) "
+            "straddles it; about 4,261 samples would decide it") in undecided.stderr
+    # 20,000 built columns ([tolerances] yield_samples, beyond the 1,000 the sample of
+    # the tolerance-aware phasing allows) decide it: 10,211 meet, 50.4 % to 51.7 %.
+    case.write_text(CAR.read_text().replace("yield = 0.9", "yield = 0.5")
+                    .replace("samples = 200", "samples = 200\nyield_samples = 20000"))
+    decided = _sso("run", case, "--out", tmp_path / "20000", "--no-plots", "--quiet",
+                   cwd=tmp_path)
+    assert decided.returncode == 0, decided.stderr
+    run = read_saved_result(tmp_path / "20000" / "column_car_limits" / "result.json")
+    yields = run.recommended_yields
+    assert (yields.together.passed, yields.together.samples, yields.verdict) == \
+        (10_211, 20_000, "meets")
+    # Counted again by sso tolerance's path (the same draws from the seed, its built
+    # columns evaluated in chunks) on the recommended assembly.
+    study = column_tolerance_study((run.geometry, run.assembly(run.recommended).yoke_phase_deg),
+                                   run.case.tolerances(), samples=20_000, lock_deg=540.0,
+                                   limits=run.case.steering_limits(), required_yield=0.5,
+                                   workers=1, progress=False)
+    assert study.yields.together.passed == 10_211

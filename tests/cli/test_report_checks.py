@@ -153,6 +153,13 @@ def saved_sweep(tmp_path_factory):
     ({"success": "maybe"}, "rows[1] (point 1): success = 'maybe' is not true or false"),
     ({"residual_error": 1e-3}, "rows[1] (point 1): residual_error = 0.001 is not the RE of "
                                "the row's design, computed again: 0.00162601519694"),
+    ({"design_beta_deg[1]": 12.0}, "rows[1] (point 1): residual_error = "),
+    # a row as sso saved sweeps before each list element had a column of its own
+    ({"design_beta_deg": [30.0, 15.0, 9.0]}, "rows[1].design_beta_deg holds a list; a "
+                                             "sweep's rows hold each element in a column of "
+                                             "its own (design_beta_deg[0], design_beta_deg[1], "
+                                             "...), so this sweep was saved by an older sso: "
+                                             "run it again"),
 ])
 def test_a_saved_sweeps_edited_row_is_refused(saved_sweep, tmp_path, cells, message):
     # The same for a sweep's rows (issue 34 item 3): a SweepResult saved by

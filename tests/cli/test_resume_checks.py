@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import shutil
 from pathlib import Path
 
@@ -79,8 +80,9 @@ def _line_of(csv_path: Path, point: int) -> int:
     ({"residual_error": ""}, "residual_error is empty; a finished row holds it"),
     ({"success": "maybe"}, "success = 'maybe' is not true or false"),
     ({"ipopt_status": "0.5"}, "ipopt_status = '0.5' is not a whole number"),
-    ({"design_phase_deg": "[1, Infinity]"}, "design_phase_deg = '[1, Infinity]' is not a "
-                                             "list of finite numbers"),
+    ({"design_phase_deg[1]": "inf"}, "design_phase_deg[1] = 'inf' is not a finite number"),
+    ({"design_beta_deg[0]": ""}, "design_beta_deg[0] is empty; a finished row holds it"),
+    ({"design_beta_deg[2]": "[1.0]"}, "design_beta_deg[2] = '[1.0]' is not a finite number"),
     ({"time_s": "-1e-3"}, "time_s = '-1e-3' is negative"),
 ])
 def test_an_impossible_figure_is_refused_naming_line_and_field(copy, cells, field):
@@ -132,7 +134,7 @@ def test_a_column_rows_re_is_computed_again_from_its_yoke_phasing(tmp_path):
     csv_path = tmp_path / "results" / "edited" / "sweep.csv"
     assert sso("sweep", "edited.toml", "--resume", "--no-plots",
                cwd=tmp_path).returncode == 0
-    _edit(csv_path, 1, yoke_phase_deg="[0.0, 0.0]")
+    _edit(csv_path, 1, **{"yoke_phase_deg[0]": "0.0", "yoke_phase_deg[1]": "0.0"})
     resumed = sso("sweep", "edited.toml", "--resume", "--no-plots", cwd=tmp_path)
     assert resumed.returncode == 2, resumed.stdout + resumed.stderr
     assert (f"sweep.csv line {_line_of(csv_path, 1)} (point 1): residual_error = "
@@ -142,8 +144,41 @@ def test_a_column_rows_re_is_computed_again_from_its_yoke_phasing(tmp_path):
 
 @pytest.mark.parametrize("column, text", [
     ("residual_error", "1e-3"), ("residual_error", "0.0"), ("success", "false"),
-    ("ipopt_status", "-2"), ("joint_centres_points_mm", "[[1.0, 2.0, 3.0]]"),
+    ("ipopt_status", "-2"), ("joint_centres_points_mm[2][1]", "-1.5"), ("tooth_offset[0]", "-3"),
     ("joint_centres_margin_mm", "-0.5"), ("lm_residual_error", ""),
 ])
 def test_values_sso_writes_pass(column, text):
     assert cell_problem(column, text, "ok") is None
+
+
+def test_an_element_of_a_shorter_list_may_be_empty_and_a_tooth_offset_is_whole():
+    assert cell_problem("design_beta_deg[3]", "", "ok") is None
+    assert cell_problem("tooth_offset[1]", "2.5", "ok") == \
+        "tooth_offset[1] = '2.5' is not a whole number"
+
+
+def test_a_sweep_in_the_list_layout_of_an_older_sso_is_refused_with_exit_2(copy):
+    # The folder as sso wrote it before each list element had a column: sweep.json of
+    # schema 2, and each design's angles as one cell "[a, b, c]".
+    folder = copy / "results" / "edited"
+    identity = json.loads((folder / "sweep.json").read_text(encoding="utf-8"))
+    (folder / "sweep.json").write_text(json.dumps({**identity, "schema_version": 2}),
+                                       encoding="utf-8")
+    with open(folder / "sweep.csv", newline="", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    older = [{**{name: value for name, value in row.items() if "_deg[" not in name},
+              "design_beta_deg": json.dumps([float(row[f"design_beta_deg[{k}]"])
+                                             for k in range(3)])} for row in rows]
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(older[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(older)
+    (folder / "sweep.csv").write_text(buffer.getvalue(), encoding="utf-8")
+    assert buffer.getvalue().splitlines()[1].count('"[') == 1
+    resumed = sso("sweep", "edited.toml", "--resume", "--no-plots", cwd=copy)
+    assert resumed.returncode == 2, resumed.stdout + resumed.stderr
+    assert "Traceback" not in resumed.stderr
+    assert ("holds a sweep written by an older sso (sweep schema 2; this sso writes 3, each "
+            "element of a list in a column of its own, design_beta_deg[0], ..., where schema 2 "
+            "held the whole list in one cell); it cannot be resumed: run the sweep afresh in "
+            "another out_dir") in resumed.stderr

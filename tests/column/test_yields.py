@@ -10,7 +10,7 @@ import pytest
 from scipy.optimize import brentq
 
 from sso._column.steering_criteria import SteeringLimits
-from sso._column.yields import column_limits, judge_yields, wilson_interval
+from sso._column.yields import column_limits, deciding_samples, judge_yields, wilson_interval
 
 Z95 = 1.959963984540054  # the standard normal's 97.5 % quantile
 
@@ -68,7 +68,7 @@ LIMITS = column_limits(SteeringLimits(speed_fluctuation_percent=2.0, transmissio
 
 @pytest.mark.parametrize("passing, required, verdict, signed_off", [
     (950, 0.80, "meets", True),      # 850 of 1000 together: [0.827, 0.871]
-    (950, 0.85, "not shown", False),  # straddles
+    (950, 0.85, "not decided", False),  # straddles
     (950, 0.90, "fails", False),     # upper bound 0.871 < 0.9
     (950, None, "not judged", True),
 ])
@@ -79,7 +79,34 @@ def test_the_verdict_reads_the_interval_of_every_limit_together(passing, require
     assert judged.together.passed == 850
     assert (judged.together.low, judged.together.high) == wilson_interval(850, 1000)
     assert judged.verdict == verdict and judged.signed_off is signed_off
-    assert judged.together.text == "85.0 % (95 % CI 82.7 % to 87.1 %)"
+    assert judged.together.text == "85.0 % (95 % CI 82.7 % to 87.1 %, width 4.4 %, 1,000 samples)"
+
+
+def test_a_yield_not_decided_says_how_many_samples_would_decide_it():
+    judged = judge_yields(_figures(950), LIMITS, 0.85)
+    # Reference: the half-width of Wilson's interval at p = 0.85, z = 1.959964 (95 %),
+    # z / (1 + z^2/n) sqrt(p (1 - p) / n + z^2 / (4 n^2)), computed here by hand, falls
+    # below |0.85 - 0.85| = 0 never: a yield equal to the requirement is never decided.
+    assert judged.deciding_samples is None
+    assert judged.verdict_text == ("not decided 85.0 % at 1,000 samples (no sample count "
+                                   "decides a yield equal to the requirement)")
+    judged = judge_yields(_figures(950), LIMITS, 0.86)
+    z = 1.959963984540054
+
+    def half(n):
+        return z / (1 + z * z / n) * math.sqrt(0.85 * 0.15 / n + z * z / (4 * n * n))
+
+    needed = judged.deciding_samples
+    assert half(needed) < 0.01 <= half(needed - 1)
+    assert needed == deciding_samples(0.85, 0.86) == 4_898
+    assert judged.sentence == (
+        "NOT DECIDED at 1,000 samples against the required yield 86.0 %: yield of all limits "
+        "together 85.0 % (95 % CI 82.7 % to 87.1 %, width 4.4 %, 1,000 samples) straddles it; "
+        "about 4,898 samples would decide it (Wilson's half-width below the distance from the "
+        "yield to the requirement)")
+    # at that count a yield of 85 % is shown below 86 %: the interval's upper bound
+    assert wilson_interval(round(0.85 * needed), needed)[1] < 0.86
+    assert judge_yields(_figures(950), LIMITS, 0.80).deciding_samples is None  # decided
 
 
 def test_a_value_on_the_limit_meets_it():

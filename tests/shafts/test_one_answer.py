@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import sso
+from sso._studies.element_columns import gathered
 
 # The designs and the single solve, one source for this process and the subprocesses.
 SOURCE = '''
@@ -139,8 +140,8 @@ def _sweep_answers(**where):
                            plots=False, **where)
         for (index, _), row in zip(members, sorted(result.rows, key=lambda row: row["point"]),
                                    strict=True):
-            answers[index] = [[value.hex() for value in row["design_beta_deg"]],
-                              [value.hex() for value in row["design_phase_deg"]],
+            answers[index] = [[value.hex() for value in gathered(row, "design_beta_deg")],
+                              [value.hex() for value in gathered(row, "design_phase_deg")],
                               row["lm_residual_error"].hex()]
     return [answers[index] for index in range(len(answers))]
 

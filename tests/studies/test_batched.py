@@ -17,6 +17,7 @@ import sso
 from sso._cases.schema import parse_case
 from sso._solvers.lm import MESSAGES as STATUS_MESSAGES
 from sso._studies.batched import BatchedPoints, batchable
+from sso._studies.element_columns import gathered
 from sso._studies.point_row import PointRow
 from sso._studies.table import TIME_COLUMNS, read_rows, render_rows
 from sso._studies.worker import SweepChunk, run_point, run_sweep_chunk
@@ -49,7 +50,8 @@ def reference(base: dict, row: dict, paths) -> sso.OptimisationResult:
     document = parse_case(base, "base.toml").to_dict()
     from sso._studies.axes import point_document
 
-    case = parse_case(point_document(document, {path: row[path] for path in paths}), "point")
+    case = parse_case(point_document(document, {path: gathered(row, path) for path in paths}),
+                      "point")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return sso.optimise(case.series(), case.option, **case.optimise_options())
@@ -77,12 +79,13 @@ def test_each_batched_point_equals_sso_optimise_with_lm(joints, option, starts):
     for row in result.rows:
         # The optimum's figures are those of the design the row reports (numpy over the
         # chunk against math on one design: equal to the last few bits).
-        evaluation = sso.ShaftSeries(row["design_beta_deg"], row["design_phase_deg"]).evaluate()
+        evaluation = sso.ShaftSeries(gathered(row, "design_beta_deg"),
+                                     gathered(row, "design_phase_deg")).evaluate()
         assert row["residual_error"] == pytest.approx(evaluation.residual_error, rel=1e-12,
                                                       abs=1e-30)
         assert row["max_output_accel_rad_s2"] == pytest.approx(
             evaluation.max_output_accel_rad_s2, rel=1e-12, abs=1e-30)
-        assert all(5.0 <= beta <= 40.0 for beta in row["design_beta_deg"]) or option == 1
+        assert all(5.0 <= beta <= 40.0 for beta in gathered(row, "design_beta_deg")) or option == 1
         assert all(row[column] is not None for column in LM_COLUMNS)
         assert row["lm_time_s"] > 0.0 and row["lm_kkt_per_rad"] >= 0.0
         assert row["ipopt_residual_error"] is None and row["slsqp_residual_error"] is None
@@ -126,10 +129,10 @@ def test_a_sweep_mixing_shapes_gives_rows_in_point_order():
     assert [row["point"] for row in result.rows] == list(range(7))
     assert [row["best_solver"] for row in result.rows] == ["lm", "lm", "slsqp", "lm", "lm",
                                                            "lm", "lm"]
-    assert [len(row["design_beta_deg"]) for row in result.rows] == [2, 3, 2, 4, 2, 3, 2]
-    assert result.rows[4]["design_beta_deg"][0] >= 22.0  # its own bounds
+    assert [len(gathered(row, "design_beta_deg")) for row in result.rows] == [2, 3, 2, 4, 2, 3, 2]
+    assert gathered(result.rows[4], "design_beta_deg")[0] >= 22.0  # its own bounds
     for row, beta_deg in zip(result.rows, axes["design.beta_deg"], strict=True):
-        assert row["design.beta_deg"] == beta_deg
+        assert gathered(row, "design.beta_deg") == beta_deg
         single = reference(base, row, list(axes))
         assert row["residual_error"] == pytest.approx(single.fun, rel=0, abs=RE_ATOL)
         assert row["success"] is single.success

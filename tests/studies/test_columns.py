@@ -1,6 +1,7 @@
 """Rows as columns: the CSV text a RowTable writes is the text Python's csv module writes
-for the same rows (the reference: ``csv.DictWriter`` on ``format_row``), and every row
-reads back as the values it was made from."""
+for the same rows (the reference: ``csv.DictWriter`` on ``format_row`` of the row with
+each list spread over its elements), and every row reads back as the values it was
+made from."""
 
 from __future__ import annotations
 
@@ -13,10 +14,14 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from sso._studies.axes import Axis
 from sso._studies.columns import RowTable, TableAssembly
-from sso._studies.table import columns, format_row, typed_rows
+from sso._studies.element_columns import flat_row
+from sso._studies.table import format_row, sweep_columns, typed_rows
 
-HEADER = columns(["design.beta_deg[0]", "option"])
+# A sweep of a two-joint design: two operating angles, one phase a row.
+HEADER = sweep_columns({"design": {"beta_deg": [10.0, 20.5], "phase_deg": [90.0]}},
+                       [Axis("design.beta_deg[0]", (10.0, 20.0, 30.0)), Axis("option", (1, 2, 3))])
 
 ROWS = [
     {"point": 0, "design.beta_deg[0]": 10.0, "option": 3, "status": "ok",
@@ -33,7 +38,7 @@ ROWS = [
 def reference_text(rows):
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, fieldnames=HEADER, lineterminator="\n")
-    writer.writerows(format_row(row, HEADER) for row in rows)
+    writer.writerows(format_row(flat_row(row), HEADER) for row in rows)
     return buffer.getvalue()
 
 
@@ -41,7 +46,9 @@ def test_csv_text_is_what_the_csv_module_writes():
     table = RowTable.from_rows(HEADER, ROWS)
     assert table.csv_text() == reference_text(ROWS)
     assert table.columns["residual_error"].dtype == float
-    assert table.columns["design_beta_deg"].shape == (3, 2)
+    assert np.array_equal(table.columns["design_beta_deg[1]"], [20.5, np.nan, 2.0],
+                          equal_nan=True)
+    assert "design_beta_deg" not in table.header and "design_phase_deg[1]" not in table.header
     assert "ipopt_status" not in table.columns  # empty in every row: not held
 
 
@@ -49,7 +56,8 @@ def test_rows_read_back_as_the_csv_file_reads_them():
     table = RowTable.from_rows(HEADER, ROWS)
     back = typed_rows(csv.DictReader(io.StringIO(",".join(HEADER) + "\n" + table.csv_text())))
     assert [table.row(index) for index in range(3)] == back
-    assert table.row(1)["design_beta_deg"] is None and table.row(1)["success"] is None
+    assert table.row(1)["design_beta_deg[0]"] is None and table.row(1)["success"] is None
+    assert table.row(2)["design_phase_deg[0]"] == 45.0
 
 
 def test_concatenate_take_and_mixed_kinds():
@@ -73,12 +81,14 @@ def test_whole_numbers_beyond_int64_stay_python_ints():
                                              "1,-9223372036854775809"]
 
 
-def test_a_design_of_one_joint_has_an_empty_phase_list():
+def test_a_shorter_design_leaves_its_last_cells_empty_and_a_longer_one_is_refused():
     rows = [{"point": 0, "status": "ok", "design_beta_deg": [10.0], "design_phase_deg": []}]
     table = RowTable.from_rows(HEADER, rows)
-    table.columns["design_phase_deg"] = np.zeros((1, 0))  # as the array engine holds it
-    assert table.row(0)["design_phase_deg"] == []
+    assert table.row(0)["design_beta_deg[1]"] is None
     assert table.csv_text() == reference_text(rows)
+    assert table.csv_text().startswith("0,,,ok,,,,,,10.0,,,")
+    with pytest.raises(ValueError, match=r"row of point 0 holds design_beta_deg\[2\], beyond "):
+        RowTable.from_rows(HEADER, [{"point": 0, "design_beta_deg": [1.0, 2.0, 3.0]}])
 
 
 @given(st.lists(st.one_of(st.none(), st.floats(allow_nan=False), st.text(max_size=8),
@@ -104,9 +114,9 @@ def test_a_pickled_table_holds_the_same_cells():
 
 def test_constant_numbers_and_point_ranges_travel_compactly_and_come_back_bit_for_bit():
     columns = {"point": np.arange(7, 5007), "time_s": np.full(5000, -0.0),
-               "design_phase_deg": np.tile([[90.0, np.nan]], (5000, 1)),
+               "design_phase_deg[0]": np.full(5000, 90.0),
                "residual_error": np.linspace(0.0, 1.0, 5000)}
-    table = RowTable(("point", "time_s", "design_phase_deg", "residual_error"), columns, 5000)
+    table = RowTable(("point", "time_s", "design_phase_deg[0]", "residual_error"), columns, 5000)
     data = pickle.dumps(table)
     back = pickle.loads(data)
     for name, column in columns.items():

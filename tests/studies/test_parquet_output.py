@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import sso
+from sso._studies.element_columns import gathered
 from sso._studies.parquet_output import PARQUET_NAME
 from sso._studies.table import read_rows
 
@@ -39,7 +40,9 @@ def test_parts_hold_the_rows_and_the_frame_reads_them(tmp_path):
                                    else row["residual_error"] for row in result.rows])
     assert list(frame["status"]) == [row["status"] for row in result.rows]
     assert frame["error"][1].startswith("CaseError: point 1: design.beta_deg[1] = 95")
-    assert list(frame["design_beta_deg"][0]) == result.rows[0]["design_beta_deg"]
+    assert [frame[f"design_beta_deg[{k}]"][0] for k in range(3)] == \
+        gathered(result.rows[0], "design_beta_deg")
+    assert frame["design_phase_deg[1]"].dtype == float
     assert frame["success"][0] is True or bool(frame["success"][0]) is True
     assert len(read_rows(tmp_path / "sweep.csv")) == 18
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import sso
+from sso._studies.element_columns import gathered
 from sso._studies.sweep import (
     ARRAY_CHUNK_CAP,
     ARRAY_CHUNK_FLOOR,
@@ -47,10 +48,13 @@ def test_evaluate_sweep_matches_the_one_joint_closed_form(tmp_path):
         assert row["residual_error"] == pytest.approx(evaluation.residual_error, rel=1e-12)
         assert row["max_output_accel_rad_s2"] == pytest.approx(
             evaluation.max_output_accel_rad_s2, rel=1e-12)
-        assert row["design_beta_deg"] == [beta_deg]
+        assert gathered(row, "design_beta_deg") == [beta_deg]
     with open(tmp_path / "sweep.csv", newline="") as handle:
         table = list(csv.DictReader(handle))
-    assert list(table[0]) == ["point", "design.beta_deg[0]", *RESULT_COLUMNS, "sweep_hash"]
+    # One joint: one operating angle, no phase (RESULT_COLUMNS with each list spread).
+    assert list(table[0]) == ["point", "design.beta_deg[0]", *(
+        "design_beta_deg[0]" if name == "design_beta_deg" else name for name in RESULT_COLUMNS
+        if name != "design_phase_deg"), "sweep_hash"]
     assert [float(row["residual_error"]) for row in table] == [
         row["residual_error"] for row in result.rows]  # shortest round-trip floats
 
@@ -62,7 +66,7 @@ def test_optimise_sweep_cancels_two_equal_joints_and_records_both_solvers(tmp_pa
     assert result.success
     for row in result.rows:
         assert row["residual_error"] < 1e-20
-        assert row["design_beta_deg"][0] == pytest.approx(row["design_beta_deg"][1], abs=1e-6)
+        assert row["design_beta_deg[0]"] == pytest.approx(row["design_beta_deg[1]"], abs=1e-6)
         assert row["crosscheck_agree"] is True
         assert row["ipopt_status"] == 0 and row["slsqp_status"] == 0
         assert row["ipopt_time_s"] > 0 and row["slsqp_time_s"] > 0
