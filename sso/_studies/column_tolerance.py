@@ -394,10 +394,12 @@ def column_tolerance_study(
         again = ProgressBar(count, "samples, a tolerance halved",
                             interactive() if progress is None else progress)
         try:
-            beta_deg, _, figures = evaluate(offsets_mm, phase_errors_deg, again.advance)
+            return built_limited_figures(
+                BuiltSample(points + offsets_mm, np.asarray(yoke), phase_errors_deg, centre,
+                            nominal_range.lock_deg),
+                tolerances.hardpoint_mm, chunk_size, client, worker_count, again.advance)
         finally:
             again.close()
-        return limited_figures(beta_deg, figures)
 
     try:
         beta_deg, gamma_deg, figures = evaluate(offsets, phase_errors, bar.advance)
@@ -460,6 +462,17 @@ def study_settings(tolerances: Tolerances | None, case: Any, samples: int | None
     return (replace(chosen, **changes) if changes else chosen), count
 
 
+
+def built_limited_figures(sample: BuiltSample, hardpoint_mm: float, chunk_size: int,
+                          client: Any, workers: int, advance: Callable[[int], None]
+                          ) -> dict[str, np.ndarray]:
+    """The limited figures (:func:`sso._column.built_figures.limited_figures`) of the built
+    columns of ``sample``: what the yields, the sensitivity and a halved tolerance are
+    judged on, in a study and when a saved study is checked again."""
+    beta_deg, _, figures = built_figures(sample, hardpoint_mm, chunk_size, client, workers,
+                                         advance)
+    return limited_figures(beta_deg, figures)
+
 def check_judgement(study: ColumnToleranceResult, tolerances: Tolerances,
                     offsets_mm: np.ndarray, where: str) -> None:
     """Check a saved study's yields, sensitivity and halved tolerances against the same
@@ -476,11 +489,10 @@ def check_judgement(study: ColumnToleranceResult, tolerances: Tolerances,
     yoke = np.asarray(study.yoke_phase_deg)
 
     def limited(offsets: np.ndarray, phase_errors: np.ndarray) -> dict[str, np.ndarray]:
-        beta_deg, _, figures = built_figures(
+        return built_limited_figures(
             BuiltSample(points + offsets, yoke, phase_errors, study.straight_ahead_deg,
                         study.lock_deg),
             tolerances.hardpoint_mm, DEFAULT_CHUNK_SAMPLES, None, 1, lambda done: None)
-        return limited_figures(beta_deg, figures)
 
     limits = tuple((item.figure, item.label, item.unit, item.limit)
                    for item in study.yields.limits if item.limit is not None)
