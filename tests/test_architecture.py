@@ -159,3 +159,24 @@ def test_importing_sso_installs_no_import_hook():
                            check=True, cwd=PACKAGE.parent).stdout.split()
     assert shown[2] == "True", shown
     assert int(shown[0]) > 0  # the interpreter's own finders were seen
+
+
+def test_only_public_interfaces_of_python_and_scipy():
+    # Issue 33: CPython's private _signal module and scipy's legacy fmin_slsqp are not
+    # used; the public signal module and scipy.optimize.minimize are (records skipping
+    # their constructors: tests/test_record.py).
+    private_modules = {"_signal", "_thread", "_posixsubprocess"}
+    found = []
+    for name, path in modules().items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                found += [(name, alias.name) for alias in node.names
+                          if alias.name in private_modules]
+            elif isinstance(node, ast.ImportFrom) and node.module in private_modules:
+                found.append((name, node.module))
+            elif isinstance(node, ast.Attribute) and node.attr == "fmin_slsqp":
+                found.append((name, "fmin_slsqp"))
+            elif isinstance(node, ast.alias) and node.name == "fmin_slsqp":
+                found.append((name, "fmin_slsqp"))
+    assert found == []
+    assert len(modules()) > 100  # the walk saw the package
