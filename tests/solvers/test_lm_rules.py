@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from sso._solvers.lm_kernel import lowest_eigenvalue_function
-from sso._solvers.lm_rules import PYTHON, cholesky, solve_factored
+from sso._solvers.lm_rules import (
+    EIGENVALUE_HALVINGS,
+    PYTHON,
+    cholesky,
+    eigenvalue_bracket,
+    halve_eigenvalue_bracket,
+    solve_factored,
+)
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 5, 8])
@@ -50,3 +57,31 @@ def test_bisected_lowest_eigenvalue_matches_lapack_on_indefinite_matrices(size):
         size_of_matrix = np.max(np.sum(np.abs(matrix), axis=1))
         assert lowest - 1e-13 * size_of_matrix <= found <= lowest + 1e-15 * size_of_matrix
         assert cholesky(PYTHON, matrix.tolist(), -found)[1]
+
+
+def _bisected_on_floats(matrix):
+    """The Newton blocks' bisection (EIGENVALUE_HALVINGS halvings of eigenvalue_bracket) on
+    plain floats: minus the least shift found with a factor."""
+    low, high = eigenvalue_bracket(PYTHON, matrix)
+    for _ in range(EIGENVALUE_HALVINGS):
+        low, high = halve_eigenvalue_bracket(PYTHON, matrix, low, high)
+    return -high
+
+
+def test_bisected_lowest_eigenvalue_of_the_zero_matrix_is_zero_from_below():
+    # No row sum to bracket it with: the bracket's floor (1e-300) still holds the
+    # eigenvalue 0, and the least shift kept puts the answer at or below it.
+    for found in (_bisected_on_floats([[0.0, 0.0], [0.0, 0.0]]),
+                  float(lowest_eigenvalue_function(2)(np.zeros(4)))):
+        assert -1e-300 <= found <= 0.0
+
+
+def test_bisected_lowest_eigenvalue_of_a_tiny_matrix_is_relative_to_its_size():
+    # Entries of 1e-9: the bracket is twice the largest row sum, nothing absolute, so the
+    # eigenvalue is found to round-off of the matrix's own size (3e-9).
+    matrix = 1e-9 * np.array([[1.0, 2.0], [2.0, 1.0]])
+    lowest = np.linalg.eigvalsh(matrix)[0]
+    assert lowest == pytest.approx(-1e-9, rel=1e-15)
+    for found in (_bisected_on_floats(matrix.tolist()),
+                  float(lowest_eigenvalue_function(2)(matrix.ravel()))):
+        assert abs(found - lowest) <= 1e-15 * 3e-9
