@@ -25,7 +25,7 @@ import numpy as np
 from sso._files import write_bytes_atomic
 from sso._limits import SOLVERS
 from sso._studies.columns import RowTable
-from sso._studies.element_columns import base_name, flat_row
+from sso._studies.element_columns import base_name, flat_row, list_shapes
 from sso._studies.table import TEXT_COLUMNS, format_cell
 
 PARQUET_NAME = "sweep.parquet"
@@ -44,11 +44,11 @@ _FLOAT_COLUMNS = ("residual_error", "residual_error_rpm2", "fluctuation",
                   "robust_p95_residual_error")
 _FLAG_COLUMNS = ("success", "crosscheck_agree", *(f"{solver}_success" for solver in SOLVERS),
                  "can_cancel", "joint_centres_success")
-# Lists, one column per element (sso._studies.element_columns).
-_FLOAT_LISTS = ("design_beta_deg", "design_phase_deg", "yoke_phase_deg", "plane_angle_deg",
-                "continuous_yoke_phase_deg", "joint_centres_points_mm", "robust_yoke_phase_deg")
 _INTEGER_COLUMNS = ("point", *(f"{solver}_status" for solver in SOLVERS))
+# Lists, one column per element: every list a row holds (sso._studies.element_columns).
 _INTEGER_LISTS = ("tooth_offset",)
+_FLOAT_LISTS = tuple(sorted({name for kind in ("shaft_series", "column")
+                             for name in list_shapes(kind, 0)} - set(_INTEGER_LISTS)))
 
 
 def pyarrow_module() -> Any:
